@@ -1,1 +1,39 @@
-fn main() {}
+//! Firmware build: puts the selected board's memory.x on the linker path and
+//! embeds the calibration blob chosen at build time. Host builds skip both.
+
+use std::{env, fs, path::PathBuf};
+
+/// The calibration embedded when `TRIAD_CALIBRATION` is not set: packed from
+/// calibrations/default.toml by `triad calib pack` (a test keeps them equal).
+const DEFAULT_CALIBRATION: &str = "calibrations/default.bin";
+
+fn main() {
+    println!("cargo:rerun-if-changed=build.rs");
+    if env::var_os("CARGO_FEATURE_FIRMWARE").is_none() {
+        return;
+    }
+    let out = PathBuf::from(env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));
+    let manifest = PathBuf::from(env::var_os("CARGO_MANIFEST_DIR").expect("cargo sets it"));
+
+    let board = if env::var_os("CARGO_FEATURE_BOARD_QEMU").is_some() {
+        "qemu"
+    } else if env::var_os("CARGO_FEATURE_BOARD_NUCLEO_F401RE").is_some() {
+        "nucleo-f401re"
+    } else {
+        panic!("the firmware needs a board: --features board-qemu or board-nucleo-f401re");
+    };
+    let memory = manifest.join("boards").join(board).join("memory.x");
+    fs::copy(&memory, out.join("memory.x")).expect("copy the board's memory.x");
+    println!("cargo:rerun-if-changed={}", memory.display());
+    println!("cargo:rustc-link-search={}", out.display());
+
+    println!("cargo:rerun-if-env-changed=TRIAD_CALIBRATION");
+    let calibration = env::var_os("TRIAD_CALIBRATION")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| manifest.join(DEFAULT_CALIBRATION));
+    let blob = fs::read(&calibration).unwrap_or_else(|e| {
+        panic!("TRIAD_CALIBRATION: cannot read {}: {e}", calibration.display())
+    });
+    fs::write(out.join("calibration.bin"), blob).expect("write calibration.bin");
+    println!("cargo:rerun-if-changed={}", calibration.display());
+}

@@ -13,6 +13,7 @@
 #![warn(missing_docs)]
 
 pub mod model;
+pub mod pipeline;
 pub mod sensor;
 pub mod sim;
 pub mod stream;

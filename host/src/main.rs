@@ -4,8 +4,10 @@
 use clap::{Parser, Subcommand};
 
 mod calib;
+mod calib_file;
 mod correct;
 mod decode;
+mod scene_file;
 mod sim;
 
 #[derive(Parser)]

@@ -1,10 +1,157 @@
-//! `triad sim` (not yet implemented).
+//! `triad sim`: simulate what a sensor triad measures in a scene and write it
+//! as CSV (`t,ax,ay,az,gx,gy,gz,temp`, SI units), streaming in constant memory.
+
+use std::fs::File;
+use std::io::{BufWriter, IsTerminal, Write};
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::{bail, Context};
+use triad::sim::simulator::Simulator;
+use triad::sim::source::TrueSample;
+
+use crate::scene_file;
 
 /// Arguments of `triad sim`.
 #[derive(clap::Args)]
-pub struct SimArgs {}
+pub struct SimArgs {
+    /// A shipped scene's name (scenes/NAME.toml) or a scene file.
+    #[arg(long)]
+    pub scene: String,
+    /// Seconds to simulate (default: the scene's `duration_s`).
+    #[arg(long)]
+    pub seconds: Option<f64>,
+    /// Sample rate in Hz (default: the scene's `rate_hz`).
+    #[arg(long)]
+    pub rate: Option<f64>,
+    /// Seed of every random stream.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// The measured samples (CSV).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Also write the truth (same columns, no errors).
+    #[arg(long)]
+    pub truth: Option<PathBuf>,
+}
+
+/// The CSV header of simulated files.
+pub const HEADER: &str = "t,ax,ay,az,gx,gy,gz,temp";
+
+/// Writes one row. `{}` prints the shortest decimal that reads back to the
+/// same f64, so files are exact and identical on every machine.
+pub fn write_row(w: &mut impl Write, t: f64, s: &TrueSample) -> std::io::Result<()> {
+    let [ax, ay, az] = s.specific_force;
+    let [gx, gy, gz] = s.angular_rate;
+    writeln!(w, "{t},{ax},{ay},{az},{gx},{gy},{gz},{}", s.temperature)
+}
+
+fn create(path: &PathBuf) -> anyhow::Result<BufWriter<File>> {
+    let file = File::create(path).with_context(|| format!("creating {}", path.display()))?;
+    let mut w = BufWriter::with_capacity(1 << 16, file);
+    writeln!(w, "{HEADER}")?;
+    Ok(w)
+}
 
 /// Runs `triad sim`.
-pub fn run(_args: SimArgs) -> anyhow::Result<std::process::ExitCode> {
-    anyhow::bail!("`triad sim` is not implemented yet")
+pub fn run(args: SimArgs) -> anyhow::Result<std::process::ExitCode> {
+    let loaded = scene_file::load(&args.scene)?;
+    let mut scene = loaded.scene;
+    if let Some(rate) = args.rate {
+        if !(rate.is_finite() && rate > 0.0) {
+            bail!("--rate {rate}: the sample rate must be a positive number of Hz");
+        }
+        scene.rate_hz = rate;
+    }
+    let seconds = match (args.seconds, loaded.duration_s) {
+        (Some(s), _) | (None, Some(s)) => s,
+        (None, None) => bail!(
+            "scene {} has no duration_s; give --seconds",
+            loaded.path.display()
+        ),
+    };
+    if !(seconds.is_finite() && seconds >= 0.0) {
+        bail!("--seconds {seconds}: must be a non-negative number");
+    }
+    let total = (seconds * scene.rate_hz).round();
+    if total > u64::MAX as f64 / 2.0 {
+        bail!(
+            "--seconds {seconds} at {} Hz is too many samples",
+            scene.rate_hz
+        );
+    }
+    let total = total as u64;
+    let mut sim = Simulator::new(&scene, args.seed)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", loaded.path.display()))?;
+
+    let mut out = create(&args.out)?;
+    let mut truth = args.truth.as_ref().map(create).transpose()?;
+    let progress = Progress::new(total);
+    for k in 0..total {
+        let s = sim.step();
+        write_row(&mut out, s.t, &s.measured)
+            .with_context(|| format!("writing {}", args.out.display()))?;
+        if let Some(w) = truth.as_mut() {
+            write_row(w, s.t, &s.truth)?;
+        }
+        if k & 0xffff == 0 {
+            progress.update(k);
+        }
+    }
+    out.flush()
+        .with_context(|| format!("writing {}", args.out.display()))?;
+    if let Some(mut w) = truth {
+        w.flush()?;
+    }
+    progress.finish(total);
+    Ok(std::process::ExitCode::SUCCESS)
+}
+
+/// A one-line progress bar on stderr, shown only for long runs on a terminal.
+struct Progress {
+    total: u64,
+    start: Instant,
+    shown: bool,
+}
+
+impl Progress {
+    /// Runs of more than this many samples (about a second of work) show it.
+    const LONG: u64 = 2_000_000;
+
+    fn new(total: u64) -> Self {
+        Self {
+            total,
+            start: Instant::now(),
+            shown: total > Self::LONG && std::io::stderr().is_terminal(),
+        }
+    }
+
+    fn update(&self, done: u64) {
+        if !self.shown {
+            return;
+        }
+        let frac = done as f64 / self.total as f64;
+        let width = 40;
+        let filled = (frac * width as f64) as usize;
+        let elapsed = self.start.elapsed().as_secs_f64();
+        let eta = if frac > 0.0 {
+            elapsed * (1.0 - frac) / frac
+        } else {
+            0.0
+        };
+        eprint!(
+            "\r[{}{}] {:5.1} % {done}/{} samples, {eta:.0} s left ",
+            "#".repeat(filled),
+            " ".repeat(width - filled),
+            100.0 * frac,
+            self.total
+        );
+    }
+
+    fn finish(&self, total: u64) {
+        if self.shown {
+            self.update(total);
+            eprintln!();
+        }
+    }
 }

@@ -1,6 +1,17 @@
 //! Sensors: the raw sample, the IMU trait the firmware and the model see, and
 //! one module per chip.
 
+pub mod error;
+pub mod fifo;
+pub mod icm42688;
+pub mod interface;
+pub mod interrupt;
+pub mod lsm6dsox;
+
+pub use error::Error;
+pub use fifo::{FifoConfig, FifoImu, FifoMode, FifoRead};
+pub use interrupt::InterruptPin;
+
 /// One raw reading of both triads, in the chip's own counts (LSB).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]

@@ -1,1 +1,94 @@
-fn main() {}
+//! `cargo xtask`: the two commands of the README and the jobs behind them.
+//!
+//! - `cargo xtask run`: set up, build the firmware for a board, run it (QEMU by
+//!   default) and print the decoded, calibrated samples as CSV.
+//! - `cargo xtask test`: every host test, every board's firmware build, and the
+//!   end-to-end tests on QEMU.
+
+use clap::{Parser, Subcommand};
+
+mod board;
+mod cmd;
+mod defmt_log;
+mod qemu;
+mod setup;
+mod test;
+
+#[derive(Parser)]
+#[command(name = "cargo xtask")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Build and run the firmware; print decoded, calibrated samples as CSV on stdout.
+    Run(RunArgs),
+    /// Run every host test, build every board, run the end-to-end tests on QEMU.
+    Test,
+    /// Install what the project needs (rustup targets, QEMU) and exit.
+    Setup,
+    /// Decode a captured defmt log (e.g. QEMU's stdout) with the firmware ELF.
+    Log {
+        /// The firmware ELF whose defmt table decodes the log.
+        elf: std::path::PathBuf,
+        /// The captured binary log.
+        log: std::path::PathBuf,
+    },
+}
+
+/// Arguments of `cargo xtask run`.
+#[derive(clap::Args)]
+pub struct RunArgs {
+    /// The board: `qemu` (emulated, the default) or `nucleo-f401re` (hardware via probe-rs).
+    #[arg(long, default_value = "qemu")]
+    board: board::Board,
+    /// Stop after this many seconds of streamed (emulated) time.
+    #[arg(long, default_value_t = 2.0)]
+    seconds: f64,
+    /// Calibration file (TOML) to embed; default calibrations/default.toml.
+    #[arg(long)]
+    calib: Option<std::path::PathBuf>,
+    /// Serial port of the hardware board's stream (nucleo-f401re only).
+    #[arg(long, default_value = "/dev/ttyACM0")]
+    port: String,
+}
+
+fn main() -> std::process::ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Run(args) => run(args),
+        Command::Test => test::run(),
+        Command::Setup => setup::ensure_all(),
+        Command::Log { elf, log } => defmt_log::print_file(&elf, &log),
+    };
+    match result {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(error) => {
+            eprintln!("xtask: {error:#}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(args: RunArgs) -> anyhow::Result<()> {
+    anyhow::ensure!(
+        args.seconds.is_finite() && args.seconds > 0.0,
+        "--seconds {}: must be a positive number of seconds",
+        args.seconds
+    );
+    setup::ensure_for(args.board)?;
+    let triad = cmd::build_host_tool()?;
+    let calibration = cmd::pack_calibration(&triad, args.calib.as_deref())?;
+    let elf = cmd::build_firmware(args.board, &calibration)?;
+    match args.board {
+        board::Board::Qemu => {
+            let frames = board::Board::Qemu.frames_in(args.seconds);
+            let status = qemu::stream_to_decoder(&elf, &triad, frames, qemu::Inherit)?;
+            anyhow::ensure!(status.success(), "triad decode exited with {status}");
+            Ok(())
+        }
+        board::Board::NucleoF401re => cmd::run_on_hardware(&elf, &triad, &args.port, args.seconds),
+    }
+}

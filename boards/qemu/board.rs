@@ -1,0 +1,198 @@
+//! The emulated board: QEMU's `netduinoplus2` (STM32F405, Cortex-M4F).
+//!
+//! QEMU models USART1, the timers, SysTick and the FPU; RCC and GPIO are
+//! stubs, so nothing here waits on a clock-ready bit. QEMU's STM32 timers
+//! count at 1 GHz of virtual time (not at the APB clock), so prescalers and
+//! reloads are computed for that. The sensor is the ICM-42688-P chip model,
+//! read by the real driver through an embedded-hal `SpiDevice`; a timer stands
+//! in for its data-ready line and advances the model's clock.
+
+use pac::interrupt;
+pub use stm32f4::stm32f405 as pac;
+
+/// The data-ready (sample) rate, Hz.
+pub const SAMPLE_RATE_HZ: u32 = 1_000;
+/// What QEMU's STM32 timers count at (virtual time), Hz.
+const TIMER_CLOCK_HZ: u32 = 1_000_000_000;
+/// USART1 baud rate (QEMU ignores it; the value is what real silicon would get).
+pub const BAUD: u32 = 921_600;
+/// The APB2 clock that the baud-rate divider assumes (168 MHz core / 2).
+const APB2_HZ: u32 = 84_000_000;
+
+/// The peripherals the application uses.
+pub struct Board {
+    /// The data-ready stand-in: one TIM3 interrupt per sample.
+    pub sample_timer: SampleTimer,
+    /// Microsecond timestamps for the stream.
+    pub clock: MicrosecondClock,
+    /// The stream's transmitter.
+    pub serial: Serial,
+}
+
+/// Brings up the peripherals; call first thing in `init` (see [`SampleTimer`]).
+/// No clock tree set-up: QEMU's RCC is a stub.
+pub fn init(dp: pac::Peripherals) -> Board {
+    dp.RCC
+        .apb1enr()
+        .modify(|_, w| w.tim3en().set_bit().tim5en().set_bit());
+    dp.RCC.apb2enr().modify(|_, w| w.usart1en().set_bit());
+    let clock = MicrosecondClock::new(dp.TIM5);
+    Board {
+        sample_timer: SampleTimer::new(dp.TIM3, &clock),
+        clock,
+        serial: Serial::new(dp.USART1),
+    }
+}
+
+/// The data-ready line: TIM3's update interrupt pends EXTI0 (the line's
+/// interrupt on real boards) once per sample, so the application's
+/// data-ready task is the same on every board.
+///
+/// QEMU 7.2's STM32 timer model lengthens every update period by the virtual
+/// time at which the counter was enabled (measured with `-icount shift=0`:
+/// enabled at 448 µs, a 1000 µs reload gave 1448 µs periods; enabled at
+/// about 1 µs, 1001 µs). So the board starts its timers first thing and shortens
+/// the reload by the enable time read from the microsecond clock.
+pub struct SampleTimer(pac::TIM3);
+
+impl SampleTimer {
+    fn new(tim: pac::TIM3, clock: &MicrosecondClock) -> Self {
+        const PERIOD_US: u32 = 1_000_000 / SAMPLE_RATE_HZ;
+        tim.psc()
+            .write(|w| w.psc().set((TIMER_CLOCK_HZ / 1_000_000 - 1) as u16));
+        tim.egr().write(|w| w.ug().set_bit());
+        tim.sr().write(|w| w.uif().clear_bit());
+        tim.dier().write(|w| w.uie().set_bit());
+        // SAFETY: TIM3's handler below only touches TIM3's status register and
+        // the NVIC pending bit; priority 0 is the highest, above RTIC's tasks.
+        unsafe {
+            let mut core = cortex_m::Peripherals::steal();
+            core.NVIC.set_priority(pac::Interrupt::TIM3, 0);
+            cortex_m::peripheral::NVIC::unmask(pac::Interrupt::TIM3);
+        }
+        // Rounded up: the enable lands within the microsecond after the read.
+        let enabled_at = (clock.now_us() + 1).min(PERIOD_US / 2);
+        tim.arr()
+            .write(|w| w.arr().set((PERIOD_US - 1 - enabled_at) as u16));
+        tim.cr1().modify(|_, w| w.cen().set_bit());
+        Self(tim)
+    }
+
+    /// Nothing to acknowledge: a pended interrupt clears itself on entry.
+    pub fn acknowledge(&mut self) {}
+
+    /// True when the next data-ready interrupt is already pending: the
+    /// current step overran its period.
+    pub fn next_step_pending(&self) -> bool {
+        cortex_m::peripheral::NVIC::is_pending(pac::Interrupt::EXTI0)
+    }
+}
+
+/// The emulated data-ready edge.
+#[interrupt]
+fn TIM3() {
+    // SAFETY: only this handler writes TIM3's status register after start-up.
+    let tim = unsafe { &*pac::TIM3::ptr() };
+    tim.sr().write(|w| w.uif().clear_bit());
+    cortex_m::peripheral::NVIC::pend(pac::Interrupt::EXTI0);
+}
+
+/// TIM5 (32 bit) free-running at 1 MHz: the stream's timestamps.
+pub struct MicrosecondClock(pac::TIM5);
+
+impl MicrosecondClock {
+    fn new(tim: pac::TIM5) -> Self {
+        tim.psc()
+            .write(|w| w.psc().set((TIMER_CLOCK_HZ / 1_000_000 - 1) as u16));
+        tim.arr().write(|w| w.arr().set(u32::MAX));
+        tim.egr().write(|w| w.ug().set_bit());
+        tim.cr1().modify(|_, w| w.cen().set_bit());
+        Self(tim)
+    }
+
+    /// Microseconds since start, wrapping at 2³².
+    pub fn now_us(&self) -> u32 {
+        self.0.cnt().read().bits()
+    }
+}
+
+/// USART1, transmit only, 8N1.
+pub struct Serial(pac::USART1);
+
+impl Serial {
+    fn new(usart: pac::USART1) -> Self {
+        // RM0090 §30.3.4: USARTDIV = f_APB2 / (16 · baud), mantissa.fraction in BRR.
+        // 84 MHz / 921600 rounds to 91 (0x5B): 0.0 % error; fits BRR's 16 bits.
+        const DIV_X16: u16 = ((APB2_HZ + BAUD / 2) / BAUD) as u16;
+        // SAFETY: BRR takes any 16-bit divider; DIV_X16 is a compile-time constant.
+        usart.brr().write(|w| unsafe { w.bits(DIV_X16) });
+        usart.cr1().write(|w| w.ue().set_bit().te().set_bit());
+        Self(usart)
+    }
+
+    /// Sends the bytes, waiting for the transmit register to empty before each.
+    pub fn write_all(&mut self, bytes: &[u8]) {
+        for &byte in bytes {
+            while self.0.sr().read().txe().bit_is_clear() {}
+            self.0.dr().write(|w| w.dr().set(u16::from(byte)));
+        }
+    }
+}
+
+/// Ends the emulation with a status QEMU returns to its caller.
+pub fn exit(success: bool) -> ! {
+    use cortex_m_semihosting::debug;
+    debug::exit(if success {
+        debug::EXIT_SUCCESS
+    } else {
+        debug::EXIT_FAILURE
+    });
+    loop {
+        cortex_m::asm::wfi();
+    }
+}
+
+/// The sensor: the real ICM-42688-P driver over SPI, talking to the chip model
+/// (a software `SpiDevice`) serving the documented demo motion.
+pub type Sensor = Icm42688<SpiInterface<Icm42688Model<DemoSource>>>;
+
+/// How the sensor is mounted on the board.
+pub const ORIENTATION: Orientation = Orientation::RotationNone;
+
+/// Averaging factor: streamed frames per second = SAMPLE_RATE_HZ / DECIMATION.
+pub const DECIMATION: u16 = 1;
+
+/// The chip's configuration: ±16 g, ±2000 °/s, 1 kHz, data-ready on INT1.
+pub fn sensor_config() -> Config {
+    Config::default()
+}
+
+/// The chip model behind the driver, serving the demo motion at the sample rate.
+pub fn sensor() -> Sensor {
+    let motion = DemoMotion::standard(f64::from(SAMPLE_RATE_HZ));
+    Icm42688::new_spi(Icm42688Model::new(DemoSource::new(motion)))
+}
+
+/// The data-ready line: on this board the timer interrupt stands in for it,
+/// and the chip model's clock advances by one sample period.
+pub fn data_ready(sensor: &mut Sensor) {
+    sensor
+        .bus_mut()
+        .advance(u64::from(1_000_000_000 / SAMPLE_RATE_HZ));
+}
+
+/// A busy-wait delay for the driver's start-up waits (the core runs at 168
+/// MHz; under `-icount shift=0` one loop cycle is one instruction).
+pub struct Delay;
+
+impl embedded_hal::delay::DelayNs for Delay {
+    fn delay_ns(&mut self, ns: u32) {
+        cortex_m::asm::delay(ns / 6 + 1);
+    }
+}
+
+use triad::model::Orientation;
+use triad::sensor::icm42688::{config::Config, Icm42688};
+use triad::sensor::interface::SpiInterface;
+use triad::sim::demo_motion::{DemoMotion, DemoSource};
+use triad::sim::icm42688_model::Icm42688Model;

@@ -1,0 +1,138 @@
+//! Calibration files: the TOML form a lab writes (issue 2, item 2).
+//!
+//! ```toml
+//! id = 7                          # optional; default: CRC-32 of the blob's parameter bytes
+//! orientation = "ROTATION_NONE"   # optional; PX4 name or id, default ROTATION_NONE
+//! [accel]
+//! scale_misalignment = [[1.002, 0.001, -0.0005], [0.0003, 0.998, 0.002], [0.0, -0.001, 1.001]]  # I + Σ
+//! bias = [0.05, -0.02, 0.10]        # m/s²
+//! [accel.temperature]               # optional
+//! reference_c = 25.0
+//! bias_coefficients = [[c1, c2, c3], [..], [..]]   # per axis, SI/°C, SI/°C², SI/°C³
+//! scale_misalignment_per_c = [[..], [..], [..]]    # d(I+Σ)/dT, 1/°C
+//! [gyro]
+//! scale_misalignment = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+//! bias = [0.001, -0.002, 0.0005]    # rad/s
+//! ```
+//!
+//! Other top-level keys and tables are allowed (metadata); inside `[accel]`,
+//! `[gyro]` and their `temperature` tables unknown keys are errors, so a
+//! misspelt optional key cannot silently vanish. This module only reads the
+//! file; [`triad::model::Corrector`] validates the values.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{anyhow, Context};
+use serde::Deserialize;
+use triad::model::{blob, Calibration, Orientation, TemperatureTerms, TriadCalibration};
+
+/// A calibration file as read.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CalibFile {
+    /// Where it was read from (for messages).
+    pub path: PathBuf,
+    /// The calibration; `id` is the file's or the parameter CRC.
+    pub calibration: Calibration,
+    /// True when the file set no `id`.
+    pub id_from_parameters: bool,
+    /// The mounting orientation.
+    pub orientation: Orientation,
+}
+
+#[derive(Deserialize)]
+struct FileShape {
+    id: Option<u32>,
+    orientation: Option<toml::Value>,
+    accel: TriadShape,
+    gyro: TriadShape,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TriadShape {
+    scale_misalignment: [[f64; 3]; 3],
+    bias: [f64; 3],
+    temperature: Option<TemperatureShape>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TemperatureShape {
+    reference_c: f64,
+    bias_coefficients: [[f64; 3]; 3],
+    scale_misalignment_per_c: [[f64; 3]; 3],
+}
+
+impl From<TriadShape> for TriadCalibration {
+    fn from(t: TriadShape) -> Self {
+        TriadCalibration {
+            scale_misalignment: t.scale_misalignment,
+            bias: t.bias,
+            temperature: t.temperature.map(|x| TemperatureTerms {
+                reference_c: x.reference_c,
+                bias_coefficients: x.bias_coefficients,
+                scale_misalignment_per_c: x.scale_misalignment_per_c,
+            }),
+        }
+    }
+}
+
+/// Reads and parses `path`; errors name the file, the line and the key.
+pub fn load(path: &Path) -> anyhow::Result<CalibFile> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("{}: cannot read", path.display()))?;
+    parse(&text, path)
+}
+
+/// Parses the text of a calibration file read from `path`.
+pub fn parse(text: &str, path: &Path) -> anyhow::Result<CalibFile> {
+    let shape: FileShape =
+        toml::from_str(text).map_err(|e| anyhow!("{}:{}", path.display(), one_line(&e, text)))?;
+    let orientation = match &shape.orientation {
+        None => Orientation::RotationNone,
+        Some(value) => parse_orientation(value)
+            .map_err(|reason| anyhow!("{}: orientation: {reason}", path.display()))?,
+    };
+    let mut calibration = Calibration {
+        id: 0,
+        accel: shape.accel.into(),
+        gyro: shape.gyro.into(),
+    };
+    let id_from_parameters = shape.id.is_none();
+    calibration.id = shape.id.unwrap_or_else(|| blob::parameter_id(&calibration));
+    Ok(CalibFile {
+        path: path.to_path_buf(),
+        calibration,
+        id_from_parameters,
+        orientation,
+    })
+}
+
+fn parse_orientation(value: &toml::Value) -> Result<Orientation, String> {
+    match value {
+        toml::Value::String(name) => Orientation::from_name(name)
+            .ok_or_else(|| format!("`{name}` is not one of the 24 right-angle orientations (PX4 names, e.g. ROTATION_YAW_90)")),
+        toml::Value::Integer(id) => u8::try_from(*id)
+            .map_err(|_| format!("{id} is not a PX4 rotation id"))
+            .and_then(|id| Orientation::from_id(id).map_err(|e| e.to_string())),
+        other => Err(format!("expected a PX4 rotation name or id, found {}", other.type_str())),
+    }
+}
+
+/// `LINE:COL: message (in `key`)` from a toml error, on one line.
+fn one_line(error: &toml::de::Error, text: &str) -> String {
+    let position = error.span().map(|span| {
+        let before = &text.as_bytes()[..span.start.min(text.len())];
+        let line = before.iter().filter(|&&b| b == b'\n').count() + 1;
+        let column = before.iter().rev().take_while(|&&b| b != b'\n').count() + 1;
+        format!("{line}:{column}: ")
+    });
+    // Without the input, Display gives the message and then "in `a.b`".
+    let mut bare = error.clone();
+    bare.set_input(None);
+    let rendered = bare.to_string();
+    let mut lines = rendered.lines().map(str::trim).filter(|l| !l.is_empty());
+    let message = lines.next().unwrap_or("invalid TOML").to_string();
+    let keys = lines.next().map(|k| format!(" ({k})")).unwrap_or_default();
+    format!(" {}{message}{keys}", position.unwrap_or_default())
+}

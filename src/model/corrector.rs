@@ -1,0 +1,377 @@
+//! The corrector: a validated calibration, inverted in f64 once, folded with
+//! the chip's sensitivity and the mounting orientation into the f32 hot path
+//! m = K·raw + k, with the f64 reference beside it.
+
+use super::calibration::{Calibration, Triad, TriadCalibration};
+use super::fold::FoldedTriad;
+use super::matrix::{self, Mat3};
+use super::orientation::Orientation;
+use super::validate::{positive_finite, validate_triad, CalibrationError, TEMPERATURE_RANGE_C};
+use crate::sensor::{ImuScale, RawSample, TriadScale};
+
+/// Which triads had a raw axis at the chip's limit code (i16::MIN or
+/// i16::MAX). The off-diagonal terms spread a clipped axis into the others,
+/// so the whole corrected triad is suspect.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct ClipFlags {
+    /// An accelerometer axis is at its limit.
+    pub accel: bool,
+    /// A gyroscope axis is at its limit.
+    pub gyro: bool,
+}
+
+impl ClipFlags {
+    /// Flags of a raw sample.
+    #[inline(always)]
+    pub fn of(raw: &RawSample) -> ClipFlags {
+        ClipFlags {
+            accel: at_limit(&raw.accel),
+            gyro: at_limit(&raw.gyro),
+        }
+    }
+}
+
+/// Any axis at i16::MIN or i16::MAX, branch-free in a few instructions:
+/// m = x ^ (x >> 15) is x for x ≥ 0 and −x − 1 for x < 0, so m ≤ 32767 with
+/// equality exactly at the two limit codes, and m + 1 sets bit 15 only there.
+#[inline(always)]
+fn at_limit(v: &[i16; 3]) -> bool {
+    let m = |x: i16| (i32::from(x) ^ (i32::from(x) >> 15)) + 1;
+    (m(v[0]) | m(v[1]) | m(v[2])) >> 15 != 0
+}
+
+/// One corrected sample, f32, in the board's axes.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Sample {
+    /// Specific force in m/s².
+    pub accel: [f32; 3],
+    /// Angular rate in rad/s.
+    pub gyro: [f32; 3],
+    /// Die temperature in °C.
+    pub temperature: f32,
+    /// Clipped triads.
+    pub clip: ClipFlags,
+}
+
+/// One corrected sample from the f64 reference path.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct ReferenceSample {
+    /// Specific force in m/s².
+    pub accel: [f64; 3],
+    /// Angular rate in rad/s.
+    pub gyro: [f64; 3],
+    /// Die temperature in °C.
+    pub temperature: f64,
+    /// Clipped triads.
+    pub clip: ClipFlags,
+}
+
+/// The f32 form of one triad's K and k.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct KernelF32 {
+    k: [[f32; 3]; 3],
+    offset: [f32; 3],
+}
+
+impl KernelF32 {
+    /// Rounds the f64 coefficients to nearest f32 (relative error ≤ 2⁻²⁴ each).
+    fn new(folded: &FoldedTriad) -> Self {
+        let r = |row: &[f64; 3]| [row[0] as f32, row[1] as f32, row[2] as f32];
+        KernelF32 {
+            k: [r(&folded.k[0]), r(&folded.k[1]), r(&folded.k[2])],
+            offset: r(&folded.offset),
+        }
+    }
+
+    /// K·x + k, each row evaluated left to right: ((K0·x0 + K1·x1) + K2·x2) + k.
+    /// The error bound in tests/model_f32.rs depends on this order.
+    #[inline(always)]
+    fn apply(&self, x: [f32; 3]) -> [f32; 3] {
+        let row = |k: &[f32; 3], o: f32| k[0] * x[0] + k[1] * x[1] + k[2] * x[2] + o;
+        [
+            row(&self.k[0], self.offset[0]),
+            row(&self.k[1], self.offset[1]),
+            row(&self.k[2], self.offset[2]),
+        ]
+    }
+}
+
+/// One triad as currently folded: (I+Σ)(T), b(T) for the reference, K and k
+/// in f64 and f32.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct TriadState {
+    matrix: Mat3,
+    bias: [f64; 3],
+    folded: FoldedTriad,
+    kernel: KernelF32,
+}
+
+impl TriadState {
+    fn new(
+        triad: Triad,
+        (matrix, bias): (Mat3, [f64; 3]),
+        si_per_lsb: f64,
+        orientation: Orientation,
+    ) -> Result<Self, CalibrationError> {
+        let folded = FoldedTriad::new(&matrix, &bias, si_per_lsb, orientation).ok_or(
+            CalibrationError::Singular {
+                triad,
+                determinant: matrix::determinant(&matrix),
+                temperature_c: None,
+            },
+        )?;
+        Ok(TriadState {
+            matrix,
+            bias,
+            folded,
+            kernel: KernelF32::new(&folded),
+        })
+    }
+
+    /// R·(I+Σ)⁻¹·(x − b) by Gaussian elimination: independent of the fold.
+    fn reference(&self, x: [f64; 3], orientation: Orientation) -> [f64; 3] {
+        let d = [
+            x[0] - self.bias[0],
+            x[1] - self.bias[1],
+            x[2] - self.bias[2],
+        ];
+        match matrix::solve(&self.matrix, &d) {
+            Some(y) => orientation.rotate(y),
+            None => [f64::NAN; 3],
+        }
+    }
+}
+
+/// A validated calibration folded for one chip configuration and mounting.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Corrector {
+    calibration: Calibration,
+    orientation: Orientation,
+    scale: ImuScale,
+    fold_temperature_c: Option<f64>,
+    accel: TriadState,
+    gyro: TriadState,
+    temperature_scale: f32,
+    temperature_offset: f32,
+}
+
+impl Corrector {
+    /// Validates `cal` against the ranges in `scale`, inverts each (I+Σ) in
+    /// f64 and folds sensitivity, orientation, (I+Σ)⁻¹ and b. Temperature
+    /// terms start folded at their reference temperature (ΔT = 0).
+    pub fn new(
+        cal: &Calibration,
+        scale: &ImuScale,
+        orientation: Orientation,
+    ) -> Result<Corrector, CalibrationError> {
+        positive_finite("accel.si_per_lsb", scale.accel.si_per_lsb)?;
+        positive_finite("gyro.si_per_lsb", scale.gyro.si_per_lsb)?;
+        positive_finite("accel.full_scale", scale.accel.full_scale)?;
+        positive_finite("gyro.full_scale", scale.gyro.full_scale)?;
+        positive_finite("temperature_per_lsb", scale.temperature_per_lsb)?;
+        if !scale.temperature_offset.is_finite() {
+            return Err(CalibrationError::InvalidScale {
+                quantity: "temperature_offset",
+                value: scale.temperature_offset,
+            });
+        }
+        validate_triad(Triad::Accel, &cal.accel, scale.accel.full_scale)?;
+        validate_triad(Triad::Gyro, &cal.gyro, scale.gyro.full_scale)?;
+        let at_reference =
+            |t: &TriadCalibration| t.at_temperature(t.temperature.map_or(0.0, |x| x.reference_c));
+        Ok(Corrector {
+            calibration: *cal,
+            orientation,
+            scale: *scale,
+            fold_temperature_c: None,
+            accel: TriadState::new(
+                Triad::Accel,
+                at_reference(&cal.accel),
+                scale.accel.si_per_lsb,
+                orientation,
+            )?,
+            gyro: TriadState::new(
+                Triad::Gyro,
+                at_reference(&cal.gyro),
+                scale.gyro.si_per_lsb,
+                orientation,
+            )?,
+            temperature_scale: scale.temperature_per_lsb as f32,
+            temperature_offset: scale.temperature_offset as f32,
+        })
+    }
+
+    /// A corrector for inputs already in SI units (the host's `triad
+    /// correct`): sensitivity 1, temperature passed through. The
+    /// `*_full_scale` ranges (± SI units) bound the bias check. Use it with
+    /// [`Corrector::correct_si`] and [`Corrector::reference_si`].
+    pub fn new_si(
+        cal: &Calibration,
+        accel_full_scale: f64,
+        gyro_full_scale: f64,
+        orientation: Orientation,
+    ) -> Result<Corrector, CalibrationError> {
+        let scale = ImuScale {
+            accel: TriadScale {
+                si_per_lsb: 1.0,
+                full_scale: accel_full_scale,
+            },
+            gyro: TriadScale {
+                si_per_lsb: 1.0,
+                full_scale: gyro_full_scale,
+            },
+            temperature_per_lsb: 1.0,
+            temperature_offset: 0.0,
+        };
+        Corrector::new(cal, &scale, orientation)
+    }
+
+    /// The f32 hot path: m = K·raw + k per triad, temperature to °C, clip flags.
+    #[inline]
+    pub fn correct(&self, raw: &RawSample) -> Sample {
+        let f = |v: &[i16; 3]| [f32::from(v[0]), f32::from(v[1]), f32::from(v[2])];
+        Sample {
+            accel: self.accel.kernel.apply(f(&raw.accel)),
+            gyro: self.gyro.kernel.apply(f(&raw.gyro)),
+            temperature: f32::from(raw.temperature) * self.temperature_scale
+                + self.temperature_offset,
+            clip: ClipFlags::of(raw),
+        }
+    }
+
+    /// The same f32 kernel on inputs in SI units (for a corrector from
+    /// [`Corrector::new_si`]); the temperature passes through; no clip flags.
+    #[inline]
+    pub fn correct_si(&self, accel: [f32; 3], gyro: [f32; 3], temperature: f32) -> Sample {
+        Sample {
+            accel: self.accel.kernel.apply(accel),
+            gyro: self.gyro.kernel.apply(gyro),
+            temperature,
+            clip: ClipFlags::default(),
+        }
+    }
+
+    /// The f64 reference (ground truth): R·(I+Σ)⁻¹·(s·raw − b) solved by
+    /// Gaussian elimination with the calibration as currently folded.
+    pub fn reference(&self, raw: &RawSample) -> ReferenceSample {
+        let si = |v: &[i16; 3], s: f64| {
+            [
+                f64::from(v[0]) * s,
+                f64::from(v[1]) * s,
+                f64::from(v[2]) * s,
+            ]
+        };
+        ReferenceSample {
+            accel: self.accel.reference(
+                si(&raw.accel, self.scale.accel.si_per_lsb),
+                self.orientation,
+            ),
+            gyro: self
+                .gyro
+                .reference(si(&raw.gyro, self.scale.gyro.si_per_lsb), self.orientation),
+            temperature: self.scale.temperature_c(raw.temperature),
+            clip: ClipFlags::of(raw),
+        }
+    }
+
+    /// The f64 reference on inputs in SI units (for a corrector from [`Corrector::new_si`]).
+    pub fn reference_si(
+        &self,
+        accel: [f64; 3],
+        gyro: [f64; 3],
+        temperature: f64,
+    ) -> ReferenceSample {
+        ReferenceSample {
+            accel: self.accel.reference(accel, self.orientation),
+            gyro: self.gyro.reference(gyro, self.orientation),
+            temperature,
+            clip: ClipFlags::default(),
+        }
+    }
+
+    /// Re-folds K and k for the temperature terms at `temperature_c`, clamped
+    /// to [`TEMPERATURE_RANGE_C`] (where they were validated). Call at a low
+    /// rate, not per sample. Triads without temperature terms are unchanged.
+    /// A non-finite temperature is rejected and the current coefficients stay.
+    pub fn refold(&mut self, temperature_c: f64) -> Result<(), CalibrationError> {
+        if !temperature_c.is_finite() {
+            return Err(CalibrationError::NonFiniteTemperature {
+                value: temperature_c,
+            });
+        }
+        let t = temperature_c.clamp(TEMPERATURE_RANGE_C.0, TEMPERATURE_RANGE_C.1);
+        let cal = &self.calibration;
+        let refolded =
+            |triad: Triad, state: &TriadState, s: f64| match &cal.triad(triad).temperature {
+                // Validation proved (I+Σ)(T) invertible and in bounds over the whole range.
+                Some(_) => TriadState::new(
+                    triad,
+                    cal.triad(triad).at_temperature(t),
+                    s,
+                    self.orientation,
+                ),
+                None => Ok(*state),
+            };
+        // Both triads first, then assign: a failed refold changes nothing.
+        let accel = refolded(Triad::Accel, &self.accel, self.scale.accel.si_per_lsb)?;
+        let gyro = refolded(Triad::Gyro, &self.gyro, self.scale.gyro.si_per_lsb)?;
+        self.accel = accel;
+        self.gyro = gyro;
+        self.fold_temperature_c = Some(t);
+        Ok(())
+    }
+
+    /// The calibration identity the stream carries.
+    pub fn calibration_id(&self) -> u32 {
+        self.calibration.id
+    }
+
+    /// The calibration as loaded.
+    pub fn calibration(&self) -> &Calibration {
+        &self.calibration
+    }
+
+    /// The mounting orientation folded in.
+    pub fn orientation(&self) -> Orientation {
+        self.orientation
+    }
+
+    /// The chip scale folded in (sensitivity 1 for [`Corrector::new_si`]).
+    pub fn scale(&self) -> &ImuScale {
+        &self.scale
+    }
+
+    /// The temperature of the last refold (after clamping), `None` before the
+    /// first: then each triad is folded at its reference temperature.
+    pub fn fold_temperature_c(&self) -> Option<f64> {
+        self.fold_temperature_c
+    }
+
+    /// A triad's folded f64 coefficients (K, k), as currently folded.
+    pub fn folded(&self, triad: Triad) -> &FoldedTriad {
+        match triad {
+            Triad::Accel => &self.accel.folded,
+            Triad::Gyro => &self.gyro.folded,
+        }
+    }
+
+    /// A triad's f32 K and k, exactly as the hot path applies them.
+    pub fn folded_f32(&self, triad: Triad) -> ([[f32; 3]; 3], [f32; 3]) {
+        let state = match triad {
+            Triad::Accel => &self.accel,
+            Triad::Gyro => &self.gyro,
+        };
+        (state.kernel.k, state.kernel.offset)
+    }
+
+    /// κ₁ of a triad's (I+Σ) as currently folded.
+    pub fn condition_number(&self, triad: Triad) -> f64 {
+        let state = match triad {
+            Triad::Accel => &self.accel,
+            Triad::Gyro => &self.gyro,
+        };
+        matrix::condition_number(&state.matrix).unwrap_or(f64::INFINITY)
+    }
+}

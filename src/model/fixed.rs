@@ -1,0 +1,257 @@
+//! The integer-only hot path, for cores without an FPU.
+//!
+//! Outputs are i32 fixed point in SI units, with F fraction bits per quantity:
+//! accelerometer Q16.16 m/s² (quantum 1.5e−5 m/s², range ±32768 m/s²),
+//! gyroscope Q10.22 rad/s (quantum 2.4e−7 rad/s, range ±512 rad/s ≈ ±29000 °/s),
+//! temperature Q16.16 °C. The gyro gets more fraction bits because its finest
+//! ranges are fine indeed: a 16-bit gyro at ±15.625 °/s (ICM-42688-P) has
+//! 8.3e−6 rad/s per LSB, below the Q16.16 quantum.
+//!
+//! Per triad, K and k from the f64 fold are scaled by 2^S and rounded:
+//! K_q = round(K·2^S) in i32, k_q = round(k·2^S) + 2^(S−F−1) in i64 (the added
+//! half output quantum turns the final arithmetic shift, a floor, into
+//! round-half-up). Then, with i64 products and sums,
+//!
+//! ```text
+//! out_i = (Σ_j K_q[i][j]·raw_j + k_q[i]) >> (S − F).
+//! ```
+//!
+//! S is the largest value in F+1..=F+31 with max|K_q| ≤ 2³⁰, so the
+//! coefficients keep 29..30 significant bits and the shift is 1..=31 (a
+//! 32-bit funnel shift of the two halves). No overflow for any i16 input:
+//! each product is ≤ 2³⁰·2¹⁵ = 2⁴⁵, three of them ≤ 1.5·2⁴⁶, and |k_q| is
+//! checked ≤ 2⁶¹ at construction, so the sum stays below 2⁶²; construction
+//! also checks that the largest possible result fits i32 after the shift.
+//!
+//! Error against the exact K·raw + k, in SI units (proof):
+//! - coefficient rounding: |K_q − K·2^S| ≤ ½ and |k_q − k·2^S − 2^(S−F−1)| ≤ ½,
+//!   so the sum is off by ≤ ½·(Σ|raw_j| + 1) ≤ ½·(3·32768 + 1) quanta 2⁻ˢ;
+//! - the final rounding: ≤ ½ output quantum = 2^−(F+1).
+//!
+//! So |error| ≤ 2^−(F+1) + (3·32768 + 1)·2^−(S+1)
+//! ([`FixedCorrector::error_bound`]). As max|K|·2^S > 2²⁹ (unless S is at its
+//! cap), the second term is below 9.2e−5·max|K|, and max|K| ≤ 3.4 LSB-worth
+//! for a valid calibration (‖(I+Σ)⁻¹‖ ≤ 1/0.3), so it is below 3.2e−4 LSB.
+//! The bound is therefore ≤ 0.5 LSB whenever the LSB is ≥ 2^−F·1.001: down to
+//! 1.5e−5 m/s² for accelerometers (a 16-bit ±2 g one has 6e−4) and 2.4e−7
+//! rad/s for gyroscopes. tests/model_fixed.rs asserts it for every range.
+
+use super::corrector::{ClipFlags, Corrector, ReferenceSample};
+use super::fold::FoldedTriad;
+use super::validate::CalibrationError;
+use crate::sensor::RawSample;
+
+/// Fraction bits of the accelerometer output: Q16.16 m/s².
+pub const ACCEL_FRACTION_BITS: u32 = 16;
+/// Fraction bits of the gyroscope output: Q10.22 rad/s.
+pub const GYRO_FRACTION_BITS: u32 = 22;
+/// Fraction bits of the temperature output: Q16.16 °C.
+pub const TEMPERATURE_FRACTION_BITS: u32 = 16;
+
+/// One corrected sample in fixed-point SI units (value = field / 2^F).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct FixedSample {
+    /// Specific force, Q16.16 m/s² ([`ACCEL_FRACTION_BITS`]).
+    pub accel: [i32; 3],
+    /// Angular rate, Q10.22 rad/s ([`GYRO_FRACTION_BITS`]).
+    pub gyro: [i32; 3],
+    /// Die temperature, Q16.16 °C ([`TEMPERATURE_FRACTION_BITS`]).
+    pub temperature: i32,
+    /// Clipped triads.
+    pub clip: ClipFlags,
+}
+
+impl FixedSample {
+    /// The same values in f64 SI units (exact: an i32 / 2^F fits f64).
+    pub fn to_f64(&self) -> ReferenceSample {
+        let f = |v: &[i32; 3], bits| {
+            [
+                q_to_f64(v[0], bits),
+                q_to_f64(v[1], bits),
+                q_to_f64(v[2], bits),
+            ]
+        };
+        ReferenceSample {
+            accel: f(&self.accel, ACCEL_FRACTION_BITS),
+            gyro: f(&self.gyro, GYRO_FRACTION_BITS),
+            temperature: q_to_f64(self.temperature, TEMPERATURE_FRACTION_BITS),
+            clip: self.clip,
+        }
+    }
+}
+
+fn q_to_f64(q: i32, fraction_bits: u32) -> f64 {
+    f64::from(q) / f64::from(1u32 << fraction_bits)
+}
+
+/// `x <= limit`, false for NaN.
+fn at_most(x: f64, limit: f64) -> bool {
+    x <= limit
+}
+
+/// 2^e as f64 (exact).
+fn pow2(e: i32) -> f64 {
+    libm::ldexp(1.0, e)
+}
+
+/// One triad (or the temperature row) in fixed point.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct FixedRows<const N: usize> {
+    k: [[i32; N]; N],
+    offset: [i64; N],
+    /// S − F, in 1..=31.
+    shift: u32,
+    /// F, the output's fraction bits.
+    fraction_bits: u32,
+}
+
+impl<const N: usize> FixedRows<N> {
+    /// Scales and rounds `k` (N×N) and `offset` as the module doc says.
+    fn new(
+        quantity: &'static str,
+        fraction_bits: u32,
+        k: &[[f64; N]; N],
+        offset: &[f64; N],
+    ) -> Result<Self, CalibrationError> {
+        let f = fraction_bits as i32;
+        let max_k = k.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+        let max_raw = 32768.0;
+        let range_error = |max_output: f64| CalibrationError::FixedPointRange {
+            quantity,
+            max_output,
+        };
+        // Largest S in F+1..=F+31 with max|K|·2^S ≤ 2³⁰.
+        let mut s = f + 31;
+        while s > f + 1 && max_k * pow2(s) > pow2(30) {
+            s -= 1;
+        }
+        let scale = pow2(s);
+        if !at_most(max_k * scale, pow2(30)) {
+            return Err(range_error(max_k * max_raw * N as f64));
+        }
+        let mut k_q = [[0i32; N]; N];
+        for (q_row, row) in k_q.iter_mut().zip(k.iter()) {
+            for (q, &x) in q_row.iter_mut().zip(row.iter()) {
+                *q = libm::round(x * scale) as i32;
+            }
+        }
+        let half = pow2(s - f - 1);
+        let mut offset_q = [0i64; N];
+        for ((q, &o), k_row) in offset_q.iter_mut().zip(offset.iter()).zip(k_q.iter()) {
+            let scaled = libm::round(o * scale);
+            // Largest |sum| before the shift, then in output quanta.
+            let max_sum = k_row
+                .iter()
+                .map(|&x| f64::from(x).abs() * max_raw)
+                .sum::<f64>()
+                + scaled.abs()
+                + half;
+            let max_output = max_sum / pow2(s - f);
+            if !at_most(scaled.abs(), pow2(61)) || !at_most(max_output, 2_147_483_646.0) {
+                return Err(range_error(max_output / pow2(f)));
+            }
+            *q = scaled as i64 + half as i64;
+        }
+        Ok(FixedRows {
+            k: k_q,
+            offset: offset_q,
+            shift: (s - f) as u32,
+            fraction_bits,
+        })
+    }
+
+    /// The proven bound on |fixed − exact| in SI units (module doc).
+    fn error_bound(&self) -> f64 {
+        let f = self.fraction_bits as i32;
+        let s = self.shift as i32 + f;
+        pow2(-f - 1) + (N as f64 * 32768.0 + 1.0) * pow2(-s - 1)
+    }
+}
+
+/// `(acc >> shift) as i32` for 1 ≤ shift ≤ 31 when the result fits i32 (which
+/// construction proves): only the low word of the shifted value is needed, so
+/// it is a funnel shift of the two halves, 3 instructions on a Cortex-M.
+#[inline(always)]
+fn shift_to_i32(acc: i64, shift: u32) -> i32 {
+    let (lo, hi) = (acc as u32, (acc >> 32) as u32);
+    ((lo >> shift) | (hi << (32 - shift))) as i32
+}
+
+impl FixedRows<3> {
+    #[inline(always)]
+    fn apply(&self, x: &[i16; 3]) -> [i32; 3] {
+        let (x0, x1, x2) = (i64::from(x[0]), i64::from(x[1]), i64::from(x[2]));
+        let row = |k: &[i32; 3], o: i64| {
+            // The module doc proves |sum| < 2⁶² and that the shifted value fits i32.
+            let acc = o + i64::from(k[0]) * x0 + i64::from(k[1]) * x1 + i64::from(k[2]) * x2;
+            shift_to_i32(acc, self.shift)
+        };
+        [
+            row(&self.k[0], self.offset[0]),
+            row(&self.k[1], self.offset[1]),
+            row(&self.k[2], self.offset[2]),
+        ]
+    }
+}
+
+/// The integer-only corrector, built from a [`Corrector`]'s folded f64
+/// coefficients (rebuild it after a [`Corrector::refold`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct FixedCorrector {
+    accel: FixedRows<3>,
+    gyro: FixedRows<3>,
+    temperature: FixedRows<1>,
+}
+
+impl FixedCorrector {
+    /// Quantises the corrector's current K, k and temperature scale.
+    pub fn new(corrector: &Corrector) -> Result<FixedCorrector, CalibrationError> {
+        use super::calibration::Triad;
+        let rows =
+            |quantity, bits, f: &FoldedTriad| FixedRows::new(quantity, bits, &f.k, &f.offset);
+        let scale = corrector.scale();
+        Ok(FixedCorrector {
+            accel: rows("accel", ACCEL_FRACTION_BITS, corrector.folded(Triad::Accel))?,
+            gyro: rows("gyro", GYRO_FRACTION_BITS, corrector.folded(Triad::Gyro))?,
+            temperature: FixedRows::new(
+                "temperature",
+                TEMPERATURE_FRACTION_BITS,
+                &[[scale.temperature_per_lsb]],
+                &[scale.temperature_offset],
+            )?,
+        })
+    }
+
+    /// The integer hot path: fixed-point SI outputs and clip flags.
+    #[inline]
+    pub fn correct(&self, raw: &RawSample) -> FixedSample {
+        let t = &self.temperature;
+        FixedSample {
+            accel: self.accel.apply(&raw.accel),
+            gyro: self.gyro.apply(&raw.gyro),
+            temperature: shift_to_i32(
+                t.offset[0] + i64::from(t.k[0][0]) * i64::from(raw.temperature),
+                t.shift,
+            ),
+            clip: ClipFlags::of(raw),
+        }
+    }
+
+    /// The proven bound on |fixed − exact| in SI units for every input, per
+    /// output `[accel, gyro, temperature]`: 2^−(F+1) + (N·32768 + 1)·2^−(S+1).
+    pub fn error_bound(&self) -> [f64; 3] {
+        [
+            self.accel.error_bound(),
+            self.gyro.error_bound(),
+            self.temperature.error_bound(),
+        ]
+    }
+}
+
+impl Corrector {
+    /// The fixed-point form of the current fold.
+    pub fn to_fixed(&self) -> Result<FixedCorrector, CalibrationError> {
+        FixedCorrector::new(self)
+    }
+}

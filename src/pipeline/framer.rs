@@ -1,0 +1,87 @@
+//! Turning corrected samples into stream frames, with the counters and flags
+//! of everything that went wrong since the previous frame.
+
+use crate::model::Sample;
+use crate::stream::{Flags, Frame};
+
+/// Numbers the frames and carries the pending events into the next frame.
+///
+/// Sequence numbers count the frames handed to the link (docs/PROTOCOL.md): a
+/// frame the firmware drops because the link is full gives its number back
+/// and is counted in the next frame's `dropped`, so a sequence gap on the host
+/// means loss on the wire, and `dropped` means loss at the source.
+#[derive(Clone, Debug)]
+pub struct Framer {
+    sequence: u32,
+    calibration_id: u32,
+    calibrated: bool,
+    overruns: u16,
+    dropped: u16,
+    fifo_overflow: bool,
+}
+
+impl Framer {
+    /// A framer whose frames carry `calibration_id`; `calibrated` false sets
+    /// the UNCALIBRATED flag on every frame (the embedded calibration was
+    /// rejected and the identity is applied).
+    pub const fn new(calibration_id: u32, calibrated: bool) -> Self {
+        Self {
+            sequence: 0,
+            calibration_id,
+            calibrated,
+            overruns: 0,
+            dropped: 0,
+            fifo_overflow: false,
+        }
+    }
+
+    /// `count` sample steps were late or produced no sample (the previous
+    /// step overran, or the read failed): the next frame's `overruns`.
+    pub fn steps_lost(&mut self, count: u32) {
+        let count = u16::try_from(count).unwrap_or(u16::MAX);
+        self.overruns = self.overruns.saturating_add(count);
+    }
+
+    /// The sensor reported samples lost in its FIFO.
+    pub fn fifo_overflowed(&mut self) {
+        self.fifo_overflow = true;
+    }
+
+    /// `frame` (returned by [`Framer::frame`]) could not be queued: it is
+    /// counted as dropped, and the events it carried move to the next frame
+    /// so that no count is lost with it.
+    pub fn frame_dropped(&mut self, frame: &Frame) {
+        self.sequence = frame.sequence;
+        self.dropped = self.dropped.saturating_add(frame.dropped).saturating_add(1);
+        self.overruns = self.overruns.saturating_add(frame.overruns);
+        self.fifo_overflow |= frame.flags.contains(Flags::FIFO_OVERFLOW);
+    }
+
+    /// The next frame: `sample` at `timestamp_us`, with the events pending
+    /// since the previous frame, which are then cleared.
+    pub fn frame(&mut self, sample: &Sample, timestamp_us: u32) -> Frame {
+        let mut flags = Flags::empty();
+        flags.set(Flags::ACCEL_CLIPPED, sample.clip.accel);
+        flags.set(Flags::GYRO_CLIPPED, sample.clip.gyro);
+        flags.set(Flags::OVERRUN, self.overruns > 0);
+        flags.set(Flags::DROPPED, self.dropped > 0);
+        flags.set(Flags::FIFO_OVERFLOW, self.fifo_overflow);
+        flags.set(Flags::UNCALIBRATED, !self.calibrated);
+        let frame = Frame {
+            sequence: self.sequence,
+            timestamp_us,
+            flags,
+            overruns: self.overruns,
+            dropped: self.dropped,
+            calibration_id: self.calibration_id,
+            accel: sample.accel,
+            gyro: sample.gyro,
+            temperature: sample.temperature,
+        };
+        self.sequence = self.sequence.wrapping_add(1);
+        self.overruns = 0;
+        self.dropped = 0;
+        self.fifo_overflow = false;
+        frame
+    }
+}

@@ -1,0 +1,304 @@
+//! ICM-42688-P configuration as typed values: full-scale ranges, output data
+//! rates, interrupt pin, FIFO. Codes and sensitivities from DS-000347 §3.1
+//! (Tables 1 and 2, sensitivity scale factors) and §14 (GYRO_CONFIG0,
+//! ACCEL_CONFIG0).
+
+pub use crate::sensor::fifo::{FifoConfig, FifoMode};
+pub use crate::sensor::interrupt::InterruptPin;
+use crate::sensor::TriadScale;
+use crate::units::{deg_to_rad, STANDARD_GRAVITY};
+
+/// Accelerometer full-scale range (ACCEL_CONFIG0 ACCEL_FS_SEL).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum AccelRange {
+    /// ±2 g, 16384 LSB/g.
+    G2,
+    /// ±4 g, 8192 LSB/g.
+    G4,
+    /// ±8 g, 4096 LSB/g.
+    G8,
+    /// ±16 g, 2048 LSB/g (reset value).
+    G16,
+}
+
+impl AccelRange {
+    /// All ranges, narrowest first.
+    pub const ALL: [AccelRange; 4] = [Self::G2, Self::G4, Self::G8, Self::G16];
+
+    /// The ACCEL_FS_SEL field value.
+    pub fn code(self) -> u8 {
+        match self {
+            Self::G16 => 0,
+            Self::G8 => 1,
+            Self::G4 => 2,
+            Self::G2 => 3,
+        }
+    }
+
+    /// The range for an ACCEL_FS_SEL field value (bits 7:5 of ACCEL_CONFIG0).
+    pub fn from_code(code: u8) -> Option<Self> {
+        Self::ALL.into_iter().find(|r| r.code() == code)
+    }
+
+    /// The full scale in g.
+    pub fn g(self) -> f64 {
+        match self {
+            Self::G2 => 2.0,
+            Self::G4 => 4.0,
+            Self::G8 => 8.0,
+            Self::G16 => 16.0,
+        }
+    }
+
+    /// §3.2 Table 2: sensitivity in LSB/g.
+    pub fn lsb_per_g(self) -> f64 {
+        match self {
+            Self::G2 => 16384.0,
+            Self::G4 => 8192.0,
+            Self::G8 => 4096.0,
+            Self::G16 => 2048.0,
+        }
+    }
+
+    /// Counts → m/s² and the range in m/s².
+    pub fn scale(self) -> TriadScale {
+        TriadScale {
+            si_per_lsb: STANDARD_GRAVITY / self.lsb_per_g(),
+            full_scale: self.g() * STANDARD_GRAVITY,
+        }
+    }
+}
+
+/// Gyroscope full-scale range (GYRO_CONFIG0 GYRO_FS_SEL).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum GyroRange {
+    /// ±15.625 °/s, 2097.2 LSB/(°/s).
+    Dps15_625,
+    /// ±31.25 °/s, 1048.6 LSB/(°/s).
+    Dps31_25,
+    /// ±62.5 °/s, 524.3 LSB/(°/s).
+    Dps62_5,
+    /// ±125 °/s, 262 LSB/(°/s).
+    Dps125,
+    /// ±250 °/s, 131 LSB/(°/s).
+    Dps250,
+    /// ±500 °/s, 65.5 LSB/(°/s).
+    Dps500,
+    /// ±1000 °/s, 32.8 LSB/(°/s).
+    Dps1000,
+    /// ±2000 °/s, 16.4 LSB/(°/s) (reset value).
+    Dps2000,
+}
+
+impl GyroRange {
+    /// All ranges, narrowest first.
+    pub const ALL: [GyroRange; 8] = [
+        Self::Dps15_625,
+        Self::Dps31_25,
+        Self::Dps62_5,
+        Self::Dps125,
+        Self::Dps250,
+        Self::Dps500,
+        Self::Dps1000,
+        Self::Dps2000,
+    ];
+
+    /// The GYRO_FS_SEL field value: 0 = ±2000 °/s, each step halves the range.
+    pub fn code(self) -> u8 {
+        match self {
+            Self::Dps2000 => 0,
+            Self::Dps1000 => 1,
+            Self::Dps500 => 2,
+            Self::Dps250 => 3,
+            Self::Dps125 => 4,
+            Self::Dps62_5 => 5,
+            Self::Dps31_25 => 6,
+            Self::Dps15_625 => 7,
+        }
+    }
+
+    /// The range for a GYRO_FS_SEL field value (bits 7:5 of GYRO_CONFIG0).
+    pub fn from_code(code: u8) -> Option<Self> {
+        Self::ALL.into_iter().find(|r| r.code() == code)
+    }
+
+    /// The full scale in °/s.
+    pub fn dps(self) -> f64 {
+        match self {
+            Self::Dps15_625 => 15.625,
+            Self::Dps31_25 => 31.25,
+            Self::Dps62_5 => 62.5,
+            Self::Dps125 => 125.0,
+            Self::Dps250 => 250.0,
+            Self::Dps500 => 500.0,
+            Self::Dps1000 => 1000.0,
+            Self::Dps2000 => 2000.0,
+        }
+    }
+
+    /// §3.1 Table 1: sensitivity in LSB/(°/s), as the datasheet states it
+    /// (rounded: 16.4 rather than 32768/2000 = 16.384).
+    pub fn lsb_per_dps(self) -> f64 {
+        match self {
+            Self::Dps15_625 => 2097.2,
+            Self::Dps31_25 => 1048.6,
+            Self::Dps62_5 => 524.3,
+            Self::Dps125 => 262.0,
+            Self::Dps250 => 131.0,
+            Self::Dps500 => 65.5,
+            Self::Dps1000 => 32.8,
+            Self::Dps2000 => 16.4,
+        }
+    }
+
+    /// Counts → rad/s and the range in rad/s.
+    pub fn scale(self) -> TriadScale {
+        TriadScale {
+            si_per_lsb: deg_to_rad(1.0 / self.lsb_per_dps()),
+            full_scale: deg_to_rad(self.dps()),
+        }
+    }
+}
+
+/// Output data rate of both sensors in low-noise mode (GYRO_ODR / ACCEL_ODR).
+/// The accel-only low-power rates (6.25 Hz and below) are left out: the driver
+/// runs both sensors in low-noise mode at one rate.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Odr {
+    /// 32 kHz.
+    Hz32000,
+    /// 16 kHz.
+    Hz16000,
+    /// 8 kHz.
+    Hz8000,
+    /// 4 kHz.
+    Hz4000,
+    /// 2 kHz.
+    Hz2000,
+    /// 1 kHz (reset value).
+    Hz1000,
+    /// 500 Hz.
+    Hz500,
+    /// 200 Hz.
+    Hz200,
+    /// 100 Hz.
+    Hz100,
+    /// 50 Hz.
+    Hz50,
+    /// 25 Hz.
+    Hz25,
+    /// 12.5 Hz.
+    Hz12_5,
+}
+
+impl Odr {
+    /// All rates, fastest first.
+    pub const ALL: [Odr; 12] = [
+        Self::Hz32000,
+        Self::Hz16000,
+        Self::Hz8000,
+        Self::Hz4000,
+        Self::Hz2000,
+        Self::Hz1000,
+        Self::Hz500,
+        Self::Hz200,
+        Self::Hz100,
+        Self::Hz50,
+        Self::Hz25,
+        Self::Hz12_5,
+    ];
+
+    /// The 4-bit ODR field value (note 500 Hz is 0b1111, out of sequence).
+    pub fn code(self) -> u8 {
+        match self {
+            Self::Hz32000 => 0x1,
+            Self::Hz16000 => 0x2,
+            Self::Hz8000 => 0x3,
+            Self::Hz4000 => 0x4,
+            Self::Hz2000 => 0x5,
+            Self::Hz1000 => 0x6,
+            Self::Hz200 => 0x7,
+            Self::Hz100 => 0x8,
+            Self::Hz50 => 0x9,
+            Self::Hz25 => 0xA,
+            Self::Hz12_5 => 0xB,
+            Self::Hz500 => 0xF,
+        }
+    }
+
+    /// The rate for an ODR field value.
+    pub fn from_code(code: u8) -> Option<Self> {
+        Self::ALL.into_iter().find(|r| r.code() == code)
+    }
+
+    /// The sample period in nanoseconds (exact for every rate).
+    pub fn period_ns(self) -> u32 {
+        match self {
+            Self::Hz32000 => 31_250,
+            Self::Hz16000 => 62_500,
+            Self::Hz8000 => 125_000,
+            Self::Hz4000 => 250_000,
+            Self::Hz2000 => 500_000,
+            Self::Hz1000 => 1_000_000,
+            Self::Hz500 => 2_000_000,
+            Self::Hz200 => 5_000_000,
+            Self::Hz100 => 10_000_000,
+            Self::Hz50 => 20_000_000,
+            Self::Hz25 => 40_000_000,
+            Self::Hz12_5 => 80_000_000,
+        }
+    }
+
+    /// The rate in Hz.
+    pub fn hz(self) -> f64 {
+        1e9 / f64::from(self.period_ns())
+    }
+}
+
+/// The INT_CONFIG value for INT1 (§14 INT_CONFIG).
+pub fn int_config(pin: InterruptPin) -> u8 {
+    use super::registers::{INT1_DRIVE_PUSH_PULL, INT1_MODE_LATCHED, INT1_POLARITY_HIGH};
+    let mut v = 0;
+    if pin.active_high {
+        v |= INT1_POLARITY_HIGH;
+    }
+    if pin.push_pull {
+        v |= INT1_DRIVE_PUSH_PULL;
+    }
+    if pin.latched {
+        v |= INT1_MODE_LATCHED;
+    }
+    v
+}
+
+/// A complete driver configuration.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Config {
+    /// Accelerometer range.
+    pub accel_range: AccelRange,
+    /// Gyroscope range.
+    pub gyro_range: GyroRange,
+    /// Output data rate of both sensors.
+    pub odr: Odr,
+    /// INT1 electrical behaviour.
+    pub interrupt: InterruptPin,
+    /// `None`: FIFO off, INT1 signals data ready. `Some`: FIFO on, INT1 signals the watermark.
+    pub fifo: Option<FifoConfig>,
+}
+
+impl Default for Config {
+    /// ±16 g, ±2000 °/s, 1 kHz, data-ready interrupt, FIFO off.
+    fn default() -> Self {
+        Self {
+            accel_range: AccelRange::G16,
+            gyro_range: GyroRange::Dps2000,
+            odr: Odr::Hz1000,
+            interrupt: InterruptPin::default(),
+            fifo: None,
+        }
+    }
+}

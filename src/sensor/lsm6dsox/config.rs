@@ -1,0 +1,279 @@
+//! LSM6DSOX configuration as typed values. Codes from DS12814 §9 (CTRL1_XL,
+//! CTRL2_G); sensitivities from §4.1 Table 2 (mechanical characteristics).
+
+pub use crate::sensor::fifo::{FifoConfig, FifoMode};
+pub use crate::sensor::interrupt::InterruptPin;
+use crate::sensor::TriadScale;
+use crate::units::{deg_to_rad, STANDARD_GRAVITY};
+
+/// Accelerometer full-scale range (CTRL1_XL FS_XL, with XL_FS_MODE = 0).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum AccelRange {
+    /// ±2 g, 0.061 mg/LSB (reset value).
+    G2,
+    /// ±4 g, 0.122 mg/LSB.
+    G4,
+    /// ±8 g, 0.244 mg/LSB.
+    G8,
+    /// ±16 g, 0.488 mg/LSB.
+    G16,
+}
+
+impl AccelRange {
+    /// All ranges, narrowest first.
+    pub const ALL: [AccelRange; 4] = [Self::G2, Self::G4, Self::G8, Self::G16];
+
+    /// The FS_XL field value (note ±16 g is 01, out of order).
+    pub fn code(self) -> u8 {
+        match self {
+            Self::G2 => 0b00,
+            Self::G16 => 0b01,
+            Self::G4 => 0b10,
+            Self::G8 => 0b11,
+        }
+    }
+
+    /// The range for an FS_XL field value.
+    pub fn from_code(code: u8) -> Option<Self> {
+        Self::ALL.into_iter().find(|r| r.code() == code)
+    }
+
+    /// The full scale in g.
+    pub fn g(self) -> f64 {
+        match self {
+            Self::G2 => 2.0,
+            Self::G4 => 4.0,
+            Self::G8 => 8.0,
+            Self::G16 => 16.0,
+        }
+    }
+
+    /// §4.1 Table 2: sensitivity in mg/LSB.
+    pub fn mg_per_lsb(self) -> f64 {
+        match self {
+            Self::G2 => 0.061,
+            Self::G4 => 0.122,
+            Self::G8 => 0.244,
+            Self::G16 => 0.488,
+        }
+    }
+
+    /// Counts → m/s² and the range in m/s².
+    pub fn scale(self) -> TriadScale {
+        TriadScale {
+            si_per_lsb: self.mg_per_lsb() * 1e-3 * STANDARD_GRAVITY,
+            full_scale: self.g() * STANDARD_GRAVITY,
+        }
+    }
+}
+
+/// Gyroscope full-scale range (CTRL2_G FS_G and FS_125).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum GyroRange {
+    /// ±125 °/s, 4.375 mdps/LSB.
+    Dps125,
+    /// ±250 °/s, 8.75 mdps/LSB (reset value).
+    Dps250,
+    /// ±500 °/s, 17.50 mdps/LSB.
+    Dps500,
+    /// ±1000 °/s, 35 mdps/LSB.
+    Dps1000,
+    /// ±2000 °/s, 70 mdps/LSB.
+    Dps2000,
+}
+
+impl GyroRange {
+    /// All ranges, narrowest first.
+    pub const ALL: [GyroRange; 5] = [
+        Self::Dps125,
+        Self::Dps250,
+        Self::Dps500,
+        Self::Dps1000,
+        Self::Dps2000,
+    ];
+
+    /// CTRL2_G bits 3:1 (FS_G and FS_125) for this range.
+    pub fn bits(self) -> u8 {
+        match self {
+            Self::Dps125 => super::registers::FS_125,
+            Self::Dps250 => 0b00 << 2,
+            Self::Dps500 => 0b01 << 2,
+            Self::Dps1000 => 0b10 << 2,
+            Self::Dps2000 => 0b11 << 2,
+        }
+    }
+
+    /// The range for CTRL2_G bits 3:1 (FS_125 set overrides FS_G).
+    pub fn from_bits(ctrl2_g: u8) -> Self {
+        if ctrl2_g & super::registers::FS_125 != 0 {
+            return Self::Dps125;
+        }
+        match (ctrl2_g >> 2) & 0b11 {
+            0b00 => Self::Dps250,
+            0b01 => Self::Dps500,
+            0b10 => Self::Dps1000,
+            _ => Self::Dps2000,
+        }
+    }
+
+    /// The full scale in °/s.
+    pub fn dps(self) -> f64 {
+        match self {
+            Self::Dps125 => 125.0,
+            Self::Dps250 => 250.0,
+            Self::Dps500 => 500.0,
+            Self::Dps1000 => 1000.0,
+            Self::Dps2000 => 2000.0,
+        }
+    }
+
+    /// §4.1 Table 2: sensitivity in mdps/LSB.
+    pub fn mdps_per_lsb(self) -> f64 {
+        match self {
+            Self::Dps125 => 4.375,
+            Self::Dps250 => 8.75,
+            Self::Dps500 => 17.50,
+            Self::Dps1000 => 35.0,
+            Self::Dps2000 => 70.0,
+        }
+    }
+
+    /// Counts → rad/s and the range in rad/s.
+    pub fn scale(self) -> TriadScale {
+        TriadScale {
+            si_per_lsb: deg_to_rad(self.mdps_per_lsb() * 1e-3),
+            full_scale: deg_to_rad(self.dps()),
+        }
+    }
+}
+
+/// Output data rate of both sensors in high-performance mode (ODR_XL, ODR_G;
+/// the same codes set the FIFO batch rates BDR_XL, BDR_GY).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Odr {
+    /// 12.5 Hz.
+    Hz12_5,
+    /// 26 Hz.
+    Hz26,
+    /// 52 Hz.
+    Hz52,
+    /// 104 Hz.
+    Hz104,
+    /// 208 Hz.
+    Hz208,
+    /// 416 Hz.
+    Hz416,
+    /// 833 Hz.
+    Hz833,
+    /// 1.66 kHz.
+    Hz1666,
+    /// 3.33 kHz.
+    Hz3333,
+    /// 6.66 kHz.
+    Hz6667,
+}
+
+impl Odr {
+    /// All rates, slowest first.
+    pub const ALL: [Odr; 10] = [
+        Self::Hz12_5,
+        Self::Hz26,
+        Self::Hz52,
+        Self::Hz104,
+        Self::Hz208,
+        Self::Hz416,
+        Self::Hz833,
+        Self::Hz1666,
+        Self::Hz3333,
+        Self::Hz6667,
+    ];
+
+    /// The 4-bit ODR field value (0 is power-down).
+    pub fn code(self) -> u8 {
+        match self {
+            Self::Hz12_5 => 0x1,
+            Self::Hz26 => 0x2,
+            Self::Hz52 => 0x3,
+            Self::Hz104 => 0x4,
+            Self::Hz208 => 0x5,
+            Self::Hz416 => 0x6,
+            Self::Hz833 => 0x7,
+            Self::Hz1666 => 0x8,
+            Self::Hz3333 => 0x9,
+            Self::Hz6667 => 0xA,
+        }
+    }
+
+    /// The rate for an ODR field value.
+    pub fn from_code(code: u8) -> Option<Self> {
+        Self::ALL.into_iter().find(|r| r.code() == code)
+    }
+
+    /// The nominal rate in mHz, as the datasheet names it (12.5 Hz × 2ⁿ rounded:
+    /// 26, 52, 104, ... 6667 Hz).
+    pub fn millihertz(self) -> u32 {
+        match self {
+            Self::Hz12_5 => 12_500,
+            Self::Hz26 => 26_000,
+            Self::Hz52 => 52_000,
+            Self::Hz104 => 104_000,
+            Self::Hz208 => 208_000,
+            Self::Hz416 => 416_000,
+            Self::Hz833 => 833_000,
+            Self::Hz1666 => 1_666_000,
+            Self::Hz3333 => 3_333_000,
+            Self::Hz6667 => 6_667_000,
+        }
+    }
+
+    /// The nominal rate in Hz.
+    pub fn hz(self) -> f64 {
+        f64::from(self.millihertz()) / 1000.0
+    }
+}
+
+/// The CTRL3_C value for `pin`: BDU and IF_INC on, pin polarity and drive.
+pub fn ctrl3_c(pin: InterruptPin) -> u8 {
+    use super::registers::{BDU, H_LACTIVE, IF_INC, PP_OD};
+    let mut v = BDU | IF_INC;
+    if !pin.active_high {
+        v |= H_LACTIVE;
+    }
+    if !pin.push_pull {
+        v |= PP_OD;
+    }
+    v
+}
+
+/// A complete driver configuration.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Config {
+    /// Accelerometer range.
+    pub accel_range: AccelRange,
+    /// Gyroscope range.
+    pub gyro_range: GyroRange,
+    /// Output data rate of both sensors.
+    pub odr: Odr,
+    /// INT1 electrical behaviour (`latched` selects latched data-ready).
+    pub interrupt: InterruptPin,
+    /// `None`: FIFO off, INT1 signals gyro data ready. `Some`: FIFO on
+    /// (watermark 1..=255 samples), INT1 signals the watermark.
+    pub fifo: Option<FifoConfig>,
+}
+
+impl Default for Config {
+    /// ±16 g, ±2000 °/s, 833 Hz, data-ready interrupt, FIFO off.
+    fn default() -> Self {
+        Self {
+            accel_range: AccelRange::G16,
+            gyro_range: GyroRange::Dps2000,
+            odr: Odr::Hz833,
+            interrupt: InterruptPin::default(),
+            fifo: None,
+        }
+    }
+}

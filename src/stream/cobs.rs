@@ -1,0 +1,131 @@
+//! Consistent Overhead Byte Stuffing (COBS; Cheshire and Baker, "Consistent
+//! Overhead Byte Stuffing", IEEE/ACM Trans. Networking 7(2), 1999).
+//!
+//! Stuffing removes every 0x00 from a frame so that 0x00 can mark frame
+//! ends: a reader that starts anywhere, or loses bytes, is back in step at
+//! the next 0x00. The data is cut at each zero into blocks; each block is
+//! sent as a code byte (1 + the number of non-zero bytes that follow, at most
+//! 0xFF) and those bytes. A block with code < 0xFF stands for its bytes
+//! followed by a zero, except the last, whose zero is dropped; a block with
+//! code 0xFF holds 254 bytes and no zero. The overhead is one byte per 254
+//! bytes of data, at least one.
+
+/// Why stuffing or unstuffing failed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum CobsError {
+    /// The output buffer holds fewer than [`max_stuffed_len`] bytes.
+    BufferTooSmall {
+        /// Bytes needed.
+        needed: usize,
+        /// Bytes available.
+        available: usize,
+    },
+    /// The bytes ended in the middle of a block (a code byte promised more
+    /// bytes than arrived before the delimiter), or there were none.
+    Truncated,
+}
+
+/// Worst-case stuffed length of `len` data bytes (without the delimiter).
+pub const fn max_stuffed_len(len: usize) -> usize {
+    len + len / 254 + 1
+}
+
+/// Stuffs `data` into `out` and returns the number of bytes written (no
+/// delimiter is written). Fails only if `out` is shorter than
+/// [`max_stuffed_len`]`(data.len())`.
+pub fn stuff(data: &[u8], out: &mut [u8]) -> Result<usize, CobsError> {
+    let needed = max_stuffed_len(data.len());
+    if out.len() < needed {
+        return Err(CobsError::BufferTooSmall {
+            needed,
+            available: out.len(),
+        });
+    }
+    let too_small = CobsError::BufferTooSmall {
+        needed,
+        available: out.len(),
+    };
+    // `code_at` is where the current block's code byte goes once its length
+    // is known; `next` is where the next data byte goes.
+    let mut code_at = 0;
+    let mut next = 1;
+    let mut code: u8 = 1;
+    for &byte in data {
+        if byte == 0 {
+            *out.get_mut(code_at).ok_or(too_small)? = code;
+            code_at = next;
+            next += 1;
+            code = 1;
+        } else {
+            *out.get_mut(next).ok_or(too_small)? = byte;
+            next += 1;
+            code += 1;
+            if code == 0xFF {
+                *out.get_mut(code_at).ok_or(too_small)? = code;
+                code_at = next;
+                next += 1;
+                code = 1;
+            }
+        }
+    }
+    *out.get_mut(code_at).ok_or(too_small)? = code;
+    Ok(next)
+}
+
+/// Undoes stuffing one byte at a time, with no buffer of its own: the caller
+/// feeds each non-zero byte to [`Unstuffer::push`], stores what it returns,
+/// and calls [`Unstuffer::finish`] at the 0x00 delimiter.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Unstuffer {
+    /// Data bytes still expected in the current block.
+    remaining: u8,
+    /// Whether the current block ends with an implied zero (code < 0xFF),
+    /// released only when a further block shows it was not the last.
+    zero_after: bool,
+    /// Whether a code byte has been seen since the last delimiter.
+    started: bool,
+}
+
+impl Unstuffer {
+    /// A fresh unstuffer, expecting a code byte.
+    pub const fn new() -> Unstuffer {
+        Unstuffer {
+            remaining: 0,
+            zero_after: false,
+            started: false,
+        }
+    }
+
+    /// Takes one byte of a stuffed frame (never the 0x00 delimiter: a zero
+    /// here is treated as a code byte of an empty block) and returns the data
+    /// byte it releases, if any.
+    pub fn push(&mut self, byte: u8) -> Option<u8> {
+        if self.remaining == 0 {
+            let released = if self.started && self.zero_after {
+                Some(0)
+            } else {
+                None
+            };
+            self.started = true;
+            self.remaining = byte.saturating_sub(1);
+            self.zero_after = byte != 0xFF;
+            released
+        } else {
+            self.remaining -= 1;
+            Some(byte)
+        }
+    }
+
+    /// Ends the frame at its delimiter and resets for the next one. Ok when
+    /// the last block was complete.
+    pub fn finish(&mut self) -> Result<(), CobsError> {
+        let complete = self.started && self.remaining == 0;
+        *self = Unstuffer::new();
+        if complete {
+            Ok(())
+        } else {
+            Err(CobsError::Truncated)
+        }
+    }
+}

@@ -1,0 +1,209 @@
+//! Bytes on the wire → frames, with resynchronisation and loss accounting.
+
+use super::cobs::Unstuffer;
+use super::encoder::DELIMITER;
+use super::error::DecodeError;
+use super::frame::{Frame, FRAME_LEN};
+
+/// What a [`Decoder`] has seen so far. Counters saturate, never wrap.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct DecoderStats {
+    /// Bytes received.
+    pub bytes: u64,
+    /// Frames decoded (CRC good, version known).
+    pub frames: u64,
+    /// Delimited frames of the right length whose CRC did not match.
+    pub crc_errors: u64,
+    /// Delimited frames rejected for broken stuffing, wrong length or an
+    /// unknown version.
+    pub malformed: u64,
+    /// Times the sequence number jumped forward between two good frames.
+    pub sequence_gaps: u64,
+    /// Sequence numbers missing in those jumps: frames sent but not decoded.
+    pub frames_lost: u64,
+    /// Times the sequence number went backwards or repeated (the device
+    /// restarted); not counted as lost frames.
+    pub sequence_restarts: u64,
+    /// Bytes that were not part of a good frame: the partial frame before
+    /// the first delimiter, rejected frames and their delimiters, and extra
+    /// delimiters between frames.
+    pub bytes_skipped: u64,
+    /// Sum of the `overruns` the device reported in good frames.
+    pub device_overruns: u64,
+    /// Sum of the `dropped` frames the device reported in good frames.
+    pub device_dropped: u64,
+}
+
+/// Decodes a byte stream into frames, one byte at a time, with a fixed
+/// [`FRAME_LEN`]-byte buffer: no allocation, no panic on any input.
+///
+/// Until the first delimiter the decoder does not know where it joined the
+/// stream: if those bytes do not form a good frame they are counted as
+/// skipped, not as an error. After that every rejected frame is reported.
+#[derive(Clone, Debug)]
+pub struct Decoder {
+    raw: [u8; FRAME_LEN],
+    /// Unstuffed bytes of the current frame (may exceed FRAME_LEN; saturates).
+    len: usize,
+    /// Stuffed bytes received since the last delimiter.
+    pending: u64,
+    unstuffer: Unstuffer,
+    synced: bool,
+    last_sequence: Option<u32>,
+    stats: DecoderStats,
+}
+
+impl Default for Decoder {
+    fn default() -> Decoder {
+        Decoder::new()
+    }
+}
+
+impl Decoder {
+    /// A decoder that has seen nothing.
+    pub const fn new() -> Decoder {
+        Decoder {
+            raw: [0; FRAME_LEN],
+            len: 0,
+            pending: 0,
+            unstuffer: Unstuffer::new(),
+            synced: false,
+            last_sequence: None,
+            stats: DecoderStats {
+                bytes: 0,
+                frames: 0,
+                crc_errors: 0,
+                malformed: 0,
+                sequence_gaps: 0,
+                frames_lost: 0,
+                sequence_restarts: 0,
+                bytes_skipped: 0,
+                device_overruns: 0,
+                device_dropped: 0,
+            },
+        }
+    }
+
+    /// Counters so far.
+    pub const fn stats(&self) -> &DecoderStats {
+        &self.stats
+    }
+
+    /// Sequence number of the last good frame.
+    pub const fn last_sequence(&self) -> Option<u32> {
+        self.last_sequence
+    }
+
+    /// Bytes received since the last delimiter (a frame in progress).
+    pub const fn pending_bytes(&self) -> u64 {
+        self.pending
+    }
+
+    /// Takes one byte. At a delimiter that ends a frame, returns the frame
+    /// or why it was rejected; otherwise `None`.
+    pub fn push(&mut self, byte: u8) -> Option<Result<Frame, DecodeError>> {
+        self.stats.bytes = self.stats.bytes.saturating_add(1);
+        if byte != DELIMITER {
+            self.pending = self.pending.saturating_add(1);
+            if let Some(data) = self.unstuffer.push(byte) {
+                if let Some(slot) = self.raw.get_mut(self.len) {
+                    *slot = data;
+                }
+                self.len = self.len.saturating_add(1);
+            }
+            return None;
+        }
+        let frame_bytes = self.pending.saturating_add(1);
+        let was_synced = core::mem::replace(&mut self.synced, true);
+        let empty = self.pending == 0;
+        let result = self.finish_frame();
+        match result {
+            Ok(frame) => {
+                self.accept(&frame);
+                Some(Ok(frame))
+            }
+            Err(error) => {
+                self.skip(frame_bytes);
+                if empty || !was_synced {
+                    None
+                } else {
+                    if error.is_crc() {
+                        self.stats.crc_errors = self.stats.crc_errors.saturating_add(1);
+                    } else {
+                        self.stats.malformed = self.stats.malformed.saturating_add(1);
+                    }
+                    Some(Err(error))
+                }
+            }
+        }
+    }
+
+    /// Feeds a slice; the iterator yields each frame or error as its
+    /// delimiter is reached. Bytes after the last delimiter stay pending for
+    /// the next call. The bytes are consumed as the iterator advances: drop
+    /// it early and the bytes it had not reached are not decoded.
+    pub fn feed<'a>(&'a mut self, bytes: &'a [u8]) -> Feed<'a> {
+        Feed {
+            decoder: self,
+            bytes: bytes.iter(),
+        }
+    }
+
+    /// Ends the bytes since the last delimiter and resets for the next frame.
+    fn finish_frame(&mut self) -> Result<Frame, DecodeError> {
+        let len = core::mem::take(&mut self.len);
+        self.pending = 0;
+        self.unstuffer.finish().map_err(|_| DecodeError::Stuffing)?;
+        if len != FRAME_LEN {
+            return Err(DecodeError::Length { len });
+        }
+        Frame::from_bytes(&self.raw)
+    }
+
+    fn accept(&mut self, frame: &Frame) {
+        let s = &mut self.stats;
+        s.frames = s.frames.saturating_add(1);
+        s.device_overruns = s.device_overruns.saturating_add(u64::from(frame.overruns));
+        s.device_dropped = s.device_dropped.saturating_add(u64::from(frame.dropped));
+        if let Some(last) = self.last_sequence {
+            // Forward distance modulo 2³²: 0 is the expected next frame;
+            // below 2³¹ is a jump over lost frames (wrap-around included);
+            // the upper half means the sequence went back (a restart).
+            let missing = frame.sequence.wrapping_sub(last.wrapping_add(1));
+            if missing == 0 {
+                // In order.
+            } else if missing < 1 << 31 {
+                s.sequence_gaps = s.sequence_gaps.saturating_add(1);
+                s.frames_lost = s.frames_lost.saturating_add(u64::from(missing));
+            } else {
+                s.sequence_restarts = s.sequence_restarts.saturating_add(1);
+            }
+        }
+        self.last_sequence = Some(frame.sequence);
+    }
+
+    fn skip(&mut self, bytes: u64) {
+        self.stats.bytes_skipped = self.stats.bytes_skipped.saturating_add(bytes);
+    }
+}
+
+/// Iterator over the frames and errors completed by a slice of bytes; see
+/// [`Decoder::feed`].
+pub struct Feed<'a> {
+    decoder: &'a mut Decoder,
+    bytes: core::slice::Iter<'a, u8>,
+}
+
+impl Iterator for Feed<'_> {
+    type Item = Result<Frame, DecodeError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        for &byte in self.bytes.by_ref() {
+            if let Some(item) = self.decoder.push(byte) {
+                return Some(item);
+            }
+        }
+        None
+    }
+}

@@ -1,0 +1,151 @@
+//! The binary calibration blob: round trip and every error.
+
+mod model_support;
+
+use model_support::*;
+use triad::model::blob::{self, BLOB_LEN, MAGIC, VERSION};
+use triad::model::crc32::crc32;
+use triad::model::{BlobError, Calibration};
+
+fn bits(cal: &Calibration) -> Vec<u64> {
+    let mut out = vec![u64::from(cal.id)];
+    for t in [&cal.accel, &cal.gyro] {
+        out.extend(
+            t.scale_misalignment
+                .iter()
+                .flatten()
+                .chain(t.bias.iter())
+                .map(|x| x.to_bits()),
+        );
+        match &t.temperature {
+            Some(tt) => {
+                out.push(1);
+                out.push(tt.reference_c.to_bits());
+                out.extend(
+                    tt.bias_coefficients
+                        .iter()
+                        .chain(tt.scale_misalignment_per_c.iter())
+                        .flatten()
+                        .map(|x| x.to_bits()),
+                );
+            }
+            None => out.push(0),
+        }
+    }
+    out
+}
+
+/// Rewrites the CRC so that only the field under test is wrong.
+fn reseal(b: &mut [u8; BLOB_LEN]) {
+    let crc = crc32(&b[..BLOB_LEN - 4]);
+    b[BLOB_LEN - 4..].copy_from_slice(&crc.to_le_bytes());
+}
+
+#[test]
+fn crc32_is_the_ieee_crc() {
+    assert_eq!(crc32(b"123456789"), 0xCBF4_3926);
+    assert_eq!(crc32(b""), 0);
+}
+
+#[test]
+fn round_trip_is_bit_exact_with_and_without_temperature_terms() {
+    let mut rng = rng(0xB10B);
+    for n in 0..200 {
+        let scale = random_scale(&mut rng);
+        let mut cal = random_calibration(&mut rng, &scale);
+        if n % 2 == 0 {
+            cal.accel.temperature =
+                Some(random_temperature_terms(&mut rng, scale.accel.full_scale));
+        }
+        if n % 3 == 0 {
+            cal.gyro.temperature = Some(random_temperature_terms(&mut rng, scale.gyro.full_scale));
+        }
+        if n == 7 {
+            cal.gyro.bias[1] = f64::NAN; // the blob carries what it is given; validation is separate
+        }
+        let b = blob::encode(&cal);
+        assert_eq!(&b[..4], &MAGIC);
+        assert_eq!(b[4], VERSION);
+        assert_eq!(bits(&blob::decode(&b).unwrap()), bits(&cal));
+    }
+}
+
+#[test]
+fn every_framing_error_is_reported() {
+    let good = blob::encode(&Calibration::identity(42));
+    for len in [0, 1, BLOB_LEN - 1, BLOB_LEN + 1] {
+        let mut v = good.to_vec();
+        v.resize(len, 0);
+        assert_eq!(blob::decode(&v), Err(BlobError::WrongLength { len }));
+    }
+    let mut b = good;
+    b[0] = b'X';
+    assert_eq!(
+        blob::decode(&b),
+        Err(BlobError::BadMagic { found: *b"XRCL" })
+    );
+
+    b = good;
+    b[4] = 2;
+    assert_eq!(
+        blob::decode(&b),
+        Err(BlobError::UnsupportedVersion { version: 2 })
+    );
+
+    b = good;
+    b[100] ^= 0x10;
+    let stored = u32::from_le_bytes(good[508..].try_into().unwrap());
+    let computed = crc32(&b[..508]);
+    assert_ne!(stored, computed);
+    let err = blob::decode(&b).unwrap_err();
+    assert_eq!(err, BlobError::CrcMismatch { stored, computed });
+    assert!(
+        err.to_string().contains(&format!("{stored:#010x}"))
+            && err.to_string().contains(&format!("{computed:#010x}"))
+    );
+
+    b = good;
+    b[5] = 0x80;
+    reseal(&mut b);
+    assert_eq!(
+        blob::decode(&b),
+        Err(BlobError::ReservedBits {
+            offset: 5,
+            value: 0x80
+        })
+    );
+    b = good;
+    b[7] = 1;
+    reseal(&mut b);
+    assert_eq!(
+        blob::decode(&b),
+        Err(BlobError::ReservedBits {
+            offset: 7,
+            value: 1
+        })
+    );
+}
+
+#[test]
+fn every_single_bit_flip_is_detected() {
+    let good = blob::encode(&Calibration::identity(42));
+    for byte in 0..BLOB_LEN {
+        for bit in 0..8 {
+            let mut b = good;
+            b[byte] ^= 1 << bit;
+            assert!(blob::decode(&b).is_err(), "flip at {byte}.{bit} undetected");
+        }
+    }
+}
+
+#[test]
+fn parameter_id_depends_on_parameters_only() {
+    let mut a = Calibration::identity(1);
+    let mut b = Calibration::identity(2);
+    assert_eq!(blob::parameter_id(&a), blob::parameter_id(&b));
+    b.gyro.bias[0] = 1e-3;
+    assert_ne!(blob::parameter_id(&a), blob::parameter_id(&b));
+    a.gyro.bias[0] = 1e-3;
+    assert_eq!(blob::parameter_id(&a), blob::parameter_id(&b));
+    assert_eq!(blob::parameter_id(&a), crc32(&blob::encode(&a)[12..508]));
+}

@@ -1,0 +1,209 @@
+//! The f32 hot path against the f64 reference, on random valid calibrations
+//! and raw inputs across the full i16 range.
+//!
+//! Error bound (derivation). Let u = 2⁻²⁴ (f32 unit roundoff) and S_i =
+//! Σ_j |K_ij|·|x_j| + |k_i| with the exact f64 K, k. The kernel computes
+//! ((K̃0·x0 + K̃1·x1) + K̃2·x2) + k̃ with K̃ = fl32(K) = K(1+α), |α| ≤ u, and
+//! x exact (an i16 is exact in f32). The terms K̃0·x0 and K̃1·x1 pass through
+//! one multiplication and three additions (4 roundings), K̃2·x2 through 3,
+//! k̃ through 1, so (Higham, Accuracy and Stability of Numerical Algorithms,
+//! §3.1, lemma 3.1) the result is Σ t_j(1+θ_j) with |θ_j| ≤ γ4 = 4u/(1−4u).
+//! With the coefficient rounding: |ŷ − y| ≤ ((1+u)(1+γ4) − 1)·S_i
+//! = (γ4 + u + u·γ4)·S_i ≤ 5.0000004·u·S_i. The f64 reference (Gaussian
+//! elimination, κ₁ ≤ 21 for valid matrices) is itself within ≈ κ·10·2⁻⁵³
+//! ≈ 3e−14 of exact relative to S_i, i.e. 5e−7·u·S_i; C = 5.00001 covers both.
+
+mod model_support;
+
+use model_support::*;
+use triad::model::{Corrector, Triad};
+
+const U: f64 = 1.0 / (1u64 << 24) as f64;
+/// The constant of the bound derived in the module doc.
+const C: f64 = 5.00001;
+
+/// S_i = Σ_j |K_ij|·|x_j| + |k_i|.
+fn magnitude(c: &Corrector, triad: Triad, x: [f64; 3]) -> [f64; 3] {
+    let f = c.folded(triad);
+    [0, 1, 2].map(|i| (0..3).map(|j| f.k[i][j].abs() * x[j].abs()).sum::<f64>() + f.offset[i].abs())
+}
+
+#[test]
+fn f32_path_is_within_the_derived_bound_of_the_f64_reference() {
+    let mut rng = rng(0xF32);
+    let mut worst_ratio: f64 = 0.0;
+    let mut checked = 0usize;
+    for _ in 0..400 {
+        let scale = random_scale(&mut rng);
+        let cal = random_calibration(&mut rng, &scale);
+        let orientation = random_orientation(&mut rng);
+        let c =
+            Corrector::new(&cal, &scale, orientation).expect("generated calibrations are valid");
+        for _ in 0..250 {
+            let raw = random_raw(&mut rng);
+            let fast = c.correct(&raw);
+            let exact = c.reference(&raw);
+            assert_eq!(fast.clip, exact.clip);
+            for (triad, got, want, x) in [
+                (Triad::Accel, fast.accel, exact.accel, raw.accel),
+                (Triad::Gyro, fast.gyro, exact.gyro, raw.gyro),
+            ] {
+                let s = magnitude(&c, triad, x.map(f64::from));
+                for i in 0..3 {
+                    let err = (f64::from(got[i]) - want[i]).abs();
+                    let bound = C * U * s[i];
+                    assert!(
+                        err <= bound,
+                        "{triad:?}[{i}] err {err:e} > bound {bound:e}, cal {cal:?}, raw {raw:?}"
+                    );
+                    worst_ratio = worst_ratio.max(err / bound);
+                    checked += 1;
+                }
+            }
+            // Temperature: fl(fl(raw·ts) + 25) with ts = fl32(1/132.48): three roundings
+            // of terms ≤ 247 + 25 < 300 °C, plus the final one of |T|: ≤ 4u·(|T| + 300).
+            let t_err = (f64::from(fast.temperature) - exact.temperature).abs();
+            assert!(
+                t_err <= 4.0 * U * (exact.temperature.abs() + 300.0),
+                "temperature err {t_err:e}"
+            );
+        }
+    }
+    println!("f32 vs f64: {checked} outputs, worst error = {worst_ratio:.3} of the bound");
+    // The bound is not vacuous: random inputs reach a sizeable part of it.
+    assert!(worst_ratio > 0.05, "bound far from attained: {worst_ratio}");
+}
+
+#[test]
+fn si_kernel_matches_the_si_reference_within_the_same_bound() {
+    let mut rng = rng(0x51);
+    for _ in 0..200 {
+        let scale = widest_scale();
+        let cal = random_calibration(&mut rng, &scale);
+        let c = Corrector::new_si(
+            &cal,
+            scale.accel.full_scale,
+            scale.gyro.full_scale,
+            random_orientation(&mut rng),
+        )
+        .unwrap();
+        for _ in 0..100 {
+            let a = random_raw(&mut rng)
+                .accel
+                .map(|v| (f64::from(v) * scale.accel.si_per_lsb) as f32);
+            let g = random_raw(&mut rng)
+                .gyro
+                .map(|v| (f64::from(v) * scale.gyro.si_per_lsb) as f32);
+            let fast = c.correct_si(a, g, 21.5);
+            let exact = c.reference_si(a.map(f64::from), g.map(f64::from), 21.5);
+            assert_eq!(fast.temperature, 21.5);
+            assert_eq!(exact.temperature, 21.5);
+            for (triad, got, want, x) in [
+                (Triad::Accel, fast.accel, exact.accel, a),
+                (Triad::Gyro, fast.gyro, exact.gyro, g),
+            ] {
+                let s = magnitude(&c, triad, x.map(f64::from));
+                for i in 0..3 {
+                    let err = (f64::from(got[i]) - want[i]).abs();
+                    assert!(err <= C * U * s[i], "{triad:?}[{i}] err {err:e}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn identity_calibration_only_applies_the_sensitivity() {
+    let scale = widest_scale();
+    let c = Corrector::new(
+        &triad::model::Calibration::identity(7),
+        &scale,
+        Default::default(),
+    )
+    .unwrap();
+    assert_eq!(c.calibration_id(), 7);
+    let raw = triad::sensor::RawSample {
+        accel: [1000, -2000, 16384],
+        gyro: [1, -1, 0],
+        temperature: 0,
+    };
+    let s = c.correct(&raw);
+    let sa = scale.accel.si_per_lsb as f32;
+    // K = s·I, k = 0: one rounding of s and one product per axis, plus exact zeros.
+    assert_eq!(s.accel, [1000.0 * sa, -2000.0 * sa, 16384.0 * sa]);
+    assert_eq!(s.temperature, 25.0);
+    assert_eq!(s.clip, Default::default());
+}
+
+#[test]
+fn correction_inverts_the_measurement_model() {
+    // Forward: raw = ((I+Σ)·m + b)/s for a chosen m, then correct must return m.
+    let scale = widest_scale();
+    let mut rng = rng(3);
+    let cal = random_calibration(&mut rng, &scale);
+    let m = [1.5, -9.80665, 3.25];
+    let a = cal.accel.scale_misalignment;
+    let measured: Vec<f64> = (0..3)
+        .map(|i| (0..3).map(|j| a[i][j] * m[j]).sum::<f64>() + cal.accel.bias[i])
+        .collect();
+    // The f64 reference on the exact SI measurement (no raw quantisation).
+    let si = Corrector::new_si(
+        &cal,
+        scale.accel.full_scale,
+        scale.gyro.full_scale,
+        Default::default(),
+    )
+    .unwrap();
+    let back = si.reference_si([measured[0], measured[1], measured[2]], [0.0; 3], 0.0);
+    // |m| ≤ 10 and κ ≤ 21: forward and back in f64 is good to ~1e−13.
+    for (got, want) in back.accel.iter().zip(m) {
+        assert!((got - want).abs() < 1e-12, "{got} vs {want}");
+    }
+}
+
+/// `triad correct` sees the device's raw counts only as SI values x = fl32(s·raw)
+/// and applies K/s; the device applies K to raw. Each is within 5u·S of the
+/// exact result (bound above), and rounding x to f32 moves the exact result by
+/// ≤ u·Σ|K_ij||raw_j| ≤ u·S, so the two f32 results differ by at most
+/// (5 + 5 + 1)·u·S (+ O(u²), covered by 11.0001). This is the bound the
+/// end-to-end comparison of firmware output and `triad correct` can rely on.
+#[test]
+fn host_si_path_and_device_raw_path_agree_within_11u() {
+    let mut rng = rng(0xE2E);
+    let mut worst_ratio: f64 = 0.0;
+    for _ in 0..200 {
+        let scale = random_scale(&mut rng);
+        let cal = random_calibration(&mut rng, &scale);
+        let orientation = random_orientation(&mut rng);
+        let device = Corrector::new(&cal, &scale, orientation).unwrap();
+        let host = Corrector::new_si(
+            &cal,
+            scale.accel.full_scale,
+            scale.gyro.full_scale,
+            orientation,
+        )
+        .unwrap();
+        for _ in 0..200 {
+            let raw = random_raw(&mut rng);
+            let si = |v: [i16; 3], s: f64| v.map(|x| (f64::from(x) * s) as f32);
+            let d = device.correct(&raw);
+            let h = host.correct_si(
+                si(raw.accel, scale.accel.si_per_lsb),
+                si(raw.gyro, scale.gyro.si_per_lsb),
+                0.0,
+            );
+            for (triad, a, b, x) in [
+                (Triad::Accel, d.accel, h.accel, raw.accel),
+                (Triad::Gyro, d.gyro, h.gyro, raw.gyro),
+            ] {
+                let s = magnitude(&device, triad, x.map(f64::from));
+                for i in 0..3 {
+                    let diff = (f64::from(a[i]) - f64::from(b[i])).abs();
+                    assert!(diff <= 11.0001 * U * s[i], "{triad:?}[{i}]: {diff:e}");
+                    worst_ratio = worst_ratio.max(diff / (11.0001 * U * s[i]));
+                }
+            }
+        }
+    }
+    println!("device vs host f32: worst difference = {worst_ratio:.3} of the 11u·S bound");
+}

@@ -1,0 +1,260 @@
+//! The fixed-point hot path against the f64 reference. The bound is the one
+//! proven in src/model/fixed.rs: |error| ≤ 2^−(F+1) + (3·32768 + 1)·2^−(S+1) SI
+//! units (`FixedCorrector::error_bound`), plus the f64 reference's own error
+//! (≈ 3e−14 relative to Σ|K_ij||x_j| + |k_i|, see tests/model_f32.rs), for
+//! which 1e−12·S_i is added. For every 16-bit range tested the bound must also
+//! be ≤ 0.5 LSB of the sensor.
+
+mod model_support;
+
+use model_support::*;
+use triad::model::{Calibration, Corrector, FixedCorrector, Orientation, Triad, TriadCalibration};
+use triad::sensor::{ImuScale, RawSample, TriadScale};
+use triad::units::{deg_to_rad, STANDARD_GRAVITY};
+
+fn magnitude(c: &Corrector, triad: Triad, x: [i16; 3]) -> [f64; 3] {
+    let f = c.folded(triad);
+    [0, 1, 2].map(|i| {
+        (0..3)
+            .map(|j| f.k[i][j].abs() * f64::from(x[j]).abs())
+            .sum::<f64>()
+            + f.offset[i].abs()
+    })
+}
+
+/// Checks one sample; returns the worst error in LSB.
+fn check(c: &Corrector, fixed: &FixedCorrector, raw: &RawSample) -> f64 {
+    let got = fixed.correct(raw);
+    let exact = c.reference(raw);
+    assert_eq!(got.clip, exact.clip);
+    let as_f64 = got.to_f64();
+    let bound = fixed.error_bound();
+    let scale = c.scale();
+    let mut worst_lsb: f64 = 0.0;
+    for (k, (triad, g, w, x, lsb)) in [
+        (
+            Triad::Accel,
+            as_f64.accel,
+            exact.accel,
+            raw.accel,
+            scale.accel.si_per_lsb,
+        ),
+        (
+            Triad::Gyro,
+            as_f64.gyro,
+            exact.gyro,
+            raw.gyro,
+            scale.gyro.si_per_lsb,
+        ),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let s = magnitude(c, triad, x);
+        for i in 0..3 {
+            let err = (g[i] - w[i]).abs();
+            assert!(
+                err <= bound[k] + 1e-12 * s[i],
+                "{triad:?}[{i}]: err {err:e} > bound {:e}, raw {raw:?}",
+                bound[k]
+            );
+            worst_lsb = worst_lsb.max(err / lsb);
+        }
+    }
+    let t_err = (as_f64.temperature - exact.temperature).abs();
+    assert!(
+        t_err <= bound[2] + 1e-12 * 300.0,
+        "temperature err {t_err:e}"
+    );
+    worst_lsb
+}
+
+#[test]
+fn fixed_path_is_within_its_proven_bound_and_half_an_lsb() {
+    let mut rng = rng(0xF1C5);
+    let mut worst_lsb: f64 = 0.0;
+    for _ in 0..400 {
+        let scale = random_scale(&mut rng);
+        let cal = random_calibration(&mut rng, &scale);
+        let c = Corrector::new(&cal, &scale, random_orientation(&mut rng)).unwrap();
+        let fixed = c.to_fixed().expect("valid calibrations fit Q16.16");
+        let bound = fixed.error_bound();
+        assert!(
+            bound[0] <= 0.5 * scale.accel.si_per_lsb,
+            "accel bound {:e}",
+            bound[0]
+        );
+        assert!(
+            bound[1] <= 0.5 * scale.gyro.si_per_lsb,
+            "gyro bound {:e}",
+            bound[1]
+        );
+        for _ in 0..250 {
+            worst_lsb = worst_lsb.max(check(&c, &fixed, &random_raw(&mut rng)));
+        }
+    }
+    println!("fixed vs f64: worst error {worst_lsb:.4} LSB");
+    assert!(worst_lsb <= 0.5);
+}
+
+/// The calibrations that make |K·raw + k| largest within the validated bounds:
+/// diagonal 0.5, off-diagonals ±0.1 with the sign that adds up, bias at ±full
+/// scale; (I+Σ)⁻¹ then has a 1-norm of up to 1/(0.5 − 0.2) = 3.3.
+fn extreme_triads(full_scale: f64) -> Vec<TriadCalibration> {
+    let mut out = Vec::new();
+    for off in [-0.1, 0.1] {
+        for diag in [0.5, 1.5] {
+            for b in [-1.0, 1.0] {
+                out.push(TriadCalibration {
+                    scale_misalignment: [[diag, off, off], [off, diag, off], [off, off, diag]],
+                    bias: [b * full_scale, -b * full_scale, b * full_scale],
+                    temperature: None,
+                });
+            }
+        }
+    }
+    out
+}
+
+fn corner_raws() -> Vec<RawSample> {
+    let v = [i16::MIN, -32767, -1, 0, 1, 32766, i16::MAX];
+    let mut out = Vec::new();
+    for &x in &v {
+        for &y in &v {
+            for &z in &v {
+                out.push(RawSample {
+                    accel: [x, y, z],
+                    gyro: [z, x, y],
+                    temperature: x,
+                });
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn full_scale_inputs_with_extreme_valid_coefficients_do_not_overflow() {
+    // Widest 16-bit ranges and a ±200 g / ±4000 °/s chip: the largest outputs
+    // (≈ 6.7 × full scale) still fit Q16.16 m/s² and Q10.22 rad/s. Overflow checks are on
+    // in test builds, so an i64 overflow would panic here.
+    let high_g = ImuScale {
+        accel: TriadScale {
+            si_per_lsb: 200.0 * STANDARD_GRAVITY / 32768.0,
+            full_scale: 200.0 * STANDARD_GRAVITY,
+        },
+        gyro: TriadScale {
+            si_per_lsb: deg_to_rad(4000.0) / 32768.0,
+            full_scale: deg_to_rad(4000.0),
+        },
+        temperature_per_lsb: 1.0 / 8.0,
+        temperature_offset: 23.0,
+    };
+    let mut cases = 0;
+    for scale in [widest_scale(), high_g] {
+        for accel in extreme_triads(scale.accel.full_scale) {
+            for gyro in extreme_triads(scale.gyro.full_scale) {
+                for orientation in [Orientation::RotationNone, Orientation::Roll90Pitch180Yaw90] {
+                    let cal = Calibration { id: 1, accel, gyro };
+                    let c = Corrector::new(&cal, &scale, orientation).unwrap();
+                    let fixed = c.to_fixed().unwrap();
+                    for raw in corner_raws() {
+                        check(&c, &fixed, &raw);
+                        cases += 1;
+                    }
+                }
+            }
+        }
+    }
+    assert_eq!(cases, 2 * 8 * 8 * 2 * 343);
+}
+
+#[test]
+fn limit_codes_flag_their_whole_triad() {
+    let c = Corrector::new(
+        &Calibration::identity(0),
+        &widest_scale(),
+        Orientation::RotationNone,
+    )
+    .unwrap();
+    let fixed = c.to_fixed().unwrap();
+    let raw = |accel, gyro| RawSample {
+        accel,
+        gyro,
+        temperature: 0,
+    };
+    for (r, accel, gyro) in [
+        (raw([0, i16::MAX, 0], [0; 3]), true, false),
+        (raw([0; 3], [0, 0, i16::MIN]), false, true),
+        (raw([i16::MIN, 0, 0], [i16::MAX, 0, 0]), true, true),
+        (raw([32766, -32767, 0], [-32767, 32766, 5]), false, false),
+    ] {
+        assert_eq!(
+            (c.correct(&r).clip.accel, c.correct(&r).clip.gyro),
+            (accel, gyro),
+            "{r:?}"
+        );
+        assert_eq!(
+            (fixed.correct(&r).clip.accel, fixed.correct(&r).clip.gyro),
+            (accel, gyro),
+            "{r:?}"
+        );
+        assert_eq!(c.reference(&r).clip, c.correct(&r).clip);
+    }
+}
+
+#[test]
+fn clip_detection_is_exact_for_every_i16_on_every_axis() {
+    use triad::model::ClipFlags;
+    for x in i16::MIN..=i16::MAX {
+        let limit = x == i16::MIN || x == i16::MAX;
+        for axis in 0..3 {
+            let mut raw = RawSample {
+                accel: [0, 1, -1],
+                gyro: [32766, -32767, 0],
+                temperature: 0,
+            };
+            raw.accel[axis] = x;
+            raw.gyro[2 - axis] = x;
+            assert_eq!(
+                ClipFlags::of(&raw),
+                ClipFlags {
+                    accel: limit,
+                    gyro: limit
+                },
+                "x = {x}, axis {axis}"
+            );
+        }
+    }
+}
+
+#[test]
+fn fixed_output_is_q16_16_accel_q10_22_gyro_si() {
+    // Identity, s = 2⁻¹⁰ m/s² per LSB: raw 1024 is exactly 1 m/s² = 65536 in Q16.16.
+    // Temperature 10·0.5 + 20 = 25 °C in Q16.16.
+    let scale = ImuScale {
+        accel: TriadScale {
+            si_per_lsb: 1.0 / 1024.0,
+            full_scale: 32.0,
+        },
+        gyro: TriadScale {
+            si_per_lsb: 1.0 / 4096.0,
+            full_scale: 8.0,
+        },
+        temperature_per_lsb: 0.5,
+        temperature_offset: 20.0,
+    };
+    let c = Corrector::new(&Calibration::identity(0), &scale, Orientation::Yaw90).unwrap();
+    let out = c.to_fixed().unwrap().correct(&RawSample {
+        accel: [1024, 0, -512],
+        gyro: [0, 4096, 0],
+        temperature: 10,
+    });
+    // Yaw 90: board = (−y, x, z) of the sensor.
+    assert_eq!(out.accel, [0, 65536, -32768]);
+    // Gyro in Q10.22: 1 rad/s = 2²² = 4194304.
+    assert_eq!(out.gyro, [-4194304, 0, 0]);
+    assert_eq!(out.temperature, 25 * 65536);
+    assert_eq!(out.to_f64().accel, [0.0, 1.0, -0.5]);
+    assert_eq!(out.to_f64().gyro, [-1.0, 0.0, 0.0]);
+}

@@ -1,0 +1,136 @@
+//! Builds: the host tool, the calibration blob, the firmware; and the
+//! hardware run.
+
+use crate::board::Board;
+use anyhow::{bail, Context, Result};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+
+/// The workspace root (xtask lives one level below it).
+pub fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("xtask is in the workspace")
+        .to_path_buf()
+}
+
+/// `cargo` (the one running xtask), in the workspace root.
+pub fn cargo() -> Command {
+    let mut command = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()));
+    command.current_dir(root());
+    command
+}
+
+/// Runs `command`; an error names `what` failed and how.
+pub fn check(mut command: Command, what: &str) -> Result<()> {
+    let status = command
+        .status()
+        .with_context(|| format!("starting {what}"))?;
+    if !status.success() {
+        bail!("{what} failed ({status})");
+    }
+    Ok(())
+}
+
+/// Builds the `triad` host tool (release) and returns its path.
+pub fn build_host_tool() -> Result<PathBuf> {
+    let mut command = cargo();
+    command.args([
+        "build",
+        "--quiet",
+        "--release",
+        "-p",
+        "triad-host",
+        "--bin",
+        "triad",
+    ]);
+    check(command, "building the triad host tool")?;
+    Ok(root().join("target/release/triad"))
+}
+
+/// Packs the calibration TOML into the blob the firmware embeds and returns the
+/// blob's path. `None` means calibrations/default.toml.
+pub fn pack_calibration(triad: &Path, toml: Option<&Path>) -> Result<PathBuf> {
+    let source = toml
+        .map(Path::to_path_buf)
+        .unwrap_or_else(|| root().join("calibrations/default.toml"));
+    let blob = root().join("target/calibration.bin");
+    let mut command = Command::new(triad);
+    command
+        .args(["calib", "pack"])
+        .arg(&source)
+        .arg("-o")
+        .arg(&blob);
+    check(command, &format!("triad calib pack {}", source.display()))?;
+    Ok(blob)
+}
+
+/// Builds the firmware for `board` with the calibration blob embedded and
+/// returns the ELF's path.
+pub fn build_firmware(board: Board, calibration: &Path) -> Result<PathBuf> {
+    let mut command = cargo();
+    command
+        .args([
+            "build",
+            "--quiet",
+            "--release",
+            "-p",
+            "triad",
+            "--bin",
+            "triad-firmware",
+        ])
+        .args(["--target", board.target(), "--features"])
+        .arg(format!("board-{}", board.name()))
+        .env("TRIAD_CALIBRATION", calibration)
+        // One target dir per board: each board's build keeps its artefacts.
+        .env(
+            "CARGO_TARGET_DIR",
+            root().join("target/firmware").join(board.name()),
+        );
+    check(
+        command,
+        &format!("building the firmware for {}", board.name()),
+    )?;
+    Ok(root()
+        .join("target/firmware")
+        .join(board.name())
+        .join(board.target())
+        .join("release/triad-firmware"))
+}
+
+/// Flashes and runs the firmware on a NUCLEO-F401RE with probe-rs (which also
+/// prints the defmt log) and decodes the stream from the virtual COM port.
+pub fn run_on_hardware(elf: &Path, triad: &Path, port: &str, seconds: f64) -> Result<()> {
+    if Command::new("probe-rs").arg("--version").output().is_err() {
+        bail!(
+            "probe-rs not found: install it with `cargo install probe-rs-tools --locked` \
+             and connect the board's ST-LINK"
+        );
+    }
+    let mut probe = Command::new("probe-rs")
+        .args(["run", "--chip", "STM32F401RETx"])
+        .arg(elf)
+        .stdin(Stdio::null())
+        .spawn()
+        .context("starting probe-rs")?;
+    let frames = Board::NucleoF401re.frames_in(seconds).to_string();
+    let status = Command::new(triad)
+        .args([
+            "decode",
+            "--port",
+            port,
+            "--baud",
+            "921600",
+            "--max-frames",
+            &frames,
+        ])
+        .status()
+        .context("starting triad decode");
+    let _ = probe.kill();
+    let _ = probe.wait();
+    let status = status?;
+    if !status.success() {
+        bail!("triad decode on {port} exited with {status}");
+    }
+    Ok(())
+}
