@@ -32,7 +32,10 @@ fn main() {
         .map(PathBuf::from)
         .unwrap_or_else(|| manifest.join(DEFAULT_CALIBRATION));
     let blob = fs::read(&calibration).unwrap_or_else(|e| {
-        panic!("TRIAD_CALIBRATION: cannot read {}: {e}", calibration.display())
+        panic!(
+            "TRIAD_CALIBRATION: cannot read {}: {e}",
+            calibration.display()
+        )
     });
     fs::write(out.join("calibration.bin"), blob).expect("write calibration.bin");
     println!("cargo:rerun-if-changed={}", calibration.display());

@@ -57,7 +57,7 @@ mod app {
             board::DECIMATION
         );
         let b = board::init(cx.device);
-        let mut sensor = board::sensor();
+        let mut sensor = b.sensor;
         if let Err(error) = sensor.init(&mut board::Delay, &board::sensor_config()) {
             defmt::error!(
                 "sensor initialisation failed: {}",

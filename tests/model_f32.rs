@@ -3,10 +3,10 @@
 //!
 //! Error bound (derivation). Let u = 2⁻²⁴ (f32 unit roundoff) and S_i =
 //! Σ_j |K_ij|·|x_j| + |k_i| with the exact f64 K, k. The kernel computes
-//! ((K̃0·x0 + K̃1·x1) + K̃2·x2) + k̃ with K̃ = fl32(K) = K(1+α), |α| ≤ u, and
-//! x exact (an i16 is exact in f32). The terms K̃0·x0 and K̃1·x1 pass through
-//! one multiplication and three additions (4 roundings), K̃2·x2 through 3,
-//! k̃ through 1, so (Higham, Accuracy and Stability of Numerical Algorithms,
+//! ((k̃ + K̃0·x0) + K̃1·x1) + K̃2·x2 with K̃ = fl32(K) = K(1+α), |α| ≤ u, and
+//! x exact (an i16 is exact in f32). K̃0·x0 passes through one
+//! multiplication and three additions (4 roundings), k̃ through 3 additions,
+//! K̃1·x1 through 3 roundings and K̃2·x2 through 2, so (Higham, Accuracy and Stability of Numerical Algorithms,
 //! §3.1, lemma 3.1) the result is Σ t_j(1+θ_j) with |θ_j| ≤ γ4 = 4u/(1−4u).
 //! With the coefficient rounding: |ŷ − y| ≤ ((1+u)(1+γ4) − 1)·S_i
 //! = (γ4 + u + u·γ4)·S_i ≤ 5.0000004·u·S_i. The f64 reference (Gaussian

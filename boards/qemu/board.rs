@@ -27,6 +27,8 @@ pub struct Board {
     pub clock: MicrosecondClock,
     /// The stream's transmitter.
     pub serial: Serial,
+    /// The IMU driver on its (software) SPI device.
+    pub sensor: Sensor,
 }
 
 /// Brings up the peripherals; call first thing in `init` (see [`SampleTimer`]).
@@ -41,6 +43,7 @@ pub fn init(dp: pac::Peripherals) -> Board {
         sample_timer: SampleTimer::new(dp.TIM3, &clock),
         clock,
         serial: Serial::new(dp.USART1),
+        sensor: sensor(),
     }
 }
 
@@ -168,7 +171,7 @@ pub fn sensor_config() -> Config {
 }
 
 /// The chip model behind the driver, serving the demo motion at the sample rate.
-pub fn sensor() -> Sensor {
+fn sensor() -> Sensor {
     let motion = DemoMotion::standard(f64::from(SAMPLE_RATE_HZ));
     Icm42688::new_spi(Icm42688Model::new(DemoSource::new(motion)))
 }

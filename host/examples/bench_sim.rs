@@ -74,11 +74,14 @@ fn effect(name: &str, gyro: bool) -> TriadEffects {
             })
         }
         "random_walk" => e.random_walk = Some([1e-4; 3]),
-        "bias_instability" => e.bias_instability = Some([BiasInstabilityParams::with_default_band(1e-3); 3]),
+        "bias_instability" => {
+            e.bias_instability = Some([BiasInstabilityParams::with_default_band(1e-3); 3])
+        }
         "constant_bias" => e.constant_bias = Some([1e-2, -2e-2, 3e-2]),
         "turn_on_bias" => e.turn_on_bias = Some([1e-2; 3]),
         "scale_misalignment" => {
-            e.scale_misalignment = Some([[1e-3, 2e-4, -1e-4], [3e-4, -2e-3, 1e-4], [0.0, 5e-4, 5e-4]])
+            e.scale_misalignment =
+                Some([[1e-3, 2e-4, -1e-4], [3e-4, -2e-3, 1e-4], [0.0, 5e-4, 5e-4]])
         }
         "turn_on_scale" => e.turn_on_scale = Some([1e-3; 3]),
         "temperature" => {
@@ -88,7 +91,9 @@ fn effect(name: &str, gyro: bool) -> TriadEffects {
                 scale_per_degree: [1e-4; 3],
             })
         }
-        "g_sensitivity" if gyro => e.g_sensitivity = Some([[1e-4, 0.0, 0.0], [0.0, 1e-4, 0.0], [0.0, 0.0, 1e-4]]),
+        "g_sensitivity" if gyro => {
+            e.g_sensitivity = Some([[1e-4, 0.0, 0.0], [0.0, 1e-4, 0.0], [0.0, 0.0, 1e-4]])
+        }
         "quantisation" => e.quantisation = Some([1e-4; 3]),
         "saturation" => e.saturation = Some([100.0; 3]),
         _ => {}
@@ -150,7 +155,10 @@ fn main() {
 
     // 1. Shipped scenes.
     println!("== Shipped scenes ==");
-    println!("{:<16} {:>14} {:>10} {:>18} {:>14}", "scene", "samples/s", "ns/sample", "with CSV, samples/s", "1 h at rate in");
+    println!(
+        "{:<16} {:>14} {:>10} {:>18} {:>14}",
+        "scene", "samples/s", "ns/sample", "with CSV, samples/s", "1 h at rate in"
+    );
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
     let mut names: Vec<_> = std::fs::read_dir(&dir)
         .expect("scenes/")
@@ -182,14 +190,26 @@ fn main() {
         black_box(truth_only.step_truth());
     }
     let truth_rate = n as f64 / start.elapsed().as_secs_f64();
-    let traj = Trajectory::new(&Motion::Static { attitude: [0.0; 3] }, &Environment::default());
+    let traj = Trajectory::new(
+        &Motion::Static { attitude: [0.0; 3] },
+        &Environment::default(),
+    );
     let start = Instant::now();
     for k in 0..n {
         black_box(traj.at(black_box(k as f64 * 1e-3)));
     }
     let motion_rate = n as f64 / start.elapsed().as_secs_f64();
-    println!("{:<20} {:>14} {:>10} {:>14}", "effect", "samples/s", "ns/sample", "ns over none");
-    println!("{:<20} {:>14.0} {:>10.2} {:>14}", "(none)", base, ns(base), "-");
+    println!(
+        "{:<20} {:>14} {:>10} {:>14}",
+        "effect", "samples/s", "ns/sample", "ns over none"
+    );
+    println!(
+        "{:<20} {:>14.0} {:>10.2} {:>14}",
+        "(none)",
+        base,
+        ns(base),
+        "-"
+    );
     let mut rust_effect_rates = Vec::new();
     for name in EFFECTS {
         let mut s = static_scene();
@@ -197,19 +217,40 @@ fn main() {
         s.gyro = effect(name, true);
         let r = rate(&s, n);
         rust_effect_rates.push((name, r));
-        println!("{:<20} {:>14.0} {:>10.2} {:>14.2}", name, r, ns(r), ns(r) - ns(base));
+        println!(
+            "{:<20} {:>14.0} {:>10.2} {:>14.2}",
+            name,
+            r,
+            ns(r),
+            ns(r) - ns(base)
+        );
     }
     let mut s = static_scene();
     s.accel = all_effects(false);
     s.gyro = all_effects(true);
     let all_rate = rate(&s, n);
-    println!("{:<20} {:>14.0} {:>10.2} {:>14.2}", "all of them", all_rate, ns(all_rate), ns(all_rate) - ns(base));
+    println!(
+        "{:<20} {:>14.0} {:>10.2} {:>14.2}",
+        "all of them",
+        all_rate,
+        ns(all_rate),
+        ns(all_rate) - ns(base)
+    );
 
     // 3. The cost of an unnamed effect.
     println!("\n== The cost of an unnamed effect ==");
-    println!("motion only (Trajectory::at):           {:>8.2} ns/sample", ns(motion_rate));
-    println!("truth only (Simulator::step_truth):     {:>8.2} ns/sample", ns(truth_rate));
-    println!("all 24 effects unnamed (Simulator::step): {:>6.2} ns/sample", ns(base));
+    println!(
+        "motion only (Trajectory::at):           {:>8.2} ns/sample",
+        ns(motion_rate)
+    );
+    println!(
+        "truth only (Simulator::step_truth):     {:>8.2} ns/sample",
+        ns(truth_rate)
+    );
+    println!(
+        "all 24 effects unnamed (Simulator::step): {:>6.2} ns/sample",
+        ns(base)
+    );
     println!(
         "=> 24 unnamed effects together cost {:.2} ns/sample over truth only ({:.3} ns each): one `None` test each, no arithmetic",
         ns(base) - ns(truth_rate),
@@ -227,7 +268,10 @@ fn main() {
 
     // 4. Bias-instability terms vs Allan-floor flatness vs time per sample.
     println!("\n== Bias instability: terms vs Allan-floor flatness (band 1 s–10⁴ s) vs time ==");
-    println!("{:>5} {:>22} {:>18} {:>12}", "terms", "σ_A/(0.664B) min–max", "worst deviation", "ns/sample");
+    println!(
+        "{:>5} {:>22} {:>18} {:>12}",
+        "terms", "σ_A/(0.664B) min–max", "worst deviation", "ns/sample"
+    );
     for terms in [1u8, 2, 3, 4, 5, 6, 7, 9, 11, 13, 16] {
         let p = BiasInstabilityParams {
             terms,
@@ -239,7 +283,13 @@ fn main() {
         s.gyro.bias_instability = Some([p; 3]);
         let r = rate(&s, n / 2);
         let worst = (1.0 - lo).max(hi - 1.0) * 100.0;
-        println!("{terms:>5} {:>10.3} – {:<9.3} {:>16.2} % {:>12.1}", lo, hi, worst, ns(r));
+        println!(
+            "{terms:>5} {:>10.3} – {:<9.3} {:>16.2} % {:>12.1}",
+            lo,
+            hi,
+            worst,
+            ns(r)
+        );
     }
 
     // 5. NumPy, same effects, same run.
@@ -253,7 +303,11 @@ fn main() {
     let out = match out {
         Ok(o) if o.status.success() => String::from_utf8_lossy(&o.stdout).into_owned(),
         Ok(o) => {
-            println!("python3 {} failed: {}", script.display(), String::from_utf8_lossy(&o.stderr).trim());
+            println!(
+                "python3 {} failed: {}",
+                script.display(),
+                String::from_utf8_lossy(&o.stderr).trim()
+            );
             println!("(install NumPy with `pip install numpy` to get the comparison)");
             return;
         }
@@ -262,8 +316,14 @@ fn main() {
             return;
         }
     };
-    println!("{:<20} {:>14} {:>14} {:>10}", "effect", "Rust samples/s", "NumPy samples/s", "Rust/NumPy");
-    let mut rows: Vec<(String, f64)> = rust_effect_rates.iter().map(|(k, v)| (k.to_string(), *v)).collect();
+    println!(
+        "{:<20} {:>14} {:>14} {:>10}",
+        "effect", "Rust samples/s", "NumPy samples/s", "Rust/NumPy"
+    );
+    let mut rows: Vec<(String, f64)> = rust_effect_rates
+        .iter()
+        .map(|(k, v)| (k.to_string(), *v))
+        .collect();
     rows.push(("all".to_string(), all_rate));
     for line in out.lines() {
         // Lines are "effect samples_per_second".
@@ -276,7 +336,13 @@ fn main() {
             continue;
         };
         if let Some((_, rust)) = rows.iter().find(|(k, _)| k == name) {
-            println!("{:<20} {:>14.0} {:>14.0} {:>9.1}×", name, rust, np_rate, rust / np_rate);
+            println!(
+                "{:<20} {:>14.0} {:>14.0} {:>9.1}×",
+                name,
+                rust,
+                np_rate,
+                rust / np_rate
+            );
         }
     }
 }

@@ -11,7 +11,11 @@ mod scene_file;
 mod sim;
 
 #[derive(Parser)]
-#[command(name = "triad", version, about = "Calibrated MEMS inertial sensors: host toolkit")]
+#[command(
+    name = "triad",
+    version,
+    about = "Calibrated MEMS inertial sensors: host toolkit"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,

@@ -85,11 +85,14 @@ impl KernelF32 {
         }
     }
 
-    /// K·x + k, each row evaluated left to right: ((K0·x0 + K1·x1) + K2·x2) + k.
-    /// The error bound in tests/model_f32.rs depends on this order.
+    /// K·x + k, each row evaluated left to right: ((k + K0·x0) + K1·x1) + K2·x2,
+    /// offset first so each row is three multiply-accumulates (VMLA.F32, which
+    /// rounds the product and the sum separately, like the host's separate
+    /// mul and add: the same bits on both). The error bound in
+    /// tests/model_f32.rs depends on this order.
     #[inline(always)]
     fn apply(&self, x: [f32; 3]) -> [f32; 3] {
-        let row = |k: &[f32; 3], o: f32| k[0] * x[0] + k[1] * x[1] + k[2] * x[2] + o;
+        let row = |k: &[f32; 3], o: f32| o + k[0] * x[0] + k[1] * x[1] + k[2] * x[2];
         [
             row(&self.k[0], self.offset[0]),
             row(&self.k[1], self.offset[1]),

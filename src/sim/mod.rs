@@ -25,3 +25,4 @@ pub mod source;
 pub mod temperature_dependence;
 pub mod temperature_profile;
 pub mod white_noise;
+pub mod ziggurat;

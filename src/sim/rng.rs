@@ -4,8 +4,9 @@
 //! generators", OOPSLA 2014) turns the stream key into the state of a
 //! xoshiro256++ generator (Blackman & Vigna, "Scrambled linear pseudorandom
 //! number generators", ACM TOMS 2021). Normal deviates come from the
-//! Marsaglia polar method with `libm`'s pure-Rust `log` and `sqrt`, so the
-//! same seed gives the same bits on every machine (no platform libm).
+//! Ziggurat method ([`super::ziggurat`]: constant tables, `libm`'s pure-Rust
+//! `exp` and `log` on the rare slow paths), so the same seed gives the same
+//! bits on every machine (no platform libm).
 
 /// SplitMix64's output function: a bijective 64-bit mixer.
 pub const fn mix64(mut z: u64) -> u64 {
@@ -60,11 +61,10 @@ pub enum EffectId {
     TurnOnScale = 6,
 }
 
-/// A xoshiro256++ generator with a cached second normal deviate.
+/// A xoshiro256++ generator.
 #[derive(Clone, Copy, Debug)]
 pub struct Rng {
     s: [u64; 4],
-    spare: Option<f64>,
 }
 
 impl Rng {
@@ -74,13 +74,13 @@ impl Rng {
         // SplitMix64 outputs of consecutive counters are distinct (mix64 is a
         // bijection), so at most one word is zero: never the all-zero state.
         let s = [sm.next_u64(), sm.next_u64(), sm.next_u64(), sm.next_u64()];
-        Self { s, spare: None }
+        Self { s }
     }
 
     /// A generator with the given xoshiro256++ state (must not be all zero);
     /// for checking against the reference implementation's test vectors.
     pub const fn from_state(s: [u64; 4]) -> Self {
-        Self { s, spare: None }
+        Self { s }
     }
 
     /// The stream of one effect on one axis of one triad.
@@ -114,21 +114,8 @@ impl Rng {
         (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
     }
 
-    /// A standard normal deviate (Marsaglia polar method; pairs are cached).
+    /// A standard normal deviate (Ziggurat method).
     pub fn gaussian(&mut self) -> f64 {
-        if let Some(z) = self.spare.take() {
-            return z;
-        }
-        loop {
-            let u = 2.0 * self.uniform() - 1.0;
-            let v = 2.0 * self.uniform() - 1.0;
-            let s = u * u + v * v;
-            // Rejects points outside the unit disc and the origin (log 0).
-            if s < 1.0 && s > 0.0 {
-                let factor = libm::sqrt(-2.0 * libm::log(s) / s);
-                self.spare = Some(v * factor);
-                return u * factor;
-            }
-        }
+        super::ziggurat::sample(|| self.next_u64())
     }
 }

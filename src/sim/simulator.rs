@@ -81,6 +81,9 @@ struct TriadState {
     g_sensitivity: Option<[[f64; 3]; 3]>,
     quantisation: Option<[f64; 3]>,
     saturation: Option<[f64; 3]>,
+    /// False when the scene names no effect for this triad: `measure` is
+    /// then skipped with one test instead of twelve.
+    active: bool,
     contributions: Contributions,
 }
 
@@ -130,6 +133,7 @@ impl TriadState {
             g_sensitivity: effects.g_sensitivity,
             quantisation: effects.quantisation,
             saturation: effects.saturation,
+            active: !effects.is_none(),
             contributions,
         }
     }
@@ -138,6 +142,9 @@ impl TriadState {
     /// specific force (for g-sensitivity).
     fn measure(&mut self, truth: [f64; 3], temp: f64, f_true: &[f64; 3]) -> [f64; 3] {
         let mut y = truth;
+        if !self.active {
+            return y;
+        }
         if let Some(td) = &self.temperature {
             y = scale_misalignment::apply_diagonal(&td.scale(temp), y);
         }

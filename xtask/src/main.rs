@@ -26,7 +26,11 @@ enum Command {
     /// Build and run the firmware; print decoded, calibrated samples as CSV on stdout.
     Run(RunArgs),
     /// Run every host test, build every board, run the end-to-end tests on QEMU.
-    Test,
+    Test {
+        /// Only the firmware builds and the end-to-end tests on QEMU.
+        #[arg(long)]
+        e2e_only: bool,
+    },
     /// Install what the project needs (rustup targets, QEMU) and exit.
     Setup,
     /// Decode a captured defmt log (e.g. QEMU's stdout) with the firmware ELF.
@@ -59,7 +63,7 @@ fn main() -> std::process::ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Run(args) => run(args),
-        Command::Test => test::run(),
+        Command::Test { e2e_only } => test::run(e2e_only),
         Command::Setup => setup::ensure_all(),
         Command::Log { elf, log } => defmt_log::print_file(&elf, &log),
     };

@@ -68,7 +68,13 @@ fn ensure_qemu() -> Result<()> {
     let sudo: &[&str] = if root { &[] } else { &["sudo"] };
     for args in [
         &["apt-get", "update"][..],
-        &["apt-get", "install", "-y", "qemu-system-arm"][..],
+        &[
+            "apt-get",
+            "install",
+            "-y",
+            "--no-install-recommends",
+            "qemu-system-arm",
+        ][..],
     ] {
         let mut command = Command::new(sudo.first().copied().unwrap_or(args[0]));
         command
