@@ -1,7 +1,10 @@
 //! Firmware build: puts the selected board's memory.x on the linker path and
 //! embeds the calibration blob chosen at build time. Host builds skip both.
 
-use std::{env, fs, path::PathBuf};
+use std::{
+    env, fs,
+    path::{Path, PathBuf},
+};
 
 /// The calibration embedded when `TRIAD_CALIBRATION` is not set: packed from
 /// calibrations/default.toml by `triad calib pack` (a test keeps them equal).
@@ -9,11 +12,23 @@ const DEFAULT_CALIBRATION: &str = "calibrations/default.bin";
 
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");
+    let out = PathBuf::from(env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));
+    let manifest = PathBuf::from(env::var_os("CARGO_MANIFEST_DIR").expect("cargo sets it"));
+    if env::var_os("CARGO_FEATURE_BENCH_CORE").is_some() {
+        // The benchmark firmware: the Cortex-M0 core is QEMU's microbit, the
+        // Cortex-M4F core the emulated board's STM32F405.
+        let target = env::var("TARGET").unwrap_or_default();
+        let core = if target.starts_with("thumbv6m") {
+            "microbit"
+        } else {
+            "qemu"
+        };
+        link_memory_map(&manifest.join("boards").join(core).join("memory.x"), &out);
+        return;
+    }
     if env::var_os("CARGO_FEATURE_FIRMWARE").is_none() {
         return;
     }
-    let out = PathBuf::from(env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));
-    let manifest = PathBuf::from(env::var_os("CARGO_MANIFEST_DIR").expect("cargo sets it"));
 
     let board = if env::var_os("CARGO_FEATURE_BOARD_QEMU").is_some() {
         "qemu"
@@ -22,10 +37,7 @@ fn main() {
     } else {
         panic!("the firmware needs a board: --features board-qemu or board-nucleo-f401re");
     };
-    let memory = manifest.join("boards").join(board).join("memory.x");
-    fs::copy(&memory, out.join("memory.x")).expect("copy the board's memory.x");
-    println!("cargo:rerun-if-changed={}", memory.display());
-    println!("cargo:rustc-link-search={}", out.display());
+    link_memory_map(&manifest.join("boards").join(board).join("memory.x"), &out);
 
     println!("cargo:rerun-if-env-changed=TRIAD_CALIBRATION");
     let calibration = env::var_os("TRIAD_CALIBRATION")
@@ -39,4 +51,11 @@ fn main() {
     });
     fs::write(out.join("calibration.bin"), blob).expect("write calibration.bin");
     println!("cargo:rerun-if-changed={}", calibration.display());
+}
+
+/// Puts `memory` on the linker path as memory.x (cortex-m-rt's link.x includes it).
+fn link_memory_map(memory: &Path, out: &Path) {
+    fs::copy(memory, out.join("memory.x")).expect("copy the board's memory.x");
+    println!("cargo:rerun-if-changed={}", memory.display());
+    println!("cargo:rustc-link-search={}", out.display());
 }

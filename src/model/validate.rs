@@ -293,6 +293,9 @@ impl fmt::Display for CalibrationError {
     }
 }
 
+/// Lets hosts use `?` into their error types; the message is the Display above.
+impl core::error::Error for CalibrationError {}
+
 impl Calibration {
     /// Checks both triads; `*_full_scale` are the configured ranges (± SI
     /// units) that bound the bias.

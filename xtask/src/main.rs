@@ -4,9 +4,12 @@
 //!   default) and print the decoded, calibrated samples as CSV.
 //! - `cargo xtask test`: every host test, every board's firmware build, and the
 //!   end-to-end tests on QEMU.
+//! - `cargo xtask bench`: the benchmark firmware on emulated cores; writes
+//!   docs/BENCHMARKS.md.
 
 use clap::{Parser, Subcommand};
 
+mod bench;
 mod board;
 mod cmd;
 mod defmt_log;
@@ -30,6 +33,12 @@ enum Command {
         /// Only the firmware builds and the end-to-end tests on QEMU.
         #[arg(long)]
         e2e_only: bool,
+    },
+    /// Benchmark every variant on the emulated cores; write docs/BENCHMARKS.md.
+    Bench {
+        /// Print the rows as a JSON array instead of a table.
+        #[arg(long)]
+        json: bool,
     },
     /// Install what the project needs (rustup targets, QEMU) and exit.
     Setup,
@@ -64,6 +73,7 @@ fn main() -> std::process::ExitCode {
     let result = match cli.command {
         Command::Run(args) => run(args),
         Command::Test { e2e_only } => test::run(e2e_only),
+        Command::Bench { json } => setup::ensure_all().and_then(|()| bench::run(json)),
         Command::Setup => setup::ensure_all(),
         Command::Log { elf, log } => defmt_log::print_file(&elf, &log),
     };

@@ -92,27 +92,29 @@ pub fn stream_to_decoder(elf: &Path, triad: &Path, frames: u64, sink: Sink) -> R
     Ok(status)
 }
 
-fn spawn_qemu(elf: &Path, socket: &Path) -> Result<Child> {
-    Command::new(QEMU)
-        .args([
-            "-machine",
-            "netduinoplus2",
-            "-display",
-            "none",
-            "-monitor",
-            "none",
-        ])
+/// QEMU on `machine` running `elf` deterministically: no display or
+/// monitor, one instruction per virtual nanosecond, idle time skipped,
+/// semihosting on (the firmware's log and exit status).
+pub fn command(machine: &str, elf: &Path) -> Command {
+    let mut command = Command::new(QEMU);
+    command
+        .args(["-machine", machine, "-display", "none", "-monitor", "none"])
         .args(["-icount", "shift=0,sleep=off"])
         .args(["-semihosting-config", "enable=on,target=native"])
+        .arg("-kernel")
+        .arg(elf)
+        .stdin(Stdio::null());
+    command
+}
+
+fn spawn_qemu(elf: &Path, socket: &Path) -> Result<Child> {
+    command("netduinoplus2", elf)
         .arg("-chardev")
         .arg(format!(
             "socket,id=stream,path={},server=on,wait=on",
             socket.display()
         ))
         .args(["-serial", "chardev:stream"])
-        .arg("-kernel")
-        .arg(elf)
-        .stdin(Stdio::null())
         .stdout(Stdio::piped())
         .spawn()
         .with_context(|| format!("starting {QEMU}"))

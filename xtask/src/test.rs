@@ -3,7 +3,7 @@
 
 use crate::board::Board;
 use crate::cmd::{self, cargo, check};
-use crate::{qemu, setup};
+use crate::{bench, qemu, setup};
 use anyhow::{bail, Context, Result};
 
 /// Frames the end-to-end run captures (the issue asks for at least 1000).
@@ -39,6 +39,9 @@ pub fn run(e2e_only: bool) -> Result<()> {
         }
     }
     let elf = qemu_elf.context("the qemu board is in Board::ALL")?;
+
+    eprintln!("xtask: benchmark firmware on the emulated cores, outputs against the host's");
+    bench::check_firmware_outputs()?;
 
     eprintln!("xtask: end-to-end on QEMU: {E2E_FRAMES} frames");
     let dir = cmd::root().join("target/e2e");

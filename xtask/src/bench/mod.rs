@@ -1,0 +1,67 @@
+//! `cargo xtask bench`: the benchmark firmware (src/bin/bench.rs) on two
+//! emulated cores, its digests checked against the host's computation of
+//! the same variants, the accuracy of each variant against the f64
+//! reference, and the report (docs/BENCHMARKS.md, or JSON on stdout).
+
+mod accuracy;
+mod cores;
+mod report;
+
+pub use cores::{check_firmware_outputs, Core};
+
+use anyhow::Result;
+use triad::bench::Variant;
+
+/// One row of the report: a variant on a core.
+#[derive(Clone, Debug)]
+pub struct Row {
+    /// The emulated core.
+    pub core: Core,
+    /// The variant.
+    pub variant: Variant,
+    /// Instructions per 6-axis sample.
+    pub instructions_per_sample: f64,
+    /// Bytes of the variant's kernel function in flash.
+    pub flash_bytes: Option<u64>,
+    /// The kernel's stack high-water mark, bytes.
+    pub stack_bytes: u32,
+    /// Accuracy against the f64 reference, realistic calibration.
+    pub realistic: Option<accuracy::Accuracy>,
+    /// Accuracy against the f64 reference, extreme valid calibration.
+    pub extreme: Option<accuracy::Accuracy>,
+}
+
+/// Runs the benchmark; prints JSON rows when `json`, else a table; writes
+/// docs/BENCHMARKS.md either way.
+pub fn run(json: bool) -> Result<()> {
+    let mut rows = Vec::new();
+    let accuracies = accuracy::all()?;
+    for core in Core::ALL {
+        let measured = cores::measure(core)?;
+        for m in measured {
+            let (realistic, extreme) = accuracies
+                .iter()
+                .find(|(v, _, _)| *v == m.variant)
+                .map(|(_, r, e)| (*r, *e))
+                .unwrap_or((None, None));
+            rows.push(Row {
+                core,
+                variant: m.variant,
+                instructions_per_sample: m.instructions_per_sample,
+                flash_bytes: m.flash_bytes,
+                stack_bytes: m.stack_bytes,
+                realistic,
+                extreme,
+            });
+        }
+    }
+    if json {
+        println!("{}", report::json(&rows));
+    } else {
+        print!("{}", report::table(&rows));
+    }
+    let path = crate::cmd::root().join("docs/BENCHMARKS.md");
+    std::fs::write(&path, report::markdown(&rows)?)?;
+    eprintln!("xtask: wrote {}", path.display());
+    Ok(())
+}
