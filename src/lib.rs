@@ -13,6 +13,7 @@
 #![warn(missing_docs)]
 
 pub mod bench;
+pub mod calib_fit;
 pub mod model;
 pub mod pipeline;
 pub mod sensor;

@@ -1,4 +1,10 @@
-//! `triad calib`: check and pack calibration files (a later issue adds `fit`).
+//! `triad calib`: check and pack calibration files, and fit them to
+//! recorded data ([`fit`]).
+
+mod fit;
+mod fit_accel;
+mod fit_csv;
+mod fit_gyro;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -37,6 +43,8 @@ enum CalibCommand {
         #[command(flatten)]
         ranges: Ranges,
     },
+    /// Fit a triad's (I+Σ) and b to recorded data and write a calibration file.
+    Fit(fit::FitArgs),
 }
 
 /// The sensor's configured ranges: they bound the bias check and, for a
@@ -89,6 +97,7 @@ pub fn si_corrector(file: &CalibFile, ranges: &Ranges) -> anyhow::Result<Correct
 pub fn run(args: CalibArgs) -> anyhow::Result<ExitCode> {
     match args.command {
         CalibCommand::Check { file, ranges } => check(&calib_file::load(&file)?, &ranges),
+        CalibCommand::Fit(args) => fit::run(args),
         CalibCommand::Pack {
             file,
             output,

@@ -1,4 +1,5 @@
-//! Calibration files: the TOML form a lab writes (issue 2, item 2).
+//! Calibration files: the TOML form a lab writes (issue 2, item 2), read by
+//! [`load`] and written by `triad calib fit` through [`render`].
 //!
 //! ```toml
 //! id = 7                          # optional; default: CRC-32 of the blob's parameter bytes
@@ -15,7 +16,8 @@
 //! bias = [0.001, -0.002, 0.0005]    # rad/s
 //! ```
 //!
-//! Other top-level keys and tables are allowed (metadata); inside `[accel]`,
+//! Other top-level keys and tables are allowed (metadata, e.g. the
+//! `[fit.accel]` / `[fit.gyro]` statistics `triad calib fit` writes); inside `[accel]`,
 //! `[gyro]` and their `temperature` tables unknown keys are errors, so a
 //! misspelt optional key cannot silently vanish. This module only reads the
 //! file; [`triad::model::Corrector`] validates the values.
@@ -135,4 +137,92 @@ fn one_line(error: &toml::de::Error, text: &str) -> String {
     let message = lines.next().unwrap_or("invalid TOML").to_string();
     let keys = lines.next().map(|k| format!(" ({k})")).unwrap_or_default();
     format!(" {}{message}{keys}", position.unwrap_or_default())
+}
+
+/// The TOML of one triad: `scale_misalignment`, `bias`, optional `temperature`.
+fn triad_table(t: &TriadCalibration) -> toml::Table {
+    let matrix = |m: &[[f64; 3]; 3]| toml::Value::Array(m.iter().map(vector).collect());
+    let mut table = toml::Table::new();
+    table.insert("scale_misalignment".into(), matrix(&t.scale_misalignment));
+    table.insert("bias".into(), vector(&t.bias));
+    if let Some(terms) = &t.temperature {
+        let mut temp = toml::Table::new();
+        temp.insert("reference_c".into(), toml::Value::Float(terms.reference_c));
+        temp.insert("bias_coefficients".into(), matrix(&terms.bias_coefficients));
+        temp.insert(
+            "scale_misalignment_per_c".into(),
+            matrix(&terms.scale_misalignment_per_c),
+        );
+        table.insert("temperature".into(), toml::Value::Table(temp));
+    }
+    table
+}
+
+/// A TOML array of three floats.
+pub fn vector(v: &[f64; 3]) -> toml::Value {
+    toml::Value::Array(v.iter().map(|&x| toml::Value::Float(x)).collect())
+}
+
+/// Renders a calibration file: `header` as `#` comment lines, no `id` (so
+/// the identity is the CRC-32 of the parameters), the orientation when it is
+/// not ROTATION_NONE, `[accel]`, `[gyro]`, and `extra` top-level tables
+/// (metadata such as `[fit.accel]`, which [`parse`] ignores). The text is
+/// parsed back before it is returned: what is written reads back to exactly
+/// `calibration`, or this is an error.
+pub fn render(
+    calibration: &Calibration,
+    orientation: Orientation,
+    header: &str,
+    extra: toml::Table,
+) -> anyhow::Result<String> {
+    let mut doc = toml::Table::new();
+    if orientation != Orientation::RotationNone {
+        doc.insert(
+            "orientation".into(),
+            toml::Value::String(orientation.name().into()),
+        );
+    }
+    doc.insert(
+        "accel".into(),
+        toml::Value::Table(triad_table(&calibration.accel)),
+    );
+    doc.insert(
+        "gyro".into(),
+        toml::Value::Table(triad_table(&calibration.gyro)),
+    );
+    for (key, value) in extra {
+        doc.insert(key, value);
+    }
+    let body = toml::to_string(&doc).context("rendering the calibration file")?;
+    let mut text = String::new();
+    for line in header.lines() {
+        text.push_str(if line.is_empty() { "#" } else { "# " });
+        text.push_str(line);
+        text.push('\n');
+    }
+    text.push('\n');
+    text.push_str(&body);
+    let back = parse(&text, Path::new("(written file)"))?;
+    if back.calibration.accel != calibration.accel
+        || back.calibration.gyro != calibration.gyro
+        || back.orientation != orientation
+    {
+        anyhow::bail!(
+            "internal error: the rendered calibration file does not read back to the same values"
+        );
+    }
+    Ok(text)
+}
+
+/// The top-level `fit` table of a file (the statistics earlier fits wrote),
+/// if any: kept when another triad is fitted from this file as `--base`.
+pub fn fit_metadata(path: &Path) -> anyhow::Result<Option<toml::Table>> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("{}: cannot read", path.display()))?;
+    let doc: toml::Table =
+        toml::from_str(&text).map_err(|e| anyhow!("{}:{}", path.display(), one_line(&e, &text)))?;
+    Ok(match doc.get("fit") {
+        Some(toml::Value::Table(t)) => Some(t.clone()),
+        _ => None,
+    })
 }

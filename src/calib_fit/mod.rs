@@ -1,0 +1,26 @@
+//! Laboratory calibration fits: (I+Σ) and b from recorded data, in f64,
+//! without allocation (the caller owns the sample and segment buffers).
+//!
+//! - [`static_segments`]: where a record is at rest.
+//! - [`accel_fit`]: the accelerometer from static means in unknown
+//!   orientations, |(I+Σ)⁻¹(f̂ − b)| = g, by Levenberg–Marquardt from the
+//!   algebraic [`ellipsoid`]; (I+Σ) upper triangular by convention.
+//! - [`accel_cube`]: the accelerometer from axis-aligned positions (a cube
+//!   tumble), where gravity's direction is known: full (I+Σ), linear.
+//! - [`gyro_fit`]: the gyroscope from rate-table segments with known rates,
+//!   ω̂ = (I+Σ)ω + b, by linear least squares.
+//! - [`qr`]: the least-squares solver both use (Givens QR, fixed size);
+//!   [`small3`]: 3×3 helpers.
+//!
+//! Every refusal is a [`FitError`] that says what was found and what is needed.
+
+pub mod accel_cube;
+pub mod accel_fit;
+pub mod ellipsoid;
+pub mod error;
+pub mod gyro_fit;
+pub mod qr;
+pub mod small3;
+pub mod static_segments;
+
+pub use error::FitError;

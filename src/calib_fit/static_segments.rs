@@ -1,0 +1,182 @@
+//! Finding the static segments of a record (the sensor at rest between
+//! turns), from the accelerometer alone.
+//!
+//! The record is cut into blocks of `block` samples; a block is static when
+//! the largest per-axis standard deviation within it is at most the
+//! threshold. The threshold adapts to the sensor: [`THRESHOLD_FACTOR`] times
+//! the 10th percentile of the block deviations (a calibration record is
+//! mostly at rest, and its quietest tenth is surely at rest), but never below
+//! [`THRESHOLD_FLOOR`]. A run of static blocks loses one block at each end
+//! that borders motion (a turn may start or end inside it) and is kept when
+//! at least `min_blocks` remain. No allocation: the caller gives the output
+//! buffer.
+
+use super::error::FitError;
+
+/// Threshold = this × the 10th percentile of the block deviations. The
+/// sample deviation of a block of n ≥ 25 white-noise samples scatters by
+/// 1/√(2(n−1)) ≤ 15 % around σ, so a static block exceeds 4·(0.85σ) with
+/// negligible probability, while a turn of 90° in a few seconds moves
+/// gravity by ~1 m/s² within a block, ≫ MEMS noise (≤ 0.01 m/s² per sample).
+pub const THRESHOLD_FACTOR: f64 = 4.0;
+
+/// The smallest threshold, m/s² (10 µg): noiseless or coarsely quantised
+/// records would otherwise get a zero threshold.
+pub const THRESHOLD_FLOOR: f64 = 1.0e-4;
+
+/// Half-open sample range `start..end` of a static segment.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Segment {
+    /// First sample.
+    pub start: usize,
+    /// One past the last sample.
+    pub end: usize,
+}
+
+/// The detector's settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Detector {
+    /// Samples per block (e.g. 0.5 s worth).
+    pub block: usize,
+    /// The fewest static blocks a segment keeps after trimming its ends.
+    pub min_blocks: usize,
+}
+
+/// Histogram bins of the block deviations: 20 per decade from 1e-9 to 1e3.
+const BINS: usize = 240;
+const LOG_MIN: f64 = -9.0;
+const PER_DECADE: f64 = 20.0;
+
+fn block_deviation(block: &[[f64; 3]]) -> f64 {
+    let n = block.len() as f64;
+    let mut mean = [0.0; 3];
+    for s in block {
+        for (m, x) in mean.iter_mut().zip(s) {
+            *m += x / n;
+        }
+    }
+    let mut var = [0.0; 3];
+    for s in block {
+        for ((v, x), m) in var.iter_mut().zip(s).zip(mean) {
+            *v += (x - m) * (x - m);
+        }
+    }
+    let worst = var[0].max(var[1]).max(var[2]);
+    libm::sqrt(worst / (n - 1.0).max(1.0))
+}
+
+impl Detector {
+    /// The threshold this record gets (m/s²), or `None` if it has no whole block.
+    pub fn threshold(&self, samples: &[[f64; 3]]) -> Option<f64> {
+        let block = self.block.max(2);
+        let mut histogram = [0u32; BINS];
+        let mut count = 0u32;
+        for chunk in samples.chunks_exact(block) {
+            let d = block_deviation(chunk);
+            let bin = if d > 0.0 {
+                ((libm::log10(d) - LOG_MIN) * PER_DECADE).clamp(0.0, (BINS - 1) as f64) as usize
+            } else {
+                0
+            };
+            histogram[bin] += 1;
+            count += 1;
+        }
+        if count == 0 {
+            return None;
+        }
+        let wanted = count.div_ceil(10);
+        let mut seen = 0;
+        for (bin, &h) in histogram.iter().enumerate() {
+            seen += h;
+            if seen >= wanted {
+                // The bin's upper edge: never below the percentile.
+                let edge = libm::pow(10.0, LOG_MIN + (bin + 1) as f64 / PER_DECADE);
+                return Some((THRESHOLD_FACTOR * edge).max(THRESHOLD_FLOOR));
+            }
+        }
+        None
+    }
+
+    /// Writes the static segments of `samples` (m/s²) into `out`; returns
+    /// how many. Besides motion within a block, a jump of a block's mean
+    /// from the previous block's by more than the threshold also ends a
+    /// segment (an orientation change that fell exactly between two blocks;
+    /// block means scatter by only σ/√block, far below the threshold).
+    pub fn detect(&self, samples: &[[f64; 3]], out: &mut [Segment]) -> Result<usize, FitError> {
+        let block = self.block.max(2);
+        let Some(threshold) = self.threshold(samples) else {
+            return Ok(0);
+        };
+        let blocks = samples.len() / block;
+        let mut found = 0;
+        let mut run_start: Option<usize> = None;
+        let mut previous_mean: Option<[f64; 3]> = None;
+        let mut emit = |first: usize, end: usize, at_end: bool| -> Result<(), FitError> {
+            // Trim one block at each end that borders motion.
+            let lo = if first == 0 { first } else { first + 1 };
+            let hi = if at_end { end } else { end - 1 };
+            if hi >= lo + self.min_blocks.max(1) {
+                let slot = out
+                    .get_mut(found)
+                    .ok_or(FitError::TooManySegments { capacity: found })?;
+                *slot = Segment {
+                    start: lo * block,
+                    end: hi * block,
+                };
+                found += 1;
+            }
+            Ok(())
+        };
+        for b in 0..=blocks {
+            let chunk =
+                &samples[(b * block).min(samples.len())..((b + 1) * block).min(samples.len())];
+            let is_static = b < blocks && block_deviation(chunk) <= threshold;
+            let m = mean(chunk);
+            let jumped = match previous_mean {
+                Some(p) => (0..3).any(|i| (m[i] - p[i]).abs() > threshold),
+                None => false,
+            };
+            previous_mean = if is_static { Some(m) } else { None };
+            match (run_start, is_static) {
+                (None, true) => run_start = Some(b),
+                (Some(first), true) if jumped => {
+                    emit(first, b, false)?;
+                    run_start = Some(b);
+                }
+                (Some(first), false) => {
+                    emit(first, b, b == blocks)?;
+                    run_start = None;
+                }
+                _ => {}
+            }
+        }
+        Ok(found)
+    }
+}
+
+/// The mean of `samples` (none: zeros).
+pub fn mean(samples: &[[f64; 3]]) -> [f64; 3] {
+    let n = samples.len().max(1) as f64;
+    let mut m = [0.0; 3];
+    for s in samples {
+        for (mi, x) in m.iter_mut().zip(s) {
+            *mi += x;
+        }
+    }
+    m.map(|x| x / n)
+}
+
+/// The per-axis sample standard deviation of `samples` (fewer than 2: zeros).
+pub fn standard_deviation(samples: &[[f64; 3]]) -> [f64; 3] {
+    if samples.len() < 2 {
+        return [0.0; 3];
+    }
+    let m = mean(samples);
+    let mut v = [0.0; 3];
+    for s in samples {
+        for ((vi, x), mi) in v.iter_mut().zip(s).zip(m) {
+            *vi += (x - mi) * (x - mi);
+        }
+    }
+    v.map(|x| libm::sqrt(x / (samples.len() - 1) as f64))
+}
