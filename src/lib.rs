@@ -12,6 +12,7 @@
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod allan;
 pub mod bench;
 pub mod calib_fit;
 pub mod model;

@@ -1,6 +1,6 @@
 //! The fixed-point hot path against the f64 reference. The bound is the one
-//! proven in src/model/fixed.rs: |error| ≤ 2^−(F+1) + (3·32768 + 1)·2^−(S+1) SI
-//! units (`FixedCorrector::error_bound`), plus the f64 reference's own error
+//! proven for the form in use (src/model/fixed.rs for the i64 form,
+//! src/model/fixed_narrow.rs for the 32-bit form; `FixedCorrector::error_bound`), plus the f64 reference's own error
 //! (≈ 3e−14 relative to Σ|K_ij||x_j| + |k_i|, see tests/model_f32.rs), for
 //! which 1e−12·S_i is added. For every 16-bit range tested the bound must also
 //! be ≤ 0.5 LSB of the sensor.
@@ -136,7 +136,7 @@ fn corner_raws() -> Vec<RawSample> {
 #[test]
 fn full_scale_inputs_with_extreme_valid_coefficients_do_not_overflow() {
     // Widest 16-bit ranges and a ±200 g / ±4000 °/s chip: the largest outputs
-    // (≈ 6.7 × full scale) still fit Q16.16 m/s² and Q10.22 rad/s. Overflow checks are on
+    // (≈ 6.7 × full scale) still fit Q16.16 m/s² and Q12.20 rad/s. Overflow checks are on
     // in test builds, so an i64 overflow would panic here.
     let high_g = ImuScale {
         accel: TriadScale {
@@ -229,7 +229,7 @@ fn clip_detection_is_exact_for_every_i16_on_every_axis() {
 }
 
 #[test]
-fn fixed_output_is_q16_16_accel_q10_22_gyro_si() {
+fn fixed_output_is_q16_16_accel_q12_20_gyro_si() {
     // Identity, s = 2⁻¹⁰ m/s² per LSB: raw 1024 is exactly 1 m/s² = 65536 in Q16.16.
     // Temperature 10·0.5 + 20 = 25 °C in Q16.16.
     let scale = ImuScale {
@@ -252,9 +252,52 @@ fn fixed_output_is_q16_16_accel_q10_22_gyro_si() {
     });
     // Yaw 90: board = (−y, x, z) of the sensor.
     assert_eq!(out.accel, [0, 65536, -32768]);
-    // Gyro in Q10.22: 1 rad/s = 2²² = 4194304.
-    assert_eq!(out.gyro, [-4194304, 0, 0]);
+    // Gyro in Q12.20: 1 rad/s = 2²⁰ = 1048576.
+    assert_eq!(out.gyro, [-1048576, 0, 0]);
     assert_eq!(out.temperature, 25 * 65536);
     assert_eq!(out.to_f64().accel, [0.0, 1.0, -0.5]);
     assert_eq!(out.to_f64().gyro, [-1.0, 0.0, 0.0]);
+}
+
+/// The 32-bit form holds every valid calibration of the usual ranges (the
+/// cheap path on a Cortex-M0); the accelerometer of a ±200 g chip with an
+/// almost 2× correction needs the i64 form (|K| = 0.11 m/s² per LSB is near
+/// the 32-bit form's limit 0.125 before the correction). The other tests check both against the reference.
+#[test]
+fn usual_ranges_use_the_32_bit_form_and_very_wide_ones_the_i64_form() {
+    let scale = |g: f64, dps: f64| ImuScale {
+        accel: TriadScale {
+            si_per_lsb: g * STANDARD_GRAVITY / 32768.0,
+            full_scale: g * STANDARD_GRAVITY,
+        },
+        gyro: TriadScale {
+            si_per_lsb: deg_to_rad(dps) / 32768.0,
+            full_scale: deg_to_rad(dps),
+        },
+        temperature_per_lsb: 1.0 / 132.48,
+        temperature_offset: 25.0,
+    };
+    let forms = |s: &ImuScale, t: TriadCalibration| {
+        let cal = Calibration {
+            id: 1,
+            accel: t,
+            gyro: t,
+        };
+        let c = Corrector::new(&cal, s, Orientation::RotationNone).unwrap();
+        c.to_fixed().unwrap().uses_32_bit_products()
+    };
+    // (I+Σ) = 0.55·I, near the smallest valid scale factor 0.5: |K| = s/0.55.
+    let shrink = TriadCalibration {
+        scale_misalignment: [[0.55, 0.0, 0.0], [0.0, 0.55, 0.0], [0.0, 0.0, 0.55]],
+        ..TriadCalibration::IDENTITY
+    };
+    for (g, dps) in [(2.0, 15.625), (16.0, 2000.0)] {
+        assert_eq!(forms(&scale(g, dps), TriadCalibration::IDENTITY), [true; 3]);
+        assert_eq!(
+            forms(&scale(g, dps), shrink),
+            [true; 3],
+            "±{g} g, ±{dps} °/s"
+        );
+    }
+    assert_eq!(forms(&scale(200.0, 4000.0), shrink), [false, true, true]);
 }

@@ -2,7 +2,7 @@
 //! and random round trips.
 
 use rand::{rngs::SmallRng, Rng, SeedableRng};
-use triad::stream::cobs::{max_stuffed_len, stuff, CobsError, Unstuffer};
+use triad::stream::cobs::{max_stuffed_len, stuff, stuff_short, CobsError, Unstuffer};
 
 fn stuffed(data: &[u8]) -> Vec<u8> {
     let mut out = vec![0xAA; max_stuffed_len(data.len())];
@@ -101,4 +101,31 @@ fn short_buffer_is_an_error_naming_the_sizes() {
 fn truncated_block_and_empty_input_are_rejected() {
     assert_eq!(unstuffed(&[0x05, 0x11, 0x22]), Err(CobsError::Truncated));
     assert_eq!(unstuffed(&[]), Err(CobsError::Truncated));
+}
+
+/// The encoder's fixed-size form writes the same bytes as the general one,
+/// for frame-sized blocks with no, some and only zero bytes.
+#[test]
+fn short_form_equals_the_general_form_on_frame_sized_blocks() {
+    fn check<const N: usize, const M: usize>(rng: &mut SmallRng) {
+        for zero_percent in [0u32, 5, 30, 100] {
+            for _ in 0..500 {
+                let mut data = [0u8; N];
+                for b in data.iter_mut() {
+                    *b = if rng.random_range(0..100) < zero_percent {
+                        0
+                    } else {
+                        rng.random_range(1..=255)
+                    };
+                }
+                let mut out = [0xAAu8; M];
+                stuff_short(&data, &mut out);
+                assert_eq!(out.to_vec(), stuffed(&data), "{data:?}");
+            }
+        }
+    }
+    let mut rng = SmallRng::seed_from_u64(0xC0B5);
+    check::<51, 52>(&mut rng);
+    check::<1, 2>(&mut rng);
+    check::<253, 254>(&mut rng);
 }

@@ -152,7 +152,7 @@ fn check(file: &CalibFile, ranges: &Ranges) -> anyhow::Result<ExitCode> {
             "rad/s",
             per_lsb.scale().gyro.si_per_lsb,
             bound[1],
-            "Q10.22",
+            "Q12.20",
         ),
     ] {
         println!();

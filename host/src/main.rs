@@ -3,6 +3,8 @@
 
 use clap::{Parser, Subcommand};
 
+mod allan;
+mod allan_plot;
 mod calib;
 mod calib_file;
 mod correct;
@@ -31,6 +33,8 @@ enum Command {
     Calib(calib::CalibArgs),
     /// Simulate what a sensor measures in a scene.
     Sim(sim::SimArgs),
+    /// Allan deviation, IEEE 952 noise terms and sensor grade of rate columns.
+    Allan(allan::AllanArgs),
 }
 
 fn main() -> std::process::ExitCode {
@@ -40,6 +44,7 @@ fn main() -> std::process::ExitCode {
         Command::Correct(args) => correct::run(args),
         Command::Calib(args) => calib::run(args),
         Command::Sim(args) => sim::run(args),
+        Command::Allan(args) => allan::run(args),
     };
     match result {
         Ok(code) => code,

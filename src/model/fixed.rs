@@ -2,11 +2,20 @@
 //!
 //! Outputs are i32 fixed point in SI units, with F fraction bits per quantity:
 //! accelerometer Q16.16 m/s² (quantum 1.5e−5 m/s², range ±32768 m/s²),
-//! gyroscope Q10.22 rad/s (quantum 2.4e−7 rad/s, range ±512 rad/s ≈ ±29000 °/s),
+//! gyroscope Q12.20 rad/s (quantum 9.5e−7 rad/s, range ±2048 rad/s),
 //! temperature Q16.16 °C. The gyro gets more fraction bits because its finest
 //! ranges are fine indeed: a 16-bit gyro at ±15.625 °/s (ICM-42688-P) has
-//! 8.3e−6 rad/s per LSB, below the Q16.16 quantum.
+//! 8.3e−6 rad/s per LSB, below the Q16.16 quantum; 20 (not more) so that the
+//! 32-bit form below holds every valid calibration of a ±2000 °/s gyro.
 //!
+//! Two forms compute the same correction. Where the coefficients allow (every
+//! valid calibration of the chips' usual ranges) the 32-bit form of
+//! [`super::fixed_narrow`] is used: only i32 products, one MULS each on a
+//! Cortex-M0. Elsewhere (very wide ranges with extreme corrections) the i64
+//! form of this module, whose proof follows. [`FixedCorrector::error_bound`]
+//! gives the bound of the form in use; both are ≤ 0.5 LSB.
+//!
+//! The i64 form.
 //! Per triad, K and k from the f64 fold are scaled by 2^S and rounded:
 //! K_q = round(K·2^S) in i32, k_q = round(k·2^S) + 2^(S−F−1) in i64 (the added
 //! half output quantum turns the final arithmetic shift, a floor, into
@@ -33,18 +42,19 @@
 //! cap), the second term is below 9.2e−5·max|K|, and max|K| ≤ 3.4 LSB-worth
 //! for a valid calibration (‖(I+Σ)⁻¹‖ ≤ 1/0.3), so it is below 3.2e−4 LSB.
 //! The bound is therefore ≤ 0.5 LSB whenever the LSB is ≥ 2^−F·1.001: down to
-//! 1.5e−5 m/s² for accelerometers (a 16-bit ±2 g one has 6e−4) and 2.4e−7
+//! 1.5e−5 m/s² for accelerometers (a 16-bit ±2 g one has 6e−4) and 9.5e−7
 //! rad/s for gyroscopes. tests/model_fixed.rs asserts it for every range.
 
 use super::corrector::{ClipFlags, Corrector, ReferenceSample};
+use super::fixed_narrow::NarrowRows;
 use super::fold::FoldedTriad;
 use super::validate::CalibrationError;
 use crate::sensor::RawSample;
 
 /// Fraction bits of the accelerometer output: Q16.16 m/s².
 pub const ACCEL_FRACTION_BITS: u32 = 16;
-/// Fraction bits of the gyroscope output: Q10.22 rad/s.
-pub const GYRO_FRACTION_BITS: u32 = 22;
+/// Fraction bits of the gyroscope output: Q12.20 rad/s.
+pub const GYRO_FRACTION_BITS: u32 = 20;
 /// Fraction bits of the temperature output: Q16.16 °C.
 pub const TEMPERATURE_FRACTION_BITS: u32 = 16;
 
@@ -54,7 +64,7 @@ pub const TEMPERATURE_FRACTION_BITS: u32 = 16;
 pub struct FixedSample {
     /// Specific force, Q16.16 m/s² ([`ACCEL_FRACTION_BITS`]).
     pub accel: [i32; 3],
-    /// Angular rate, Q10.22 rad/s ([`GYRO_FRACTION_BITS`]).
+    /// Angular rate, Q12.20 rad/s ([`GYRO_FRACTION_BITS`]).
     pub gyro: [i32; 3],
     /// Die temperature, Q16.16 °C ([`TEMPERATURE_FRACTION_BITS`]).
     pub temperature: i32,
@@ -91,7 +101,7 @@ fn at_most(x: f64, limit: f64) -> bool {
 }
 
 /// 2^e as f64 (exact).
-fn pow2(e: i32) -> f64 {
+pub(super) fn pow2(e: i32) -> f64 {
     libm::ldexp(1.0, e)
 }
 
@@ -199,22 +209,81 @@ impl FixedRows<3> {
 /// coefficients (rebuild it after a [`Corrector::refold`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct FixedCorrector {
-    accel: FixedRows<3>,
-    gyro: FixedRows<3>,
-    temperature: FixedRows<1>,
+    accel: Form<3>,
+    gyro: Form<3>,
+    temperature: Form<1>,
+}
+
+/// One triad (or the temperature row) in the 32-bit form where it fits
+/// ([`super::fixed_narrow`]), else in the i64 form of this module.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Form<const N: usize> {
+    Narrow(NarrowRows<N>),
+    Wide(FixedRows<N>),
+}
+
+impl<const N: usize> Form<N> {
+    fn new(
+        quantity: &'static str,
+        fraction_bits: u32,
+        k: &[[f64; N]; N],
+        offset: &[f64; N],
+    ) -> Result<Self, CalibrationError> {
+        match NarrowRows::new(fraction_bits, k, offset) {
+            Some(narrow) => Ok(Form::Narrow(narrow)),
+            None => Ok(Form::Wide(FixedRows::new(
+                quantity,
+                fraction_bits,
+                k,
+                offset,
+            )?)),
+        }
+    }
+
+    fn error_bound(&self) -> f64 {
+        match self {
+            Form::Narrow(n) => n.error_bound(),
+            Form::Wide(w) => w.error_bound(),
+        }
+    }
+
+    fn is_narrow(&self) -> bool {
+        matches!(self, Form::Narrow(_))
+    }
+}
+
+impl Form<3> {
+    #[inline(always)]
+    fn apply(&self, x: &[i16; 3]) -> [i32; 3] {
+        match self {
+            Form::Narrow(n) => n.apply(x),
+            Form::Wide(w) => w.apply(x),
+        }
+    }
+}
+
+impl Form<1> {
+    #[inline(always)]
+    fn apply_one(&self, x: i16) -> i32 {
+        match self {
+            Form::Narrow(n) => n.apply_one(x),
+            Form::Wide(w) => {
+                shift_to_i32(w.offset[0] + i64::from(w.k[0][0]) * i64::from(x), w.shift)
+            }
+        }
+    }
 }
 
 impl FixedCorrector {
     /// Quantises the corrector's current K, k and temperature scale.
     pub fn new(corrector: &Corrector) -> Result<FixedCorrector, CalibrationError> {
         use super::calibration::Triad;
-        let rows =
-            |quantity, bits, f: &FoldedTriad| FixedRows::new(quantity, bits, &f.k, &f.offset);
+        let rows = |quantity, bits, f: &FoldedTriad| Form::new(quantity, bits, &f.k, &f.offset);
         let scale = corrector.scale();
         Ok(FixedCorrector {
             accel: rows("accel", ACCEL_FRACTION_BITS, corrector.folded(Triad::Accel))?,
             gyro: rows("gyro", GYRO_FRACTION_BITS, corrector.folded(Triad::Gyro))?,
-            temperature: FixedRows::new(
+            temperature: Form::new(
                 "temperature",
                 TEMPERATURE_FRACTION_BITS,
                 &[[scale.temperature_per_lsb]],
@@ -226,20 +295,28 @@ impl FixedCorrector {
     /// The integer hot path: fixed-point SI outputs and clip flags.
     #[inline]
     pub fn correct(&self, raw: &RawSample) -> FixedSample {
-        let t = &self.temperature;
         FixedSample {
             accel: self.accel.apply(&raw.accel),
             gyro: self.gyro.apply(&raw.gyro),
-            temperature: shift_to_i32(
-                t.offset[0] + i64::from(t.k[0][0]) * i64::from(raw.temperature),
-                t.shift,
-            ),
+            temperature: self.temperature.apply_one(raw.temperature),
             clip: ClipFlags::of(raw),
         }
     }
 
+    /// Per output `[accel, gyro, temperature]`: true where the 32-bit form
+    /// ([`super::fixed_narrow`]) is in use, false for the i64 form.
+    pub fn uses_32_bit_products(&self) -> [bool; 3] {
+        [
+            self.accel.is_narrow(),
+            self.gyro.is_narrow(),
+            self.temperature.is_narrow(),
+        ]
+    }
+
     /// The proven bound on |fixed − exact| in SI units for every input, per
-    /// output `[accel, gyro, temperature]`: 2^−(F+1) + (N·32768 + 1)·2^−(S+1).
+    /// output `[accel, gyro, temperature]`: for the i64 form
+    /// 2^−(F+1) + (N·32768 + 1)·2^−(S+1), for the 32-bit form the sum in
+    /// [`super::fixed_narrow`].
     pub fn error_bound(&self) -> [f64; 3] {
         [
             self.accel.error_bound(),

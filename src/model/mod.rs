@@ -14,6 +14,7 @@ pub mod calibration;
 pub mod corrector;
 pub mod crc32;
 pub mod fixed;
+pub mod fixed_narrow;
 pub mod fold;
 pub mod matrix;
 pub mod orientation;

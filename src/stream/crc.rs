@@ -23,12 +23,15 @@ pub const CRC32C_POLY_REFLECTED: u32 = 0x82F6_3B78;
 /// CRC-32C of the ASCII bytes "123456789" (the catalogue's check value).
 pub const CRC32C_CHECK: u32 = 0xE306_9283;
 
-/// One table entry per byte value: 1 KiB of flash buys one lookup per byte
-/// instead of eight shift-and-xor steps (the hot path runs once per frame).
-const TABLE: [u32; 256] = build_table();
+/// Slicing-by-4 tables (Intel's "slicing-by-N", Kounavis & Berry 2005):
+/// `TABLES[0]` is the classic one-byte table, `TABLES[k][n]` the CRC of byte
+/// n followed by k zero bytes. 4 KiB of flash buy one step per four bytes
+/// (four lookups and XORs) instead of one per byte: about half the
+/// instructions of the byte-wise loop on a Cortex-M4 for a 47-byte frame.
+static TABLES: [[u32; 256]; 4] = build_tables();
 
-const fn build_table() -> [u32; 256] {
-    let mut table = [0u32; 256];
+const fn build_tables() -> [[u32; 256]; 4] {
+    let mut tables = [[0u32; 256]; 4];
     let mut n = 0;
     while n < 256 {
         let mut crc = n as u32;
@@ -41,18 +44,37 @@ const fn build_table() -> [u32; 256] {
             };
             bit += 1;
         }
-        table[n] = crc;
+        tables[0][n] = crc;
         n += 1;
     }
-    table
+    let mut k = 1;
+    while k < 4 {
+        let mut n = 0;
+        while n < 256 {
+            let prev = tables[k - 1][n];
+            tables[k][n] = (prev >> 8) ^ tables[0][(prev & 0xFF) as usize];
+            n += 1;
+        }
+        k += 1;
+    }
+    tables
 }
 
 /// Advances a running CRC-32C register over `data` (no init, no xorout):
 /// `crc32c(d) == !crc32c_update(!0, d)`.
 pub fn crc32c_update(mut crc: u32, data: &[u8]) -> u32 {
-    for &byte in data {
-        // The index is masked to 0..=255, so it is always inside the table.
-        crc = (crc >> 8) ^ TABLE[((crc ^ u32::from(byte)) & 0xFF) as usize];
+    let t = &TABLES;
+    let mut words = data.chunks_exact(4);
+    for word in &mut words {
+        crc ^= u32::from_le_bytes([word[0], word[1], word[2], word[3]]);
+        // Every index is masked or shifted into 0..=255: always inside a table.
+        crc = t[3][(crc & 0xFF) as usize]
+            ^ t[2][((crc >> 8) & 0xFF) as usize]
+            ^ t[1][((crc >> 16) & 0xFF) as usize]
+            ^ t[0][(crc >> 24) as usize];
+    }
+    for &byte in words.remainder() {
+        crc = (crc >> 8) ^ t[0][((crc ^ u32::from(byte)) & 0xFF) as usize];
     }
     crc
 }

@@ -1,6 +1,6 @@
 //! Frame → bytes on the wire: serialise, stuff, delimit.
 
-use super::cobs::{max_stuffed_len, stuff};
+use super::cobs::{max_stuffed_len, stuff_short};
 use super::frame::{Frame, FRAME_LEN};
 
 /// Bytes on the wire of one encoded frame, delimiter included. A frame is
@@ -15,19 +15,21 @@ pub const DELIMITER: u8 = 0x00;
 /// returns the number of bytes written, which is always
 /// [`MAX_ENCODED_LEN`].
 pub fn encode(frame: &Frame, out: &mut [u8; MAX_ENCODED_LEN]) -> usize {
-    let raw = frame.to_bytes();
-    // `out` holds max_stuffed_len(FRAME_LEN) + 1 bytes by the definition of
-    // MAX_ENCODED_LEN, so neither branch returning 0 is ever taken; they keep
-    // the function panic-free without an unwrap.
-    match stuff(&raw, out) {
-        Ok(stuffed) => match out.get_mut(stuffed) {
-            Some(end) => {
-                *end = DELIMITER;
-                stuffed + 1
-            }
-            None => 0,
-        },
-        Err(_) => 0,
+    const STUFFED_LEN: usize = FRAME_LEN + 1;
+    const _: () = assert!(STUFFED_LEN + 1 == MAX_ENCODED_LEN);
+    let (stuffed, delimiter) = out.split_at_mut(STUFFED_LEN);
+    // Both halves have the lengths the constants say, so these always match;
+    // the fallback keeps the function panic-free without an unwrap.
+    match (
+        <&mut [u8; STUFFED_LEN]>::try_from(stuffed),
+        delimiter.first_mut(),
+    ) {
+        (Ok(stuffed), Some(end)) => {
+            stuff_short(&frame.to_bytes(), stuffed);
+            *end = DELIMITER;
+            MAX_ENCODED_LEN
+        }
+        _ => 0,
     }
 }
 

@@ -5,6 +5,8 @@
 
 mod accuracy;
 mod cores;
+mod host;
+mod plot;
 mod report;
 
 pub use cores::{check_firmware_outputs, Core};
@@ -55,13 +57,15 @@ pub fn run(json: bool) -> Result<()> {
             });
         }
     }
+    let host = host::measure()?;
     if json {
         println!("{}", report::json(&rows));
     } else {
         print!("{}", report::table(&rows));
     }
-    let path = crate::cmd::root().join("docs/BENCHMARKS.md");
-    std::fs::write(&path, report::markdown(&rows)?)?;
-    eprintln!("xtask: wrote {}", path.display());
+    let docs = crate::cmd::root().join("docs");
+    std::fs::write(docs.join("benchmarks.svg"), plot::svg(&rows))?;
+    std::fs::write(docs.join("BENCHMARKS.md"), report::markdown(&rows, &host)?)?;
+    eprintln!("xtask: wrote docs/BENCHMARKS.md and docs/benchmarks.svg");
     Ok(())
 }
