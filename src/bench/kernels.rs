@@ -10,6 +10,7 @@
 
 use super::digest::Digest;
 use super::pipeline::{EncodedFrame, PipelineBench};
+use super::sensor_reads;
 use super::{inputs, BATCH, BATCHES};
 use crate::model::{
     Calibration, CalibrationError, ClipFlags, Corrector, FixedCorrector, FixedSample, Orientation,
@@ -39,11 +40,19 @@ pub enum Variant {
     /// The whole step: burst read through the driver from a bus that only
     /// hands back bytes, correction, averaging, framing, CRC and COBS.
     Pipeline,
+    /// The driver's 14-byte burst read, one per sample (no correction).
+    ReadBurst,
+    /// FIFO drains of 1 packet (no correction).
+    ReadFifo1,
+    /// FIFO drains of 8 packets (no correction).
+    ReadFifo8,
+    /// FIFO drains of 32 packets (no correction).
+    ReadFifo32,
 }
 
 impl Variant {
     /// Every row, in the report's order.
-    pub const ALL: [Variant; 9] = [
+    pub const ALL: [Variant; 13] = [
         Variant::BiasOnlyF32,
         Variant::DiagonalF32,
         Variant::FusionF32,
@@ -53,7 +62,22 @@ impl Variant {
         Variant::RefoldEverySample,
         Variant::RefoldLowRate,
         Variant::Pipeline,
+        Variant::ReadBurst,
+        Variant::ReadFifo1,
+        Variant::ReadFifo8,
+        Variant::ReadFifo32,
     ];
+
+    /// The FIFO watermark of a sensor-read row (1 for the burst read), `None`
+    /// for the correction rows.
+    pub fn read_watermark(self) -> Option<usize> {
+        match self {
+            Variant::ReadBurst | Variant::ReadFifo1 => Some(1),
+            Variant::ReadFifo8 => Some(8),
+            Variant::ReadFifo32 => Some(32),
+            _ => None,
+        }
+    }
 
     /// The row's name in reports and in the firmware's output.
     pub fn name(self) -> &'static str {
@@ -67,6 +91,10 @@ impl Variant {
             Variant::RefoldEverySample => "refold_every_sample",
             Variant::RefoldLowRate => "refold_low_rate",
             Variant::Pipeline => "pipeline",
+            Variant::ReadBurst => "read_burst",
+            Variant::ReadFifo1 => "read_fifo_1",
+            Variant::ReadFifo8 => "read_fifo_8",
+            Variant::ReadFifo32 => "read_fifo_32",
         }
     }
 
@@ -74,6 +102,8 @@ impl Variant {
     pub fn kernel_symbol(self) -> &'static str {
         match self {
             Variant::Pipeline => "pipeline_batch",
+            Variant::ReadBurst => "read_burst",
+            Variant::ReadFifo1 | Variant::ReadFifo8 | Variant::ReadFifo32 => "read_fifo",
             _ => self.name(),
         }
     }
@@ -236,6 +266,10 @@ impl Bench {
             }
             Variant::RefoldEverySample | Variant::RefoldLowRate => run_refold(variant, meter, sink),
             Variant::Pipeline => self.run_pipeline(meter, sink),
+            Variant::ReadBurst | Variant::ReadFifo1 | Variant::ReadFifo8 | Variant::ReadFifo32 => {
+                run_reads(variant, meter, sink);
+                Ok(())
+            }
         }
     }
 
@@ -324,6 +358,44 @@ impl Bench {
 }
 
 #[inline(never)]
+fn run_reads(variant: Variant, meter: &mut impl Meter, sink: &mut dyn FnMut(Output<'_>)) {
+    let watermark = variant.read_watermark().unwrap_or(1);
+    let mut imu = sensor_reads::canned_imu(watermark);
+    let wrap = |o: &RawSample, sink: &mut dyn FnMut(Output<'_>)| sink(Output::Raw(o));
+    let mut kernel = |input: &[RawSample; BATCH], out: &mut [RawSample; BATCH]| {
+        // Untimed: the canned bus takes the batch before the meter starts.
+        imu.bus_mut().load(input);
+        meter.start();
+        if variant == Variant::ReadBurst {
+            sensor_reads::read_burst(&mut imu, out);
+        } else {
+            sensor_reads::read_fifo(&mut imu, out);
+        }
+        meter.stop();
+    };
+    batches(&mut NoMeter, sink, wrap, &mut kernel);
+}
+
+/// Bus bytes (address and data) per sample of a sensor-read row, counted by
+/// the canned bus over all batches; `None` for the correction rows.
+pub fn bus_bytes_per_sample(variant: Variant) -> Option<f64> {
+    let watermark = variant.read_watermark()?;
+    let mut imu = sensor_reads::canned_imu(watermark);
+    let mut input = [RawSample::default(); BATCH];
+    let mut out = [RawSample::default(); BATCH];
+    for batch in 0..BATCHES {
+        inputs::raw_batch(batch, &mut input);
+        imu.bus_mut().load(&input);
+        if variant == Variant::ReadBurst {
+            sensor_reads::read_burst(&mut imu, &mut out);
+        } else {
+            sensor_reads::read_fifo(&mut imu, &mut out);
+        }
+    }
+    Some(imu.bus_mut().bytes as f64 / (BATCH * BATCHES) as f64)
+}
+
+#[inline(never)]
 fn run_refold(
     variant: Variant,
     meter: &mut impl Meter,
@@ -382,6 +454,8 @@ pub enum Output<'a> {
     F64(&'a F64Sample),
     /// An encoded frame.
     Frame(&'a EncodedFrame),
+    /// A raw sample as the driver read it.
+    Raw(&'a RawSample),
 }
 
 impl Output<'_> {
@@ -407,6 +481,12 @@ impl Output<'_> {
                 s.triads.iter().flatten().for_each(|&x| digest.f64(x));
                 digest.word(clip(&s.clip));
             }
+            Output::Raw(r) => r
+                .accel
+                .iter()
+                .chain(&r.gyro)
+                .chain([&r.temperature])
+                .for_each(|&x| digest.word(x as u16 as u32)),
             Output::Frame(bytes) => bytes.0.iter().for_each(|&b| digest.word(u32::from(b))),
         }
     }

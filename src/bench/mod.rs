@@ -13,6 +13,7 @@ pub mod digest;
 pub mod inputs;
 pub mod kernels;
 pub mod pipeline;
+pub mod sensor_reads;
 
 pub use digest::Digest;
 pub use kernels::{Bench, Variant};

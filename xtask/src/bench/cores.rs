@@ -233,15 +233,18 @@ fn check_digests(core: Core, lines: &[Line]) -> Result<()> {
     Ok(())
 }
 
-/// The size of the kernel function `name` (in triad::bench::kernels) in the ELF.
+/// The size of the kernel function `name` (in a module of triad::bench) in the ELF.
 fn symbol_size(elf: &[u8], name: &str) -> Result<Option<u64>> {
     use object::{Object, ObjectSymbol};
     let file = object::File::parse(elf).context("parsing the benchmark ELF")?;
-    // Legacy mangling: _ZN5triad5bench7kernels<len><name>17h<hash>E.
-    let needle = format!("7kernels{}{}17h", name.len(), name);
+    // Legacy mangling: _ZN5triad5bench<len><module><len><name>17h<hash>E.
+    let needle = format!("{}{}17h", name.len(), name);
     Ok(file
         .symbols()
-        .filter(|s| s.name().is_ok_and(|n| n.contains(&needle)))
+        .filter(|s| {
+            s.name()
+                .is_ok_and(|n| n.starts_with("_ZN5triad5bench") && n.contains(&needle))
+        })
         .map(|s| s.size())
         .max())
 }

@@ -133,6 +133,7 @@ pub fn markdown(rows: &[Row], host: &[(Variant, f64)]) -> Result<String> {
         md,
         "![max error against instructions per sample](benchmarks.svg)\n"
     )?;
+    sensor_reads(&mut md, rows)?;
     writeln!(md, "## Host\n")?;
     writeln!(
         md,
@@ -284,6 +285,43 @@ fn stream_budget(md: &mut String) -> Result<()> {
             write!(md, "{} | ", odr.div_ceil(max_frame_rate(b)))?;
         }
         writeln!(md)?;
+    }
+    writeln!(md)?;
+    Ok(())
+}
+
+/// The sensor-read rows with the bus bytes each sample costs.
+fn sensor_reads(md: &mut String, rows: &[Row]) -> Result<()> {
+    use triad::bench::kernels::bus_bytes_per_sample;
+    writeln!(md, "## Sensor reads\n")?;
+    writeln!(
+        md,
+        "The ICM-42688-P driver reading 6-axis samples (and temperature) over SPI from a bus that only hands back canned bytes: one 14-byte burst per sample, or FIFO drains of W 16-byte packets (INT_STATUS and FIFO_COUNT in one 3-byte read, then the packets in one FIFO_DATA read). Bus bytes count the address bytes too; on I²C add the device address and the restart per transaction.\n"
+    )?;
+    writeln!(
+        md,
+        "| read | bus bytes / sample | Cortex-M4F instr. / sample | Cortex-M0 instr. / sample |"
+    )?;
+    writeln!(md, "|---|---:|---:|---:|")?;
+    for v in [
+        Variant::ReadBurst,
+        Variant::ReadFifo1,
+        Variant::ReadFifo8,
+        Variant::ReadFifo32,
+    ] {
+        let instr = |core| {
+            find(rows, core, v).map_or("–".into(), |r| {
+                format!("{:.1}", r.instructions_per_sample)
+            })
+        };
+        writeln!(
+            md,
+            "| {} | {} | {} | {} |",
+            v.name(),
+            bus_bytes_per_sample(v).map_or("–".into(), |b| format!("{b:.2}")),
+            instr(Core::CortexM4F),
+            instr(Core::CortexM0)
+        )?;
     }
     writeln!(md)?;
     Ok(())
