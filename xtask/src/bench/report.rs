@@ -215,6 +215,12 @@ Why the targets are not all met:
 const METHOD: &str = "\
 ## Method
 
+No transcendental function runs per sample, so there is no micromath-vs-libm
+row: the hot path is products and sums, the refold is Gaussian elimination
+(no square root), and `libm` is called only when a calibration is loaded
+(`sqrt` in the validation of temperature terms, `round` and `ldexp` when the
+fixed-point coefficients are made).
+
 Each row corrects 1000 6-axis samples of i16 raw data held in RAM into RAM
 (10 batches of 100: the Cortex-M0 has 16 KiB of RAM), as the reference
 harness of the benchmark issue does. The raw values are uniform over the
