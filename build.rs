@@ -1,5 +1,7 @@
-//! Firmware build: puts the selected board's memory.x on the linker path and
-//! embeds the calibration blob chosen at build time. Host builds skip both.
+//! Firmware build: checks that the features name one board, at most one
+//! sensor chip and at most one bus; puts the selected board's memory.x on the
+//! linker path and embeds the calibration blob chosen at build time. Host
+//! builds skip all three.
 
 use std::{
     env, fs,
@@ -30,13 +32,13 @@ fn main() {
         return;
     }
 
-    let board = if env::var_os("CARGO_FEATURE_BOARD_QEMU").is_some() {
-        "qemu"
-    } else if env::var_os("CARGO_FEATURE_BOARD_NUCLEO_F401RE").is_some() {
-        "nucleo-f401re"
-    } else {
-        panic!("the firmware needs a board: --features board-qemu or board-nucleo-f401re");
-    };
+    let board = one_of("board", &["qemu", "nucleo-f401re"]).unwrap_or_else(|| {
+        panic!("the firmware needs a board: --features board-qemu or board-nucleo-f401re")
+    });
+    // The chip and the bus (src/main.rs and boards/<board>/board.rs read the
+    // features; absent ones mean the ICM-42688-P on SPI): checked here only.
+    one_of("sensor", &["icm42688", "lsm6dsox"]);
+    one_of("bus", &["spi", "i2c"]);
     link_memory_map(&manifest.join("boards").join(board).join("memory.x"), &out);
 
     println!("cargo:rerun-if-env-changed=TRIAD_CALIBRATION");
@@ -51,6 +53,33 @@ fn main() {
     });
     fs::write(out.join("calibration.bin"), blob).expect("write calibration.bin");
     println!("cargo:rerun-if-changed={}", calibration.display());
+}
+
+/// Which of the features `<group>-<name>` is on: `None` for none; two at once
+/// stop the build with a message naming both.
+fn one_of(group: &str, names: &[&'static str]) -> Option<&'static str> {
+    let on: Vec<&'static str> = names
+        .iter()
+        .copied()
+        .filter(|name| {
+            let var = format!("CARGO_FEATURE_{group}_{name}")
+                .to_uppercase()
+                .replace('-', "_");
+            env::var_os(var).is_some()
+        })
+        .collect();
+    match on.as_slice() {
+        [] => None,
+        [one] => Some(one),
+        several => panic!(
+            "the firmware takes one {group}, but features {} are on together",
+            several
+                .iter()
+                .map(|name| format!("{group}-{name}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+    }
 }
 
 /// Puts `memory` on the linker path as memory.x (cortex-m-rt's link.x includes it).

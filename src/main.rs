@@ -1,7 +1,10 @@
 //! The triad firmware: an RTIC 2 application that is wiring only. Every
 //! decision lives in the core (`triad::pipeline`, `triad::model`,
 //! `triad::stream`), where host tests call it; the board module
-//! (boards/<board>/board.rs, chosen by a cargo feature) owns the peripherals.
+//! (boards/<board>/board.rs, chosen by a cargo feature) owns the peripherals
+//! and the sensor: its chip and bus are cargo features too (`sensor-*`,
+//! `bus-*`), which the board turns into `board::Sensor` and
+//! `board::sensor_config()`, so nothing here names a chip.
 #![no_std]
 #![no_main]
 
@@ -58,6 +61,8 @@ mod app {
         );
         let b = board::init(cx.device);
         let mut sensor = b.sensor;
+        // Every chip driver's `init(delay, config)`: the board's `Sensor` and
+        // `sensor_config()` are of the chosen chip.
         if let Err(error) = sensor.init(&mut board::Delay, &board::sensor_config()) {
             defmt::error!(
                 "sensor initialisation failed: {}",

@@ -1,21 +1,37 @@
-//! ST NUCLEO-F401RE (STM32F401RE, Cortex-M4F) with an ICM-42688-P on SPI1.
+//! ST NUCLEO-F401RE (STM32F401RE, Cortex-M4F) with an ICM-42688-P or an
+//! LSM6DSOX on SPI1 or I²C1, chosen by cargo features (`sensor-lsm6dsox`,
+//! `bus-i2c`; the default is the ICM-42688-P on SPI1).
 //!
 //! Clocks: HSI 16 MHz → PLL → 84 MHz SYSCLK, APB1 42 MHz, APB2 84 MHz
 //! (RM0368 §6). Pins (Arduino headers; wiring in this folder's README.md):
-//! SPI1 SCK PA5 (D13), MISO PA6 (D12), MOSI PA7 (D11), chip select PB6 (D10),
-//! IMU INT1 → PB0 (A3) on EXTI0, stream on USART2 TX PA2 (the ST-LINK virtual
-//! COM port). Registers are written through the PAC; each raw value names its
-//! reference-manual section.
+//! SPI1 SCK PA5 (D13), MISO PA6 (D12), MOSI PA7 (D11), chip select PB6 (D10);
+//! or I²C1 SCL PB8 (D15), SDA PB9 (D14), with PB6 holding the chip's CS high;
+//! IMU INT1 → PB0 (A3) on EXTI0 for both chips; stream on USART2 TX PA2 (the
+//! ST-LINK virtual COM port). Registers are written through the PAC; each raw
+//! value names its reference-manual section.
 
 pub use stm32f4::stm32f401 as pac;
 
-use embedded_hal::spi::{ErrorKind, ErrorType, Operation, SpiDevice};
 use triad::model::Orientation;
-use triad::sensor::icm42688::{config::Config, Icm42688};
+#[cfg(feature = "bus-i2c")]
+use triad::sensor::interface::I2cInterface;
+#[cfg(not(feature = "bus-i2c"))]
 use triad::sensor::interface::SpiInterface;
 
-/// The data-ready (sample) rate, Hz: the chip's ODR in [`sensor_config`].
-pub const SAMPLE_RATE_HZ: u32 = 1_000;
+/// The chip on this build: the ICM-42688-P unless the `sensor-lsm6dsox`
+/// feature selects the LSM6DSOX (each file says its rate, address and SPI clock).
+#[cfg_attr(not(feature = "sensor-lsm6dsox"), path = "icm42688.rs")]
+#[cfg_attr(feature = "sensor-lsm6dsox", path = "lsm6dsox.rs")]
+mod chip;
+#[cfg(feature = "bus-i2c")]
+#[path = "i2c1.rs"]
+mod i2c1;
+#[cfg(not(feature = "bus-i2c"))]
+#[path = "spi1.rs"]
+mod spi1;
+
+pub use chip::{sensor_config, SAMPLE_RATE_HZ};
+
 /// Averaging factor: streamed frames per second = SAMPLE_RATE_HZ / DECIMATION.
 pub const DECIMATION: u16 = 1;
 /// How the sensor is mounted on the board.
@@ -36,17 +52,16 @@ pub struct Board {
     pub clock: MicrosecondClock,
     /// The stream's transmitter.
     pub serial: Serial,
-    /// The IMU driver on SPI1.
+    /// The IMU driver on SPI1 or I²C1.
     pub sensor: Sensor,
 }
 
-/// The sensor: the ICM-42688-P driver over SPI1.
-pub type Sensor = Icm42688<SpiInterface<Spi1Device>>;
-
-/// The chip's configuration: ±16 g, ±2000 °/s, 1 kHz, data-ready on INT1.
-pub fn sensor_config() -> Config {
-    Config::default()
-}
+/// The sensor: the chosen chip's driver over SPI1.
+#[cfg(not(feature = "bus-i2c"))]
+pub type Sensor = chip::Driver<SpiInterface<spi1::Spi1Device>>;
+/// The sensor: the chosen chip's driver over I²C1.
+#[cfg(feature = "bus-i2c")]
+pub type Sensor = chip::Driver<I2cInterface<i2c1::I2c1>>;
 
 /// Nothing to do on hardware: the chip raises INT1 by itself.
 pub fn data_ready(_sensor: &mut Sensor) {}
@@ -55,20 +70,35 @@ pub fn data_ready(_sensor: &mut Sensor) {}
 pub fn init(dp: pac::Peripherals) -> Board {
     init_clocks(&dp);
     let rcc = &dp.RCC;
-    // RM0368 §6.3.9-12: GPIOA, GPIOB; USART2, TIM5; SPI1, SYSCFG.
+    // RM0368 §6.3.9-12: GPIOA, GPIOB; USART2, TIM5 (and I2C1); SYSCFG (and SPI1).
     rcc.ahb1enr()
         .modify(|_, w| w.gpioaen().set_bit().gpioben().set_bit());
     rcc.apb1enr()
         .modify(|_, w| w.usart2en().set_bit().tim5en().set_bit());
-    rcc.apb2enr()
-        .modify(|_, w| w.spi1en().set_bit().syscfgen().set_bit());
+    rcc.apb2enr().modify(|_, w| w.syscfgen().set_bit());
+    #[cfg(not(feature = "bus-i2c"))]
+    rcc.apb2enr().modify(|_, w| w.spi1en().set_bit());
+    #[cfg(feature = "bus-i2c")]
+    rcc.apb1enr().modify(|_, w| w.i2c1en().set_bit());
     init_pins(&dp);
     Board {
         sample_timer: SampleTimer::new(&dp),
         clock: MicrosecondClock::new(dp.TIM5),
         serial: Serial::new(dp.USART2),
-        sensor: Icm42688::new_spi(Spi1Device::new(dp.SPI1, dp.GPIOB)),
+        sensor: sensor(dp.SPI1, dp.GPIOB, dp.I2C1),
     }
+}
+
+/// The driver on SPI1, with the chip's clock divider.
+#[cfg(not(feature = "bus-i2c"))]
+fn sensor(spi: pac::SPI1, cs: pac::GPIOB, _: pac::I2C1) -> Sensor {
+    chip::Driver::new_spi(spi1::Spi1Device::new(spi, cs, chip::SPI_BR))
+}
+
+/// The driver on I²C1 at the chip's address (PB6 stays high: CS selects I²C).
+#[cfg(feature = "bus-i2c")]
+fn sensor(_: pac::SPI1, _: pac::GPIOB, i2c: pac::I2C1) -> Sensor {
+    chip::Driver::new_i2c(i2c1::I2c1::new(i2c), chip::I2C_ADDRESS)
 }
 
 /// HSI 16 MHz / M 16 × N 336 / P 4 = 84 MHz; flash 2 wait states (RM0368 §3.4.1).
@@ -99,30 +129,68 @@ fn init_clocks(dp: &pac::Peripherals) {
     while rcc.cfgr().read().sws().bits() != 0b10 {}
 }
 
-/// Alternate functions (RM0368 §8.4; datasheet DS9716 table 9): PA2 USART2_TX
-/// AF7, PA5/6/7 SPI1 AF5; PB6 push-pull output (chip select, idle high);
-/// PB0 input for INT1.
+/// Pins (RM0368 §8.4; alternate functions from datasheet DS9716 table 9):
+/// PA2 USART2_TX AF7; PB6 push-pull output held high (the chip's CS: idle for
+/// SPI, I²C mode for I²C); PB0 input for INT1 (its reset mode); and the bus:
+/// PA5/6/7 SPI1 AF5, or PB8/9 I²C1 AF4 open drain.
 fn init_pins(dp: &pac::Peripherals) {
     let (a, b) = (&dp.GPIOA, &dp.GPIOB);
-    // SAFETY (raw MODER/AFR/OSPEEDR writes): two bits per pin in MODER and
-    // OSPEEDR, four per pin in AFRL; other pins keep their values.
+    // SAFETY (every raw MODER/OTYPER/OSPEEDR/PUPDR/AFR write here): two bits
+    // per pin in MODER, OSPEEDR and PUPDR, one in OTYPER, four in AFRL/AFRH
+    // (§8.4.1-4, §8.4.9-10); each write masks its own pins, others keep their values.
+    a.afrl()
+        .modify(|r, w| unsafe { w.bits((r.bits() & !(0xF << 8)) | (7 << 8)) });
+    a.moder()
+        .modify(|r, w| unsafe { w.bits((r.bits() & !(0b11 << 4)) | (0b10 << 4)) });
+    b.bsrr().write(|w| w.bs6().set_bit());
+    b.moder()
+        .modify(|r, w| unsafe { w.bits((r.bits() & !((0b11 << 12) | 0b11)) | (0b01 << 12)) });
+    #[cfg(not(feature = "bus-i2c"))]
+    spi1_pins(a);
+    #[cfg(feature = "bus-i2c")]
+    i2c1_pins(b);
+}
+
+/// PA5 SCK, PA6 MISO, PA7 MOSI: AF5, very high speed.
+#[cfg(not(feature = "bus-i2c"))]
+fn spi1_pins(a: &pac::GPIOA) {
+    // SAFETY: as in `init_pins`; pins 5..=7 only.
     a.afrl().modify(|r, w| unsafe {
-        w.bits((r.bits() & !0xFFF0_0F00) | (7 << 8) | (5 << 20) | (5 << 24) | (5 << 28))
+        w.bits((r.bits() & !0xFFF0_0000) | (5 << 20) | (5 << 24) | (5 << 28))
     });
     a.ospeedr()
         .modify(|r, w| unsafe { w.bits(r.bits() | (0b11 << 10) | (0b11 << 12) | (0b11 << 14)) });
     a.moder().modify(|r, w| unsafe {
         w.bits(
-            (r.bits() & !((0b11 << 4) | (0b11 << 10) | (0b11 << 12) | (0b11 << 14)))
-                | (0b10 << 4)
+            (r.bits() & !((0b11 << 10) | (0b11 << 12) | (0b11 << 14)))
                 | (0b10 << 10)
                 | (0b10 << 12)
                 | (0b10 << 14),
         )
     });
-    b.bsrr().write(|w| w.bs6().set_bit());
-    b.moder()
-        .modify(|r, w| unsafe { w.bits((r.bits() & !((0b11 << 12) | 0b11)) | (0b01 << 12)) });
+}
+
+/// PB8 SCL, PB9 SDA: AF4, open drain (§8.4.2: OTYPER 1), fast speed, and the
+/// internal pull-ups (about 40 kΩ: too weak alone at 400 kHz, so the
+/// breakout's 2.2-4.7 kΩ pull-ups to 3V3 must be fitted; README.md). The
+/// alternate function and output type are set before MODER hands the pins
+/// to I²C1, so no push-pull glitch reaches the bus.
+#[cfg(feature = "bus-i2c")]
+fn i2c1_pins(b: &pac::GPIOB) {
+    // SAFETY: as in `init_pins`; pins 8 and 9 only.
+    b.afrh()
+        .modify(|r, w| unsafe { w.bits((r.bits() & !0xFF) | 4 | (4 << 4)) });
+    b.otyper()
+        .modify(|r, w| unsafe { w.bits(r.bits() | (1 << 8) | (1 << 9)) });
+    b.ospeedr().modify(|r, w| unsafe {
+        w.bits((r.bits() & !((0b11 << 16) | (0b11 << 18))) | (0b10 << 16) | (0b10 << 18))
+    });
+    b.pupdr().modify(|r, w| unsafe {
+        w.bits((r.bits() & !((0b11 << 16) | (0b11 << 18))) | (0b01 << 16) | (0b01 << 18))
+    });
+    b.moder().modify(|r, w| unsafe {
+        w.bits((r.bits() & !((0b11 << 16) | (0b11 << 18))) | (0b10 << 16) | (0b10 << 18))
+    });
 }
 
 /// The IMU's INT1 on PB0 → EXTI0, rising edge (RM0368 §10.2, §7.2.3).
@@ -191,96 +259,6 @@ impl Serial {
             while self.0.sr().read().txe().bit_is_clear() {}
             self.0.dr().write(|w| w.dr().set(u16::from(byte)));
         }
-    }
-}
-
-/// SPI1 as an embedded-hal `SpiDevice`: mode 3, 10.5 MHz (84 MHz / 8; the
-/// ICM-42688-P allows 24 MHz), chip select on PB6 around each transaction.
-pub struct Spi1Device {
-    spi: pac::SPI1,
-    cs: pac::GPIOB,
-}
-
-impl Spi1Device {
-    fn new(spi: pac::SPI1, cs: pac::GPIOB) -> Self {
-        // RM0368 §20.5.1: master, BR = /8, CPOL = CPHA = 1, software NSS held high.
-        spi.cr1().write(|w| {
-            unsafe {
-                w.mstr()
-                    .set_bit()
-                    .br()
-                    .bits(0b010)
-                    .cpol()
-                    .set_bit()
-                    .cpha()
-                    .set_bit()
-            }
-            .ssm()
-            .set_bit()
-            .ssi()
-            .set_bit()
-            .spe()
-            .set_bit()
-        });
-        Self { spi, cs }
-    }
-
-    fn transfer_byte(&mut self, out: u8) -> Result<u8, ErrorKind> {
-        while self.spi.sr().read().txe().bit_is_clear() {}
-        self.spi.dr().write(|w| w.dr().set(u16::from(out)));
-        loop {
-            let sr = self.spi.sr().read();
-            if sr.ovr().bit_is_set() {
-                return Err(ErrorKind::Overrun);
-            }
-            if sr.modf().bit_is_set() {
-                return Err(ErrorKind::ModeFault);
-            }
-            if sr.rxne().bit_is_set() {
-                return Ok(self.spi.dr().read().dr().bits() as u8);
-            }
-        }
-    }
-
-    fn operation(&mut self, op: &mut Operation<'_, u8>) -> Result<(), ErrorKind> {
-        match op {
-            Operation::Read(buf) => buf
-                .iter_mut()
-                .try_for_each(|b| Ok(*b = self.transfer_byte(0)?)),
-            Operation::Write(buf) => buf
-                .iter()
-                .try_for_each(|&b| self.transfer_byte(b).map(drop)),
-            Operation::Transfer(read, write) => {
-                for i in 0..read.len().max(write.len()) {
-                    let got = self.transfer_byte(write.get(i).copied().unwrap_or(0))?;
-                    if let Some(slot) = read.get_mut(i) {
-                        *slot = got;
-                    }
-                }
-                Ok(())
-            }
-            Operation::TransferInPlace(buf) => buf
-                .iter_mut()
-                .try_for_each(|b| Ok(*b = self.transfer_byte(*b)?)),
-            Operation::DelayNs(ns) => {
-                cortex_m::asm::delay(*ns / (1_000_000_000 / SYSCLK_HZ) + 1);
-                Ok(())
-            }
-        }
-    }
-}
-
-impl ErrorType for Spi1Device {
-    type Error = ErrorKind;
-}
-
-impl SpiDevice for Spi1Device {
-    fn transaction(&mut self, operations: &mut [Operation<'_, u8>]) -> Result<(), ErrorKind> {
-        self.cs.bsrr().write(|w| w.br6().set_bit());
-        let result = operations.iter_mut().try_for_each(|op| self.operation(op));
-        while self.spi.sr().read().bsy().bit_is_set() {}
-        self.cs.bsrr().write(|w| w.bs6().set_bit());
-        result
     }
 }
 

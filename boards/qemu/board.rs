@@ -3,15 +3,15 @@
 //! QEMU models USART1, the timers, SysTick and the FPU; RCC and GPIO are
 //! stubs, so nothing here waits on a clock-ready bit. QEMU's STM32 timers
 //! count at 1 GHz of virtual time (not at the APB clock), so prescalers and
-//! reloads are computed for that. The sensor is the ICM-42688-P chip model,
-//! read by the real driver through an embedded-hal `SpiDevice`; a timer stands
-//! in for its data-ready line and advances the model's clock.
+//! reloads are computed for that. The sensor is a register-level chip model
+//! (the ICM-42688-P, or the LSM6DSOX with the `sensor-lsm6dsox` feature), read
+//! by the real driver through the model's embedded-hal `SpiDevice` (or its
+//! `I2c` with `bus-i2c`); a timer stands in for its data-ready line and
+//! advances the model's clock.
 
 use pac::interrupt;
 pub use stm32f4::stm32f405 as pac;
 
-/// The data-ready (sample) rate, Hz.
-pub const SAMPLE_RATE_HZ: u32 = 1_000;
 /// What QEMU's STM32 timers count at (virtual time), Hz.
 const TIMER_CLOCK_HZ: u32 = 1_000_000_000;
 /// USART1 baud rate (QEMU ignores it; the value is what real silicon would get).
@@ -27,7 +27,7 @@ pub struct Board {
     pub clock: MicrosecondClock,
     /// The stream's transmitter.
     pub serial: Serial,
-    /// The IMU driver on its (software) SPI device.
+    /// The IMU driver on its (software) SPI or I²C bus.
     pub sensor: Sensor,
 }
 
@@ -155,9 +155,22 @@ pub fn exit(success: bool) -> ! {
     }
 }
 
-/// The sensor: the real ICM-42688-P driver over SPI, talking to the chip model
-/// (a software `SpiDevice`) serving the documented demo motion.
-pub type Sensor = Icm42688<SpiInterface<Icm42688Model<DemoSource>>>;
+/// The chip on this build: the ICM-42688-P model unless the `sensor-lsm6dsox`
+/// feature selects the LSM6DSOX model (each file says its rate and address).
+#[cfg_attr(not(feature = "sensor-lsm6dsox"), path = "icm42688.rs")]
+#[cfg_attr(feature = "sensor-lsm6dsox", path = "lsm6dsox.rs")]
+mod chip;
+
+pub use chip::{sensor_config, SAMPLE_RATE_HZ};
+
+/// The sensor: the real driver of the chosen chip over SPI (or I²C with the
+/// `bus-i2c` feature), talking to the chip model serving the demo motion.
+#[cfg(not(feature = "bus-i2c"))]
+pub type Sensor = chip::Driver<SpiInterface<chip::Model>>;
+/// The sensor: the real driver of the chosen chip over I²C, talking to the
+/// chip model (at its default address) serving the demo motion.
+#[cfg(feature = "bus-i2c")]
+pub type Sensor = chip::Driver<I2cInterface<chip::Model>>;
 
 /// How the sensor is mounted on the board.
 pub const ORIENTATION: Orientation = Orientation::RotationNone;
@@ -165,23 +178,23 @@ pub const ORIENTATION: Orientation = Orientation::RotationNone;
 /// Averaging factor: streamed frames per second = SAMPLE_RATE_HZ / DECIMATION.
 pub const DECIMATION: u16 = 1;
 
-/// The chip's configuration: ±16 g, ±2000 °/s, 1 kHz, data-ready on INT1.
-pub fn sensor_config() -> Config {
-    Config::default()
+/// The driver on the chip model, over SPI.
+#[cfg(not(feature = "bus-i2c"))]
+fn sensor() -> Sensor {
+    chip::Driver::new_spi(chip::model())
 }
 
-/// The chip model behind the driver, serving the demo motion at the sample rate.
+/// The driver on the chip model, over I²C at the model's address.
+#[cfg(feature = "bus-i2c")]
 fn sensor() -> Sensor {
-    let motion = DemoMotion::standard(f64::from(SAMPLE_RATE_HZ));
-    Icm42688::new_spi(Icm42688Model::new(DemoSource::new(motion)))
+    chip::Driver::new_i2c(chip::model(), chip::I2C_ADDRESS)
 }
 
 /// The data-ready line: on this board the timer interrupt stands in for it,
-/// and the chip model's clock advances by one sample period.
+/// and the chip model's clock advances to its next sample.
 pub fn data_ready(sensor: &mut Sensor) {
-    sensor
-        .bus_mut()
-        .advance(u64::from(1_000_000_000 / SAMPLE_RATE_HZ));
+    let model = sensor.bus_mut();
+    model.advance(chip::next_sample_ns(model));
 }
 
 /// A busy-wait delay for the driver's start-up waits (the core runs at 168
@@ -195,7 +208,7 @@ impl embedded_hal::delay::DelayNs for Delay {
 }
 
 use triad::model::Orientation;
-use triad::sensor::icm42688::{config::Config, Icm42688};
+#[cfg(feature = "bus-i2c")]
+use triad::sensor::interface::I2cInterface;
+#[cfg(not(feature = "bus-i2c"))]
 use triad::sensor::interface::SpiInterface;
-use triad::sim::demo_motion::{DemoMotion, DemoSource};
-use triad::sim::icm42688_model::Icm42688Model;

@@ -295,7 +295,9 @@ fn main() {
     // 5. NumPy, same effects, same run.
     println!("\n== Side by side with NumPy (bench/sim_numpy.py) ==");
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../bench/sim_numpy.py");
-    let out = Command::new("python3")
+    // The same interpreter variable as bench_allan: a venv with NumPy.
+    let python = std::env::var("TRIAD_PYTHON").unwrap_or_else(|_| "python3".into());
+    let out = Command::new(&python)
         .arg(&script)
         .arg("--samples")
         .arg(n.to_string())
@@ -304,7 +306,7 @@ fn main() {
         Ok(o) if o.status.success() => String::from_utf8_lossy(&o.stdout).into_owned(),
         Ok(o) => {
             println!(
-                "python3 {} failed: {}",
+                "{python} {} failed: {}",
                 script.display(),
                 String::from_utf8_lossy(&o.stderr).trim()
             );
@@ -312,7 +314,7 @@ fn main() {
             return;
         }
         Err(e) => {
-            println!("python3 not runnable ({e}); no NumPy comparison");
+            println!("{python} not runnable ({e}); no NumPy comparison");
             return;
         }
     };

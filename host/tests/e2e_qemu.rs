@@ -2,10 +2,12 @@
 //! `cargo xtask test` from QEMU, against the host's computation of the same
 //! samples.
 //!
-//! The firmware reads the ICM-42688-P chip model serving the documented demo
-//! motion through the real driver. The host builds the same chip model and
-//! driver, runs the same `Sampler::step` per data-ready tick, and so knows
-//! every raw sample the firmware read. Checked:
+//! The firmware reads a chip model serving the documented demo motion through
+//! the real driver: the ICM-42688-P or the LSM6DSOX, on SPI or I²C, as the
+//! build chose (xtask says which in TRIAD_E2E_SENSOR and TRIAD_E2E_BUS). The
+//! host builds the same chip model and driver from the board's own files
+//! (boards/qemu/<chip>.rs), runs the same `Sampler::step` per data-ready tick,
+//! and so knows every raw sample the firmware read. Checked:
 //! - at least 1000 frames, no CRC error, no sequence gap, no bytes skipped,
 //!   no overrun or drop reported by the device;
 //! - every frame's values equal the host's f32 hot path bit for bit;
@@ -22,18 +24,19 @@ use std::process::{Command, Stdio};
 
 use triad::model::{blob, Corrector, Orientation};
 use triad::pipeline::{Sampler, StepOutcome};
-use triad::sensor::icm42688::{config::Config, Icm42688};
-use triad::sensor::{Imu, RawSample};
-use triad::sim::demo_motion::{DemoMotion, DemoSource};
-use triad::sim::icm42688_model::Icm42688Model;
+use triad::sensor::interface::{I2cInterface, SpiInterface};
+use triad::sensor::{Imu, ImuScale, RawSample};
 use triad::stream::{Decoder, Frame};
 
+/// The emulated board's chips: the very files the firmware builds.
+#[path = "../../boards/qemu/icm42688.rs"]
+mod icm42688;
+#[path = "../../boards/qemu/lsm6dsox.rs"]
+mod lsm6dsox;
+
 const TRIAD: &str = env!("CARGO_BIN_EXE_triad");
-/// The emulated board's rate and settings (boards/qemu/board.rs).
-const SAMPLE_RATE_HZ: u32 = 1_000;
+/// The emulated board's averaging factor (boards/qemu/board.rs).
 const DECIMATION: u16 = 1;
-/// The firmware re-folds temperature terms every SAMPLE_RATE_HZ / 10 steps (src/main.rs).
-const REFOLD_EVERY: u32 = SAMPLE_RATE_HZ / 10;
 
 fn env_path(name: &str) -> PathBuf {
     PathBuf::from(
@@ -44,6 +47,144 @@ fn env_path(name: &str) -> PathBuf {
 struct NoDelay;
 impl embedded_hal::delay::DelayNs for NoDelay {
     fn delay_ns(&mut self, _: u32) {}
+}
+
+/// The emulated board's sensor as the firmware build chose it: chip
+/// (`TRIAD_E2E_SENSOR`: icm42688 or lsm6dsox) and bus (`TRIAD_E2E_BUS`: spi or
+/// i2c), each the board's default (ICM-42688-P, SPI) when unset.
+enum HostSensor {
+    IcmSpi(icm42688::Driver<SpiInterface<icm42688::Model>>),
+    IcmI2c(icm42688::Driver<I2cInterface<icm42688::Model>>),
+    LsmSpi(lsm6dsox::Driver<SpiInterface<lsm6dsox::Model>>),
+    LsmI2c(lsm6dsox::Driver<I2cInterface<lsm6dsox::Model>>),
+}
+
+/// Runs `$body` with `$s` bound to the driver, whatever chip and bus.
+macro_rules! each_sensor {
+    ($sensor:expr, $s:ident => $body:expr) => {
+        match $sensor {
+            HostSensor::IcmSpi($s) => $body,
+            HostSensor::IcmI2c($s) => $body,
+            HostSensor::LsmSpi($s) => $body,
+            HostSensor::LsmI2c($s) => $body,
+        }
+    };
+}
+
+impl HostSensor {
+    /// The chip and bus the firmware under test was built with, initialised
+    /// as the firmware does (the board's configuration).
+    fn from_env() -> Self {
+        let chip = std::env::var("TRIAD_E2E_SENSOR").unwrap_or_else(|_| "icm42688".into());
+        let bus = std::env::var("TRIAD_E2E_BUS").unwrap_or_else(|_| "spi".into());
+        Self::new(&chip, &bus)
+    }
+
+    /// `chip` (icm42688, lsm6dsox) on `bus` (spi, i2c), initialised with the board's configuration.
+    fn new(chip: &str, bus: &str) -> Self {
+        let mut sensor = match (chip, bus) {
+            ("icm42688", "spi") => Self::IcmSpi(icm42688::Driver::new_spi(icm42688::model())),
+            ("icm42688", "i2c") => Self::IcmI2c(icm42688::Driver::new_i2c(
+                icm42688::model(),
+                icm42688::I2C_ADDRESS,
+            )),
+            ("lsm6dsox", "spi") => Self::LsmSpi(lsm6dsox::Driver::new_spi(lsm6dsox::model())),
+            ("lsm6dsox", "i2c") => Self::LsmI2c(lsm6dsox::Driver::new_i2c(
+                lsm6dsox::model(),
+                lsm6dsox::I2C_ADDRESS,
+            )),
+            other => panic!(
+                "TRIAD_E2E_SENSOR/TRIAD_E2E_BUS {other:?}: expected icm42688 or lsm6dsox on spi or i2c"
+            ),
+        };
+        let debug = |e: &dyn std::fmt::Debug| format!("{e:?}");
+        let initialised = match &mut sensor {
+            Self::IcmSpi(s) => s
+                .init(&mut NoDelay, &icm42688::sensor_config())
+                .map_err(|e| debug(&e)),
+            Self::IcmI2c(s) => s
+                .init(&mut NoDelay, &icm42688::sensor_config())
+                .map_err(|e| debug(&e)),
+            Self::LsmSpi(s) => s
+                .init(&mut NoDelay, &lsm6dsox::sensor_config())
+                .map_err(|e| debug(&e)),
+            Self::LsmI2c(s) => s
+                .init(&mut NoDelay, &lsm6dsox::sensor_config())
+                .map_err(|e| debug(&e)),
+        };
+        initialised.expect("the chip model initialises");
+        sensor
+    }
+
+    /// The data-ready rate, Hz (the chip file's SAMPLE_RATE_HZ).
+    fn sample_rate_hz(&self) -> u32 {
+        match self {
+            Self::IcmSpi(_) | Self::IcmI2c(_) => icm42688::SAMPLE_RATE_HZ,
+            Self::LsmSpi(_) | Self::LsmI2c(_) => lsm6dsox::SAMPLE_RATE_HZ,
+        }
+    }
+
+    /// Samples the chip model has produced.
+    fn samples_produced(&self) -> u64 {
+        each_sensor!(self, s => s.bus().samples_produced())
+    }
+
+    /// What boards/qemu/board.rs `data_ready` does: the model's clock moves to its next sample.
+    fn data_ready(&mut self) {
+        match self {
+            Self::IcmSpi(s) => advance_icm(s.bus_mut()),
+            Self::IcmI2c(s) => advance_icm(s.bus_mut()),
+            Self::LsmSpi(s) => advance_lsm(s.bus_mut()),
+            Self::LsmI2c(s) => advance_lsm(s.bus_mut()),
+        }
+    }
+}
+
+fn advance_icm(model: &mut icm42688::Model) {
+    model.advance(icm42688::next_sample_ns(model));
+}
+
+fn advance_lsm(model: &mut lsm6dsox::Model) {
+    model.advance(lsm6dsox::next_sample_ns(model));
+}
+
+impl Imu for HostSensor {
+    type Error = String;
+
+    fn read_sample(&mut self) -> Result<RawSample, String> {
+        each_sensor!(self, s => s.read_sample().map_err(|e| format!("{e:?}")))
+    }
+
+    fn scale(&self) -> ImuScale {
+        each_sensor!(self, s => s.scale())
+    }
+}
+
+#[test]
+fn every_emulated_data_ready_brings_exactly_one_new_sample() {
+    // 200 000 ticks: 4 min of LSM6DSOX time at 833 Hz. Each tick's step is
+    // ⌈(n+1)·P⌉ − ⌈n·P⌉ ns, so the count is exact at any length (a fixed
+    // ⌈P⌉ step would gain one sample per 1.49 million ticks; ⌊P⌋ would miss
+    // the very first).
+    const TICKS: u64 = 200_000;
+    for (chip, bus) in [("icm42688", "spi"), ("lsm6dsox", "i2c")] {
+        let mut sensor = HostSensor::new(chip, bus);
+        for tick in 1..=TICKS {
+            sensor.data_ready();
+            assert_eq!(sensor.samples_produced(), tick, "{chip} on {bus}");
+        }
+    }
+}
+
+#[test]
+fn board_chip_files_state_their_rate_as_their_odr() {
+    assert_eq!(
+        icm42688::ODR.period_ns(),
+        1_000_000_000 / icm42688::SAMPLE_RATE_HZ
+    );
+    assert_eq!(lsm6dsox::ODR.millihertz() / 1000, lsm6dsox::SAMPLE_RATE_HZ);
+    // The timer period of boards/qemu/board.rs, to the microsecond.
+    assert_eq!(1_000_000 / lsm6dsox::SAMPLE_RATE_HZ, 1200);
 }
 
 /// The frames in the captured stream, with the decoder's statistics checked.
@@ -61,44 +202,32 @@ fn captured_frames() -> Vec<Frame> {
     assert_eq!(stats.bytes_skipped, 0, "{stats:?}");
     assert_eq!(
         stats.device_overruns, 0,
-        "the firmware kept its 1 kHz steps: {stats:?}"
+        "the firmware kept its data-ready steps: {stats:?}"
     );
     assert_eq!(stats.device_dropped, 0, "the link kept up: {stats:?}");
     frames
 }
 
 /// The emulated board's sensor and pipeline, on the host.
-fn host_board() -> (
-    Icm42688<triad::sensor::interface::SpiInterface<Icm42688Model<DemoSource>>>,
-    Sampler,
-) {
-    let motion = DemoMotion::standard(f64::from(SAMPLE_RATE_HZ));
-    let mut sensor = Icm42688::new_spi(Icm42688Model::new(DemoSource::new(motion)));
-    sensor
-        .init(&mut NoDelay, &Config::default())
-        .expect("the chip model initialises");
+fn host_board() -> (HostSensor, Sampler) {
+    let sensor = HostSensor::from_env();
+    let rate = sensor.sample_rate_hz();
     let blob_bytes = std::fs::read(env_path("TRIAD_E2E_BLOB")).expect("calibration blob");
     let calibration = blob::decode(&blob_bytes).expect("the embedded blob is valid");
     let corrector = Corrector::new(&calibration, &sensor.scale(), Orientation::RotationNone)
         .expect("the embedded calibration is valid");
-    let sampler = Sampler::new(
-        corrector,
-        true,
-        DECIMATION,
-        1_000_000 / SAMPLE_RATE_HZ,
-        REFOLD_EVERY,
-    );
+    // The firmware re-folds temperature terms every SAMPLE_RATE_HZ / 10 steps (src/main.rs).
+    let sampler = Sampler::new(corrector, true, DECIMATION, 1_000_000 / rate, rate / 10);
     (sensor, sampler)
 }
 
 /// The host's frames for the same data-ready ticks, and the raw samples read.
 fn host_frames(count: usize, timestamps: &[u32]) -> (Vec<Frame>, Vec<RawSample>, Corrector) {
     let (mut sensor, mut sampler) = host_board();
-    let period_ns = u64::from(1_000_000_000 / SAMPLE_RATE_HZ);
     let mut frames = Vec::with_capacity(count);
     let mut raws = Vec::with_capacity(count);
     for &now in timestamps.iter().take(count) {
-        sensor.bus_mut().advance(period_ns);
+        sensor.data_ready();
         raws.push(sensor.read_sample().expect("the model reads"));
         // The same step as the firmware's (the second read returns the same
         // latest registers: the model only changes on advance).
@@ -122,13 +251,14 @@ fn firmware_frames_equal_host_computation_bit_for_bit() {
     );
     let timestamps: Vec<u32> = device.iter().map(|f| f.timestamp_us).collect();
     let (host, _, _) = host_frames(device.len(), &timestamps);
+    let period_us = 1_000_000 / HostSensor::from_env().sample_rate_hz();
     for (n, (d, h)) in device.iter().zip(&host).enumerate() {
         assert_eq!(d.sequence, n as u32);
         // Timestamps: one data-ready period apart on the emulated clock.
         if n > 0 {
             assert_eq!(
                 d.timestamp_us - device[n - 1].timestamp_us,
-                1_000_000 / SAMPLE_RATE_HZ,
+                period_us,
                 "frame {n}"
             );
         }

@@ -1,4 +1,6 @@
-//! The boards xtask can build and run, and what it must know of each.
+//! The boards, sensor chips and buses xtask can build and run, and what it
+//! must know of each. A firmware build is one board with one chip on one bus,
+//! chosen by cargo features (`board-*`, `sensor-*`, `bus-*`; see Cargo.toml).
 
 /// A board folder under boards/.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -27,17 +29,155 @@ impl Board {
         "thumbv7em-none-eabihf"
     }
 
-    /// Frames streamed per second: the sample rate over the decimation
-    /// (keep equal to SAMPLE_RATE_HZ / DECIMATION in boards/<board>/board.rs).
-    pub fn frame_rate(self) -> f64 {
+    /// The averaging factor (keep equal to DECIMATION in boards/<board>/board.rs).
+    pub fn decimation(self) -> u16 {
         match self {
-            Board::Qemu => 1000.0,
-            Board::NucleoF401re => 1000.0,
+            Board::Qemu => 1,
+            Board::NucleoF401re => 1,
         }
+    }
+}
+
+/// The IMU chip the firmware reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Sensor {
+    /// TDK InvenSense ICM-42688-P (the default).
+    Icm42688,
+    /// ST LSM6DSOX.
+    Lsm6dsox,
+}
+
+impl Sensor {
+    /// Every chip.
+    pub const ALL: [Sensor; 2] = [Sensor::Icm42688, Sensor::Lsm6dsox];
+
+    /// The cargo feature suffix, and the name `TRIAD_E2E_SENSOR` carries.
+    pub fn name(self) -> &'static str {
+        match self {
+            Sensor::Icm42688 => "icm42688",
+            Sensor::Lsm6dsox => "lsm6dsox",
+        }
+    }
+
+    /// The data-ready rate, Hz: the chip's output data rate on every board
+    /// (keep equal to SAMPLE_RATE_HZ in boards/<board>/<chip>.rs).
+    pub fn sample_rate_hz(self) -> f64 {
+        match self {
+            Sensor::Icm42688 => 1000.0,
+            Sensor::Lsm6dsox => 833.0,
+        }
+    }
+}
+
+/// The bus between the microcontroller and the chip.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Bus {
+    /// SPI (the default).
+    Spi,
+    /// I²C.
+    I2c,
+}
+
+impl Bus {
+    /// Every bus.
+    pub const ALL: [Bus; 2] = [Bus::Spi, Bus::I2c];
+
+    /// The cargo feature suffix, and the name `TRIAD_E2E_BUS` carries.
+    pub fn name(self) -> &'static str {
+        match self {
+            Bus::Spi => "spi",
+            Bus::I2c => "i2c",
+        }
+    }
+}
+
+/// One firmware build: a board with a chip on a bus.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Firmware {
+    /// The board.
+    pub board: Board,
+    /// The chip.
+    pub sensor: Sensor,
+    /// The bus.
+    pub bus: Bus,
+}
+
+impl Firmware {
+    /// Every valid board × chip × bus (all of them: both boards wire both chips on both buses).
+    pub fn all() -> impl Iterator<Item = Firmware> {
+        Board::ALL.into_iter().flat_map(|board| {
+            Sensor::ALL.into_iter().flat_map(move |sensor| {
+                Bus::ALL
+                    .into_iter()
+                    .map(move |bus| Firmware { board, sensor, bus })
+            })
+        })
+    }
+
+    /// The cargo features that select this build.
+    pub fn features(self) -> String {
+        format!(
+            "board-{},sensor-{},bus-{}",
+            self.board.name(),
+            self.sensor.name(),
+            self.bus.name()
+        )
+    }
+
+    /// A short name: `qemu/lsm6dsox/i2c`.
+    pub fn label(self) -> String {
+        format!(
+            "{}/{}/{}",
+            self.board.name(),
+            self.sensor.name(),
+            self.bus.name()
+        )
+    }
+
+    /// Frames streamed per second: the sample rate over the decimation.
+    pub fn frame_rate(self) -> f64 {
+        self.sensor.sample_rate_hz() / f64::from(self.board.decimation())
     }
 
     /// How many frames cover `seconds` of stream time.
     pub fn frames_in(self, seconds: f64) -> u64 {
         (seconds * self.frame_rate()).ceil() as u64
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_combination_is_built_once_with_its_features() {
+        let all: Vec<Firmware> = Firmware::all().collect();
+        assert_eq!(all.len(), 8);
+        assert!(all.contains(&Firmware {
+            board: Board::Qemu,
+            sensor: Sensor::Lsm6dsox,
+            bus: Bus::I2c
+        }));
+        assert_eq!(
+            all[0].features(),
+            "board-qemu,sensor-icm42688,bus-spi",
+            "the default chip and bus come first"
+        );
+    }
+
+    #[test]
+    fn frames_cover_the_seconds_at_the_chips_rate() {
+        let lsm = Firmware {
+            board: Board::Qemu,
+            sensor: Sensor::Lsm6dsox,
+            bus: Bus::Spi,
+        };
+        // 0.05 s × 833 Hz = 41.65 → 42 frames.
+        assert_eq!(lsm.frames_in(0.05), 42);
+        let icm = Firmware {
+            sensor: Sensor::Icm42688,
+            ..lsm
+        };
+        assert_eq!(icm.frames_in(2.0), 2000);
     }
 }

@@ -1,7 +1,7 @@
 //! Builds: the host tool, the calibration blob, the firmware; and the
 //! hardware run.
 
-use crate::board::Board;
+use crate::board::Firmware;
 use anyhow::{bail, Context, Result};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -65,9 +65,15 @@ pub fn pack_calibration(triad: &Path, toml: Option<&Path>) -> Result<PathBuf> {
     Ok(blob)
 }
 
-/// Builds the firmware for `board` with the calibration blob embedded and
-/// returns the ELF's path.
-pub fn build_firmware(board: Board, calibration: &Path) -> Result<PathBuf> {
+/// Builds `firmware` (its board, chip and bus as cargo features) with the
+/// calibration blob embedded and returns the ELF's path: a copy named after
+/// the chip and bus, so the next build (same board, other features) does not
+/// overwrite it.
+pub fn build_firmware(firmware: Firmware, calibration: &Path) -> Result<PathBuf> {
+    let board = firmware.board;
+    // One target dir per board: each board's build keeps its artefacts, and
+    // the chip and bus features rebuild only the triad crate.
+    let target_dir = root().join("target/firmware").join(board.name());
     let mut command = cargo();
     command
         .args([
@@ -80,27 +86,35 @@ pub fn build_firmware(board: Board, calibration: &Path) -> Result<PathBuf> {
             "triad-firmware",
         ])
         .args(["--target", board.target(), "--features"])
-        .arg(format!("board-{}", board.name()))
+        .arg(firmware.features())
         .env("TRIAD_CALIBRATION", calibration)
-        // One target dir per board: each board's build keeps its artefacts.
-        .env(
-            "CARGO_TARGET_DIR",
-            root().join("target/firmware").join(board.name()),
-        );
+        .env("CARGO_TARGET_DIR", &target_dir);
     check(
         command,
-        &format!("building the firmware for {}", board.name()),
+        &format!("building the firmware for {}", firmware.label()),
     )?;
-    Ok(root()
-        .join("target/firmware")
-        .join(board.name())
+    let built = target_dir
         .join(board.target())
-        .join("release/triad-firmware"))
+        .join("release/triad-firmware");
+    let elf = target_dir.join(format!(
+        "triad-firmware-{}-{}",
+        firmware.sensor.name(),
+        firmware.bus.name()
+    ));
+    std::fs::copy(&built, &elf)
+        .with_context(|| format!("copying {} to {}", built.display(), elf.display()))?;
+    Ok(elf)
 }
 
 /// Flashes and runs the firmware on a NUCLEO-F401RE with probe-rs (which also
 /// prints the defmt log) and decodes the stream from the virtual COM port.
-pub fn run_on_hardware(elf: &Path, triad: &Path, port: &str, seconds: f64) -> Result<()> {
+pub fn run_on_hardware(
+    elf: &Path,
+    firmware: Firmware,
+    triad: &Path,
+    port: &str,
+    seconds: f64,
+) -> Result<()> {
     if Command::new("probe-rs").arg("--version").output().is_err() {
         bail!(
             "probe-rs not found: install it with `cargo install probe-rs-tools --locked` \
@@ -113,7 +127,7 @@ pub fn run_on_hardware(elf: &Path, triad: &Path, port: &str, seconds: f64) -> Re
         .stdin(Stdio::null())
         .spawn()
         .context("starting probe-rs")?;
-    let frames = Board::NucleoF401re.frames_in(seconds).to_string();
+    let frames = firmware.frames_in(seconds).to_string();
     let status = Command::new(triad)
         .args([
             "decode",

@@ -1,7 +1,7 @@
 //! `cargo xtask`: the two commands of the README and the jobs behind them.
 //!
-//! - `cargo xtask run`: set up, build the firmware for a board, run it (QEMU by
-//!   default) and print the decoded, calibrated samples as CSV.
+//! - `cargo xtask run`: set up, build the firmware for a board, chip and bus,
+//!   run it (QEMU by default) and print the decoded, calibrated samples as CSV.
 //! - `cargo xtask test`: every host test, every board's firmware build, and the
 //!   end-to-end tests on QEMU.
 //! - `cargo xtask bench`: the benchmark firmware on emulated cores; writes
@@ -28,7 +28,7 @@ struct Cli {
 enum Command {
     /// Build and run the firmware; print decoded, calibrated samples as CSV on stdout.
     Run(RunArgs),
-    /// Run every host test, build every board, run the end-to-end tests on QEMU.
+    /// Run every host test, build every board × chip × bus, run the end-to-end tests on QEMU.
     Test {
         /// Only the firmware builds and the end-to-end tests on QEMU.
         #[arg(long)]
@@ -57,6 +57,12 @@ pub struct RunArgs {
     /// The board: `qemu` (emulated, the default) or `nucleo-f401re` (hardware via probe-rs).
     #[arg(long, default_value = "qemu")]
     board: board::Board,
+    /// The IMU chip (cargo feature `sensor-*`): on the emulated board, the chip model it serves.
+    #[arg(long, default_value = "icm42688")]
+    sensor: board::Sensor,
+    /// The bus between the microcontroller and the chip (cargo feature `bus-*`).
+    #[arg(long, default_value = "spi")]
+    bus: board::Bus,
     /// Stop after this many seconds of streamed (emulated) time.
     #[arg(long, default_value_t = 2.0)]
     seconds: f64,
@@ -95,14 +101,22 @@ fn run(args: RunArgs) -> anyhow::Result<()> {
     setup::ensure_for(args.board)?;
     let triad = cmd::build_host_tool()?;
     let calibration = cmd::pack_calibration(&triad, args.calib.as_deref())?;
-    let elf = cmd::build_firmware(args.board, &calibration)?;
+    let firmware = board::Firmware {
+        board: args.board,
+        sensor: args.sensor,
+        bus: args.bus,
+    };
+    eprintln!("xtask: firmware for {}", firmware.label());
+    let elf = cmd::build_firmware(firmware, &calibration)?;
+    let frames = firmware.frames_in(args.seconds);
     match args.board {
         board::Board::Qemu => {
-            let frames = board::Board::Qemu.frames_in(args.seconds);
             let status = qemu::stream_to_decoder(&elf, &triad, frames, qemu::Inherit)?;
             anyhow::ensure!(status.success(), "triad decode exited with {status}");
             Ok(())
         }
-        board::Board::NucleoF401re => cmd::run_on_hardware(&elf, &triad, &args.port, args.seconds),
+        board::Board::NucleoF401re => {
+            cmd::run_on_hardware(&elf, firmware, &triad, &args.port, args.seconds)
+        }
     }
 }
