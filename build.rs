@@ -41,6 +41,8 @@ fn main() {
     one_of("bus", &["spi", "i2c"]);
     link_memory_map(&manifest.join("boards").join(board).join("memory.x"), &out);
 
+    embed_scene(board, &out);
+
     println!("cargo:rerun-if-env-changed=TRIAD_CALIBRATION");
     let calibration = env::var_os("TRIAD_CALIBRATION")
         .map(PathBuf::from)
@@ -87,4 +89,25 @@ fn link_memory_map(memory: &Path, out: &Path) {
     fs::copy(memory, out.join("memory.x")).expect("copy the board's memory.x");
     println!("cargo:rerun-if-changed={}", memory.display());
     println!("cargo:rustc-link-search={}", out.display());
+}
+
+/// With the `sim-scene` feature (emulated board only): the scene blob named by
+/// TRIAD_SCENE (written by `triad sim --pack`) becomes OUT_DIR/scene.bin.
+fn embed_scene(board: &str, out: &Path) {
+    println!("cargo:rerun-if-env-changed=TRIAD_SCENE");
+    if env::var_os("CARGO_FEATURE_SIM_SCENE").is_none() {
+        return;
+    }
+    if board != "qemu" {
+        panic!(
+            "the sim-scene feature feeds the emulated board's chip model: use it with board-qemu"
+        );
+    }
+    let scene = env::var_os("TRIAD_SCENE").map(PathBuf::from).unwrap_or_else(|| {
+        panic!("the sim-scene feature needs TRIAD_SCENE: the blob of `triad sim --scene NAME --pack FILE`")
+    });
+    let blob = fs::read(&scene)
+        .unwrap_or_else(|e| panic!("TRIAD_SCENE: cannot read {}: {e}", scene.display()));
+    fs::write(out.join("scene.bin"), blob).expect("write scene.bin");
+    println!("cargo:rerun-if-changed={}", scene.display());
 }

@@ -161,14 +161,18 @@ pub fn exit(success: bool) -> ! {
 #[cfg_attr(feature = "sensor-lsm6dsox", path = "lsm6dsox.rs")]
 mod chip;
 
+/// What the chip model measures: the demo motion or an embedded scene.
+#[path = "source.rs"]
+mod source;
+
 pub use chip::{sensor_config, SAMPLE_RATE_HZ};
 
 /// The sensor: the real driver of the chosen chip over SPI (or I²C with the
-/// `bus-i2c` feature), talking to the chip model serving the demo motion.
+/// `bus-i2c` feature), talking to the chip model serving `model_source()`.
 #[cfg(not(feature = "bus-i2c"))]
 pub type Sensor = chip::Driver<SpiInterface<chip::Model>>;
 /// The sensor: the real driver of the chosen chip over I²C, talking to the
-/// chip model (at its default address) serving the demo motion.
+/// chip model (at its default address) serving `model_source()`.
 #[cfg(feature = "bus-i2c")]
 pub type Sensor = chip::Driver<I2cInterface<chip::Model>>;
 
@@ -181,13 +185,34 @@ pub const DECIMATION: u16 = 1;
 /// The driver on the chip model, over SPI.
 #[cfg(not(feature = "bus-i2c"))]
 fn sensor() -> Sensor {
-    chip::Driver::new_spi(chip::model())
+    chip::Driver::new_spi(chip::model(model_source()))
 }
 
 /// The driver on the chip model, over I²C at the model's address.
 #[cfg(feature = "bus-i2c")]
 fn sensor() -> Sensor {
-    chip::Driver::new_i2c(chip::model(), chip::I2C_ADDRESS)
+    chip::Driver::new_i2c(chip::model(model_source()), chip::I2C_ADDRESS)
+}
+
+/// The scene embedded at build (TRIAD_SCENE, see build.rs), simulated at the
+/// chip's rate; a blob or scene that cannot run stops the board with the
+/// reason in the log.
+#[cfg(feature = "sim-scene")]
+fn model_source() -> source::Source {
+    static SCENE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/scene.bin"));
+    match source::scene(f64::from(SAMPLE_RATE_HZ), SCENE) {
+        Ok(source) => source,
+        Err(error) => {
+            defmt::error!("embedded scene rejected: {}", defmt::Debug2Format(&error));
+            exit(false)
+        }
+    }
+}
+
+/// The documented demo motion at the chip's rate.
+#[cfg(not(feature = "sim-scene"))]
+fn model_source() -> source::Source {
+    source::demo(f64::from(SAMPLE_RATE_HZ))
 }
 
 /// The data-ready line: on this board the timer interrupt stands in for it,

@@ -1,18 +1,17 @@
 //! The emulated board's ICM-42688-P: the register-level chip model serving the
-//! demo motion, behind either bus (the model answers SPI and I²C like the chip).
+//! board's source (source.rs: the demo motion or a scene), behind either bus (the model answers SPI and I²C like the chip).
 //!
 //! Plain code over `triad` only, so the end-to-end test on the host includes
 //! this very file and builds the same chip the firmware read.
 
 use triad::sensor::icm42688::{config::Config, registers, Odr};
-use triad::sim::demo_motion::{DemoMotion, DemoSource};
 use triad::sim::icm42688_model::Icm42688Model;
 
 /// The chip's driver, generic over the register interface (SPI or I²C).
 pub use triad::sensor::icm42688::Icm42688 as Driver;
 
 /// The chip model behind the bus.
-pub type Model = Icm42688Model<DemoSource>;
+pub type Model = Icm42688Model<super::source::Source>;
 
 /// The output data rate: one data-ready per millisecond.
 pub const ODR: Odr = Odr::Hz1000;
@@ -30,11 +29,9 @@ pub fn sensor_config() -> Config {
     }
 }
 
-/// A powered-up chip model serving the demo motion at the sample rate.
-pub fn model() -> Model {
-    Icm42688Model::new(DemoSource::new(DemoMotion::standard(f64::from(
-        SAMPLE_RATE_HZ,
-    ))))
+/// A powered-up chip model serving `source` (built at the sample rate).
+pub fn model(source: super::source::Source) -> Model {
+    Icm42688Model::new(source)
 }
 
 /// The chip's time from one data-ready to the next, ns (a whole number at 1 kHz).

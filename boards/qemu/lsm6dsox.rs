@@ -1,18 +1,17 @@
 //! The emulated board's LSM6DSOX: the register-level chip model serving the
-//! demo motion, behind either bus (the model answers SPI and I²C like the chip).
+//! board's source (source.rs: the demo motion or a scene), behind either bus (the model answers SPI and I²C like the chip).
 //!
 //! Plain code over `triad` only, so the end-to-end test on the host includes
 //! this very file and builds the same chip the firmware read.
 
 use triad::sensor::lsm6dsox::{config::Config, registers, Odr};
-use triad::sim::demo_motion::{DemoMotion, DemoSource};
 use triad::sim::lsm6dsox_model::Lsm6dsoxModel;
 
 /// The chip's driver, generic over the register interface (SPI or I²C).
 pub use triad::sensor::lsm6dsox::Lsm6dsox as Driver;
 
 /// The chip model behind the bus.
-pub type Model = Lsm6dsoxModel<DemoSource>;
+pub type Model = Lsm6dsoxModel<super::source::Source>;
 
 /// The output data rate: 833 Hz in high-performance mode (DS12814 §9 CTRL1_XL).
 pub const ODR: Odr = Odr::Hz833;
@@ -33,11 +32,9 @@ pub fn sensor_config() -> Config {
     }
 }
 
-/// A powered-up chip model serving the demo motion at the sample rate.
-pub fn model() -> Model {
-    Lsm6dsoxModel::new(DemoSource::new(DemoMotion::standard(f64::from(
-        SAMPLE_RATE_HZ,
-    ))))
+/// A powered-up chip model serving `source` (built at the sample rate).
+pub fn model(source: super::source::Source) -> Model {
+    Lsm6dsoxModel::new(source)
 }
 
 /// The chip's time from data-ready n to data-ready n + 1, ns, where n is the

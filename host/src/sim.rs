@@ -28,8 +28,12 @@ pub struct SimArgs {
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// The measured samples (CSV).
-    #[arg(long)]
-    pub out: PathBuf,
+    #[arg(long, required_unless_present = "pack")]
+    pub out: Option<PathBuf>,
+    /// Instead of simulating: write the scene (with --rate and --seed) as
+    /// the binary blob the emulated board embeds (`cargo xtask run --scene`).
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["out", "truth"])]
+    pub pack: Option<PathBuf>,
     /// Also write the truth (same columns, no errors).
     #[arg(long)]
     pub truth: Option<PathBuf>,
@@ -63,6 +67,12 @@ pub fn run(args: SimArgs) -> anyhow::Result<std::process::ExitCode> {
         }
         scene.rate_hz = rate;
     }
+    if let Some(path) = &args.pack {
+        return pack(&scene, args.seed, path, &loaded.path);
+    }
+    let Some(out_path) = args.out.as_ref() else {
+        bail!("--out FILE: where the samples go (or --pack FILE for the firmware's blob)");
+    };
     let seconds = match (args.seconds, loaded.duration_s) {
         (Some(s), _) | (None, Some(s)) => s,
         (None, None) => bail!(
@@ -84,13 +94,13 @@ pub fn run(args: SimArgs) -> anyhow::Result<std::process::ExitCode> {
     let mut sim = Simulator::new(&scene, args.seed)
         .map_err(|e| anyhow::anyhow!("{}: {e}", loaded.path.display()))?;
 
-    let mut out = create(&args.out)?;
+    let mut out = create(out_path)?;
     let mut truth = args.truth.as_ref().map(create).transpose()?;
     let progress = Progress::new(total);
     for k in 0..total {
         let s = sim.step();
         write_row(&mut out, s.t, &s.measured)
-            .with_context(|| format!("writing {}", args.out.display()))?;
+            .with_context(|| format!("writing {}", out_path.display()))?;
         if let Some(w) = truth.as_mut() {
             write_row(w, s.t, &s.truth)?;
         }
@@ -99,7 +109,7 @@ pub fn run(args: SimArgs) -> anyhow::Result<std::process::ExitCode> {
         }
     }
     out.flush()
-        .with_context(|| format!("writing {}", args.out.display()))?;
+        .with_context(|| format!("writing {}", out_path.display()))?;
     if let Some(mut w) = truth {
         w.flush()?;
     }
@@ -154,4 +164,27 @@ impl Progress {
             eprintln!();
         }
     }
+}
+
+/// `triad sim --pack`: the scene checked as the simulator checks it, then
+/// written as the blob of `triad::sim::scene_blob`.
+fn pack(
+    scene: &triad::sim::scene::Scene,
+    seed: u64,
+    path: &std::path::Path,
+    source: &std::path::Path,
+) -> anyhow::Result<std::process::ExitCode> {
+    use triad::sim::scene_blob::{encode, MAX_BLOB_LEN};
+    Simulator::new(scene, seed).map_err(|e| anyhow::anyhow!("{}: {e}", source.display()))?;
+    let mut blob = [0u8; MAX_BLOB_LEN];
+    let len =
+        encode(scene, seed, &mut blob).map_err(|e| anyhow::anyhow!("{}: {e}", source.display()))?;
+    std::fs::write(path, &blob[..len]).with_context(|| format!("writing {}", path.display()))?;
+    eprintln!(
+        "{}: scene {} at {} Hz, seed {seed}: {len} bytes",
+        path.display(),
+        source.display(),
+        scene.rate_hz
+    );
+    Ok(std::process::ExitCode::SUCCESS)
 }

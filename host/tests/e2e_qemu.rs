@@ -2,7 +2,8 @@
 //! `cargo xtask test` from QEMU, against the host's computation of the same
 //! samples.
 //!
-//! The firmware reads a chip model serving the documented demo motion through
+//! The firmware reads a chip model serving the documented demo motion (or,
+//! when xtask sets TRIAD_E2E_SCENE, the simulator running that scene) through
 //! the real driver: the ICM-42688-P or the LSM6DSOX, on SPI or I²C, as the
 //! build chose (xtask says which in TRIAD_E2E_SENSOR and TRIAD_E2E_BUS). The
 //! host builds the same chip model and driver from the board's own files
@@ -33,6 +34,8 @@ use triad::stream::{Decoder, Frame};
 mod icm42688;
 #[path = "../../boards/qemu/lsm6dsox.rs"]
 mod lsm6dsox;
+#[path = "../../boards/qemu/source.rs"]
+mod source;
 
 const TRIAD: &str = env!("CARGO_BIN_EXE_triad");
 /// The emulated board's averaging factor (boards/qemu/board.rs).
@@ -42,6 +45,19 @@ fn env_path(name: &str) -> PathBuf {
     PathBuf::from(
         std::env::var_os(name).unwrap_or_else(|| panic!("{name} is set by cargo xtask test")),
     )
+}
+
+/// What the firmware's chip model served: the scene of TRIAD_E2E_SCENE (the
+/// blob the firmware embedded) when xtask ran a simulated scene, else the
+/// demo motion; at the chip's rate, as boards/qemu/board.rs builds it.
+fn model_source(rate_hz: u32) -> source::Source {
+    match std::env::var_os("TRIAD_E2E_SCENE") {
+        Some(path) => {
+            let blob = std::fs::read(&path).expect("the scene blob of the run");
+            source::scene(f64::from(rate_hz), &blob).expect("the embedded scene runs")
+        }
+        None => source::demo(f64::from(rate_hz)),
+    }
 }
 
 struct NoDelay;
@@ -82,17 +98,17 @@ impl HostSensor {
 
     /// `chip` (icm42688, lsm6dsox) on `bus` (spi, i2c), initialised with the board's configuration.
     fn new(chip: &str, bus: &str) -> Self {
+        let icm = || icm42688::model(model_source(icm42688::SAMPLE_RATE_HZ));
+        let lsm = || lsm6dsox::model(model_source(lsm6dsox::SAMPLE_RATE_HZ));
         let mut sensor = match (chip, bus) {
-            ("icm42688", "spi") => Self::IcmSpi(icm42688::Driver::new_spi(icm42688::model())),
-            ("icm42688", "i2c") => Self::IcmI2c(icm42688::Driver::new_i2c(
-                icm42688::model(),
-                icm42688::I2C_ADDRESS,
-            )),
-            ("lsm6dsox", "spi") => Self::LsmSpi(lsm6dsox::Driver::new_spi(lsm6dsox::model())),
-            ("lsm6dsox", "i2c") => Self::LsmI2c(lsm6dsox::Driver::new_i2c(
-                lsm6dsox::model(),
-                lsm6dsox::I2C_ADDRESS,
-            )),
+            ("icm42688", "spi") => Self::IcmSpi(icm42688::Driver::new_spi(icm())),
+            ("icm42688", "i2c") => {
+                Self::IcmI2c(icm42688::Driver::new_i2c(icm(), icm42688::I2C_ADDRESS))
+            }
+            ("lsm6dsox", "spi") => Self::LsmSpi(lsm6dsox::Driver::new_spi(lsm())),
+            ("lsm6dsox", "i2c") => {
+                Self::LsmI2c(lsm6dsox::Driver::new_i2c(lsm(), lsm6dsox::I2C_ADDRESS))
+            }
             other => panic!(
                 "TRIAD_E2E_SENSOR/TRIAD_E2E_BUS {other:?}: expected icm42688 or lsm6dsox on spi or i2c"
             ),

@@ -38,6 +38,7 @@ pub const PEAK_TAU_PER_TC: f64 = 1.8926;
 
 /// Where the flat floor should lie and how many terms build it.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "scene-blob", derive(serde::Serialize, serde::Deserialize))]
 pub struct BiasInstabilityParams {
     /// The bias-instability coefficient B (SI units of the triad); the Allan
     /// floor is 0.664·B.

@@ -20,6 +20,8 @@ pub mod rotation;
 pub mod saturation;
 pub mod scale_misalignment;
 pub mod scene;
+#[cfg(feature = "scene-blob")]
+pub mod scene_blob;
 pub mod simulator;
 pub mod source;
 pub mod temperature_dependence;

@@ -10,6 +10,7 @@ use crate::units::{EARTH_RATE, STANDARD_GRAVITY};
 
 /// A signed body axis.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "scene-blob", derive(serde::Serialize, serde::Deserialize))]
 pub enum Axis {
     /// +x.
     PlusX,
@@ -41,6 +42,7 @@ impl Axis {
 
 /// Where the scene happens.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "scene-blob", derive(serde::Serialize, serde::Deserialize))]
 pub struct Environment {
     /// Magnitude of gravity, m/s² (9.80665 standard, or a local value).
     pub gravity: f64,
@@ -59,6 +61,7 @@ impl Default for Environment {
 
 /// The motion of a scene.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "scene-blob", derive(serde::Serialize, serde::Deserialize))]
 pub enum Motion {
     /// At rest at a fixed attitude (z-y-x Euler angles roll, pitch, yaw; radians).
     Static {

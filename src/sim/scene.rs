@@ -10,6 +10,7 @@ use super::temperature_profile::TemperatureProfile;
 
 /// Parameters of a first-order Gauss–Markov bias, per axis.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "scene-blob", derive(serde::Serialize, serde::Deserialize))]
 pub struct GaussMarkovParams {
     /// Stationary standard deviation σ (SI units of the triad).
     pub sigma: [f64; 3],
@@ -20,6 +21,7 @@ pub struct GaussMarkovParams {
 /// The error effects of one triad. SI units: m/s² for accelerometers, rad/s
 /// for gyros ("U" below).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "scene-blob", derive(serde::Serialize, serde::Deserialize))]
 pub struct TriadEffects {
     /// White-noise density N, U/√Hz (ARW or VRW).
     pub white_noise: Option<[f64; 3]>,
@@ -72,6 +74,7 @@ impl TriadEffects {
 
 /// Everything the simulator needs to produce samples.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "scene-blob", derive(serde::Serialize, serde::Deserialize))]
 pub struct Scene {
     /// Sample rate, Hz.
     pub rate_hz: f64,

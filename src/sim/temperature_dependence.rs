@@ -4,6 +4,7 @@
 
 /// Linear temperature coefficients of one triad.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "scene-blob", derive(serde::Serialize, serde::Deserialize))]
 pub struct TemperatureDependence {
     /// Temperature at which both terms vanish, °C.
     pub reference: f64,

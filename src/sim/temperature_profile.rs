@@ -2,6 +2,7 @@
 
 /// Temperature over time.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "scene-blob", derive(serde::Serialize, serde::Deserialize))]
 pub enum TemperatureProfile {
     /// Constant, °C.
     Constant(f64),

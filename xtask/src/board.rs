@@ -114,6 +114,15 @@ impl Firmware {
         })
     }
 
+    /// The emulated board with the default chip and bus (ICM-42688-P on SPI).
+    pub fn default_emulated() -> Firmware {
+        Firmware {
+            board: Board::Qemu,
+            sensor: Sensor::Icm42688,
+            bus: Bus::Spi,
+        }
+    }
+
     /// The cargo features that select this build.
     pub fn features(self) -> String {
         format!(

@@ -1,7 +1,7 @@
 //! Builds: the host tool, the calibration blob, the firmware; and the
 //! hardware run.
 
-use crate::board::Firmware;
+use crate::board::{Board, Firmware};
 use anyhow::{bail, Context, Result};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -70,7 +70,44 @@ pub fn pack_calibration(triad: &Path, toml: Option<&Path>) -> Result<PathBuf> {
 /// the chip and bus, so the next build (same board, other features) does not
 /// overwrite it.
 pub fn build_firmware(firmware: Firmware, calibration: &Path) -> Result<PathBuf> {
+    build(firmware, calibration, None)
+}
+
+/// The emulated board's firmware with its chip model fed by the simulator
+/// running the scene in `scene_blob` (feature `sim-scene`, see build.rs).
+pub fn build_firmware_with_scene(
+    firmware: Firmware,
+    calibration: &Path,
+    scene_blob: &Path,
+) -> Result<PathBuf> {
+    build(firmware, calibration, Some(scene_blob))
+}
+
+/// Writes the blob of scene `name` (a scenes/ name or a file) with `seed`
+/// for the emulated board, with `triad sim --pack`; returns its path.
+pub fn pack_scene(triad: &Path, name: &str, seed: u64) -> Result<PathBuf> {
+    let blob = root().join("target/scene.bin");
+    let mut command = Command::new(triad);
+    command
+        .current_dir(root())
+        .args([
+            "sim",
+            "--scene",
+            name,
+            "--seed",
+            &seed.to_string(),
+            "--pack",
+        ])
+        .arg(&blob);
+    check(command, &format!("triad sim --scene {name} --pack"))?;
+    Ok(blob)
+}
+
+fn build(firmware: Firmware, calibration: &Path, scene: Option<&Path>) -> Result<PathBuf> {
     let board = firmware.board;
+    if scene.is_some() && board != Board::Qemu {
+        bail!("--scene feeds the emulated board's chip model: use it with --board qemu");
+    }
     // One target dir per board: each board's build keeps its artefacts, and
     // the chip and bus features rebuild only the triad crate.
     let target_dir = root().join("target/firmware").join(board.name());
@@ -86,9 +123,15 @@ pub fn build_firmware(firmware: Firmware, calibration: &Path) -> Result<PathBuf>
             "triad-firmware",
         ])
         .args(["--target", board.target(), "--features"])
-        .arg(firmware.features())
+        .arg(match scene {
+            Some(_) => format!("{},sim-scene", firmware.features()),
+            None => firmware.features(),
+        })
         .env("TRIAD_CALIBRATION", calibration)
         .env("CARGO_TARGET_DIR", &target_dir);
+    if let Some(blob) = scene {
+        command.env("TRIAD_SCENE", blob);
+    }
     check(
         command,
         &format!("building the firmware for {}", firmware.label()),
@@ -97,9 +140,10 @@ pub fn build_firmware(firmware: Firmware, calibration: &Path) -> Result<PathBuf>
         .join(board.target())
         .join("release/triad-firmware");
     let elf = target_dir.join(format!(
-        "triad-firmware-{}-{}",
+        "triad-firmware-{}-{}{}",
         firmware.sensor.name(),
-        firmware.bus.name()
+        firmware.bus.name(),
+        if scene.is_some() { "-scene" } else { "" }
     ));
     std::fs::copy(&built, &elf)
         .with_context(|| format!("copying {} to {}", built.display(), elf.display()))?;

@@ -69,6 +69,13 @@ pub struct RunArgs {
     /// Calibration file (TOML) to embed; default calibrations/default.toml.
     #[arg(long)]
     calib: Option<std::path::PathBuf>,
+    /// Feed the emulated board's chip model with this scene (a scenes/ name
+    /// or a TOML file) simulated at the chip's rate, instead of the demo motion.
+    #[arg(long, value_name = "NAME|FILE")]
+    scene: Option<String>,
+    /// Seed of the scene's random streams (with --scene).
+    #[arg(long, default_value_t = 1, requires = "scene")]
+    seed: u64,
     /// Serial port of the hardware board's stream (nucleo-f401re only).
     #[arg(long, default_value = "/dev/ttyACM0")]
     port: String,
@@ -107,7 +114,13 @@ fn run(args: RunArgs) -> anyhow::Result<()> {
         bus: args.bus,
     };
     eprintln!("xtask: firmware for {}", firmware.label());
-    let elf = cmd::build_firmware(firmware, &calibration)?;
+    let elf = match &args.scene {
+        Some(name) => {
+            let blob = cmd::pack_scene(&triad, name, args.seed)?;
+            cmd::build_firmware_with_scene(firmware, &calibration, &blob)?
+        }
+        None => cmd::build_firmware(firmware, &calibration)?,
+    };
     let frames = firmware.frames_in(args.seconds);
     match args.board {
         board::Board::Qemu => {
