@@ -2,6 +2,7 @@
 //! documented columns and length, the same seed gives the same bytes, a scene
 //! without effects gives the truth, and bad scenes fail with a file position.
 
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -218,4 +219,78 @@ fn unknown_scene_name_says_where_it_looked() {
     assert!(!output.status.success());
     let err = String::from_utf8_lossy(&output.stderr);
     assert!(err.contains("no-such-scene.toml"), "{err}");
+}
+
+/// `--pack` writes the blob the emulated board embeds: decoded and simulated,
+/// it gives the very samples `triad sim` writes for the same scene and seed,
+/// for every shipped scene.
+#[test]
+fn packed_scenes_simulate_exactly_what_triad_sim_writes() {
+    use triad::sim::scene_blob::decode;
+    use triad::sim::simulator::Simulator;
+    for entry in std::fs::read_dir(scenes_dir()).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_none_or(|e| e != "toml") {
+            continue;
+        }
+        let name = path.file_stem().unwrap().to_string_lossy().into_owned();
+        let (blob, csv) = (tmp(&format!("{name}.bin")), tmp(&format!("{name}-p.csv")));
+        let packed = triad()
+            .args(["sim", "--scene", &name, "--seed", "42", "--pack"])
+            .arg(&blob)
+            .status()
+            .unwrap();
+        assert!(packed.success(), "{name}: pack");
+        let simulated = triad()
+            .args([
+                "sim",
+                "--scene",
+                &name,
+                "--seed",
+                "42",
+                "--seconds",
+                "0.2",
+                "--out",
+            ])
+            .arg(&csv)
+            .status()
+            .unwrap();
+        assert!(simulated.success(), "{name}: sim");
+
+        let (scene, seed) = decode(&std::fs::read(&blob).unwrap()).unwrap();
+        assert_eq!(seed, 42);
+        let mut sim = Simulator::new(&scene, seed).unwrap();
+        let text = std::fs::read_to_string(&csv).unwrap();
+        let rows: Vec<&str> = text.lines().skip(1).collect();
+        assert!(!rows.is_empty(), "{name}: rows");
+        for row in rows {
+            let s = sim.step();
+            let mut line = Vec::new();
+            let m = s.measured;
+            write!(
+                line,
+                "{},{},{},{},{},{},{},{}",
+                s.t,
+                m.specific_force[0],
+                m.specific_force[1],
+                m.specific_force[2],
+                m.angular_rate[0],
+                m.angular_rate[1],
+                m.angular_rate[2],
+                m.temperature
+            )
+            .unwrap();
+            assert_eq!(String::from_utf8(line).unwrap(), row, "{name}");
+        }
+    }
+}
+
+#[test]
+fn pack_refuses_to_go_without_a_file_and_sim_without_out() {
+    let out = triad()
+        .args(["sim", "--scene", "static-bench"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--out"));
 }
