@@ -1,41 +1,45 @@
-//! Host figures: the same variants timed on this machine by the release
-//! build of host/examples/bench_model.rs (xtask itself is built without
-//! full optimisation, so it must not time anything).
+//! Host figures: the same variants timed on this machine by criterion
+//! (host/benches/model.rs, a release build: xtask itself is built without
+//! full optimisation, so it must not time anything), read back from
+//! criterion's estimates.
 
 use anyhow::{Context, Result};
-use triad::bench::Variant;
+use triad::bench::{Variant, BATCH, BATCHES};
 
-use crate::cmd::cargo;
+use crate::cmd::{cargo, check, root};
 
-/// Nanoseconds per 6-axis sample on the host, per variant.
+/// Nanoseconds per 6-axis sample on the host, per variant (criterion's mean).
 pub fn measure() -> Result<Vec<(Variant, f64)>> {
     let mut command = cargo();
     command.args([
-        "run",
+        "bench",
         "--quiet",
-        "--release",
         "-p",
         "triad-host",
-        "--example",
-        "bench_model",
+        "--bench",
+        "model",
         "--",
-        "--json",
+        "--warm-up-time",
+        "1",
+        "--measurement-time",
+        "2",
     ]);
-    let output = command.output().context("running the host benchmark")?;
-    anyhow::ensure!(
-        output.status.success(),
-        "the host benchmark failed: {}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    let rows: Vec<serde_json::Value> =
-        serde_json::from_slice(&output.stdout).context("the host benchmark's JSON")?;
-    rows.iter()
-        .map(|r| {
-            let name = r["variant"].as_str().context("variant name")?;
-            let variant = Variant::from_name(name)
-                .with_context(|| format!("unknown variant {name:?} from the host benchmark"))?;
-            let ns = r["ns_per_sample"].as_f64().context("ns_per_sample")?;
-            Ok((variant, ns))
+    check(command, "the host benchmark (criterion)")?;
+    Variant::ALL
+        .into_iter()
+        .map(|variant| {
+            let path = root()
+                .join("target/criterion/model")
+                .join(variant.name())
+                .join("new/estimates.json");
+            let text = std::fs::read_to_string(&path)
+                .with_context(|| format!("reading {}", path.display()))?;
+            let estimates: serde_json::Value = serde_json::from_str(&text)
+                .with_context(|| format!("parsing {}", path.display()))?;
+            let ns = estimates["mean"]["point_estimate"]
+                .as_f64()
+                .with_context(|| format!("no mean.point_estimate in {}", path.display()))?;
+            Ok((variant, ns / (BATCH * BATCHES) as f64))
         })
         .collect()
 }

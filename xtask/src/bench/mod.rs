@@ -64,7 +64,8 @@ pub fn run(json: bool) -> Result<()> {
         print!("{}", report::table(&rows));
     }
     let docs = crate::cmd::root().join("docs");
-    std::fs::write(docs.join("benchmarks.svg"), plot::svg(&rows))?;
+    let svg = plot::svg(&rows).map_err(|e| anyhow::anyhow!("plotting: {e}"))?;
+    std::fs::write(docs.join("benchmarks.svg"), svg)?;
     std::fs::write(docs.join("BENCHMARKS.md"), report::markdown(&rows, &host)?)?;
     eprintln!("xtask: wrote docs/BENCHMARKS.md and docs/benchmarks.svg");
     Ok(())

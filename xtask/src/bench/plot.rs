@@ -1,34 +1,29 @@
 //! docs/benchmarks.svg: maximum error against instructions per sample, one
 //! panel per core, log-log, each variant a labelled point, the Pareto front
 //! (no other variant both faster and more accurate) joined by a line.
-//! Written as SVG text directly: a scatter of a dozen points needs no
-//! plotting library, and text in SVG needs no font files at render time.
+//! Rendered by plotters' SVG backend (text stays text: no fonts needed).
 
 use super::{Core, Row};
-use std::fmt::Write;
+use plotters::prelude::*;
 
-const PANEL_W: f64 = 520.0;
-const PANEL_H: f64 = 380.0;
-const MARGIN: f64 = 60.0;
 /// Errors below this (the f64 row: 0) are drawn at it.
 const ERROR_FLOOR: f64 = 1e-4;
+const PANEL: (u32, u32) = (640, 460);
 
 /// The SVG document.
-pub fn svg(rows: &[Row]) -> String {
-    let width = MARGIN + Core::ALL.len() as f64 * (PANEL_W + MARGIN);
-    let height = PANEL_H + 2.0 * MARGIN;
-    let mut s = String::new();
-    let _ = writeln!(
-        s,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" font-family="sans-serif" font-size="11">"#
-    );
-    let _ = writeln!(s, r#"<rect width="100%" height="100%" fill="white"/>"#);
-    for (n, core) in Core::ALL.into_iter().enumerate() {
-        let x0 = MARGIN + n as f64 * (PANEL_W + MARGIN);
-        panel(&mut s, rows, core, x0, MARGIN);
+pub fn svg(rows: &[Row]) -> Result<String, Box<dyn std::error::Error>> {
+    let mut out = String::new();
+    {
+        let size = (PANEL.0 * Core::ALL.len() as u32, PANEL.1);
+        let root = SVGBackend::with_string(&mut out, size).into_drawing_area();
+        root.fill(&WHITE)?;
+        let panels = root.split_evenly((1, Core::ALL.len()));
+        for (area, core) in panels.iter().zip(Core::ALL) {
+            panel(area, rows, core)?;
+        }
+        root.present()?;
     }
-    s.push_str("</svg>\n");
-    s
+    Ok(out)
 }
 
 /// The points of a core: (instructions, max error LSB, name).
@@ -43,7 +38,7 @@ fn points(rows: &[Row], core: Core) -> Vec<(f64, f64, &'static str)> {
 }
 
 /// The Pareto front, by increasing instructions.
-fn front(points: &[(f64, f64, &'static str)]) -> Vec<(f64, f64)> {
+pub fn front(points: &[(f64, f64, &'static str)]) -> Vec<(f64, f64)> {
     let mut sorted: Vec<(f64, f64)> = points.iter().map(|p| (p.0, p.1)).collect();
     sorted.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
     let mut out: Vec<(f64, f64)> = Vec::new();
@@ -55,81 +50,76 @@ fn front(points: &[(f64, f64, &'static str)]) -> Vec<(f64, f64)> {
     out
 }
 
-fn decades(lo: f64, hi: f64) -> (i32, i32) {
-    (lo.log10().floor() as i32, hi.log10().ceil() as i32)
+fn decade_below(x: f64) -> f64 {
+    10f64.powf(x.log10().floor())
 }
 
-fn panel(s: &mut String, rows: &[Row], core: Core, x0: f64, y0: f64) {
+fn decade_above(x: f64) -> f64 {
+    10f64.powf(x.log10().ceil())
+}
+
+fn panel(
+    area: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
+    rows: &[Row],
+    core: Core,
+) -> Result<(), Box<dyn std::error::Error>> {
     let pts = points(rows, core);
     if pts.is_empty() {
-        return;
+        return Ok(());
     }
-    let (xl, xh) = decades(
-        pts.iter().map(|p| p.0).fold(f64::INFINITY, f64::min),
-        pts.iter().map(|p| p.0).fold(0.0, f64::max),
-    );
-    let (yl, yh) = decades(ERROR_FLOOR, pts.iter().map(|p| p.1).fold(1.0, f64::max));
-    let px = |x: f64| x0 + (x.log10() - f64::from(xl)) / f64::from(xh - xl) * PANEL_W;
-    let py = |y: f64| y0 + PANEL_H - (y.log10() - f64::from(yl)) / f64::from(yh - yl) * PANEL_H;
-    let _ = writeln!(
-        s,
-        r##"<rect x="{x0}" y="{y0}" width="{PANEL_W}" height="{PANEL_H}" fill="none" stroke="#444"/>"##
-    );
-    for d in xl..=xh {
-        let x = px(10f64.powi(d));
-        let _ = writeln!(
-            s,
-            r##"<line x1="{x}" y1="{y0}" x2="{x}" y2="{}" stroke="#ddd"/><text x="{x}" y="{}" text-anchor="middle">1e{d}</text>"##,
-            y0 + PANEL_H,
-            y0 + PANEL_H + 15.0
+    let x_lo = decade_below(pts.iter().map(|p| p.0).fold(f64::INFINITY, f64::min));
+    let x_hi = decade_above(pts.iter().map(|p| p.0).fold(0.0, f64::max)) * 3.0;
+    let y_hi = decade_above(pts.iter().map(|p| p.1).fold(1.0, f64::max));
+    let mut chart = ChartBuilder::on(area)
+        .caption(
+            format!("{}: max error vs cost", core.name()),
+            ("sans-serif", 18),
+        )
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(60)
+        .build_cartesian_2d((x_lo..x_hi).log_scale(), (ERROR_FLOOR..y_hi).log_scale())?;
+    chart
+        .configure_mesh()
+        .x_desc("instructions per 6-axis sample")
+        .y_desc("max error, LSB (realistic calibration)")
+        .x_label_formatter(&|x| format!("{x:.0e}"))
+        .y_label_formatter(&|y| format!("{y:.0e}"))
+        .draw()?;
+    chart
+        .draw_series(LineSeries::new(front(&pts), RED.stroke_width(2)))?
+        .label("Pareto front")
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], RED.stroke_width(2)));
+    chart.draw_series(pts.iter().map(|&(x, y, name)| {
+        EmptyElement::at((x, y))
+            + Circle::new((0, 0), 4, BLUE.filled())
+            + Text::new(name, (6, -14), ("sans-serif", 12))
+    }))?;
+    chart
+        .configure_series_labels()
+        .border_style(BLACK)
+        .background_style(WHITE)
+        .draw()?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::front;
+
+    #[test]
+    fn the_front_keeps_only_points_no_other_beats_in_both() {
+        let pts = [
+            (37.0, 130.0, "bias"),
+            (37.0, 80.0, "diag"),
+            (60.0, 0.008, "fusion"),
+            (90.0, 0.005, "f32"),
+            (340.0, 0.12, "stale"),
+            (3900.0, 1e-4, "f64"),
+        ];
+        assert_eq!(
+            front(&pts),
+            vec![(37.0, 80.0), (60.0, 0.008), (90.0, 0.005), (3900.0, 1e-4)]
         );
     }
-    for d in yl..=yh {
-        let y = py(10f64.powi(d));
-        let _ = writeln!(
-            s,
-            r##"<line x1="{x0}" y1="{y}" x2="{}" y2="{y}" stroke="#ddd"/><text x="{}" y="{}" text-anchor="end">1e{d}</text>"##,
-            x0 + PANEL_W,
-            x0 - 5.0,
-            y + 4.0
-        );
-    }
-    let _ = writeln!(
-        s,
-        r#"<text x="{}" y="{}" text-anchor="middle" font-size="13">{}: max error (LSB, realistic calibration) vs instructions per 6-axis sample</text>"#,
-        x0 + PANEL_W / 2.0,
-        y0 - 12.0,
-        core.name()
-    );
-    let _ = writeln!(
-        s,
-        r#"<text x="{}" y="{}" text-anchor="middle">instructions per sample (log)</text>"#,
-        x0 + PANEL_W / 2.0,
-        y0 + PANEL_H + 32.0
-    );
-    let line: Vec<String> = front(&pts)
-        .iter()
-        .map(|&(x, y)| format!("{:.1},{:.1}", px(x), py(y)))
-        .collect();
-    let _ = writeln!(
-        s,
-        r##"<polyline points="{}" fill="none" stroke="#c33" stroke-width="2"/>"##,
-        line.join(" ")
-    );
-    for (x, y, name) in &pts {
-        let _ = writeln!(
-            s,
-            r##"<circle cx="{:.1}" cy="{:.1}" r="4" fill="#236"/><text x="{:.1}" y="{:.1}">{name}</text>"##,
-            px(*x),
-            py(*y),
-            px(*x) + 6.0,
-            py(*y) - 6.0
-        );
-    }
-    let _ = writeln!(
-        s,
-        r##"<text x="{}" y="{}" fill="#c33">Pareto front</text>"##,
-        x0 + PANEL_W - 80.0,
-        y0 + 15.0
-    );
 }

@@ -137,7 +137,7 @@ pub fn markdown(rows: &[Row], host: &[(Variant, f64)]) -> Result<String> {
     writeln!(md, "## Host\n")?;
     writeln!(
         md,
-        "The same functions on the machine that ran this (release build of `host/examples/bench_model.rs`, median of 101 runs of 1000 samples, kernel only). Indicative: a shared machine, not the device.\n"
+        "The same functions on the machine that ran this, by criterion (`cargo bench -p triad-host --bench model`: mean of its samples, kernel only, 1000 samples per iteration). Indicative: a shared machine, not the device.\n"
     )?;
     writeln!(md, "| variant | ns / sample | samples / s |")?;
     writeln!(md, "|---|---:|---:|")?;
