@@ -59,24 +59,29 @@ pub struct Frame {
 }
 
 impl Frame {
-    /// The frame's bytes before stuffing, CRC included.
+    /// The frame's bytes before stuffing, CRC included. Every field goes to
+    /// a constant offset, so the copies compile to plain stores (no bounds
+    /// checks: this runs once per frame on the device).
     pub fn to_bytes(&self) -> [u8; FRAME_LEN] {
-        let mut bytes = [0u8; FRAME_LEN];
-        let mut w = Writer { rest: &mut bytes };
-        w.put([VERSION]);
-        w.put(self.sequence.to_le_bytes());
-        w.put(self.timestamp_us.to_le_bytes());
-        w.put(self.flags.bits().to_le_bytes());
-        w.put(self.overruns.to_le_bytes());
-        w.put(self.dropped.to_le_bytes());
-        w.put(self.calibration_id.to_le_bytes());
-        for v in self.accel.iter().chain(&self.gyro) {
-            w.put(v.to_le_bytes());
+        fn put<const N: usize>(bytes: &mut [u8; FRAME_LEN], at: usize, field: [u8; N]) {
+            bytes[at..at + N].copy_from_slice(&field);
         }
-        w.put(self.temperature.to_le_bytes());
-        let (checked, crc) = bytes.split_at_mut(CHECKED_LEN);
-        crc.copy_from_slice(&crc32c(checked).to_le_bytes());
-        bytes
+        let mut b = [0u8; FRAME_LEN];
+        b[0] = VERSION;
+        put(&mut b, 1, self.sequence.to_le_bytes());
+        put(&mut b, 5, self.timestamp_us.to_le_bytes());
+        put(&mut b, 9, self.flags.bits().to_le_bytes());
+        put(&mut b, 11, self.overruns.to_le_bytes());
+        put(&mut b, 13, self.dropped.to_le_bytes());
+        put(&mut b, 15, self.calibration_id.to_le_bytes());
+        for (i, v) in self.accel.iter().chain(&self.gyro).enumerate() {
+            put(&mut b, 19 + 4 * i, v.to_le_bytes());
+        }
+        put(&mut b, 43, self.temperature.to_le_bytes());
+        const _: () = assert!(CHECKED_LEN == 47 && FRAME_LEN == 51);
+        let crc = crc32c(&b[..CHECKED_LEN]);
+        put(&mut b, CHECKED_LEN, crc.to_le_bytes());
+        b
     }
 
     /// Reads a frame from its unstuffed bytes: checks the CRC first (nothing
@@ -121,23 +126,6 @@ impl Frame {
             gyro,
             temperature,
         })
-    }
-}
-
-/// Writes consecutive fields; the layout's sizes are constants, and a field
-/// that would not fit is dropped rather than panicking (the round-trip tests
-/// would catch such a layout error).
-struct Writer<'a> {
-    rest: &'a mut [u8],
-}
-
-impl Writer<'_> {
-    fn put<const N: usize>(&mut self, field: [u8; N]) {
-        let rest = core::mem::take(&mut self.rest);
-        if let Some((head, tail)) = rest.split_first_chunk_mut::<N>() {
-            *head = field;
-            self.rest = tail;
-        }
     }
 }
 

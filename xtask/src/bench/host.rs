@@ -24,6 +24,8 @@ pub fn measure() -> Result<Vec<(Variant, f64)>> {
         "--measurement-time",
         "2",
     ]);
+    // Criterion's progress to stderr: stdout carries the table or the JSON.
+    command.stdout(std::io::stderr());
     check(command, "the host benchmark (criterion)")?;
     Variant::ALL
         .into_iter()
