@@ -510,7 +510,7 @@ pub fn diagonal_f32(k: &AxisGains, input: &[RawSample; BATCH], out: &mut [[[f32;
 
 #[inline(always)]
 fn axis_gains(k: &AxisGains, input: &[RawSample; BATCH], out: &mut [[[f32; 3]; 2]; BATCH]) {
-    for (raw, o) in input.iter().zip(out.iter_mut()) {
+    for (o, raw) in out.iter_mut().zip(input) {
         for (t, v) in [&raw.accel, &raw.gyro].into_iter().enumerate() {
             let x = to_f32(v);
             for i in 0..3 {
@@ -527,7 +527,7 @@ pub fn fusion_f32(
     input: &[RawSample; BATCH],
     out: &mut [[[f32; 3]; 2]; BATCH],
 ) {
-    for (raw, o) in input.iter().zip(out.iter_mut()) {
+    for (o, raw) in out.iter_mut().zip(input) {
         for (t, v) in [&raw.accel, &raw.gyro].into_iter().enumerate() {
             let f = &k[t];
             let x = to_f32(v);
@@ -546,7 +546,7 @@ pub fn fusion_f32(
 /// The firmware's hot path: [`Corrector::correct`].
 #[inline(never)]
 pub fn full_f32(c: &Corrector, input: &[RawSample; BATCH], out: &mut [Sample; BATCH]) {
-    for (raw, o) in input.iter().zip(out.iter_mut()) {
+    for (o, raw) in out.iter_mut().zip(input) {
         *o = c.correct(raw);
     }
 }
@@ -554,7 +554,7 @@ pub fn full_f32(c: &Corrector, input: &[RawSample; BATCH], out: &mut [Sample; BA
 /// [`FixedCorrector::correct`].
 #[inline(never)]
 pub fn full_fixed(c: &FixedCorrector, input: &[RawSample; BATCH], out: &mut [FixedSample; BATCH]) {
-    for (raw, o) in input.iter().zip(out.iter_mut()) {
+    for (o, raw) in out.iter_mut().zip(input) {
         *o = c.correct(raw);
     }
 }
@@ -563,7 +563,7 @@ pub fn full_fixed(c: &FixedCorrector, input: &[RawSample; BATCH], out: &mut [Fix
 #[inline(never)]
 pub fn full_f64(c: &Corrector, input: &[RawSample; BATCH], out: &mut [F64Sample; BATCH]) {
     let folded = [c.folded(Triad::Accel), c.folded(Triad::Gyro)];
-    for (raw, o) in input.iter().zip(out.iter_mut()) {
+    for (o, raw) in out.iter_mut().zip(input) {
         for (t, v) in [&raw.accel, &raw.gyro].into_iter().enumerate() {
             let x = [f64::from(v[0]), f64::from(v[1]), f64::from(v[2])];
             o.triads[t] = folded[t].apply(&x);
@@ -579,7 +579,7 @@ pub fn refold_every_sample(
     input: &[RawSample; BATCH],
     out: &mut [Sample; BATCH],
 ) {
-    for (raw, o) in input.iter().zip(out.iter_mut()) {
+    for (o, raw) in out.iter_mut().zip(input) {
         let _ = c.refold(c.scale().temperature_c(raw.temperature));
         *o = c.correct(raw);
     }
@@ -589,7 +589,7 @@ pub fn refold_every_sample(
 #[inline(never)]
 pub fn refold_low_rate(c: &mut Corrector, input: &[RawSample; BATCH], out: &mut [Sample; BATCH]) {
     let _ = c.refold(c.scale().temperature_c(input[0].temperature));
-    for (raw, o) in input.iter().zip(out.iter_mut()) {
+    for (o, raw) in out.iter_mut().zip(input) {
         *o = c.correct(raw);
     }
 }
@@ -601,7 +601,7 @@ pub fn pipeline_batch(
     input: &[RawSample; BATCH],
     out: &mut [EncodedFrame; BATCH],
 ) {
-    for (raw, o) in input.iter().zip(out.iter_mut()) {
+    for (o, raw) in out.iter_mut().zip(input) {
         p.step(raw, o);
     }
 }

@@ -34,11 +34,13 @@ impl ClipFlags {
 
 /// Any axis at i16::MIN or i16::MAX, branch-free in a few instructions:
 /// m = x ^ (x >> 15) is x for x ≥ 0 and −x − 1 for x < 0, so m ≤ 32767 with
-/// equality exactly at the two limit codes, and m + 1 sets bit 15 only there.
+/// equality exactly at the two limit codes, and m + 1 sets bit 15 only there
+/// (no m + 1 reaches bit 16). Testing that one bit, rather than the shifted
+/// value against zero, lets the compiler store it as the bool directly.
 #[inline(always)]
 fn at_limit(v: &[i16; 3]) -> bool {
     let m = |x: i16| (i32::from(x) ^ (i32::from(x) >> 15)) + 1;
-    (m(v[0]) | m(v[1]) | m(v[2])) >> 15 != 0
+    ((m(v[0]) | m(v[1]) | m(v[2])) >> 15) & 1 != 0
 }
 
 /// One corrected sample, f32, in the board's axes.
