@@ -188,17 +188,17 @@ pub fn markdown(rows: &[Row], host: &[(Variant, f64)]) -> Result<String> {
 const WHY: &str = "
 Why the targets are not all met:
 
-- `full_f32` on the Cortex-M4F: the 24 coefficients of K and k, the two of the
-  temperature channel, the six converted inputs and the six accumulators do
-  not fit the 32 single-precision registers, so about seven coefficients are
-  reloaded from the stack every sample; LLVM indexes the output with a counter,
-  which costs one address add per store (seven); the clip flags cost about 20
-  instructions (an `eor` with shifted operand and an `add` per axis, the OR,
-  the shift and a conditional store per triad); the temperature channel
-  about 5. Without clip flags and temperature the same loop is the
-  `fusion_f32` row. Closing the gap needs the DSP instructions (QADD16 clip
-  test on packed pairs), which stable Rust does not expose, or hand-written
-  assembly.
+- `full_f32` on the Cortex-M4F: per sample the loop is 18 multiply-adds, 6
+  loads, conversions and stores of the axes, 4 accumulator starts, then 6
+  coefficients reloaded from the stack (the 24 of K and k and the 2 of the
+  temperature channel, with the converted inputs and the accumulators, do not
+  fit the 32 single-precision registers), about 20 instructions of clip
+  flags (an `eor` with shifted operand and an `add` per axis, two ORs, a
+  bit extract and a byte store per triad), about 5 for the temperature
+  channel and 4 of loop. Without clip flags and temperature the same loop is
+  the `fusion_f32` row. Closing the gap needs the DSP instructions (a QADD16
+  clip test on packed pairs), which stable Rust does not expose, or
+  hand-written assembly.
 - `full_fixed` on the Cortex-M0: it uses only 32-bit `MULS` (see
   src/model/fixed_narrow.rs; the i64 form it replaced measured 980
   instructions because every i64 product is a library call), but each of the
