@@ -29,6 +29,9 @@ pub enum Variant {
     FusionF32,
     /// The full folded model m = K·raw + k with clip flags (f32): the firmware's hot path.
     FullF32,
+    /// The same, one out-of-line call per sample as the firmware's data-ready
+    /// task makes it: the coefficients come from memory at every call.
+    FullF32PerCall,
     /// The full folded model in integer-only fixed point.
     FullFixed,
     /// The full folded model in f64 (software floating point on both cores).
@@ -52,11 +55,12 @@ pub enum Variant {
 
 impl Variant {
     /// Every row, in the report's order.
-    pub const ALL: [Variant; 13] = [
+    pub const ALL: [Variant; 14] = [
         Variant::BiasOnlyF32,
         Variant::DiagonalF32,
         Variant::FusionF32,
         Variant::FullF32,
+        Variant::FullF32PerCall,
         Variant::FullFixed,
         Variant::FullF64,
         Variant::RefoldEverySample,
@@ -86,6 +90,7 @@ impl Variant {
             Variant::DiagonalF32 => "diagonal_f32",
             Variant::FusionF32 => "fusion_f32",
             Variant::FullF32 => "full_f32",
+            Variant::FullF32PerCall => "full_f32_per_call",
             Variant::FullFixed => "full_fixed",
             Variant::FullF64 => "full_f64",
             Variant::RefoldEverySample => "refold_every_sample",
@@ -102,6 +107,7 @@ impl Variant {
     pub fn kernel_symbol(self) -> &'static str {
         match self {
             Variant::Pipeline => "pipeline_batch",
+            Variant::FullF32PerCall => "correct_one",
             Variant::ReadBurst => "read_burst",
             Variant::ReadFifo1 | Variant::ReadFifo8 | Variant::ReadFifo32 => "read_fifo",
             _ => self.name(),
@@ -261,7 +267,7 @@ impl Bench {
             Variant::BiasOnlyF32 | Variant::DiagonalF32 | Variant::FusionF32 => {
                 self.run_simple(variant, meter, sink)
             }
-            Variant::FullF32 | Variant::FullF64 | Variant::FullFixed => {
+            Variant::FullF32 | Variant::FullF32PerCall | Variant::FullF64 | Variant::FullFixed => {
                 self.run_full(variant, meter, sink)
             }
             Variant::RefoldEverySample | Variant::RefoldLowRate => run_refold(variant, meter, sink),
@@ -320,6 +326,12 @@ impl Bench {
                 sink,
                 |o, sink| sink(Output::Sample(o)),
                 |i, o| full_f32(&c, i, o),
+            ),
+            Variant::FullF32PerCall => batches(
+                meter,
+                sink,
+                |o, sink| sink(Output::Sample(o)),
+                |i, o| full_f32_per_call(&c, i, o),
             ),
             Variant::FullF64 => batches(
                 meter,
@@ -549,6 +561,20 @@ pub fn full_f32(c: &Corrector, input: &[RawSample; BATCH], out: &mut [Sample; BA
     for (o, raw) in out.iter_mut().zip(input) {
         *o = c.correct(raw);
     }
+}
+
+/// [`Corrector::correct`] called out of line per sample.
+#[inline(never)]
+pub fn full_f32_per_call(c: &Corrector, input: &[RawSample; BATCH], out: &mut [Sample; BATCH]) {
+    for (o, raw) in out.iter_mut().zip(input) {
+        *o = correct_one(c, raw);
+    }
+}
+
+/// One sample, never inlined: what the data-ready task pays per call.
+#[inline(never)]
+fn correct_one(c: &Corrector, raw: &RawSample) -> Sample {
+    c.correct(raw)
 }
 
 /// [`FixedCorrector::correct`].

@@ -161,6 +161,13 @@ pub fn markdown(rows: &[Row], host: &[(Variant, f64)]) -> Result<String> {
             fusion.instructions_per_sample
         )?;
     }
+    if let Some(per_call) = find(rows, Core::CortexM4F, Variant::FullF32PerCall) {
+        writeln!(
+            md,
+            "- The same correction called once per sample, as the firmware's data-ready task calls it (coefficients loaded from memory at each call, the call itself): **{:.1}** instructions on the Cortex-M4F.",
+            per_call.instructions_per_sample
+        )?;
+    }
     if let (Some(f32_row), Some(fixed)) = (m0_f32, m0_fixed) {
         writeln!(
             md,
@@ -255,7 +262,8 @@ painting.
 Rows: `bias_only_f32` m = s·raw − b; `diagonal_f32` the diagonal of (I+Σ)
 and b; `fusion_f32` Fusion's M·((u − b)⊙s) once per triad, ported to Rust;
 `full_f32` the firmware's hot path m = K·raw + k with clip flags and the
-temperature channel; `full_fixed` the integer-only form; `full_f64` K·raw +
+temperature channel; `full_f32_per_call` the same called out of line once per
+sample (its flash is the called function); `full_fixed` the integer-only form; `full_f64` K·raw +
 k in f64 (software floating point on both cores); `refold_every_sample` and
 `refold_low_rate` the temperature terms refolded (f64 inversion) before every
 sample or once per 100 samples; `pipeline` the whole data-ready step (the
