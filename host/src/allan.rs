@@ -18,10 +18,9 @@
 //! an accelerometer) costs no digits (see `triad::allan::accumulate`).
 
 use std::fs::File;
-use std::io::{BufRead, BufReader, BufWriter, IsTerminal, Write};
+use std::io::{BufRead, BufReader, BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::time::Instant;
 
 use anyhow::{anyhow, bail, Context};
 use serde_json::json;
@@ -33,6 +32,7 @@ use triad::allan::noise_terms::{self, CurvePoint, NoiseFit, Term};
 use triad::units;
 
 use crate::allan_plot;
+use crate::progress::{Progress, Unit};
 
 /// Arguments of `triad allan`.
 #[derive(clap::Args)]
@@ -356,55 +356,6 @@ impl TimeCheck {
     }
 }
 
-/// A one-line progress bar on stderr for long inputs on a terminal.
-struct Progress {
-    total: u64,
-    start: Instant,
-    shown: bool,
-}
-
-impl Progress {
-    /// Inputs larger than this (bytes) show it.
-    const LONG: u64 = 64 << 20;
-
-    fn new(total: u64) -> Self {
-        Self {
-            total,
-            start: Instant::now(),
-            shown: total > Self::LONG && std::io::stderr().is_terminal(),
-        }
-    }
-
-    fn update(&self, done: u64) {
-        if !self.shown {
-            return;
-        }
-        let frac = (done as f64 / self.total as f64).min(1.0);
-        let width = 40;
-        let filled = (frac * width as f64) as usize;
-        let elapsed = self.start.elapsed().as_secs_f64();
-        let eta = if frac > 0.0 {
-            elapsed * (1.0 - frac) / frac
-        } else {
-            0.0
-        };
-        eprint!(
-            "\r[{}{}] {:5.1} % {} MB, {eta:.0} s left ",
-            "#".repeat(filled),
-            " ".repeat(width - filled),
-            100.0 * frac,
-            done >> 20
-        );
-    }
-
-    fn finish(&self) {
-        if self.shown {
-            self.update(self.total);
-            eprintln!();
-        }
-    }
-}
-
 /// Per-column streaming state.
 struct ColumnState {
     acc: OctaveAccumulator<Vec<f64>>,
@@ -563,7 +514,8 @@ pub fn analyse(args: &AllanArgs) -> anyhow::Result<Analysis> {
     push_block(&mut states, &first);
     drop(first);
 
-    let progress = Progress::new(size);
+    // Inputs over 64 MB show the bar.
+    let progress = Progress::new(size, 64 << 20, Unit::Bytes);
     let bytes_per_row = rows.bytes as f64 / first_rows.max(1) as f64;
     let (tx, rx) = std::sync::mpsc::sync_channel::<anyhow::Result<Vec<f64>>>(4);
     let rows = std::thread::scope(|scope| {

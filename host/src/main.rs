@@ -9,6 +9,7 @@ mod calib;
 mod calib_file;
 mod correct;
 mod decode;
+mod progress;
 mod scene_file;
 mod sim;
 

@@ -2,14 +2,14 @@
 //! as CSV (`t,ax,ay,az,gx,gy,gz,temp`, SI units), streaming in constant memory.
 
 use std::fs::File;
-use std::io::{BufWriter, IsTerminal, Write};
+use std::io::{BufWriter, Write};
 use std::path::PathBuf;
-use std::time::Instant;
 
 use anyhow::{bail, Context};
 use triad::sim::simulator::Simulator;
 use triad::sim::source::TrueSample;
 
+use crate::progress::{Progress, Unit};
 use crate::scene_file;
 
 /// Arguments of `triad sim`.
@@ -96,7 +96,8 @@ pub fn run(args: SimArgs) -> anyhow::Result<std::process::ExitCode> {
 
     let mut out = create(out_path)?;
     let mut truth = args.truth.as_ref().map(create).transpose()?;
-    let progress = Progress::new(total);
+    // About a second of work: 2 M samples.
+    let progress = Progress::new(total, 2_000_000, Unit::Samples);
     for k in 0..total {
         let s = sim.step();
         write_row(&mut out, s.t, &s.measured)
@@ -113,57 +114,8 @@ pub fn run(args: SimArgs) -> anyhow::Result<std::process::ExitCode> {
     if let Some(mut w) = truth {
         w.flush()?;
     }
-    progress.finish(total);
+    progress.finish();
     Ok(std::process::ExitCode::SUCCESS)
-}
-
-/// A one-line progress bar on stderr, shown only for long runs on a terminal.
-struct Progress {
-    total: u64,
-    start: Instant,
-    shown: bool,
-}
-
-impl Progress {
-    /// Runs of more than this many samples (about a second of work) show it.
-    const LONG: u64 = 2_000_000;
-
-    fn new(total: u64) -> Self {
-        Self {
-            total,
-            start: Instant::now(),
-            shown: total > Self::LONG && std::io::stderr().is_terminal(),
-        }
-    }
-
-    fn update(&self, done: u64) {
-        if !self.shown {
-            return;
-        }
-        let frac = done as f64 / self.total as f64;
-        let width = 40;
-        let filled = (frac * width as f64) as usize;
-        let elapsed = self.start.elapsed().as_secs_f64();
-        let eta = if frac > 0.0 {
-            elapsed * (1.0 - frac) / frac
-        } else {
-            0.0
-        };
-        eprint!(
-            "\r[{}{}] {:5.1} % {done}/{} samples, {eta:.0} s left ",
-            "#".repeat(filled),
-            " ".repeat(width - filled),
-            100.0 * frac,
-            self.total
-        );
-    }
-
-    fn finish(&self, total: u64) {
-        if self.shown {
-            self.update(total);
-            eprintln!();
-        }
-    }
 }
 
 /// `triad sim --pack`: the scene checked as the simulator checks it, then

@@ -25,6 +25,25 @@ impl Default for EncodedFrame {
     }
 }
 
+/// A sample as the ICM-42688-P's 14-byte data block: TEMP_DATA1 …
+/// GYRO_DATA_Z0, each register pair big-endian (DS-000347 §14.1 order).
+pub fn sample_block(raw: &RawSample) -> [u8; 14] {
+    let words = [
+        raw.temperature,
+        raw.accel[0],
+        raw.accel[1],
+        raw.accel[2],
+        raw.gyro[0],
+        raw.gyro[1],
+        raw.gyro[2],
+    ];
+    let mut block = [0u8; 14];
+    for (pair, w) in block.chunks_exact_mut(2).zip(words) {
+        pair.copy_from_slice(&w.to_be_bytes());
+    }
+    block
+}
+
 /// An SPI device that answers every read with the 14 bytes of one sample
 /// block (TEMP_DATA1 … GYRO_DATA_Z0, big-endian, ICM-42688-P §14.1 order).
 #[derive(Clone, Debug, Default)]
@@ -35,18 +54,7 @@ pub struct CannedSpi {
 impl CannedSpi {
     /// Loads the sample the next burst read returns.
     pub fn load(&mut self, raw: &RawSample) {
-        let words = [
-            raw.temperature,
-            raw.accel[0],
-            raw.accel[1],
-            raw.accel[2],
-            raw.gyro[0],
-            raw.gyro[1],
-            raw.gyro[2],
-        ];
-        for (pair, w) in self.block.chunks_exact_mut(2).zip(words) {
-            pair.copy_from_slice(&w.to_be_bytes());
-        }
+        self.block = sample_block(raw);
     }
 }
 

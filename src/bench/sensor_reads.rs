@@ -8,6 +8,7 @@ use core::convert::Infallible;
 
 use embedded_hal::spi::{ErrorType, Operation, SpiDevice};
 
+use super::pipeline::sample_block;
 use super::BATCH;
 use crate::sensor::icm42688::registers as reg;
 use crate::sensor::icm42688::Icm42688;
@@ -45,20 +46,11 @@ impl CannedFifoSpi {
     /// (header 0x68: accel and gyro, big-endian, 8-bit temperature, timestamp).
     pub fn load(&mut self, input: &[RawSample; BATCH]) {
         for ((raw, block), packet) in input.iter().zip(&mut self.blocks).zip(&mut self.packets) {
-            let axes = [
-                raw.accel[0],
-                raw.accel[1],
-                raw.accel[2],
-                raw.gyro[0],
-                raw.gyro[1],
-                raw.gyro[2],
-            ];
-            block[..2].copy_from_slice(&raw.temperature.to_be_bytes());
+            *block = sample_block(raw);
+            // The packet holds the six axes in the block's order, after the
+            // header and without the temperature, which follows as 8 bits.
             packet[0] = reg::HEADER_ACCEL | reg::HEADER_GYRO | reg::HEADER_TIMESTAMP_ODR;
-            for (i, v) in axes.iter().enumerate() {
-                block[2 + 2 * i..4 + 2 * i].copy_from_slice(&v.to_be_bytes());
-                packet[1 + 2 * i..3 + 2 * i].copy_from_slice(&v.to_be_bytes());
-            }
+            packet[1..13].copy_from_slice(&block[2..14]);
             packet[13] = (raw.temperature / 64) as u8;
         }
         self.next = 0;
