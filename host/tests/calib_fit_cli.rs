@@ -519,6 +519,15 @@ fn rate_runs(d: &Path, runs: &[(&str, f64)]) -> Vec<PathBuf> {
         .collect()
 }
 
+/// `triad calib fit gyro --rates RATES --out CAL --rate-table F…`.
+fn fit_gyro(rates: &str, files: &[PathBuf], cal: &Path) -> Output {
+    let mut args = vec!["calib", "fit", "gyro", "--rates", rates, "--out", s(cal)];
+    for f in files {
+        args.extend(["--rate-table", s(f)]);
+    }
+    triad(&args)
+}
+
 #[test]
 fn gyro_rate_table_round_trip_recovers_the_truth_within_3_sigma() {
     let d = dir("fit_gyro_round_trip");
@@ -543,11 +552,7 @@ fn gyro_rate_table_round_trip_recovers_the_truth_within_3_sigma() {
         .collect::<Vec<_>>()
         .join(",");
     let cal = d.join("cal.toml");
-    let mut args = vec!["calib", "fit", "gyro", "--rates", &rates, "--out", s(&cal)];
-    for f in &files {
-        args.extend(["--rate-table", s(f)]);
-    }
-    let out = triad(&args);
+    let out = fit_gyro(&rates, &files, &cal);
     assert!(out.status.success(), "{}", text(&out.stderr));
     assert!(
         text(&out.stdout).contains("gyro rate-table fit: 12 segments"),
@@ -624,19 +629,7 @@ fn gyro_fit_refuses_rates_about_one_axis_and_too_few_rates() {
     let runs = [("+z", 30.0), ("+z", -30.0), ("+z", 90.0), ("+z", -90.0)];
     let files = rate_runs(&d, &runs);
     let cal = d.join("cal.toml");
-    let mut args = vec![
-        "calib",
-        "fit",
-        "gyro",
-        "--rates",
-        "z:30,z:-30,z:90,z:-90",
-        "--out",
-        s(&cal),
-    ];
-    for f in &files {
-        args.extend(["--rate-table", s(f)]);
-    }
-    let out = triad(&args);
+    let out = fit_gyro("z:30,z:-30,z:90,z:-90", &files, &cal);
     let stderr = text(&out.stderr);
     assert!(!out.status.success());
     assert!(
@@ -644,38 +637,14 @@ fn gyro_fit_refuses_rates_about_one_axis_and_too_few_rates() {
         "{stderr}"
     );
 
-    let mut args = vec![
-        "calib",
-        "fit",
-        "gyro",
-        "--rates",
-        "z:30,z:-30,x:30",
-        "--out",
-        s(&cal),
-    ];
-    for f in &files[..3] {
-        args.extend(["--rate-table", s(f)]);
-    }
-    let out = triad(&args);
+    let out = fit_gyro("z:30,z:-30,x:30", &files[..3], &cal);
     let stderr = text(&out.stderr);
     assert!(
         stderr.contains("found 3 rate segment(s)") && stderr.contains("needs at least 4"),
         "{stderr}"
     );
 
-    let mut args = vec![
-        "calib",
-        "fit",
-        "gyro",
-        "--rates",
-        "z:30,z:-30",
-        "--out",
-        s(&cal),
-    ];
-    for f in &files[..3] {
-        args.extend(["--rate-table", s(f)]);
-    }
-    let out = triad(&args);
+    let out = fit_gyro("z:30,z:-30", &files[..3], &cal);
     assert!(
         text(&out.stderr).contains("--rates gives 2 rate(s) for 3 segment(s)"),
         "{}",

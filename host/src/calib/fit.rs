@@ -125,11 +125,7 @@ pub(super) fn given_segments(record: &Record, text: &str) -> anyhow::Result<Vec<
         .collect()
 }
 
-pub(super) fn insert_sigmas(
-    table: &mut toml::Table,
-    m: Option<&[[f64; 3]; 3]>,
-    b: Option<&[f64; 3]>,
-) {
+fn insert_sigmas(table: &mut toml::Table, m: Option<&[[f64; 3]; 3]>, b: Option<&[f64; 3]>) {
     if let (Some(m), Some(b)) = (m, b) {
         table.insert(
             "sigma_scale_misalignment".into(),
@@ -139,7 +135,72 @@ pub(super) fn insert_sigmas(
     }
 }
 
-pub(super) fn print_matrix(name: &str, m: &[[f64; 3]; 3], sigma: Option<&[[f64; 3]; 3]>) {
+/// What every (I+Σ), b fit prints and writes: the estimates with their
+/// standard deviations, the segment count, the residuals and the condition
+/// number. Each fit adds its own method, convention and inputs.
+pub(super) struct FitReport<'a> {
+    pub scale_misalignment: &'a [[f64; 3]; 3],
+    pub sigma_scale_misalignment: Option<&'a [[f64; 3]; 3]>,
+    pub bias: &'a [f64; 3],
+    pub sigma_bias: Option<&'a [f64; 3]>,
+    pub segments: usize,
+    pub residual_rms: f64,
+    pub residual_max: f64,
+    pub condition: f64,
+}
+
+impl FitReport<'_> {
+    /// Prints (I+Σ) under `matrix_title` and b in `bias_unit`; without
+    /// standard deviations, says why (`no_dof`).
+    pub fn print(&self, matrix_title: &str, bias_unit: &str, no_dof: &str) {
+        print_matrix(
+            matrix_title,
+            self.scale_misalignment,
+            self.sigma_scale_misalignment,
+        );
+        print_vector(&format!("b ({bias_unit})"), self.bias, self.sigma_bias);
+        if self.sigma_bias.is_none() {
+            println!("  (no standard deviations: {no_dof})");
+        }
+    }
+
+    /// The fit table's common keys: segments, residuals, condition number, σ's.
+    pub fn insert_statistics(&self, table: &mut toml::Table) {
+        table.insert(
+            "segments".into(),
+            toml::Value::Integer(self.segments as i64),
+        );
+        table.insert("residual_rms".into(), toml::Value::Float(self.residual_rms));
+        table.insert("residual_max".into(), toml::Value::Float(self.residual_max));
+        table.insert(
+            "condition_number".into(),
+            toml::Value::Float(self.condition),
+        );
+        insert_sigmas(table, self.sigma_scale_misalignment, self.sigma_bias);
+    }
+
+    /// The fitted triad (no temperature terms: a fit at one temperature says
+    /// nothing about them).
+    pub fn triad(&self) -> TriadCalibration {
+        TriadCalibration {
+            scale_misalignment: *self.scale_misalignment,
+            bias: *self.bias,
+            temperature: None,
+        }
+    }
+}
+
+/// The input files as a TOML array of strings.
+pub(super) fn file_list(paths: &[PathBuf]) -> toml::Value {
+    toml::Value::Array(
+        paths
+            .iter()
+            .map(|p| toml::Value::String(p.display().to_string()))
+            .collect(),
+    )
+}
+
+fn print_matrix(name: &str, m: &[[f64; 3]; 3], sigma: Option<&[[f64; 3]; 3]>) {
     println!("  {name}:");
     for (i, row) in m.iter().enumerate() {
         let cells: Vec<String> = row

@@ -8,12 +8,10 @@ use std::process::ExitCode;
 use anyhow::{anyhow, bail};
 use triad::calib_fit::static_segments::{Detector, Segment};
 use triad::calib_fit::{accel_cube, accel_fit, FitError};
-use triad::model::TriadCalibration;
 use triad::units::STANDARD_GRAVITY;
 
 use super::fit::{
-    given_segments, insert_sigmas, names, print_matrix, print_vector, stat, write_calibration,
-    Output, Stat, Which,
+    file_list, given_segments, names, stat, write_calibration, FitReport, Output, Stat, Which,
 };
 use super::fit_csv;
 
@@ -144,18 +142,24 @@ pub fn run(args: AccelArgs) -> anyhow::Result<ExitCode> {
         accel_fit::MAX_CONDITION,
         fit.iterations
     );
-    print_matrix(
+    let report = FitReport {
+        scale_misalignment: &fit.scale_misalignment,
+        sigma_scale_misalignment: fit.sigma_scale_misalignment.as_ref(),
+        bias: &fit.bias,
+        sigma_bias: fit.sigma_bias.as_ref(),
+        segments: fit.segments,
+        residual_rms: fit.residual_rms,
+        residual_max: fit.residual_max,
+        condition: fit.condition,
+    };
+    report.print(
         "I+Σ (upper triangular by convention)",
-        &fit.scale_misalignment,
-        fit.sigma_scale_misalignment.as_ref(),
-    );
-    print_vector("b (m/s²)", &fit.bias, fit.sigma_bias.as_ref());
-    if fit.covariance.is_none() {
-        println!(
-            "  (no standard deviations: {} segments for 9 unknowns leave no degree of freedom)",
+        "m/s²",
+        &format!(
+            "{} segments for 9 unknowns leave no degree of freedom",
             fit.segments
-        );
-    }
+        ),
+    );
 
     let mut fit_table = toml::Table::new();
     let s = |x: &str| toml::Value::String(x.into());
@@ -167,34 +171,13 @@ pub fn run(args: AccelArgs) -> anyhow::Result<ExitCode> {
         "convention".into(),
         s("(I+Σ) upper triangular: corrected z = the z sensing axis, corrected y in the plane of the y and z sensing axes, x completes the frame"),
     );
-    fit_table.insert(
-        "records".into(),
-        toml::Value::Array(
-            args.positions
-                .iter()
-                .map(|p| s(&p.display().to_string()))
-                .collect(),
-        ),
-    );
+    fit_table.insert("records".into(), file_list(&args.positions));
     fit_table.insert("gravity".into(), toml::Value::Float(args.gravity));
-    fit_table.insert("segments".into(), toml::Value::Integer(fit.segments as i64));
     fit_table.insert(
         "orientations".into(),
         toml::Value::Integer(fit.orientations as i64),
     );
-    fit_table.insert("residual_rms".into(), toml::Value::Float(fit.residual_rms));
-    fit_table.insert("residual_max".into(), toml::Value::Float(fit.residual_max));
-    fit_table.insert("condition_number".into(), toml::Value::Float(fit.condition));
-    insert_sigmas(
-        &mut fit_table,
-        fit.sigma_scale_misalignment.as_ref(),
-        fit.sigma_bias.as_ref(),
-    );
-    let triad = TriadCalibration {
-        scale_misalignment: fit.scale_misalignment,
-        bias: fit.bias,
-        temperature: None,
-    };
+    report.insert_statistics(&mut fit_table);
     let header = format!(
         "Accelerometer fitted by `triad calib fit accel` from {} static segments\n\
          ({} orientations) of {}: residual RMS {:.3e} m/s², max {:.3e} m/s².\n\
@@ -205,7 +188,13 @@ pub fn run(args: AccelArgs) -> anyhow::Result<ExitCode> {
         fit.residual_rms,
         fit.residual_max
     );
-    write_calibration(&args.output, Which::Accel, triad, &header, fit_table)
+    write_calibration(
+        &args.output,
+        Which::Accel,
+        report.triad(),
+        &header,
+        fit_table,
+    )
 }
 
 /// `triad calib fit accel --axis-aligned`: the cube fit.
@@ -245,15 +234,21 @@ fn accel_axis_aligned(
         "  residual: RMS {:.3e} m/s², max {:.3e} m/s²; condition number {:.3e}",
         fit.residual_rms, fit.residual_max, fit.condition
     );
-    print_matrix(
+    let report = FitReport {
+        scale_misalignment: &fit.scale_misalignment,
+        sigma_scale_misalignment: fit.sigma_scale_misalignment.as_ref(),
+        bias: &fit.bias,
+        sigma_bias: fit.sigma_bias.as_ref(),
+        segments: fit.segments,
+        residual_rms: fit.residual_rms,
+        residual_max: fit.residual_max,
+        condition: fit.condition,
+    };
+    report.print(
         "I+Σ (axes of the cube's faces)",
-        &fit.scale_misalignment,
-        fit.sigma_scale_misalignment.as_ref(),
+        "m/s²",
+        "4 segments for 4 unknowns per axis leave no degree of freedom",
     );
-    print_vector("b (m/s²)", &fit.bias, fit.sigma_bias.as_ref());
-    if fit.sigma_bias.is_none() {
-        println!("  (no standard deviations: 4 segments for 4 unknowns per axis leave no degree of freedom)");
-    }
     let s = |x: &str| toml::Value::String(x.into());
     let mut table = toml::Table::new();
     table.insert(
@@ -264,25 +259,9 @@ fn accel_axis_aligned(
         "convention".into(),
         s("full (I+Σ): the axes are those of the cube (fixture) faces the sensor rested on"),
     );
-    table.insert(
-        "records".into(),
-        toml::Value::Array(
-            args.positions
-                .iter()
-                .map(|p| s(&p.display().to_string()))
-                .collect(),
-        ),
-    );
+    table.insert("records".into(), file_list(&args.positions));
     table.insert("gravity".into(), toml::Value::Float(g));
-    table.insert("segments".into(), toml::Value::Integer(fit.segments as i64));
-    table.insert("residual_rms".into(), toml::Value::Float(fit.residual_rms));
-    table.insert("residual_max".into(), toml::Value::Float(fit.residual_max));
-    table.insert("condition_number".into(), toml::Value::Float(fit.condition));
-    insert_sigmas(
-        &mut table,
-        fit.sigma_scale_misalignment.as_ref(),
-        fit.sigma_bias.as_ref(),
-    );
+    report.insert_statistics(&mut table);
     let header = format!(
         "Accelerometer fitted by `triad calib fit accel --axis-aligned` from {} static\n\
          segments of {}: residual RMS {:.3e} m/s².",
@@ -290,10 +269,5 @@ fn accel_axis_aligned(
         names(&args.positions),
         fit.residual_rms
     );
-    let triad = TriadCalibration {
-        scale_misalignment: fit.scale_misalignment,
-        bias: fit.bias,
-        temperature: None,
-    };
-    write_calibration(&args.output, Which::Accel, triad, &header, table)
+    write_calibration(&args.output, Which::Accel, report.triad(), &header, table)
 }

@@ -11,8 +11,8 @@ use triad::model::TriadCalibration;
 use triad::units::{deg_to_rad, rad_to_deg, EARTH_RATE};
 
 use super::fit::{
-    given_segments, insert_sigmas, names, print_matrix, print_vector, stat, write_calibration,
-    Output, Which,
+    file_list, given_segments, names, print_vector, stat, write_calibration, FitReport, Output,
+    Which,
 };
 use super::fit_csv;
 use crate::calib_file::{self, vector};
@@ -161,40 +161,30 @@ fn gyro_rate_table(args: GyroArgs) -> anyhow::Result<ExitCode> {
         "  residual ω̂ − (I+Σ)ω − b: RMS {:.3e} rad/s, max {:.3e} rad/s; condition number {:.3e}",
         fit.residual_rms, fit.residual_max, fit.condition
     );
-    print_matrix(
+    let report = FitReport {
+        scale_misalignment: &fit.scale_misalignment,
+        sigma_scale_misalignment: fit.sigma_scale_misalignment.as_ref(),
+        bias: &fit.bias,
+        sigma_bias: fit.sigma_bias.as_ref(),
+        segments: fit.segments,
+        residual_rms: fit.residual_rms,
+        residual_max: fit.residual_max,
+        condition: fit.condition,
+    };
+    report.print(
         "I+Σ",
-        &fit.scale_misalignment,
-        fit.sigma_scale_misalignment.as_ref(),
+        "rad/s",
+        "4 segments for 4 unknowns per axis leave no degree of freedom",
     );
-    print_vector("b (rad/s)", &fit.bias, fit.sigma_bias.as_ref());
-    if fit.sigma_bias.is_none() {
-        println!("  (no standard deviations: 4 segments for 4 unknowns per axis leave no degree of freedom)");
-    }
     let s = |x: &str| toml::Value::String(x.into());
     let mut table = toml::Table::new();
     table.insert(
         "method".into(),
         s("rate table, known rates: ω̂ = (I+Σ)ω + b, linear least squares (QR)"),
     );
-    table.insert(
-        "records".into(),
-        toml::Value::Array(
-            args.rate_table
-                .iter()
-                .map(|p| s(&p.display().to_string()))
-                .collect(),
-        ),
-    );
+    table.insert("records".into(), file_list(&args.rate_table));
     table.insert("rates".into(), s(rates_text));
-    table.insert("segments".into(), toml::Value::Integer(fit.segments as i64));
-    table.insert("residual_rms".into(), toml::Value::Float(fit.residual_rms));
-    table.insert("residual_max".into(), toml::Value::Float(fit.residual_max));
-    table.insert("condition_number".into(), toml::Value::Float(fit.condition));
-    insert_sigmas(
-        &mut table,
-        fit.sigma_scale_misalignment.as_ref(),
-        fit.sigma_bias.as_ref(),
-    );
+    report.insert_statistics(&mut table);
     let header = format!(
         "Gyroscope fitted by `triad calib fit gyro` from {} rate-table segments of {}\n\
          at rates {rates_text} °/s: residual RMS {:.3e} rad/s.",
@@ -202,12 +192,7 @@ fn gyro_rate_table(args: GyroArgs) -> anyhow::Result<ExitCode> {
         names(&args.rate_table),
         fit.residual_rms
     );
-    let triad = TriadCalibration {
-        scale_misalignment: fit.scale_misalignment,
-        bias: fit.bias,
-        temperature: None,
-    };
-    write_calibration(&args.output, Which::Gyro, triad, &header, table)
+    write_calibration(&args.output, Which::Gyro, report.triad(), &header, table)
 }
 
 fn gyro_static(args: GyroArgs) -> anyhow::Result<ExitCode> {
