@@ -83,8 +83,8 @@ pub fn init(dp: pac::Peripherals) -> Board {
     init_pins(&dp);
     Board {
         sample_timer: SampleTimer::new(&dp),
-        clock: MicrosecondClock::new(dp.TIM5),
-        serial: Serial::new(dp.USART2),
+        clock: MicrosecondClock::new(dp.TIM5, APB1_TIMER_HZ),
+        serial: Serial::new(dp.USART2, USART_DIV_X16),
         sensor: sensor(dp.SPI1, dp.GPIOB, dp.I2C1),
     }
 }
@@ -220,47 +220,19 @@ impl SampleTimer {
     }
 }
 
-/// TIM5 (32 bit) free-running at 1 MHz: the stream's timestamps.
-pub struct MicrosecondClock(pac::TIM5);
+#[path = "../stm32f4/microsecond_clock.rs"]
+mod microsecond_clock;
+pub use microsecond_clock::MicrosecondClock;
 
-impl MicrosecondClock {
-    fn new(tim: pac::TIM5) -> Self {
-        tim.psc()
-            .write(|w| w.psc().set((APB1_TIMER_HZ / 1_000_000 - 1) as u16));
-        tim.arr().write(|w| w.arr().set(u32::MAX));
-        tim.egr().write(|w| w.ug().set_bit());
-        tim.cr1().modify(|_, w| w.cen().set_bit());
-        Self(tim)
-    }
+#[path = "../stm32f4/serial_tx.rs"]
+mod serial_tx;
 
-    /// Microseconds since start, wrapping at 2³².
-    pub fn now_us(&self) -> u32 {
-        self.0.cnt().read().bits()
-    }
-}
+/// The stream's link: USART2, transmit only, 8N1, to the ST-LINK virtual COM port.
+pub type Serial = serial_tx::SerialTx<pac::USART2>;
 
-/// USART2, transmit only, 8N1, to the ST-LINK virtual COM port.
-pub struct Serial(pac::USART2);
-
-impl Serial {
-    fn new(usart: pac::USART2) -> Self {
-        // RM0368 §19.3.4: USARTDIV = f_APB1 / (16 · baud) in 12.4 fixed point;
-        // 42 MHz / 921600 rounds to 46 = 2 + 14/16: 913 kbaud, −0.9 %.
-        const DIV_X16: u16 = ((APB1_HZ + BAUD / 2) / BAUD) as u16;
-        // SAFETY: BRR takes any 16-bit divider; DIV_X16 is a compile-time constant.
-        usart.brr().write(|w| unsafe { w.bits(DIV_X16) });
-        usart.cr1().write(|w| w.ue().set_bit().te().set_bit());
-        Self(usart)
-    }
-
-    /// Sends the bytes, waiting for the transmit register to empty before each.
-    pub fn write_all(&mut self, bytes: &[u8]) {
-        for &byte in bytes {
-            while self.0.sr().read().txe().bit_is_clear() {}
-            self.0.dr().write(|w| w.dr().set(u16::from(byte)));
-        }
-    }
-}
+// RM0368 §19.3.4: USARTDIV = f_APB1 / (16 · baud) in 12.4 fixed point;
+// 42 MHz / 921600 rounds to 46 = 2 + 14/16: 913 kbaud, −0.9 %.
+const USART_DIV_X16: u16 = ((APB1_HZ + BAUD / 2) / BAUD) as u16;
 
 /// A busy-wait delay for the driver's start-up waits (84 MHz core).
 pub struct Delay;

@@ -38,11 +38,11 @@ pub fn init(dp: pac::Peripherals) -> Board {
         .apb1enr()
         .modify(|_, w| w.tim3en().set_bit().tim5en().set_bit());
     dp.RCC.apb2enr().modify(|_, w| w.usart1en().set_bit());
-    let clock = MicrosecondClock::new(dp.TIM5);
+    let clock = MicrosecondClock::new(dp.TIM5, TIMER_CLOCK_HZ);
     Board {
         sample_timer: SampleTimer::new(dp.TIM3, &clock),
         clock,
-        serial: Serial::new(dp.USART1),
+        serial: Serial::new(dp.USART1, USART_DIV_X16),
         sensor: sensor(),
     }
 }
@@ -100,47 +100,19 @@ fn TIM3() {
     cortex_m::peripheral::NVIC::pend(pac::Interrupt::EXTI0);
 }
 
-/// TIM5 (32 bit) free-running at 1 MHz: the stream's timestamps.
-pub struct MicrosecondClock(pac::TIM5);
+#[path = "../stm32f4/microsecond_clock.rs"]
+mod microsecond_clock;
+pub use microsecond_clock::MicrosecondClock;
 
-impl MicrosecondClock {
-    fn new(tim: pac::TIM5) -> Self {
-        tim.psc()
-            .write(|w| w.psc().set((TIMER_CLOCK_HZ / 1_000_000 - 1) as u16));
-        tim.arr().write(|w| w.arr().set(u32::MAX));
-        tim.egr().write(|w| w.ug().set_bit());
-        tim.cr1().modify(|_, w| w.cen().set_bit());
-        Self(tim)
-    }
+#[path = "../stm32f4/serial_tx.rs"]
+mod serial_tx;
 
-    /// Microseconds since start, wrapping at 2³².
-    pub fn now_us(&self) -> u32 {
-        self.0.cnt().read().bits()
-    }
-}
+/// The stream's link: USART1, transmit only, 8N1.
+pub type Serial = serial_tx::SerialTx<pac::USART1>;
 
-/// USART1, transmit only, 8N1.
-pub struct Serial(pac::USART1);
-
-impl Serial {
-    fn new(usart: pac::USART1) -> Self {
-        // RM0090 §30.3.4: USARTDIV = f_APB2 / (16 · baud), mantissa.fraction in BRR.
-        // 84 MHz / 921600 rounds to 91 (0x5B): 0.0 % error; fits BRR's 16 bits.
-        const DIV_X16: u16 = ((APB2_HZ + BAUD / 2) / BAUD) as u16;
-        // SAFETY: BRR takes any 16-bit divider; DIV_X16 is a compile-time constant.
-        usart.brr().write(|w| unsafe { w.bits(DIV_X16) });
-        usart.cr1().write(|w| w.ue().set_bit().te().set_bit());
-        Self(usart)
-    }
-
-    /// Sends the bytes, waiting for the transmit register to empty before each.
-    pub fn write_all(&mut self, bytes: &[u8]) {
-        for &byte in bytes {
-            while self.0.sr().read().txe().bit_is_clear() {}
-            self.0.dr().write(|w| w.dr().set(u16::from(byte)));
-        }
-    }
-}
+// RM0090 §30.3.4: USARTDIV = f_APB2 / (16 · baud), mantissa.fraction in BRR.
+// 84 MHz / 921600 rounds to 91 (0x5B): 0.0 % error; fits BRR's 16 bits.
+const USART_DIV_X16: u16 = ((APB2_HZ + BAUD / 2) / BAUD) as u16;
 
 /// Ends the emulation with a status QEMU returns to its caller.
 pub fn exit(success: bool) -> ! {
