@@ -12,12 +12,8 @@
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
 
-pub mod allan;
-pub mod bench;
-pub mod calib_fit;
+pub mod device;
 pub mod model;
-pub mod pipeline;
 pub mod sensor;
-pub mod sim;
 pub mod stream;
 pub mod units;

@@ -1,5 +1,5 @@
 //! Host figures of the benchmark's variants with criterion: the same
-//! functions the emulated cores run (`triad::bench`), timed around each
+//! functions the emulated cores run (`triad_bench`), timed around each
 //! batch's kernel only (inputs are made and outputs digested outside the
 //! clock). One iteration is BATCH × BATCHES = 1000 6-axis samples.
 //!
@@ -9,8 +9,8 @@
 use std::time::{Duration, Instant};
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use triad::bench::kernels::Meter;
-use triad::bench::{Bench, Variant, BATCH, BATCHES};
+use triad_bench::kernels::Meter;
+use triad_bench::{Bench, Variant, BATCH, BATCHES};
 
 /// Wall-clock time around each kernel call.
 #[derive(Default)]

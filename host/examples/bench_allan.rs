@@ -24,8 +24,8 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
 
-use triad::allan::accumulate::OctaveAccumulator;
-use triad::sim::rng::Rng;
+use triad_lab::allan::accumulate::OctaveAccumulator;
+use triad_sim::rng::Rng;
 
 /// Peak resident memory of this process, MiB (Linux /proc; NaN elsewhere).
 fn peak_rss_mb() -> f64 {

@@ -14,11 +14,11 @@ use std::path::Path;
 use std::process::Command;
 use std::time::Instant;
 
-use triad::sim::bias_instability::BiasInstabilityParams;
-use triad::sim::motion::{Environment, Motion, Trajectory};
-use triad::sim::scene::{GaussMarkovParams, Scene, TriadEffects};
-use triad::sim::simulator::Simulator;
-use triad::sim::temperature_dependence::TemperatureDependence;
+use triad_sim::bias_instability::BiasInstabilityParams;
+use triad_sim::motion::{Environment, Motion, Trajectory};
+use triad_sim::scene::{GaussMarkovParams, Scene, TriadEffects};
+use triad_sim::simulator::Simulator;
+use triad_sim::temperature_dependence::TemperatureDependence;
 
 #[allow(dead_code)]
 #[path = "../src/scene_file/mod.rs"]

@@ -15,7 +15,7 @@
 //!
 //! Each sample has the mean of the first [`OFFSET_ROWS`] rows of its column
 //! subtracted before it is integrated, so a mean far above the noise (1 g on
-//! an accelerometer) costs no digits (see `triad::allan::accumulate`).
+//! an accelerometer) costs no digits (see `triad_lab::allan::accumulate`).
 
 use std::fs::File;
 use std::io::{BufRead, BufReader, BufWriter, Write};
@@ -24,12 +24,12 @@ use std::process::ExitCode;
 
 use anyhow::{anyhow, bail, Context};
 use serde_json::json;
-use triad::allan::accumulate::OctaveAccumulator;
-use triad::allan::direct;
-use triad::allan::edf::{self, NoiseType, ONE_SIGMA};
-use triad::allan::grade::{classify_accel, classify_gyro};
-use triad::allan::noise_terms::{self, CurvePoint, NoiseFit, Term};
 use triad::units;
+use triad_lab::allan::accumulate::OctaveAccumulator;
+use triad_lab::allan::direct;
+use triad_lab::allan::edf::{self, NoiseType, ONE_SIGMA};
+use triad_lab::allan::grade::{classify_accel, classify_gyro};
+use triad_lab::allan::noise_terms::{self, CurvePoint, NoiseFit, Term};
 
 use crate::allan_plot;
 use crate::progress::{Progress, Unit};

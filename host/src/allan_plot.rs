@@ -6,7 +6,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use triad::allan::noise_terms::Term;
+use triad_lab::allan::noise_terms::Term;
 
 use crate::allan::{datasheet, ColumnResult};
 

@@ -6,8 +6,8 @@ use std::io::{BufWriter, Write};
 use std::path::PathBuf;
 
 use anyhow::{bail, Context};
-use triad::sim::simulator::Simulator;
-use triad::sim::source::TrueSample;
+use triad_sim::simulator::Simulator;
+use triad_sim::source::TrueSample;
 
 use crate::progress::{Progress, Unit};
 use crate::scene_file;
@@ -119,14 +119,14 @@ pub fn run(args: SimArgs) -> anyhow::Result<std::process::ExitCode> {
 }
 
 /// `triad sim --pack`: the scene checked as the simulator checks it, then
-/// written as the blob of `triad::sim::scene_blob`.
+/// written as the blob of `triad_sim::scene_blob`.
 fn pack(
-    scene: &triad::sim::scene::Scene,
+    scene: &triad_sim::scene::Scene,
     seed: u64,
     path: &std::path::Path,
     source: &std::path::Path,
 ) -> anyhow::Result<std::process::ExitCode> {
-    use triad::sim::scene_blob::{encode, MAX_BLOB_LEN};
+    use triad_sim::scene_blob::{encode, MAX_BLOB_LEN};
     Simulator::new(scene, seed).map_err(|e| anyhow::anyhow!("{}: {e}", source.display()))?;
     let mut blob = [0u8; MAX_BLOB_LEN];
     let len =

@@ -7,8 +7,8 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use triad::calib_fit::small3::{cholesky_upper, gram};
 use triad::model::matrix;
+use triad_lab::calib_fit::small3::{cholesky_upper, gram};
 
 const TRIAD: &str = env!("CARGO_BIN_EXE_triad");
 const G: f64 = 9.80665;

@@ -7,7 +7,7 @@
 //! the real driver: the ICM-42688-P or the LSM6DSOX, on SPI or I²C, as the
 //! build chose (xtask says which in TRIAD_E2E_SENSOR and TRIAD_E2E_BUS). The
 //! host builds the same chip model and driver from the board's own files
-//! (boards/qemu/<chip>.rs), runs the same `Sampler::step` per data-ready tick,
+//! (triad_sim::emulated_board), runs the same `Sampler::step` per data-ready tick,
 //! and so knows every raw sample the firmware read. Checked:
 //! - at least 1000 frames, no CRC error, no sequence gap, no bytes skipped,
 //!   no overrun or drop reported by the device;
@@ -23,19 +23,14 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
 
+use triad::device::{Sampler, StepOutcome};
 use triad::model::{blob, Corrector, Orientation};
-use triad::pipeline::{Sampler, StepOutcome};
 use triad::sensor::interface::{I2cInterface, SpiInterface};
 use triad::sensor::{Imu, ImuScale, RawSample};
 use triad::stream::{Decoder, Frame};
 
-/// The emulated board's chips: the very files the firmware builds.
-#[path = "../../boards/qemu/icm42688.rs"]
-mod icm42688;
-#[path = "../../boards/qemu/lsm6dsox.rs"]
-mod lsm6dsox;
-#[path = "../../boards/qemu/source.rs"]
-mod source;
+/// The emulated board's chips: the very code the firmware builds.
+use triad_sim::emulated_board::{icm42688, lsm6dsox, source};
 
 const TRIAD: &str = env!("CARGO_BIN_EXE_triad");
 /// The emulated board's averaging factor (boards/qemu/board.rs).

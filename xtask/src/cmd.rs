@@ -109,19 +109,11 @@ fn build(firmware: Firmware, calibration: &Path, scene: Option<&Path>) -> Result
         bail!("--scene feeds the emulated board's chip model: use it with --board qemu");
     }
     // One target dir per board: each board's build keeps its artefacts, and
-    // the chip and bus features rebuild only the triad crate.
+    // the chip and bus features rebuild only the firmware and board crates.
     let target_dir = root().join("target/firmware").join(board.name());
     let mut command = cargo();
     command
-        .args([
-            "build",
-            "--quiet",
-            "--release",
-            "-p",
-            "triad",
-            "--bin",
-            "triad-firmware",
-        ])
+        .args(["build", "--quiet", "--release", "-p", "triad-firmware"])
         .args(["--target", board.target(), "--features"])
         .arg(match scene {
             Some(_) => format!("{},sim-scene", firmware.features()),

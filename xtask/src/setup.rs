@@ -39,9 +39,11 @@ fn ensure_targets() -> Result<()> {
         return Ok(());
     }
     eprintln!("xtask: installing rustup targets {}", missing.join(", "));
+    // Install logs go to stderr: `cargo xtask run`'s stdout is the CSV.
     let status = Command::new("rustup")
         .args(["target", "add"])
         .args(&missing)
+        .stdout(std::io::stderr())
         .status()?;
     if !status.success() {
         bail!(
@@ -81,6 +83,8 @@ fn ensure_qemu() -> Result<()> {
             .args(sudo.iter().skip(1))
             .args(if root { &args[1..] } else { args });
         command.env("DEBIAN_FRONTEND", "noninteractive");
+        // apt's log goes to stderr: `cargo xtask run`'s stdout is the CSV.
+        command.stdout(std::io::stderr());
         let status = command
             .status()
             .with_context(|| format!("running {}", args.join(" ")))?;

@@ -20,17 +20,9 @@ pub fn run(e2e_only: bool) -> Result<()> {
     setup::ensure_all()?;
     if !e2e_only {
         step("cargo fmt --check", &["fmt", "--all", "--", "--check"])?;
-        let clippy = [
-            "clippy",
-            "--workspace",
-            "--all-targets",
-            "--quiet",
-            "--",
-            "-D",
-            "warnings",
-        ];
+        let clippy = ["clippy", "--all-targets", "--quiet", "--", "-D", "warnings"];
         step("cargo clippy (host)", &clippy)?;
-        step("cargo test (host)", &["test", "--workspace", "--quiet"])?;
+        step("cargo test (host)", &["test", "--quiet"])?;
     }
 
     let triad = cmd::build_host_tool()?;

@@ -21,8 +21,8 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use anyhow::{anyhow, bail, Context};
-use triad::calib_fit::static_segments;
 use triad::model::{Calibration, Orientation, TriadCalibration};
+use triad_lab::calib_fit::static_segments;
 
 use super::fit_csv::{self, Record};
 use super::{fit_accel, fit_gyro, Ranges};

@@ -6,9 +6,9 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use anyhow::{anyhow, bail};
-use triad::calib_fit::static_segments::{Detector, Segment};
-use triad::calib_fit::{accel_cube, accel_fit, FitError};
 use triad::units::STANDARD_GRAVITY;
+use triad_lab::calib_fit::static_segments::{Detector, Segment};
+use triad_lab::calib_fit::{accel_cube, accel_fit, FitError};
 
 use super::fit::{
     file_list, given_segments, names, stat, write_calibration, FitReport, Output, Stat, Which,

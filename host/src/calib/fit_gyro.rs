@@ -5,10 +5,10 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{anyhow, bail};
-use triad::calib_fit::gyro_fit::{self, RateSegment};
-use triad::calib_fit::static_segments;
 use triad::model::TriadCalibration;
 use triad::units::{deg_to_rad, rad_to_deg, EARTH_RATE};
+use triad_lab::calib_fit::gyro_fit::{self, RateSegment};
+use triad_lab::calib_fit::static_segments;
 
 use super::fit::{
     file_list, given_segments, names, print_vector, stat, write_calibration, FitReport, Output,

@@ -32,13 +32,13 @@ use std::path::{Path, PathBuf};
 use anyhow::{anyhow, bail, Context};
 use serde::Deserialize;
 use toml::Spanned;
-use triad::sim::bias_instability::{BiasInstabilityParams, MAX_TERMS};
-use triad::sim::grade::{AccelGrade, GyroGrade};
-use triad::sim::motion::{Axis, Environment, Motion};
-use triad::sim::scene::{GaussMarkovParams, Scene, TriadEffects};
-use triad::sim::temperature_dependence::TemperatureDependence;
-use triad::sim::temperature_profile::TemperatureProfile;
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
+use triad_sim::bias_instability::{BiasInstabilityParams, MAX_TERMS};
+use triad_sim::grade::{AccelGrade, GyroGrade};
+use triad_sim::motion::{Axis, Environment, Motion};
+use triad_sim::scene::{GaussMarkovParams, Scene, TriadEffects};
+use triad_sim::temperature_dependence::TemperatureDependence;
+use triad_sim::temperature_profile::TemperatureProfile;
 use unit::{parse_quantity, Dim};
 
 /// A loaded scene: the SI scene and its default duration.

@@ -4,10 +4,10 @@
 //! realistic and the extreme valid calibration.
 
 use anyhow::Result;
-use triad::bench::inputs;
-use triad::bench::kernels::{NoMeter, Output};
-use triad::bench::{Bench, Variant, BATCH, BATCHES};
 use triad::sensor::RawSample;
+use triad_bench::inputs;
+use triad_bench::kernels::{NoMeter, Output};
+use triad_bench::{Bench, Variant, BATCH, BATCHES};
 
 /// Error statistics of one variant against the reference, over all six axes.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -6,8 +6,8 @@ use anyhow::{bail, Context, Result};
 use std::path::{Path, PathBuf};
 use std::process::Stdio;
 use std::time::{Duration, Instant};
-use triad::bench::kernels::NoMeter;
-use triad::bench::{Bench, Variant, BATCH, BATCHES};
+use triad_bench::kernels::NoMeter;
+use triad_bench::{Bench, Variant, BATCH, BATCHES};
 
 use crate::cmd::{cargo, check, root};
 use crate::qemu;
@@ -123,8 +123,8 @@ fn build(core: Core) -> Result<PathBuf> {
     let dir = root().join("target/bench");
     let mut command = cargo();
     command
-        .args(["build", "--quiet", "--release", "-p", "triad"])
-        .args(["--bin", "triad-bench", "--features", "bench-core"])
+        .args(["build", "--quiet", "--release", "-p", "triad-bench"])
+        .args(["--bin", "triad-bench", "--features", "firmware"])
         .args(["--target", core.target()])
         .env("CARGO_TARGET_DIR", &dir);
     check(
@@ -233,7 +233,7 @@ fn check_digests(core: Core, lines: &[Line]) -> Result<()> {
     Ok(())
 }
 
-/// The size of the kernel function `name` (in a module of triad::bench) in the ELF.
+/// The size of the kernel function `name` (in a module of triad_bench) in the ELF.
 fn symbol_size(elf: &[u8], name: &str) -> Result<Option<u64>> {
     use object::{Object, ObjectSymbol};
     let file = object::File::parse(elf).context("parsing the benchmark ELF")?;

@@ -4,7 +4,7 @@
 //! criterion's estimates.
 
 use anyhow::{Context, Result};
-use triad::bench::{Variant, BATCH, BATCHES};
+use triad_bench::{Variant, BATCH, BATCHES};
 
 use crate::cmd::{cargo, check, root};
 

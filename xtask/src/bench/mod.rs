@@ -12,7 +12,7 @@ mod report;
 pub use cores::{check_firmware_outputs, Core};
 
 use anyhow::Result;
-use triad::bench::Variant;
+use triad_bench::Variant;
 
 /// One row of the report: a variant on a core.
 #[derive(Clone, Debug)]

@@ -6,7 +6,7 @@ use super::{Core, Row};
 use anyhow::Result;
 use std::fmt::Write;
 use std::process::Command;
-use triad::bench::Variant;
+use triad_bench::Variant;
 
 /// The reference harness of the benchmark issue: xioTechnologies Fusion's
 /// `FusionModelInertial` compiled with arm-none-eabi-gcc 12.2 -O2, same
@@ -306,7 +306,7 @@ fn stream_budget(md: &mut String) -> Result<()> {
 
 /// The sensor-read rows with the bus bytes each sample costs.
 fn sensor_reads(md: &mut String, rows: &[Row]) -> Result<()> {
-    use triad::bench::kernels::bus_bytes_per_sample;
+    use triad_bench::kernels::bus_bytes_per_sample;
     writeln!(md, "## Sensor reads\n")?;
     writeln!(
         md,

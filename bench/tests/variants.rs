@@ -1,0 +1,148 @@
+//! The benchmark's variants on the host: the same functions the benchmark
+//! firmware times on the emulated cores (`cargo xtask bench`, whose outputs
+//! `cargo xtask test` checks against these bit for bit).
+
+use triad::model::FixedCorrector;
+use triad::sensor::RawSample;
+use triad::stream::{Decoder, Flags};
+use triad_bench::inputs::{self, raw_batch};
+use triad_bench::kernels::{NoMeter, Output};
+use triad_bench::{Bench, Variant, BATCH, BATCHES};
+
+fn all_inputs() -> Vec<RawSample> {
+    let mut batch = [RawSample::default(); BATCH];
+    (0..BATCHES)
+        .flat_map(|i| {
+            raw_batch(i, &mut batch);
+            batch
+        })
+        .collect()
+}
+
+#[test]
+fn inputs_span_the_raw_range_with_limit_codes_and_a_slow_temperature_ramp() {
+    let raws = all_inputs();
+    assert_eq!(raws.len(), BATCH * BATCHES);
+    let axes = || raws.iter().flat_map(|r| r.accel.iter().chain(&r.gyro));
+    let (lo, hi) = (axes().min().unwrap(), axes().max().unwrap());
+    assert_eq!((*lo, *hi), (i16::MIN, i16::MAX));
+    // Every batch holds an accel and a gyro limit code (samples 7 and 13).
+    for batch in raws.chunks(BATCH) {
+        assert_eq!(batch[7].accel[0], i16::MAX);
+        assert_eq!(batch[13].gyro[2], i16::MIN);
+        // One temperature LSB per ten samples: 10 LSB across a batch.
+        let rise = batch[BATCH - 1].temperature - batch[0].temperature;
+        assert_eq!(rise, (BATCH as i16 - 1) / 10);
+    }
+    let scale = inputs::scale();
+    for r in &raws {
+        let t = scale.temperature_c(r.temperature);
+        assert!((-40.0..=85.0).contains(&t), "{t} °C");
+    }
+}
+
+#[test]
+fn every_variant_runs_and_its_digest_depends_on_its_outputs() {
+    let realistic = Bench::realistic();
+    let extreme = Bench::new(&inputs::extreme());
+    for v in Variant::ALL {
+        let a = realistic.run(v, &mut NoMeter).unwrap();
+        assert_eq!(
+            a,
+            realistic.run(v, &mut NoMeter).unwrap(),
+            "{v:?} is deterministic"
+        );
+        let uses_calibration = v.read_watermark().is_none()
+            && !matches!(v, Variant::RefoldEverySample | Variant::RefoldLowRate);
+        let b = extreme.run(v, &mut NoMeter).unwrap();
+        assert_eq!(
+            a != b,
+            uses_calibration,
+            "{v:?}: digest follows the calibration"
+        );
+    }
+}
+
+/// The pipeline row's frames carry exactly the full_f32 row's values (the
+/// decimation is 1), with the clip flags, in sequence, with valid CRCs.
+#[test]
+fn pipeline_frames_decode_to_the_full_f32_samples() {
+    let bench = Bench::realistic();
+    let mut samples = Vec::new();
+    bench
+        .each_output(Variant::FullF32, &mut NoMeter, |o| {
+            if let Output::Sample(s) = o {
+                samples.push(*s)
+            }
+        })
+        .unwrap();
+    let mut bytes = Vec::new();
+    bench
+        .each_output(Variant::Pipeline, &mut NoMeter, |o| {
+            if let Output::Frame(f) = o {
+                let end = f.0.iter().position(|&b| b == 0).unwrap();
+                bytes.extend_from_slice(&f.0[..=end]);
+            }
+        })
+        .unwrap();
+    let mut decoder = Decoder::new();
+    let frames: Vec<_> = decoder.feed(&bytes).map(|f| f.unwrap()).collect();
+    assert_eq!(frames.len(), samples.len());
+    assert_eq!(decoder.stats().crc_errors, 0);
+    for (n, (f, s)) in frames.iter().zip(&samples).enumerate() {
+        assert_eq!(f.sequence, n as u32);
+        assert_eq!(
+            (f.accel, f.gyro, f.temperature),
+            (s.accel, s.gyro, s.temperature)
+        );
+        assert_eq!(
+            f.flags.contains(Flags::ACCEL_CLIPPED),
+            s.clip.accel,
+            "frame {n}"
+        );
+        assert_eq!(
+            f.flags.contains(Flags::GYRO_CLIPPED),
+            s.clip.gyro,
+            "frame {n}"
+        );
+    }
+    assert!(samples.iter().any(|s| s.clip.accel) && samples.iter().any(|s| s.clip.gyro));
+}
+
+/// With the extreme valid calibration the fixed-point row neither overflows
+/// nor exceeds its proven bound (src/model/fixed.rs) against the f64 reference.
+#[test]
+fn fixed_point_row_stays_within_its_bound_with_the_extreme_calibration() {
+    let bench = Bench::new(&inputs::extreme());
+    let corrector = bench.corrector().unwrap();
+    let bound = FixedCorrector::new(&corrector).unwrap().error_bound();
+    let raws = all_inputs();
+    let mut n = 0;
+    bench
+        .each_output(Variant::FullFixed, &mut NoMeter, |o| {
+            let Output::Fixed(s) = o else {
+                panic!("fixed output")
+            };
+            let got = s.to_f64();
+            let exact = corrector.reference(&raws[n]);
+            // The bound is against the exact K·raw + k; the f64 reference
+            // (Gaussian elimination) is itself off by a few f64 ulps of values
+            // below 2000 SI units, far below the 1e-9 allowed for it here.
+            for i in 0..3 {
+                let (ea, eg) = (got.accel[i] - exact.accel[i], got.gyro[i] - exact.gyro[i]);
+                assert!(
+                    ea.abs() <= bound[0] + 1e-9,
+                    "sample {n}: {ea:e} > {:e}",
+                    bound[0]
+                );
+                assert!(
+                    eg.abs() <= bound[1] + 1e-9,
+                    "sample {n}: {eg:e} > {:e}",
+                    bound[1]
+                );
+            }
+            n += 1;
+        })
+        .unwrap();
+    assert_eq!(n, raws.len());
+}

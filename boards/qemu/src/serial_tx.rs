@@ -1,0 +1,27 @@
+//! A USART as a transmit-only 8N1 byte sink: the stream's link. Shared by
+//! the STM32F4 boards (each includes this file with its own `pac`).
+
+use super::pac;
+use core::ops::Deref;
+
+/// A USART (any of them: they share one register layout) sending bytes.
+pub struct SerialTx<U>(U);
+
+impl<U: Deref<Target = pac::usart1::RegisterBlock>> SerialTx<U> {
+    /// Enables the transmitter with BRR = `div_x16`, the board's
+    /// f_PCLK / baud rounded (16× oversampling: mantissa.fraction in 12.4).
+    pub fn new(usart: U, div_x16: u16) -> Self {
+        // SAFETY: BRR takes any 16-bit divider.
+        usart.brr().write(|w| unsafe { w.bits(div_x16) });
+        usart.cr1().write(|w| w.ue().set_bit().te().set_bit());
+        Self(usart)
+    }
+
+    /// Sends the bytes, waiting for the transmit register to empty before each.
+    pub fn write_all(&mut self, bytes: &[u8]) {
+        for &byte in bytes {
+            while self.0.sr().read().txe().bit_is_clear() {}
+            self.0.dr().write(|w| w.dr().set(u16::from(byte)));
+        }
+    }
+}

@@ -1,0 +1,140 @@
+//! Gyroscope (I+Σ) and b from rate-table segments with known true rates:
+//! ω̂ = (I+Σ)·ω + b is linear in the 12 unknowns, and each output axis i is
+//! its own problem ω̂_i = [ω_x ω_y ω_z 1]·[row i of (I+Σ), b_i]ᵀ with the
+//! same design matrix, solved by QR ([`GivensLs`]) in f64. Four rate vectors
+//! not in one (affine) plane make the design of full rank; e.g. ±30 °/s
+//! about z with +30 °/s about x and about y. The covariance of each axis's
+//! four parameters is s_i²·(XᵀX)⁻¹ with s_i² = RSS_i/(n − 4).
+//!
+//! Unlike the accelerometer's, the true rates are known vectors, so all nine
+//! entries of (I+Σ) are determined: the rotation is the table's.
+
+use super::error::{FitError, MIN_GYRO_RATES};
+use super::qr::GivensLs;
+use super::small3::{spread, Mat3};
+
+/// The largest accepted condition number of the column-scaled design
+/// (see [`super::accel_fit::MAX_CONDITION`] for the reasoning).
+pub const MAX_CONDITION: f64 = 1.0e4;
+
+/// One rate-table segment: the known true rate and the measured mean, rad/s.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RateSegment {
+    /// The table's rate vector in the sensor's axes, rad/s.
+    pub true_rate: [f64; 3],
+    /// The mean gyro output over the segment, rad/s.
+    pub measured: [f64; 3],
+}
+
+/// The result of [`fit`] (and of [`super::accel_cube::fit`], the same
+/// linear problem with gravity as the known vector).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LinearFit {
+    /// I + Σ.
+    pub scale_misalignment: Mat3,
+    /// b (rad/s for the gyro, m/s² for the accelerometer).
+    pub bias: [f64; 3],
+    /// Standard deviations of (I+Σ); `None` with no degree of freedom (n = 4).
+    pub sigma_scale_misalignment: Option<Mat3>,
+    /// Standard deviations of b.
+    pub sigma_bias: Option<[f64; 3]>,
+    /// RMS of the residual components ω̂ − (I+Σ)ω − b (SI units).
+    pub residual_rms: f64,
+    /// Largest |residual component| (SI units).
+    pub residual_max: f64,
+    /// Segments used.
+    pub segments: usize,
+    /// Condition number of the column-scaled design.
+    pub condition: f64,
+}
+
+/// The gyro's fit: [`LinearFit`] of rate-table segments.
+pub type GyroFit = LinearFit;
+
+/// Fits (I+Σ) and b to `segments`.
+pub fn fit(segments: &[RateSegment]) -> Result<GyroFit, FitError> {
+    linear_fit(segments.iter().map(|s| (s.true_rate, s.measured)))
+}
+
+/// Fits m̂ = (I+Σ)·m + b to pairs (known m, measured mean m̂). Errors:
+/// [`FitError::TooFewRates`], [`FitError::RatesDegenerate`] (callers with
+/// other known vectors rename them), [`FitError::IllConditioned`].
+pub fn linear_fit<I>(pairs: I) -> Result<LinearFit, FitError>
+where
+    I: Iterator<Item = ([f64; 3], [f64; 3])> + Clone,
+{
+    let mut count = 0;
+    for (segment, (known, measured)) in pairs.clone().enumerate() {
+        count += 1;
+        if let Some(&value) = known.iter().chain(measured.iter()).find(|x| !x.is_finite()) {
+            return Err(FitError::NonFinite { segment, value });
+        }
+    }
+    if count < MIN_GYRO_RATES {
+        return Err(FitError::TooFewRates {
+            found: count,
+            needed: MIN_GYRO_RATES,
+        });
+    }
+    let (dimension, _) = spread(pairs.clone().map(|(known, _)| known), 1e-6);
+    if dimension < 3 {
+        return Err(FitError::RatesDegenerate { dimension });
+    }
+    let mut axes = [GivensLs::<4>::new(); 3];
+    for (known, measured) in pairs.clone() {
+        let [wx, wy, wz] = known;
+        for (ls, &y) in axes.iter_mut().zip(measured.iter()) {
+            ls.add_row([wx, wy, wz, 1.0], y);
+        }
+    }
+    let condition = axes[0].scaled_condition();
+    if condition.is_nan() || condition > MAX_CONDITION {
+        return Err(FitError::IllConditioned {
+            condition,
+            limit: MAX_CONDITION,
+        });
+    }
+    let mut m = [[0.0; 3]; 3];
+    let mut bias = [0.0; 3];
+    for (i, ls) in axes.iter().enumerate() {
+        let x = ls.solve()?;
+        m[i] = [x[0], x[1], x[2]];
+        bias[i] = x[3];
+    }
+    let dof = count - MIN_GYRO_RATES;
+    let (sigma_m, sigma_b) = if dof > 0 {
+        let inv = axes[0].inverse_normal_matrix()?;
+        let mut sm = [[0.0; 3]; 3];
+        let mut sb = [0.0; 3];
+        for (i, ls) in axes.iter().enumerate() {
+            let s2 = ls.residual_sum_of_squares() / dof as f64;
+            for k in 0..3 {
+                sm[i][k] = libm::sqrt(s2 * inv[k][k]);
+            }
+            sb[i] = libm::sqrt(s2 * inv[3][3]);
+        }
+        (Some(sm), Some(sb))
+    } else {
+        (None, None)
+    };
+    let mut sum_sq = 0.0;
+    let mut worst = 0.0f64;
+    for (known, measured) in pairs {
+        let model = triad::model::matrix::mul_vec(&m, &known);
+        for i in 0..3 {
+            let r = measured[i] - model[i] - bias[i];
+            sum_sq += r * r;
+            worst = worst.max(r.abs());
+        }
+    }
+    Ok(LinearFit {
+        scale_misalignment: m,
+        bias,
+        sigma_scale_misalignment: sigma_m,
+        sigma_bias: sigma_b,
+        residual_rms: libm::sqrt(sum_sq / (3 * count) as f64),
+        residual_max: worst,
+        segments: count,
+        condition,
+    })
+}

@@ -1,0 +1,13 @@
+//! triad-lab: what the lab does with recorded data, in f64, no_std and
+//! without allocation (the caller owns the buffers), so the same code runs in
+//! the `triad` command and in tests.
+//!
+//! - [`allan`]: Allan variance of rate data, its confidence intervals, the
+//!   IEEE Std 952 noise terms and the grade they meet.
+//! - [`calib_fit`]: (I+Σ) and b from static positions and rate-table runs.
+#![no_std]
+#![deny(unsafe_code)]
+#![warn(missing_docs)]
+
+pub mod allan;
+pub mod calib_fit;

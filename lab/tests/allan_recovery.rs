@@ -1,0 +1,208 @@
+//! Noise simulated with known parameters (the core simulator) is recovered by
+//! the streaming Allan variance and the joint five-term fit, and each grade
+//! preset is classified into its own grade.
+//!
+//! Tolerance: the fit reports a 1σ uncertainty per term (from the χ²-based
+//! weights); a term must lie within 3σ of the truth (a 0.3 % chance of a
+//! false failure per assertion for a correct estimator; the seeds are fixed,
+//! so the outcome is deterministic). Where the simulated process differs from
+//! the model by a known amount, that amount is added and said.
+
+use triad::units;
+use triad_lab::allan::accumulate::OctaveAccumulator;
+use triad_lab::allan::edf::{self, NoiseType};
+use triad_lab::allan::grade::{classify_accel, classify_gyro};
+use triad_lab::allan::noise_terms::{fit, CurvePoint, NoiseFit, Term};
+use triad_sim::bias_instability::BiasInstabilityParams;
+use triad_sim::grade::{AccelGrade, GyroGrade};
+use triad_sim::motion::Motion;
+use triad_sim::scene::{Scene, TriadEffects};
+use triad_sim::simulator::Simulator;
+
+/// The octave curve of one series, EDF from the local slope as `triad allan` does.
+fn octave_points(y: impl Iterator<Item = f64>, rate: f64) -> Vec<CurvePoint> {
+    let mut acc = OctaveAccumulator::new(vec![0.0; 1 << 22], 0.0).unwrap();
+    for v in y {
+        acc.push(v);
+    }
+    let n = acc.samples();
+    let r: Vec<_> = acc.results().collect();
+    (0..r.len())
+        .map(|i| {
+            let (a, b) = (i.saturating_sub(1), (i + 1).min(r.len() - 1));
+            let mu = (r[b].overlapping / r[a].overlapping).ln()
+                / ((r[b].m as f64) / (r[a].m as f64)).ln();
+            let nu = edf::edf_conservative(NoiseType::from_slope(mu), n, r[i].m);
+            CurvePoint {
+                tau: r[i].m as f64 / rate,
+                avar: r[i].overlapping,
+                edf: nu,
+            }
+        })
+        .collect()
+}
+
+fn fitted(points: &[CurvePoint]) -> NoiseFit {
+    let mut w = vec![0.0; points.len()];
+    fit(points, &mut w).unwrap()
+}
+
+/// Simulates `samples` of a static scene with `gyro` effects and returns gx.
+fn gyro_x(gyro: TriadEffects, rate: f64, samples: usize, seed: u64) -> Vec<f64> {
+    let mut scene = Scene::new(rate, Motion::Static { attitude: [0.0; 3] });
+    scene.gyro = gyro;
+    let mut sim = Simulator::new(&scene, seed).unwrap();
+    (0..samples)
+        .map(|_| sim.step().measured.angular_rate[0])
+        .collect()
+}
+
+fn assert_within(est: f64, sigma: f64, truth: f64, extra: f64, what: &str) {
+    let tol = 3.0 * sigma + extra * truth;
+    assert!(
+        (est - truth).abs() <= tol,
+        "{what}: {est:e} ± {sigma:e}, truth {truth:e} (tolerance {tol:e})"
+    );
+}
+
+#[test]
+fn white_noise_density_is_recovered() {
+    let n_true = units::arw_deg_per_sqrt_h_to_si(0.2);
+    let rate = 100.0;
+    let effects = TriadEffects {
+        white_noise: Some([n_true; 3]),
+        ..TriadEffects::NONE
+    };
+    let y = gyro_x(effects, rate, 1 << 18, 3);
+    let f = fitted(&octave_points(y.into_iter(), rate));
+    let n = f.term(Term::WhiteNoise);
+    assert!(n.in_support);
+    assert_within(n.value, n.sigma, n_true, 0.0, "N");
+    // Nothing else in the record: the other terms are below their own 3σ.
+    for t in [Term::BiasInstability, Term::RandomWalk, Term::RateRamp] {
+        let e = f.term(t);
+        assert!(e.value <= 3.0 * e.sigma, "{t:?}: {} ± {}", e.value, e.sigma);
+    }
+}
+
+#[test]
+fn rate_random_walk_is_recovered() {
+    let k_true = units::rrw_deg_per_h_per_sqrt_h_to_si(5.0);
+    let rate = 10.0;
+    let effects = TriadEffects {
+        random_walk: Some([k_true; 3]),
+        ..TriadEffects::NONE
+    };
+    let y = gyro_x(effects, rate, 1 << 18, 4);
+    let f = fitted(&octave_points(y.into_iter(), rate));
+    let k = f.term(Term::RandomWalk);
+    assert!(k.in_support);
+    assert_within(k.value, k.sigma, k_true, 0.0, "K");
+}
+
+#[test]
+fn bias_instability_is_recovered() {
+    // Band 0.1 s … 10⁶ s (12 terms) covers the whole τ range of the record
+    // (1 s … 2^16 s): there the simulated floor is flat to ±1.5 % (the
+    // simulator's measured flatness, tests/sim_bias_instability.rs), added
+    // to the tolerance.
+    let b_true = units::deg_per_h_to_rad_per_s(2.0);
+    let rate = 1.0;
+    let params = BiasInstabilityParams {
+        b: b_true,
+        tau_min: 0.1,
+        tau_max: 1e6,
+        terms: 12,
+    };
+    let effects = TriadEffects {
+        bias_instability: Some([params; 3]),
+        ..TriadEffects::NONE
+    };
+    let y = gyro_x(effects, rate, 1 << 18, 5);
+    let f = fitted(&octave_points(y.into_iter(), rate));
+    let b = f.term(Term::BiasInstability);
+    assert!(b.in_support);
+    assert_within(b.value, b.sigma, b_true, 0.015, "B");
+}
+
+#[test]
+fn each_gyro_preset_is_classified_into_its_own_grade() {
+    // 2^19 samples at 4 Hz (36 h): the flat floor (default band 1 … 10⁴ s)
+    // is seen above the white noise for every preset.
+    let rate = 4.0;
+    for g in GyroGrade::ALL {
+        let mut scene = Scene::new(rate, Motion::Static { attitude: [0.0; 3] });
+        scene.gyro = g.effects();
+        let mut sim = Simulator::new(&scene, 7).unwrap();
+        let mut axes: [Vec<f64>; 3] = Default::default();
+        for _ in 0..(1 << 19) {
+            let s = sim.step().measured.angular_rate;
+            for (a, v) in axes.iter_mut().zip(s) {
+                a.push(v);
+            }
+        }
+        for (i, y) in axes.into_iter().enumerate() {
+            let f = fitted(&octave_points(y.into_iter(), rate));
+            let arw = units::arw_si_to_deg_per_sqrt_h(f.term(Term::WhiteNoise).value);
+            let bi = units::rad_per_s_to_deg_per_h(f.term(Term::BiasInstability).value);
+            let c = classify_gyro(arw, bi);
+            assert_eq!(
+                c.grade,
+                Some(g),
+                "{g:?} axis {i}: ARW {arw} deg/sqrt(h), B {bi} deg/h, decided by {:?}",
+                c.decided_by
+            );
+        }
+    }
+}
+
+#[test]
+fn each_accel_preset_is_classified_into_its_own_grade() {
+    // z carries 1 g: the large-mean path of the accumulator as well.
+    let rate = 4.0;
+    for g in AccelGrade::ALL {
+        let mut scene = Scene::new(rate, Motion::Static { attitude: [0.0; 3] });
+        scene.accel = g.effects();
+        let mut sim = Simulator::new(&scene, 8).unwrap();
+        let mut axes: [Vec<f64>; 3] = Default::default();
+        for _ in 0..(1 << 19) {
+            let s = sim.step().measured.specific_force;
+            for (a, v) in axes.iter_mut().zip(s) {
+                a.push(v);
+            }
+        }
+        for (i, y) in axes.into_iter().enumerate() {
+            let offset = y[..4096].iter().sum::<f64>() / 4096.0;
+            let f = fitted(&octave_points(y.into_iter().map(|v| v - offset), rate));
+            let noise = units::si_to_ug_per_sqrt_hz(f.term(Term::WhiteNoise).value);
+            let bi = units::mps2_to_ug(f.term(Term::BiasInstability).value);
+            let c = classify_accel(noise, bi);
+            assert_eq!(
+                c.grade,
+                Some(g),
+                "{g:?} axis {i}: noise {noise} ug/sqrt(Hz), B {bi} ug, decided by {:?}",
+                c.decided_by
+            );
+        }
+    }
+}
+
+#[test]
+fn the_worse_term_decides_the_grade() {
+    // Tactical ARW with a rate-grade bias instability: rate grade, decided by B.
+    let c = classify_gyro(0.15, 50.0);
+    assert_eq!(c.grade, Some(GyroGrade::RateGrade));
+    assert_eq!(
+        c.decided_by,
+        triad_lab::allan::grade::DecidedBy::BiasInstability
+    );
+    // Better than the best row: the best grade.
+    assert_eq!(
+        classify_gyro(0.0001, 0.001).grade,
+        Some(GyroGrade::Navigation)
+    );
+    // Worse than every row: no grade.
+    assert_eq!(classify_gyro(1.0, 5000.0).grade, None);
+    // Overlapping accelerometer rows: 60 µg/√Hz is tactical (the best row holding it).
+    assert_eq!(classify_accel(60.0, 30.0).grade, Some(AccelGrade::Tactical));
+}

@@ -1,0 +1,36 @@
+//! triad-sim: what a sensor triad measures in a scene, and the software chips
+//! that serve it over a bus. no_std, so it also runs inside the emulated
+//! board; the host simulates in f64 with the same code.
+#![no_std]
+#![deny(unsafe_code)]
+#![warn(missing_docs)]
+
+pub mod bias;
+pub mod bias_instability;
+pub mod demo_motion;
+#[cfg(feature = "scene-blob")]
+pub mod emulated_board;
+pub mod fault;
+pub mod g_sensitivity;
+pub mod gauss_markov;
+pub mod grade;
+pub mod icm42688_model;
+pub mod lsm6dsox_model;
+pub mod motion;
+pub mod packet_fifo;
+pub mod quantisation;
+pub mod random_walk;
+pub mod register_bus;
+pub mod rng;
+pub mod rotation;
+pub mod saturation;
+pub mod scale_misalignment;
+pub mod scene;
+#[cfg(feature = "scene-blob")]
+pub mod scene_blob;
+pub mod simulator;
+pub mod source;
+pub mod temperature_dependence;
+pub mod temperature_profile;
+pub mod white_noise;
+pub mod ziggurat;

@@ -1,0 +1,282 @@
+//! True motion: what an ideal triad measures in each of the scene kinds.
+//!
+//! The level frame is x east, y north, z up. A sensor at rest measures the
+//! specific force f = (0, 0, g) (the reaction to gravity) and, when the Earth
+//! rate is on, ω_ie = Ω·(0, cos φ, sin φ) at latitude φ. R maps body to level;
+//! body quantities are Rᵀ·(level quantities) plus the motion's own terms.
+
+use super::rotation::{self, Mat3};
+use triad::units::{EARTH_RATE, STANDARD_GRAVITY};
+
+/// A signed body axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "scene-blob", derive(serde::Serialize, serde::Deserialize))]
+pub enum Axis {
+    /// +x.
+    PlusX,
+    /// −x.
+    MinusX,
+    /// +y.
+    PlusY,
+    /// −y.
+    MinusY,
+    /// +z.
+    PlusZ,
+    /// −z.
+    MinusZ,
+}
+
+impl Axis {
+    /// (index 0..3, sign ±1).
+    pub fn index_sign(self) -> (usize, f64) {
+        match self {
+            Axis::PlusX => (0, 1.0),
+            Axis::MinusX => (0, -1.0),
+            Axis::PlusY => (1, 1.0),
+            Axis::MinusY => (1, -1.0),
+            Axis::PlusZ => (2, 1.0),
+            Axis::MinusZ => (2, -1.0),
+        }
+    }
+}
+
+/// Where the scene happens.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "scene-blob", derive(serde::Serialize, serde::Deserialize))]
+pub struct Environment {
+    /// Magnitude of gravity, m/s² (9.80665 standard, or a local value).
+    pub gravity: f64,
+    /// Latitude in radians when the Earth rate is on; `None` leaves it out.
+    pub latitude: Option<f64>,
+}
+
+impl Default for Environment {
+    fn default() -> Self {
+        Self {
+            gravity: STANDARD_GRAVITY,
+            latitude: None,
+        }
+    }
+}
+
+/// The motion of a scene.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "scene-blob", derive(serde::Serialize, serde::Deserialize))]
+pub enum Motion {
+    /// At rest at a fixed attitude (z-y-x Euler angles roll, pitch, yaw; radians).
+    Static {
+        /// [roll, pitch, yaw], radians.
+        attitude: [f64; 3],
+    },
+    /// On a rate table turning about the vertical at a constant rate, with the
+    /// body `axis` along the table axis (pointing up).
+    RateTable {
+        /// The body axis along the table axis.
+        axis: Axis,
+        /// Table rate, rad/s (positive counter-clockwise seen from above).
+        rate: f64,
+    },
+    /// Multi-position tumble: each face of the cube up in turn (6), then
+    /// again at 180° of heading (12), then at 90° and 270° (24); at rest for
+    /// `dwell` seconds at each position, turning at constant rate for
+    /// `transition` seconds between them; the cycle repeats.
+    Tumble {
+        /// 6, 12 or 24.
+        positions: u8,
+        /// Rest at each position, seconds.
+        dwell: f64,
+        /// Turn between positions, seconds.
+        transition: f64,
+    },
+    /// At rest at a fixed attitude, shaken sinusoidally along a body direction.
+    Vibration {
+        /// [roll, pitch, yaw], radians.
+        attitude: [f64; 3],
+        /// Direction of the shake in the body frame (normalised on use).
+        direction: [f64; 3],
+        /// Acceleration amplitude, m/s².
+        amplitude: f64,
+        /// Frequency, Hz.
+        frequency: f64,
+    },
+}
+
+/// Specific force and angular rate in the body frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Kinematics {
+    /// Specific force, m/s².
+    pub specific_force: [f64; 3],
+    /// Angular rate, rad/s.
+    pub angular_rate: [f64; 3],
+}
+
+/// The most tumble positions.
+pub const MAX_POSITIONS: usize = 24;
+
+/// The body-to-level rotation of tumble position `i`: the faces +z, −z, +x,
+/// −x, +y, −y up in turn, at headings 0°, 180°, 90°, 270° for i / 6 = 0..3.
+pub fn tumble_position(i: usize) -> Mat3 {
+    const FACES: [(usize, f64); 6] = [
+        (2, 1.0),
+        (2, -1.0),
+        (0, 1.0),
+        (0, -1.0),
+        (1, 1.0),
+        (1, -1.0),
+    ];
+    const HEADINGS: [[f64; 3]; 4] = [
+        [1.0, 0.0, 0.0],
+        [-1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, -1.0, 0.0],
+    ];
+    let (a, s) = FACES[i % 6];
+    let h = HEADINGS[(i / 6) % 4];
+    face_up(a, s, h)
+}
+
+/// The rotation that puts body axis `a` (sign `s`) up and the next body axis
+/// (cyclically) along the horizontal unit vector `h`.
+fn face_up(a: usize, s: f64, h: [f64; 3]) -> Mat3 {
+    let up = [0.0, 0.0, s];
+    let third = [
+        up[1] * h[2] - up[2] * h[1],
+        up[2] * h[0] - up[0] * h[2],
+        up[0] * h[1] - up[1] * h[0],
+    ];
+    // Columns of R are the body axes in level coordinates.
+    let mut r = [[0.0; 3]; 3];
+    let cols = [(a, up), ((a + 1) % 3, h), ((a + 2) % 3, third)];
+    for (col, v) in cols {
+        for row in 0..3 {
+            r[row][col] = v[row];
+        }
+    }
+    r
+}
+
+/// A motion prepared for evaluation: constant parts and tumble tables are
+/// computed once.
+#[derive(Clone, Copy, Debug)]
+pub struct Trajectory {
+    motion: Motion,
+    /// Specific force at rest in level coordinates.
+    f_level: [f64; 3],
+    /// Earth rate in level coordinates.
+    w_level: [f64; 3],
+    /// Static and vibration: the constant body kinematics; rate table: mount.
+    at_rest: Kinematics,
+    mount: Mat3,
+    /// Tumble: each position's rotation and the body axis/angle of the turn to the next.
+    positions: [Mat3; MAX_POSITIONS],
+    turns: [([f64; 3], f64); MAX_POSITIONS],
+    direction: [f64; 3],
+}
+
+impl Trajectory {
+    /// Prepares `motion` in `environment`.
+    pub fn new(motion: &Motion, environment: &Environment) -> Self {
+        let f_level = [0.0, 0.0, environment.gravity];
+        let w_level = match environment.latitude {
+            Some(lat) => [
+                0.0,
+                EARTH_RATE * libm::cos(lat),
+                EARTH_RATE * libm::sin(lat),
+            ],
+            None => [0.0; 3],
+        };
+        let mut t = Self {
+            motion: *motion,
+            f_level,
+            w_level,
+            at_rest: Kinematics::default(),
+            mount: rotation::IDENTITY,
+            positions: [rotation::IDENTITY; MAX_POSITIONS],
+            turns: [([0.0, 0.0, 1.0], 0.0); MAX_POSITIONS],
+            direction: [0.0; 3],
+        };
+        match *motion {
+            Motion::Static { attitude } | Motion::Vibration { attitude, .. } => {
+                let r = rotation::from_euler(attitude[0], attitude[1], attitude[2]);
+                t.at_rest = t.body(&r);
+                if let Motion::Vibration { direction, .. } = *motion {
+                    t.direction = rotation::normalise(direction);
+                }
+            }
+            Motion::RateTable { axis, .. } => {
+                let (a, s) = axis.index_sign();
+                t.mount = face_up(a, s, [1.0, 0.0, 0.0]);
+            }
+            Motion::Tumble { positions, .. } => {
+                let n = (positions as usize).clamp(1, MAX_POSITIONS);
+                for i in 0..n {
+                    t.positions[i] = tumble_position(i);
+                }
+                for i in 0..n {
+                    let relative =
+                        rotation::transpose_mul(&t.positions[i], &t.positions[(i + 1) % n]);
+                    t.turns[i] = rotation::log(&relative);
+                }
+            }
+        }
+        t
+    }
+
+    /// Body kinematics of a sensor at rest at attitude `r`.
+    fn body(&self, r: &Mat3) -> Kinematics {
+        Kinematics {
+            specific_force: rotation::mul_transpose_vec(r, &self.f_level),
+            angular_rate: rotation::mul_transpose_vec(r, &self.w_level),
+        }
+    }
+
+    /// The true kinematics at time `t` (seconds).
+    pub fn at(&self, t: f64) -> Kinematics {
+        match self.motion {
+            Motion::Static { .. } => self.at_rest,
+            Motion::Vibration {
+                amplitude,
+                frequency,
+                ..
+            } => {
+                let a = amplitude * libm::sin(2.0 * core::f64::consts::PI * frequency * t);
+                let mut k = self.at_rest;
+                for (f, d) in k.specific_force.iter_mut().zip(self.direction) {
+                    *f += a * d;
+                }
+                k
+            }
+            Motion::RateTable { axis, rate } => {
+                let r = rotation::mul(&rotation::rot_z(rate * t), &self.mount);
+                let mut k = self.body(&r);
+                let (a, s) = axis.index_sign();
+                k.angular_rate[a] += s * rate;
+                k
+            }
+            Motion::Tumble {
+                positions,
+                dwell,
+                transition,
+            } => {
+                let n = (positions as usize).clamp(1, MAX_POSITIONS);
+                let leg = dwell + transition;
+                let cycle = leg * n as f64;
+                let tc = t - cycle * libm::floor(t / cycle);
+                let i = ((tc / leg) as usize).min(n - 1);
+                let s = tc - leg * i as f64;
+                if s < dwell || transition <= 0.0 {
+                    return self.body(&self.positions[i]);
+                }
+                let (axis, angle) = self.turns[i];
+                let u = ((s - dwell) / transition).clamp(0.0, 1.0);
+                let r = rotation::mul(&self.positions[i], &rotation::exp(&axis, u * angle));
+                let mut k = self.body(&r);
+                let rate = angle / transition;
+                for (w, a) in k.angular_rate.iter_mut().zip(axis) {
+                    *w += rate * a;
+                }
+                k
+            }
+        }
+    }
+}
