@@ -52,13 +52,7 @@ pub fn raw_batch(index: usize, out: &mut [RawSample; BATCH]) {
 /// The chip scale of the benchmark: the ICM-42688-P at ±16 g and ±2000 °/s
 /// (the emulated board's configuration).
 pub fn scale() -> ImuScale {
-    let config = Config::default();
-    ImuScale {
-        accel: config.accel_range.scale(),
-        gyro: config.gyro_range.scale(),
-        temperature_per_lsb: 1.0 / triad::sensor::icm42688::registers::TEMP_LSB_PER_C,
-        temperature_offset: triad::sensor::icm42688::registers::TEMP_OFFSET_C,
-    }
+    Config::default().scale()
 }
 
 /// A realistic calibration: calibrations/default.toml's accelerometer (scale

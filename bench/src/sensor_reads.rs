@@ -10,10 +10,10 @@ use embedded_hal::spi::{ErrorType, Operation, SpiDevice};
 
 use super::pipeline::sample_block;
 use super::BATCH;
-use triad::sensor::icm42688::registers as reg;
 use triad::sensor::icm42688::Icm42688;
 use triad::sensor::interface::SpiInterface;
 use triad::sensor::{FifoImu, Imu, RawSample};
+use triad_sim::icm42688_registers as reg;
 
 /// An SPI device serving one batch: burst reads of the sample block
 /// (TEMP_DATA1…) and FIFO drains (INT_STATUS + FIFO_COUNT, then FIFO_DATA

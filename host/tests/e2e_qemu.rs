@@ -23,18 +23,16 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
 
-use triad::device::{Sampler, StepOutcome};
-use triad::model::{blob, Corrector, Orientation};
+use triad::device::{start_calibration, Sampler, StepOutcome};
+use triad::model::Corrector;
 use triad::sensor::interface::{I2cInterface, SpiInterface};
 use triad::sensor::{Imu, ImuScale, RawSample};
 use triad::stream::{Decoder, Frame};
 
 /// The emulated board's chips: the very code the firmware builds.
-use triad_sim::emulated_board::{icm42688, lsm6dsox, source};
+use triad_sim::emulated_board::{icm42688, lsm6dsox, source, DESCRIPTION};
 
 const TRIAD: &str = env!("CARGO_BIN_EXE_triad");
-/// The emulated board's averaging factor (boards/qemu/board.rs).
-const DECIMATION: u16 = 1;
 
 fn env_path(name: &str) -> PathBuf {
     PathBuf::from(
@@ -45,13 +43,13 @@ fn env_path(name: &str) -> PathBuf {
 /// What the firmware's chip model served: the scene of TRIAD_E2E_SCENE (the
 /// blob the firmware embedded) when xtask ran a simulated scene, else the
 /// demo motion; at the chip's rate, as boards/qemu/board.rs builds it.
-fn model_source(rate_hz: u32) -> source::Source {
+fn model_source(rate_hz: f64) -> source::Source {
     match std::env::var_os("TRIAD_E2E_SCENE") {
         Some(path) => {
             let blob = std::fs::read(&path).expect("the scene blob of the run");
-            source::scene(f64::from(rate_hz), &blob).expect("the embedded scene runs")
+            source::scene(rate_hz, &blob).expect("the embedded scene runs")
         }
-        None => source::demo(f64::from(rate_hz)),
+        None => source::demo(rate_hz),
     }
 }
 
@@ -93,8 +91,8 @@ impl HostSensor {
 
     /// `chip` (icm42688, lsm6dsox) on `bus` (spi, i2c), initialised with the board's configuration.
     fn new(chip: &str, bus: &str) -> Self {
-        let icm = || icm42688::model(model_source(icm42688::SAMPLE_RATE_HZ));
-        let lsm = || lsm6dsox::model(model_source(lsm6dsox::SAMPLE_RATE_HZ));
+        let icm = || icm42688::model(model_source(icm42688::sensor_config().sample_rate_hz()));
+        let lsm = || lsm6dsox::model(model_source(lsm6dsox::sensor_config().sample_rate_hz()));
         let mut sensor = match (chip, bus) {
             ("icm42688", "spi") => Self::IcmSpi(icm42688::Driver::new_spi(icm())),
             ("icm42688", "i2c") => {
@@ -127,11 +125,11 @@ impl HostSensor {
         sensor
     }
 
-    /// The data-ready rate, Hz (the chip file's SAMPLE_RATE_HZ).
-    fn sample_rate_hz(&self) -> u32 {
+    /// The data-ready rate, Hz: the board's chip configuration's.
+    fn sample_rate_hz(&self) -> f64 {
         match self {
-            Self::IcmSpi(_) | Self::IcmI2c(_) => icm42688::SAMPLE_RATE_HZ,
-            Self::LsmSpi(_) | Self::LsmI2c(_) => lsm6dsox::SAMPLE_RATE_HZ,
+            Self::IcmSpi(_) | Self::IcmI2c(_) => icm42688::sensor_config().sample_rate_hz(),
+            Self::LsmSpi(_) | Self::LsmI2c(_) => lsm6dsox::sensor_config().sample_rate_hz(),
         }
     }
 
@@ -140,7 +138,7 @@ impl HostSensor {
         each_sensor!(self, s => s.bus().samples_produced())
     }
 
-    /// What boards/qemu/board.rs `data_ready` does: the model's clock moves to its next sample.
+    /// What the emulated board's `data_ready` does: the model's clock moves to its next sample.
     fn data_ready(&mut self) {
         match self {
             Self::IcmSpi(s) => advance_icm(s.bus_mut()),
@@ -188,14 +186,24 @@ fn every_emulated_data_ready_brings_exactly_one_new_sample() {
 }
 
 #[test]
-fn board_chip_files_state_their_rate_as_their_odr() {
-    assert_eq!(
-        icm42688::ODR.period_ns(),
-        1_000_000_000 / icm42688::SAMPLE_RATE_HZ
-    );
-    assert_eq!(lsm6dsox::ODR.millihertz() / 1000, lsm6dsox::SAMPLE_RATE_HZ);
-    // The timer period of boards/qemu/board.rs, to the microsecond.
-    assert_eq!(1_000_000 / lsm6dsox::SAMPLE_RATE_HZ, 1200);
+fn the_chip_models_sample_at_their_configured_rate() {
+    // 1000 ticks of each chip model's clock span 1000 of its configured periods.
+    for (chip, bus) in [("icm42688", "spi"), ("lsm6dsox", "spi")] {
+        let mut sensor = HostSensor::new(chip, bus);
+        let period_ns = 1e9 / sensor.sample_rate_hz();
+        let mut elapsed_ns = 0u64;
+        for _ in 0..1000 {
+            elapsed_ns += match &sensor {
+                HostSensor::IcmSpi(s) => icm42688::next_sample_ns(s.bus()),
+                HostSensor::LsmSpi(s) => lsm6dsox::next_sample_ns(s.bus()),
+                _ => unreachable!("SPI builds only"),
+            };
+            sensor.data_ready();
+        }
+        let drift = elapsed_ns as f64 - 1000.0 * period_ns;
+        // Each tick lands on the whole nanosecond at or after the exact instant.
+        assert!((0.0..1.0).contains(&drift), "{chip}: {drift} ns");
+    }
 }
 
 /// The frames in the captured stream, with the decoder's statistics checked.
@@ -219,21 +227,35 @@ fn captured_frames() -> Vec<Frame> {
     frames
 }
 
-/// The emulated board's sensor and pipeline, on the host.
+/// The emulated board's sensor and pipeline, on the host: the firmware's
+/// start-up decision and sampler (firmware/src/main.rs calls the same two).
 fn host_board() -> (HostSensor, Sampler) {
     let sensor = HostSensor::from_env();
-    let rate = sensor.sample_rate_hz();
     let blob_bytes = std::fs::read(env_path("TRIAD_E2E_BLOB")).expect("calibration blob");
-    let calibration = blob::decode(&blob_bytes).expect("the embedded blob is valid");
-    let corrector = Corrector::new(&calibration, &sensor.scale(), Orientation::RotationNone)
-        .expect("the embedded calibration is valid");
-    // The firmware re-folds temperature terms every SAMPLE_RATE_HZ / 10 steps (src/main.rs).
-    let sampler = Sampler::new(corrector, true, DECIMATION, 1_000_000 / rate, rate / 10);
+    let startup = start_calibration(&blob_bytes, &sensor.scale(), DESCRIPTION.orientation)
+        .expect("the chip's scale is valid");
+    assert!(
+        startup.rejected.is_none(),
+        "the embedded calibration is valid: {:?}",
+        startup.rejected
+    );
+    let calibrated = startup.calibrated();
+    let sampler = Sampler::at_rate(
+        startup.corrector,
+        calibrated,
+        DESCRIPTION.decimation,
+        sensor.sample_rate_hz(),
+    );
     (sensor, sampler)
 }
 
 /// The host's frames for the same data-ready ticks, and the raw samples read.
 fn host_frames(count: usize, timestamps: &[u32]) -> (Vec<Frame>, Vec<RawSample>, Corrector) {
+    // One step per captured frame: the emulated board streams every sample.
+    assert_eq!(
+        DESCRIPTION.decimation, 1,
+        "replaying decimated steps needs their timestamps"
+    );
     let (mut sensor, mut sampler) = host_board();
     let mut frames = Vec::with_capacity(count);
     let mut raws = Vec::with_capacity(count);
@@ -262,7 +284,9 @@ fn firmware_frames_equal_host_computation_bit_for_bit() {
     );
     let timestamps: Vec<u32> = device.iter().map(|f| f.timestamp_us).collect();
     let (host, _, _) = host_frames(device.len(), &timestamps);
-    let period_us = 1_000_000 / HostSensor::from_env().sample_rate_hz();
+    // One streamed frame per `decimation` data-ready periods, to the microsecond.
+    let period_us = (1e6 / HostSensor::from_env().sample_rate_hz()).round() as u32
+        * u32::from(DESCRIPTION.decimation);
     for (n, (d, h)) in device.iter().zip(&host).enumerate() {
         assert_eq!(d.sequence, n as u32);
         // Timestamps: one data-ready period apart on the emulated clock.

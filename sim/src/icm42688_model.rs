@@ -21,7 +21,7 @@ use super::fault::Fault;
 use super::packet_fifo::PacketFifo;
 use super::register_bus::{quantise, BusPort, RegisterFile};
 use super::source::{SampleSource, TrueSample};
-use triad::sensor::icm42688::registers as reg;
+use crate::icm42688_registers as reg;
 use triad::units::{rad_to_deg, STANDARD_GRAVITY};
 
 /// FIFO of packet-3 entries: 2 KiB.

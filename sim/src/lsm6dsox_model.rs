@@ -24,7 +24,7 @@ use super::fault::Fault;
 use super::packet_fifo::PacketFifo;
 use super::register_bus::{quantise, BusPort, RegisterFile};
 use super::source::SampleSource;
-use triad::sensor::lsm6dsox::registers as reg;
+use crate::lsm6dsox_registers as reg;
 use triad::units::{rad_to_deg, STANDARD_GRAVITY};
 
 /// The tagged FIFO: 512 words of tag + 6 bytes.

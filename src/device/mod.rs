@@ -1,15 +1,22 @@
-//! The per-sample decisions of the firmware, as plain functions a host test
-//! can call: averaging N corrected samples into one streamed sample
+//! What the firmware decides, as plain functions a host test can call: the
+//! board traits ([`board`]), which calibration the device starts with
+//! ([`startup`]), the data-ready step ([`data_ready`]) over the per-sample
+//! pipeline: averaging N corrected samples into one streamed sample
 //! ([`Decimator`]), noticing sample steps that were late or lost
 //! ([`StepMonitor`]), and turning samples plus the counters of what went wrong
 //! into stream frames ([`Framer`]). The RTIC application only wires them.
 
+pub mod board;
+pub mod data_ready;
 pub mod decimator;
 pub mod framer;
 pub mod sampler;
+pub mod startup;
 pub mod step_monitor;
 
+pub use data_ready::{on_data_ready, Stepped};
 pub use decimator::Decimator;
 pub use framer::Framer;
 pub use sampler::{Sampler, StepOutcome};
+pub use startup::{start_calibration, CalibrationSource, StartUp};
 pub use step_monitor::StepMonitor;

@@ -8,6 +8,10 @@ use crate::model::Corrector;
 use crate::sensor::Imu;
 use crate::stream::Frame;
 
+/// Temperature terms change slower than this: re-folding ten times a second
+/// keeps the fold within 0.1 s of the die temperature.
+const REFOLDS_PER_SECOND: f64 = 10.0;
+
 /// What a step produced.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum StepOutcome<E> {
@@ -51,6 +55,15 @@ impl Sampler {
             refold_every,
             steps_since_refold: 0,
         }
+    }
+
+    /// A sampler for a chip sampling at `rate_hz`: steps expected every
+    /// period (to the microsecond), temperature terms re-folded ten times a
+    /// second. The firmware and the end-to-end test both build it this way.
+    pub fn at_rate(corrector: Corrector, calibrated: bool, decimation: u16, rate_hz: f64) -> Self {
+        let period_us = libm::round(1e6 / rate_hz) as u32;
+        let refold_every = libm::round(rate_hz / REFOLDS_PER_SECOND) as u32;
+        Self::new(corrector, calibrated, decimation, period_us, refold_every)
     }
 
     /// One step that started at `now_us`: reads `imu`, corrects, averages and

@@ -2,7 +2,7 @@
 //! must know of each. A firmware build is one board with one chip on one bus,
 //! chosen by cargo features (`board-*`, `sensor-*`, `bus-*`; see Cargo.toml).
 
-/// A board folder under boards/.
+/// A board crate under boards/.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Board {
     /// QEMU's netduinoplus2 (STM32F405): the emulated board.
@@ -28,14 +28,6 @@ impl Board {
     pub fn target(self) -> &'static str {
         "thumbv7em-none-eabihf"
     }
-
-    /// The averaging factor (keep equal to DECIMATION in boards/<board>/board.rs).
-    pub fn decimation(self) -> u16 {
-        match self {
-            Board::Qemu => 1,
-            Board::NucleoF401re => 1,
-        }
-    }
 }
 
 /// The IMU chip the firmware reads.
@@ -56,15 +48,6 @@ impl Sensor {
         match self {
             Sensor::Icm42688 => "icm42688",
             Sensor::Lsm6dsox => "lsm6dsox",
-        }
-    }
-
-    /// The data-ready rate, Hz: the chip's output data rate on every board
-    /// (keep equal to SAMPLE_RATE_HZ in boards/<board>/<chip>.rs).
-    pub fn sample_rate_hz(self) -> f64 {
-        match self {
-            Sensor::Icm42688 => 1000.0,
-            Sensor::Lsm6dsox => 833.0,
         }
     }
 }
@@ -142,16 +125,6 @@ impl Firmware {
             self.bus.name()
         )
     }
-
-    /// Frames streamed per second: the sample rate over the decimation.
-    pub fn frame_rate(self) -> f64 {
-        self.sensor.sample_rate_hz() / f64::from(self.board.decimation())
-    }
-
-    /// How many frames cover `seconds` of stream time.
-    pub fn frames_in(self, seconds: f64) -> u64 {
-        (seconds * self.frame_rate()).ceil() as u64
-    }
 }
 
 #[cfg(test)]
@@ -172,21 +145,5 @@ mod tests {
             "board-qemu,sensor-icm42688,bus-spi",
             "the default chip and bus come first"
         );
-    }
-
-    #[test]
-    fn frames_cover_the_seconds_at_the_chips_rate() {
-        let lsm = Firmware {
-            board: Board::Qemu,
-            sensor: Sensor::Lsm6dsox,
-            bus: Bus::Spi,
-        };
-        // 0.05 s × 833 Hz = 41.65 → 42 frames.
-        assert_eq!(lsm.frames_in(0.05), 42);
-        let icm = Firmware {
-            sensor: Sensor::Icm42688,
-            ..lsm
-        };
-        assert_eq!(icm.frames_in(2.0), 2000);
     }
 }

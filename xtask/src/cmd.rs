@@ -144,36 +144,23 @@ fn build(firmware: Firmware, calibration: &Path, scene: Option<&Path>) -> Result
 
 /// Flashes and runs the firmware on a NUCLEO-F401RE with probe-rs (which also
 /// prints the defmt log) and decodes the stream from the virtual COM port.
-pub fn run_on_hardware(
-    elf: &Path,
-    firmware: Firmware,
-    triad: &Path,
-    port: &str,
-    seconds: f64,
-) -> Result<()> {
+pub fn run_on_hardware(elf: &Path, triad: &Path, port: &str, seconds: f64) -> Result<()> {
     if Command::new("probe-rs").arg("--version").output().is_err() {
         bail!(
             "probe-rs not found: install it with `cargo install probe-rs-tools --locked` \
              and connect the board's ST-LINK"
         );
     }
+    let baud = crate::elf_facts::link_baud(elf)?;
     let mut probe = Command::new("probe-rs")
         .args(["run", "--chip", "STM32F401RETx"])
         .arg(elf)
         .stdin(Stdio::null())
         .spawn()
         .context("starting probe-rs")?;
-    let frames = firmware.frames_in(seconds).to_string();
     let status = Command::new(triad)
-        .args([
-            "decode",
-            "--port",
-            port,
-            "--baud",
-            "921600",
-            "--max-frames",
-            &frames,
-        ])
+        .args(["decode", "--port", port, "--baud", &baud.to_string()])
+        .args(["--seconds", &seconds.to_string()])
         .status()
         .context("starting triad decode");
     let _ = probe.kill();

@@ -13,6 +13,7 @@ mod bench;
 mod board;
 mod cmd;
 mod defmt_log;
+mod elf_facts;
 mod qemu;
 mod setup;
 mod test;
@@ -121,15 +122,13 @@ fn run(args: RunArgs) -> anyhow::Result<()> {
         }
         None => cmd::build_firmware(firmware, &calibration)?,
     };
-    let frames = firmware.frames_in(args.seconds);
     match args.board {
         board::Board::Qemu => {
-            let status = qemu::stream_to_decoder(&elf, &triad, frames, qemu::Inherit)?;
+            let stop = qemu::Stop::Seconds(args.seconds);
+            let status = qemu::stream_to_decoder(&elf, &triad, stop, qemu::Inherit)?;
             anyhow::ensure!(status.success(), "triad decode exited with {status}");
             Ok(())
         }
-        board::Board::NucleoF401re => {
-            cmd::run_on_hardware(&elf, firmware, &triad, &args.port, args.seconds)
-        }
+        board::Board::NucleoF401re => cmd::run_on_hardware(&elf, &triad, &args.port, args.seconds),
     }
 }

@@ -29,12 +29,32 @@ pub enum Sink {
 }
 pub use Sink::Inherit;
 
+/// When `triad decode` stops reading the stream.
+#[derive(Clone, Copy, Debug)]
+pub enum Stop {
+    /// After this many good frames.
+    Frames(u64),
+    /// After this many seconds of stream time, by the frames' own timestamps
+    /// (so nothing here needs to know the sample rate or the decimation).
+    Seconds(f64),
+}
+
+impl Stop {
+    /// `triad decode`'s option for it.
+    pub fn decode_args(self) -> [String; 2] {
+        match self {
+            Stop::Frames(n) => ["--max-frames".into(), n.to_string()],
+            Stop::Seconds(s) => ["--seconds".into(), s.to_string()],
+        }
+    }
+}
+
 /// How long QEMU may take to open its serial socket.
 const SOCKET_TIMEOUT: Duration = Duration::from_secs(20);
 
-/// Runs `elf` on QEMU until `triad decode` has printed `frames` frames, then
-/// stops QEMU. Returns the decoder's exit status.
-pub fn stream_to_decoder(elf: &Path, triad: &Path, frames: u64, sink: Sink) -> Result<ExitStatus> {
+/// Runs `elf` on QEMU until `triad decode` stops at `stop`, then stops QEMU.
+/// Returns the decoder's exit status.
+pub fn stream_to_decoder(elf: &Path, triad: &Path, stop: Stop, sink: Sink) -> Result<ExitStatus> {
     let dir = elf.parent().context("firmware path has a parent")?;
     let socket = dir.join(format!("serial-{}.sock", std::process::id()));
     let _ = std::fs::remove_file(&socket);
@@ -56,7 +76,8 @@ pub fn stream_to_decoder(elf: &Path, triad: &Path, frames: u64, sink: Sink) -> R
         }
     };
     let mut decoder = decoder_cmd
-        .args(["decode", "-", "--max-frames", &frames.to_string()])
+        .args(["decode", "-"])
+        .args(stop.decode_args())
         .stdin(Stdio::piped())
         .spawn()
         .context("starting triad decode")?;
@@ -72,7 +93,7 @@ pub fn stream_to_decoder(elf: &Path, triad: &Path, frames: u64, sink: Sink) -> R
             if let Some(file) = raw_file.as_mut() {
                 file.write_all(&buffer[..n])?;
             }
-            // The decoder closes its stdin after --max-frames: that ends the pump.
+            // The decoder closes its stdin when it stops: that ends the pump.
             if stdin.write_all(&buffer[..n]).is_err() {
                 return Ok(());
             }
@@ -86,7 +107,7 @@ pub fn stream_to_decoder(elf: &Path, triad: &Path, frames: u64, sink: Sink) -> R
         // QEMU exits on its own only through a semihosting exit: the firmware
         // ended the run early (a fatal error or a panic).
         if !qemu_status.success() {
-            bail!("the firmware stopped QEMU with {qemu_status} before {frames} frames streamed");
+            bail!("the firmware stopped QEMU with {qemu_status} before {stop:?} streamed");
         }
     }
     Ok(status)

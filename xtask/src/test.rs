@@ -31,6 +31,9 @@ pub fn run(e2e_only: bool) -> Result<()> {
     for firmware in Firmware::all() {
         eprintln!("xtask: building the firmware for {}", firmware.label());
         let elf = cmd::build_firmware(firmware, &calibration)?;
+        // What `cargo xtask run --board nucleo-f401re` reads to open the port.
+        let baud = crate::elf_facts::link_baud(&elf)?;
+        eprintln!("xtask: {} links at {baud} baud", firmware.label());
         if firmware.board == Board::Qemu {
             qemu_elves.push((firmware, elf));
         }
@@ -83,7 +86,7 @@ fn end_to_end(
         raw: raw.clone(),
         csv: csv.clone(),
     };
-    let status = qemu::stream_to_decoder(elf, triad, E2E_FRAMES, sink)?;
+    let status = qemu::stream_to_decoder(elf, triad, qemu::Stop::Frames(E2E_FRAMES), sink)?;
     if !status.success() {
         bail!("triad decode of the QEMU stream of {label} exited with {status}");
     }

@@ -16,15 +16,13 @@ pub use stm32f4::stm32f405 as pac;
 
 /// What QEMU's STM32 timers count at (virtual time), Hz.
 const TIMER_CLOCK_HZ: u32 = 1_000_000_000;
-/// USART1 baud rate (QEMU ignores it; the value is what real silicon would get).
-pub const BAUD: u32 = 921_600;
 /// The APB2 clock that the baud-rate divider assumes (168 MHz core / 2).
 const APB2_HZ: u32 = 84_000_000;
 
 /// The peripherals the application uses.
 pub struct Board {
     /// The data-ready stand-in: one TIM3 interrupt per sample.
-    pub sample_timer: SampleTimer,
+    pub sample_line: SampleLine,
     /// Microsecond timestamps for the stream.
     pub clock: MicrosecondClock,
     /// The stream's transmitter.
@@ -42,7 +40,7 @@ pub fn init(dp: pac::Peripherals) -> Board {
     dp.RCC.apb2enr().modify(|_, w| w.usart1en().set_bit());
     let clock = MicrosecondClock::new(dp.TIM5, TIMER_CLOCK_HZ);
     Board {
-        sample_timer: SampleTimer::new(dp.TIM3, &clock),
+        sample_line: SampleLine::new(dp.TIM3, &clock, sensor_config().sample_rate_hz()),
         clock,
         serial: Serial::new(dp.USART1, USART_DIV_X16),
         sensor: sensor(),
@@ -58,11 +56,12 @@ pub fn init(dp: pac::Peripherals) -> Board {
 /// enabled at 448 µs, a 1000 µs reload gave 1448 µs periods; enabled at
 /// about 1 µs, 1001 µs). So the board starts its timers first thing and shortens
 /// the reload by the enable time read from the microsecond clock.
-pub struct SampleTimer(pac::TIM3);
+pub struct SampleLine(pac::TIM3);
 
-impl SampleTimer {
-    fn new(tim: pac::TIM3, clock: &MicrosecondClock) -> Self {
-        const PERIOD_US: u32 = 1_000_000 / SAMPLE_RATE_HZ;
+impl SampleLine {
+    /// TIM3 pending EXTI0 every sample period of `rate_hz`, to the microsecond.
+    fn new(tim: pac::TIM3, clock: &MicrosecondClock, rate_hz: f64) -> Self {
+        let period_us = libm::round(1e6 / rate_hz) as u32;
         tim.psc()
             .write(|w| w.psc().set((TIMER_CLOCK_HZ / 1_000_000 - 1) as u16));
         tim.egr().write(|w| w.ug().set_bit());
@@ -76,19 +75,19 @@ impl SampleTimer {
             cortex_m::peripheral::NVIC::unmask(pac::Interrupt::TIM3);
         }
         // Rounded up: the enable lands within the microsecond after the read.
-        let enabled_at = (clock.now_us() + 1).min(PERIOD_US / 2);
+        let enabled_at = (clock.now_us() + 1).min(period_us / 2);
         tim.arr()
-            .write(|w| w.arr().set((PERIOD_US - 1 - enabled_at) as u16));
+            .write(|w| w.arr().set((period_us - 1 - enabled_at) as u16));
         tim.cr1().modify(|_, w| w.cen().set_bit());
         Self(tim)
     }
+}
 
+impl DataReadyLine for SampleLine {
     /// Nothing to acknowledge: a pended interrupt clears itself on entry.
-    pub fn acknowledge(&mut self) {}
+    fn acknowledge(&mut self) {}
 
-    /// True when the next data-ready interrupt is already pending: the
-    /// current step overran its period.
-    pub fn next_step_pending(&self) -> bool {
+    fn next_step_pending(&self) -> bool {
         cortex_m::peripheral::NVIC::is_pending(pac::Interrupt::EXTI0)
     }
 }
@@ -112,7 +111,7 @@ pub type Serial = serial_tx::SerialTx<pac::USART1>;
 
 // RM0090 §30.3.4: USARTDIV = f_APB2 / (16 · baud), mantissa.fraction in BRR.
 // 84 MHz / 921600 rounds to 91 (0x5B): 0.0 % error; fits BRR's 16 bits.
-const USART_DIV_X16: u16 = ((APB2_HZ + BAUD / 2) / BAUD) as u16;
+const USART_DIV_X16: u16 = ((APB2_HZ + DESCRIPTION.baud / 2) / DESCRIPTION.baud) as u16;
 
 /// Ends the emulation with a status QEMU returns to its caller.
 pub fn exit(success: bool) -> ! {
@@ -137,7 +136,8 @@ use triad_sim::emulated_board::lsm6dsox as chip;
 /// What the chip model measures: the demo motion or an embedded scene.
 use triad_sim::emulated_board::source;
 
-pub use chip::{sensor_config, SAMPLE_RATE_HZ};
+pub use chip::sensor_config;
+pub use triad_sim::emulated_board::DESCRIPTION;
 
 /// The sensor: the real driver of the chosen chip over SPI (or I²C with the
 /// `bus-i2c` feature), talking to the chip model serving `model_source()`.
@@ -147,12 +147,6 @@ pub type Sensor = chip::Driver<SpiInterface<chip::Model>>;
 /// chip model (at its default address) serving `model_source()`.
 #[cfg(feature = "bus-i2c")]
 pub type Sensor = chip::Driver<I2cInterface<chip::Model>>;
-
-/// How the sensor is mounted on the board.
-pub const ORIENTATION: Orientation = Orientation::RotationNone;
-
-/// Averaging factor: streamed frames per second = SAMPLE_RATE_HZ / DECIMATION.
-pub const DECIMATION: u16 = 1;
 
 /// The driver on the chip model, over SPI.
 #[cfg(not(feature = "bus-i2c"))]
@@ -172,7 +166,7 @@ fn sensor() -> Sensor {
 #[cfg(feature = "sim-scene")]
 fn model_source() -> source::Source {
     static SCENE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/scene.bin"));
-    match source::scene(f64::from(SAMPLE_RATE_HZ), SCENE) {
+    match source::scene(sensor_config().sample_rate_hz(), SCENE) {
         Ok(source) => source,
         Err(error) => {
             defmt::error!("embedded scene rejected: {}", defmt::Debug2Format(&error));
@@ -184,7 +178,7 @@ fn model_source() -> source::Source {
 /// The documented demo motion at the chip's rate.
 #[cfg(not(feature = "sim-scene"))]
 fn model_source() -> source::Source {
-    source::demo(f64::from(SAMPLE_RATE_HZ))
+    source::demo(sensor_config().sample_rate_hz())
 }
 
 /// The data-ready line: on this board the timer interrupt stands in for it,
@@ -204,7 +198,7 @@ impl embedded_hal::delay::DelayNs for Delay {
     }
 }
 
-use triad::model::Orientation;
+use triad::device::board::{DataReadyLine, MicrosecondClock as _};
 #[cfg(feature = "bus-i2c")]
 use triad::sensor::interface::I2cInterface;
 #[cfg(not(feature = "bus-i2c"))]

@@ -1,5 +1,4 @@
-//! TIM5 (32 bit) free-running at 1 MHz: the stream's timestamps. Shared by
-//! the STM32F4 boards (each includes this file with its own `pac`).
+//! TIM5 (32 bit) free-running at 1 MHz: the stream's timestamps.
 
 use super::pac;
 
@@ -16,9 +15,10 @@ impl MicrosecondClock {
         tim.cr1().modify(|_, w| w.cen().set_bit());
         Self(tim)
     }
+}
 
-    /// Microseconds since start, wrapping at 2³².
-    pub fn now_us(&self) -> u32 {
+impl triad::device::board::MicrosecondClock for MicrosecondClock {
+    fn now_us(&self) -> u32 {
         self.0.cnt().read().bits()
     }
 }

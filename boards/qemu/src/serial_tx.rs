@@ -1,8 +1,8 @@
-//! A USART as a transmit-only 8N1 byte sink: the stream's link. Shared by
-//! the STM32F4 boards (each includes this file with its own `pac`).
+//! USART1 as a transmit-only 8N1 byte sink: the stream's link.
 
 use super::pac;
 use core::ops::Deref;
+use triad::device::board::LinkTx;
 
 /// A USART (any of them: they share one register layout) sending bytes.
 pub struct SerialTx<U>(U);
@@ -16,9 +16,11 @@ impl<U: Deref<Target = pac::usart1::RegisterBlock>> SerialTx<U> {
         usart.cr1().write(|w| w.ue().set_bit().te().set_bit());
         Self(usart)
     }
+}
 
+impl<U: Deref<Target = pac::usart1::RegisterBlock>> LinkTx for SerialTx<U> {
     /// Sends the bytes, waiting for the transmit register to empty before each.
-    pub fn write_all(&mut self, bytes: &[u8]) {
+    fn write_all(&mut self, bytes: &[u8]) {
         for &byte in bytes {
             while self.0.sr().read().txe().bit_is_clear() {}
             self.0.dr().write(|w| w.dr().set(u16::from(byte)));

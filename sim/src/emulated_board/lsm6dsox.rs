@@ -1,11 +1,11 @@
 //! The emulated board's LSM6DSOX: the register-level chip model serving the
 //! board's source (source.rs: the demo motion or a scene), behind either bus (the model answers SPI and I²C like the chip).
 //!
-//! Plain code over `triad` only, so the end-to-end test on the host includes
-//! this very file and builds the same chip the firmware read.
+//! The end-to-end test on the host builds this very chip, so it knows what the
+//! firmware read.
 
 use crate::lsm6dsox_model::Lsm6dsoxModel;
-use triad::sensor::lsm6dsox::{config::Config, registers, Odr};
+use triad::sensor::lsm6dsox::{Config, I2C_ADDRESS_SA0_LOW};
 
 /// The chip's driver, generic over the register interface (SPI or I²C).
 pub use triad::sensor::lsm6dsox::Lsm6dsox as Driver;
@@ -13,22 +13,16 @@ pub use triad::sensor::lsm6dsox::Lsm6dsox as Driver;
 /// The chip model behind the bus.
 pub type Model = Lsm6dsoxModel<super::source::Source>;
 
-/// The output data rate: 833 Hz in high-performance mode (DS12814 §9 CTRL1_XL).
-pub const ODR: Odr = Odr::Hz833;
-/// The data-ready (sample) rate in Hz: `ODR` in whole hertz. The sample
-/// timer's period, 1_000_000 / 833 = 1200 µs, is the chip's 1200.48 µs to the
-/// microsecond; the chip model's own clock keeps the exact period
-/// ([`next_sample_ns`]), so every data-ready brings exactly one new sample.
-pub const SAMPLE_RATE_HZ: u32 = 833;
 /// The model's I²C address: SA0/SDO low (DS12814 §6.3).
-pub const I2C_ADDRESS: u8 = registers::I2C_ADDRESS_SA0_LOW;
+pub const I2C_ADDRESS: u8 = I2C_ADDRESS_SA0_LOW;
 
-/// ±16 g, ±2000 °/s, 833 Hz, gyroscope data-ready on INT1.
+/// The driver's default: ±16 g, ±2000 °/s, 833 Hz in high-performance mode
+/// (DS12814 §9 CTRL1_XL), gyroscope data-ready on INT1. The board's sample
+/// timer runs at the whole microsecond nearest the chip's 1200.48 µs period;
+/// the chip model's own clock keeps the exact period ([`next_sample_ns`]), so
+/// every data-ready brings exactly one new sample.
 pub fn sensor_config() -> Config {
-    Config {
-        odr: ODR,
-        ..Config::default()
-    }
+    Config::default()
 }
 
 /// A powered-up chip model serving `source` (built at the sample rate).
@@ -43,7 +37,7 @@ pub fn model(source: super::source::Source) -> Model {
 pub fn next_sample_ns(model: &Model) -> u64 {
     /// ns·mHz in one second.
     const NS_MHZ: u128 = 1_000_000_000_000;
-    let rate = u128::from(ODR.millihertz());
+    let rate = u128::from(sensor_config().odr.millihertz());
     let n = u128::from(model.samples_produced());
     let at = |k: u128| (k * NS_MHZ).div_ceil(rate);
     // The difference is ⌈P⌉ or ⌊P⌋ (about 1.2 ms): it fits in u64.

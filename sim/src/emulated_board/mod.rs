@@ -1,9 +1,23 @@
-//! The emulated board's sensor: what the simulator serves there (the demo
-//! motion or an embedded scene) and each chip model with the configuration
-//! the board's driver applies. Here, in the simulator, so that the emulated
-//! board (boards/qemu) and the end-to-end test on the host build the very
-//! same chip.
+//! The emulated board's facts and sensor: its description (orientation,
+//! decimation, baud), what the simulator serves there (the demo motion or an
+//! embedded scene) and each chip model with the configuration the board's
+//! driver applies. Here, in the simulator, so that the emulated board
+//! (boards/qemu) and the end-to-end test on the host build the very same
+//! chip and pipeline from one source.
 
 pub mod icm42688;
 pub mod lsm6dsox;
 pub mod source;
+
+use triad::device::board::BoardDescription;
+use triad::model::Orientation;
+
+/// The emulated board (QEMU's netduinoplus2): chip mounted in the board's
+/// axes, every sample streamed, USART1 at 921600 baud (QEMU ignores the
+/// rate; the divider is what silicon would get).
+pub const DESCRIPTION: BoardDescription = BoardDescription {
+    name: "qemu-netduinoplus2",
+    orientation: Orientation::RotationNone,
+    decimation: 1,
+    baud: 921_600,
+};

@@ -5,7 +5,7 @@
 
 pub use crate::sensor::fifo::{FifoConfig, FifoMode};
 pub use crate::sensor::interrupt::InterruptPin;
-use crate::sensor::TriadScale;
+use crate::sensor::{ImuScale, TriadScale};
 use crate::units::{deg_to_rad, STANDARD_GRAVITY};
 
 /// Accelerometer full-scale range (ACCEL_CONFIG0 ACCEL_FS_SEL).
@@ -288,6 +288,25 @@ pub struct Config {
     pub interrupt: InterruptPin,
     /// `None`: FIFO off, INT1 signals data ready. `Some`: FIFO on, INT1 signals the watermark.
     pub fifo: Option<FifoConfig>,
+}
+
+impl Config {
+    /// Data-ready events per second: the output data rate. The firmware's
+    /// sample period, and everything timed by it, comes from here.
+    pub fn sample_rate_hz(&self) -> f64 {
+        self.odr.hz()
+    }
+
+    /// The counts → SI sensitivities of this configuration's ranges and the
+    /// chip's temperature sensor (what [`crate::sensor::Imu::scale`] reports).
+    pub fn scale(&self) -> ImuScale {
+        ImuScale {
+            accel: self.accel_range.scale(),
+            gyro: self.gyro_range.scale(),
+            temperature_per_lsb: 1.0 / super::registers::TEMP_LSB_PER_C,
+            temperature_offset: super::registers::TEMP_OFFSET_C,
+        }
+    }
 }
 
 impl Default for Config {

@@ -5,7 +5,7 @@
 //! data registers on data ready or drains the FIFO on its watermark.
 
 pub mod config;
-pub mod registers;
+mod registers;
 
 use embedded_hal::delay::DelayNs;
 use embedded_hal::i2c::I2c;
@@ -18,6 +18,7 @@ use super::interface::{I2cInterface, RegisterInterface, SpiInterface};
 use super::{Imu, ImuScale, RawSample};
 
 pub use self::config::{AccelRange, Config, FifoConfig, FifoMode, GyroRange, InterruptPin, Odr};
+pub use self::registers::{I2C_ADDRESS_AD0_HIGH, I2C_ADDRESS_AD0_LOW};
 
 /// FIFO packets read per bus transaction: 32 × 16 B = 512 B of stack.
 const FIFO_CHUNK_PACKETS: usize = 32;
@@ -251,12 +252,7 @@ impl<I: RegisterInterface> Imu for Icm42688<I> {
     }
 
     fn scale(&self) -> ImuScale {
-        ImuScale {
-            accel: self.config.accel_range.scale(),
-            gyro: self.config.gyro_range.scale(),
-            temperature_per_lsb: 1.0 / reg::TEMP_LSB_PER_C,
-            temperature_offset: reg::TEMP_OFFSET_C,
-        }
+        self.config.scale()
     }
 }
 

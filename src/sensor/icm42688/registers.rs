@@ -16,12 +16,8 @@ pub const FIFO_CONFIG: u8 = 0x16;
 /// §14 TEMP_DATA1: first byte of the 14-byte sample block (temperature,
 /// accel x/y/z, gyro x/y/z, each big-endian) that ends at GYRO_DATA_Z0 (0x2A).
 pub const TEMP_DATA1: u8 = 0x1D;
-/// §14 GYRO_DATA_Z0: last byte of the sample block.
-pub const GYRO_DATA_Z0: u8 = 0x2A;
 /// §14 INT_STATUS: interrupt status, cleared on read.
 pub const INT_STATUS: u8 = 0x2D;
-/// §14 FIFO_COUNTH: FIFO count high byte; FIFO_COUNTL follows at 0x2F.
-pub const FIFO_COUNTH: u8 = 0x2E;
 /// §14 FIFO_DATA: the FIFO read port (the address does not auto-increment here).
 pub const FIFO_DATA: u8 = 0x30;
 /// §14 SIGNAL_PATH_RESET: bit 1 FIFO_FLUSH.
@@ -64,21 +60,15 @@ pub const INT1_DRIVE_PUSH_PULL: u8 = 1 << 1;
 /// INT_CONFIG bit 0: INT1 active high (1) or low (0).
 pub const INT1_POLARITY_HIGH: u8 = 1 << 0;
 
-/// FIFO_CONFIG bits 7:6 = 00: bypass (FIFO off).
-pub const FIFO_MODE_BYPASS: u8 = 0b00 << 6;
 /// FIFO_CONFIG bits 7:6 = 01: stream-to-FIFO.
 pub const FIFO_MODE_STREAM: u8 = 0b01 << 6;
 /// FIFO_CONFIG bits 7:6 = 10: stop-on-full.
 pub const FIFO_MODE_STOP_ON_FULL: u8 = 0b10 << 6;
-/// FIFO_CONFIG mode field.
-pub const FIFO_MODE_MASK: u8 = 0b11 << 6;
 
 /// INT_STATUS bit 4: reset done.
 pub const RESET_DONE_INT: u8 = 1 << 4;
 /// INT_STATUS bit 3: UI data ready.
 pub const DATA_RDY_INT: u8 = 1 << 3;
-/// INT_STATUS bit 2: FIFO reached the watermark.
-pub const FIFO_THS_INT: u8 = 1 << 2;
 /// INT_STATUS bit 1: FIFO full (overflowed).
 pub const FIFO_FULL_INT: u8 = 1 << 1;
 
@@ -111,15 +101,10 @@ pub const FIFO_GYRO_EN: u8 = 1 << 1;
 /// FIFO_CONFIG1 bit 0: accel in FIFO packets.
 pub const FIFO_ACCEL_EN: u8 = 1 << 0;
 
-/// INT_CONFIG1 bit 4: INT_ASYNC_RESET, set at reset.
-pub const INT_ASYNC_RESET: u8 = 1 << 4;
-
 /// INT_SOURCE0 bit 3: data ready drives INT1.
 pub const UI_DRDY_INT1_EN: u8 = 1 << 3;
 /// INT_SOURCE0 bit 2: FIFO watermark drives INT1.
 pub const FIFO_THS_INT1_EN: u8 = 1 << 2;
-/// INT_SOURCE0 bit 1: FIFO full drives INT1.
-pub const FIFO_FULL_INT1_EN: u8 = 1 << 1;
 
 /// §6.1 FIFO packet 3 (accel + gyro + temperature + timestamp): 16 bytes.
 pub const FIFO_PACKET_LEN: usize = 16;
@@ -133,14 +118,9 @@ pub const HEADER_ACCEL: u8 = 1 << 6;
 pub const HEADER_GYRO: u8 = 1 << 5;
 /// §6.2 FIFO header bit 4: 20-bit (high resolution) packet.
 pub const HEADER_20: u8 = 1 << 4;
-/// §6.2 FIFO header bits 3:2 = 10: packet holds the ODR timestamp.
-pub const HEADER_TIMESTAMP_ODR: u8 = 0b10 << 2;
 
 /// §14 TEMP_DATA: temperature sensitivity, LSB per °C (Temp = TEMP_DATA/132.48 + 25).
 pub const TEMP_LSB_PER_C: f64 = 132.48;
-/// §6.1: FIFO temperature sensitivity, LSB per °C (Temp = FIFO_TEMP_DATA/2.07 + 25).
-/// 132.48 / 2.07 = 64 exactly, so a FIFO reading times 64 is on the register scale.
-pub const FIFO_TEMP_LSB_PER_C: f64 = 2.07;
 /// Temperature at reading 0, °C.
 pub const TEMP_OFFSET_C: f64 = 25.0;
 
@@ -148,7 +128,3 @@ pub const TEMP_OFFSET_C: f64 = 25.0;
 pub const I2C_ADDRESS_AD0_LOW: u8 = 0x68;
 /// The I²C address with AP_AD0 high.
 pub const I2C_ADDRESS_AD0_HIGH: u8 = 0x69;
-
-/// The largest output code; -32768 is reserved as the "invalid sample"
-/// marker (§6.1), so a saturated axis reads ±32767.
-pub const LIMIT_CODE: i16 = 32767;

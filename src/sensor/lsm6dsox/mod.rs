@@ -5,7 +5,7 @@
 //! output registers on data ready or drains the tagged FIFO on its watermark.
 
 pub mod config;
-pub mod registers;
+mod registers;
 
 use embedded_hal::delay::DelayNs;
 use embedded_hal::i2c::I2c;
@@ -18,6 +18,7 @@ use super::interface::{I2cInterface, RegisterInterface, SpiInterface};
 use super::{Imu, ImuScale, RawSample};
 
 pub use self::config::{AccelRange, Config, FifoConfig, FifoMode, GyroRange, InterruptPin, Odr};
+pub use self::registers::{I2C_ADDRESS_SA0_HIGH, I2C_ADDRESS_SA0_LOW};
 
 /// Samples read per FIFO bus transaction: 32 × 2 words × 7 B = 448 B of stack.
 const FIFO_CHUNK_SAMPLES: usize = 32;
@@ -257,12 +258,7 @@ impl<I: RegisterInterface> Imu for Lsm6dsox<I> {
     }
 
     fn scale(&self) -> ImuScale {
-        ImuScale {
-            accel: self.config.accel_range.scale(),
-            gyro: self.config.gyro_range.scale(),
-            temperature_per_lsb: 1.0 / reg::TEMP_LSB_PER_C,
-            temperature_offset: reg::TEMP_OFFSET_C,
-        }
+        self.config.scale()
     }
 }
 

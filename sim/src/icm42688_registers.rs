@@ -1,0 +1,120 @@
+//! The ICM-42688-P register addresses and bit fields the chip model answers to
+//! (DS-000347). Kept apart from the driver's map on purpose: the driver's is
+//! private to the core, and a model that borrowed the driver's constants
+//! would agree with a wrong address in the driver, so the driver-over-model
+//! tests could not catch it. The driver's own tests check its addresses
+//! against literals from the data sheet.
+
+/// §13: bank selection, reachable from every bank (bits 2:0).
+pub const REG_BANK_SEL: u8 = 0x76;
+/// §14 DEVICE_CONFIG: bit 0 SOFT_RESET_CONFIG.
+pub const DEVICE_CONFIG: u8 = 0x11;
+/// §14 FIFO_CONFIG: bits 7:6 FIFO_MODE.
+pub const FIFO_CONFIG: u8 = 0x16;
+/// §14 TEMP_DATA1: first byte of the 14-byte sample block (temperature,
+/// accel x/y/z, gyro x/y/z, each big-endian) that ends at GYRO_DATA_Z0 (0x2A).
+pub const TEMP_DATA1: u8 = 0x1D;
+/// §14 GYRO_DATA_Z0: last byte of the sample block.
+pub const GYRO_DATA_Z0: u8 = 0x2A;
+/// §14 INT_STATUS: interrupt status, cleared on read.
+pub const INT_STATUS: u8 = 0x2D;
+/// §14 FIFO_COUNTH: FIFO count high byte; FIFO_COUNTL follows at 0x2F.
+pub const FIFO_COUNTH: u8 = 0x2E;
+/// §14 FIFO_DATA: the FIFO read port (the address does not auto-increment here).
+pub const FIFO_DATA: u8 = 0x30;
+/// §14 SIGNAL_PATH_RESET: bit 1 FIFO_FLUSH.
+pub const SIGNAL_PATH_RESET: u8 = 0x4B;
+/// §14 INTF_CONFIG0: FIFO count format and data endianness.
+pub const INTF_CONFIG0: u8 = 0x4C;
+/// §14 PWR_MGMT0: accel and gyro power modes, temperature sensor disable.
+pub const PWR_MGMT0: u8 = 0x4E;
+/// §14 GYRO_CONFIG0: bits 7:5 GYRO_FS_SEL, bits 3:0 GYRO_ODR.
+pub const GYRO_CONFIG0: u8 = 0x4F;
+/// §14 ACCEL_CONFIG0: bits 7:5 ACCEL_FS_SEL, bits 3:0 ACCEL_ODR.
+pub const ACCEL_CONFIG0: u8 = 0x50;
+/// §14 FIFO_CONFIG1: which sensors go into the FIFO.
+pub const FIFO_CONFIG1: u8 = 0x5F;
+/// §14 FIFO_CONFIG2: watermark bits 7:0.
+pub const FIFO_CONFIG2: u8 = 0x60;
+/// §14 FIFO_CONFIG3: watermark bits 11:8.
+pub const FIFO_CONFIG3: u8 = 0x61;
+/// §14 INT_CONFIG1: bit 4 INT_ASYNC_RESET (must be cleared for proper INT1 operation).
+pub const INT_CONFIG1: u8 = 0x64;
+/// §14 INT_SOURCE0: which events drive INT1.
+pub const INT_SOURCE0: u8 = 0x65;
+/// §14 FIFO_LOST_PKT0: lost-packet count, low byte; FIFO_LOST_PKT1 (high) follows at 0x6D.
+pub const FIFO_LOST_PKT0: u8 = 0x6C;
+/// §14 WHO_AM_I.
+pub const WHO_AM_I: u8 = 0x75;
+
+/// §14 WHO_AM_I: the ICM-42688-P identity.
+pub const WHO_AM_I_VALUE: u8 = 0x47;
+
+/// DEVICE_CONFIG bit 0: software reset (self-clearing).
+pub const SOFT_RESET_CONFIG: u8 = 1 << 0;
+
+/// FIFO_CONFIG bits 7:6 = 00: bypass (FIFO off).
+pub const FIFO_MODE_BYPASS: u8 = 0b00 << 6;
+/// FIFO_CONFIG bits 7:6 = 01: stream-to-FIFO.
+pub const FIFO_MODE_STREAM: u8 = 0b01 << 6;
+/// FIFO_CONFIG mode field.
+pub const FIFO_MODE_MASK: u8 = 0b11 << 6;
+
+/// INT_STATUS bit 4: reset done.
+pub const RESET_DONE_INT: u8 = 1 << 4;
+/// INT_STATUS bit 3: UI data ready.
+pub const DATA_RDY_INT: u8 = 1 << 3;
+/// INT_STATUS bit 2: FIFO reached the watermark.
+pub const FIFO_THS_INT: u8 = 1 << 2;
+/// INT_STATUS bit 1: FIFO full (overflowed).
+pub const FIFO_FULL_INT: u8 = 1 << 1;
+
+/// SIGNAL_PATH_RESET bit 1: flush the FIFO.
+pub const FIFO_FLUSH: u8 = 1 << 1;
+
+/// INTF_CONFIG0 bit 6: FIFO count (and watermark) in records, not bytes.
+pub const FIFO_COUNT_REC: u8 = 1 << 6;
+/// INTF_CONFIG0 bit 5: FIFO count big-endian (reset value 1).
+pub const FIFO_COUNT_ENDIAN: u8 = 1 << 5;
+
+/// PWR_MGMT0 bits 3:2 = 11: gyro low-noise mode.
+pub const GYRO_MODE_LOW_NOISE: u8 = 0b11 << 2;
+
+/// GYRO_CONFIG0 / ACCEL_CONFIG0 ODR field (bits 3:0).
+pub const ODR_MASK: u8 = 0x0F;
+
+/// FIFO_CONFIG1 bit 1: gyro in FIFO packets.
+pub const FIFO_GYRO_EN: u8 = 1 << 1;
+/// FIFO_CONFIG1 bit 0: accel in FIFO packets.
+pub const FIFO_ACCEL_EN: u8 = 1 << 0;
+
+/// INT_CONFIG1 bit 4: INT_ASYNC_RESET, set at reset.
+pub const INT_ASYNC_RESET: u8 = 1 << 4;
+
+/// §6.1 FIFO packet 3 (accel + gyro + temperature + timestamp): 16 bytes.
+pub const FIFO_PACKET_LEN: usize = 16;
+/// §6: the FIFO holds 2 KiB, i.e. this many 16-byte packets.
+pub const FIFO_CAPACITY_PACKETS: u16 = 2048 / FIFO_PACKET_LEN as u16;
+/// §6.2 FIFO header bit 6: packet holds accel data.
+pub const HEADER_ACCEL: u8 = 1 << 6;
+/// §6.2 FIFO header bit 5: packet holds gyro data.
+pub const HEADER_GYRO: u8 = 1 << 5;
+/// §6.2 FIFO header bits 3:2 = 10: packet holds the ODR timestamp.
+pub const HEADER_TIMESTAMP_ODR: u8 = 0b10 << 2;
+
+/// §14 TEMP_DATA: temperature sensitivity, LSB per °C (Temp = TEMP_DATA/132.48 + 25).
+pub const TEMP_LSB_PER_C: f64 = 132.48;
+/// §6.1: FIFO temperature sensitivity, LSB per °C (Temp = FIFO_TEMP_DATA/2.07 + 25).
+/// 132.48 / 2.07 = 64 exactly, so a FIFO reading times 64 is on the register scale.
+pub const FIFO_TEMP_LSB_PER_C: f64 = 2.07;
+/// Temperature at reading 0, °C.
+pub const TEMP_OFFSET_C: f64 = 25.0;
+
+/// The default I²C address (AP_AD0 pin low), §9.3; 0x69 with AP_AD0 high.
+pub const I2C_ADDRESS_AD0_LOW: u8 = 0x68;
+/// The I²C address with AP_AD0 high.
+pub const I2C_ADDRESS_AD0_HIGH: u8 = 0x69;
+
+/// The largest output code; -32768 is reserved as the "invalid sample"
+/// marker (§6.1), so a saturated axis reads ±32767.
+pub const LIMIT_CODE: i16 = 32767;

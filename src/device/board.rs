@@ -1,0 +1,40 @@
+//! What the firmware needs from a board, as traits every board crate
+//! implements (boards/qemu on the PAC, boards/nucleo-f401re on
+//! stm32f4xx-hal), so the data-ready step in [`super::data_ready`] is the same
+//! code on every board and in host tests.
+
+use crate::model::Orientation;
+
+/// The IMU's data-ready line as the sampling task sees it.
+pub trait DataReadyLine {
+    /// Clears what started this step (an EXTI pending bit), if anything must.
+    fn acknowledge(&mut self);
+    /// True when the next data-ready is already pending: this step overran.
+    fn next_step_pending(&self) -> bool;
+}
+
+/// Microsecond timestamps for the stream.
+pub trait MicrosecondClock {
+    /// Microseconds since start, wrapping at 2³².
+    fn now_us(&self) -> u32;
+}
+
+/// The link's transmitter.
+pub trait LinkTx {
+    /// Sends `bytes` whole, waiting for room (called below the sampling priority).
+    fn write_all(&mut self, bytes: &[u8]);
+}
+
+/// The facts about a board that the stream depends on, in one place: the
+/// board crate's `DESCRIPTION` constant.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BoardDescription {
+    /// The board's name as `identify` reports it (e.g. "qemu-netduinoplus2").
+    pub name: &'static str,
+    /// How the sensor is mounted on the board.
+    pub orientation: Orientation,
+    /// Samples averaged into one streamed frame.
+    pub decimation: u16,
+    /// The link's baud rate.
+    pub baud: u32,
+}

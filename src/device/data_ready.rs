@@ -1,0 +1,59 @@
+//! The data-ready step as the firmware's highest-priority task runs it, on
+//! any board: acknowledge, timestamp, read-correct-average-frame, queue the
+//! frame for the link (counting it dropped when the queue is full), and
+//! notice when the step overran into the next one.
+
+use super::board::{DataReadyLine, MicrosecondClock};
+use super::{Sampler, StepOutcome};
+use crate::sensor::Imu;
+use crate::stream::Frame;
+
+/// What one data-ready step did, for the caller to log or to wake the sender.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Stepped<E> {
+    /// A frame was queued for the link.
+    Queued,
+    /// A frame was made but the queue was full: it is counted dropped.
+    Dropped,
+    /// The sample went into the running average.
+    Averaging,
+    /// The chip could not be read (counted as a lost step).
+    ReadFailed(E),
+}
+
+/// One data-ready step. `edge` is the board's work at the line's edge once
+/// the step is timestamped (nothing on hardware; the emulated board advances
+/// its chip model there). `enqueue` offers a frame to the link's queue and
+/// gives it back when the queue is full.
+pub fn on_data_ready<L, C, I>(
+    line: &mut L,
+    clock: &C,
+    imu: &mut I,
+    sampler: &mut Sampler,
+    edge: impl FnOnce(&mut I),
+    enqueue: impl FnOnce(Frame) -> Result<(), Frame>,
+) -> Stepped<I::Error>
+where
+    L: DataReadyLine,
+    C: MicrosecondClock,
+    I: Imu,
+{
+    line.acknowledge();
+    let now_us = clock.now_us();
+    edge(imu);
+    let stepped = match sampler.step(imu, now_us) {
+        StepOutcome::Frame(frame) => match enqueue(frame) {
+            Ok(()) => Stepped::Queued,
+            Err(frame) => {
+                sampler.frame_dropped(&frame);
+                Stepped::Dropped
+            }
+        },
+        StepOutcome::Averaging => Stepped::Averaging,
+        StepOutcome::ReadFailed(error) => Stepped::ReadFailed(error),
+    };
+    if line.next_step_pending() {
+        sampler.overran();
+    }
+    stepped
+}
