@@ -12,6 +12,7 @@
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod crc32c;
 pub mod device;
 pub mod model;
 pub mod sensor;

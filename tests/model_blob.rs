@@ -4,7 +4,7 @@ mod model_support;
 
 use model_support::*;
 use triad::model::blob::{self, BLOB_LEN, MAGIC, VERSION};
-use triad::model::crc32::crc32;
+use triad::crc32c::crc32c;
 use triad::model::{BlobError, Calibration};
 
 fn bits(cal: &Calibration) -> Vec<u64> {
@@ -37,14 +37,20 @@ fn bits(cal: &Calibration) -> Vec<u64> {
 
 /// Rewrites the CRC so that only the field under test is wrong.
 fn reseal(b: &mut [u8; BLOB_LEN]) {
-    let crc = crc32(&b[..BLOB_LEN - 4]);
+    let crc = crc32c(&b[..BLOB_LEN - 4]);
     b[BLOB_LEN - 4..].copy_from_slice(&crc.to_le_bytes());
 }
 
 #[test]
-fn crc32_is_the_ieee_crc() {
-    assert_eq!(crc32(b"123456789"), 0xCBF4_3926);
-    assert_eq!(crc32(b""), 0);
+fn a_version_1_blob_closed_with_the_ethernet_crc_is_refused_by_its_version() {
+    // Version 1 used CRC-32/ISO-HDLC; its blobs must say "re-pack", not "corrupt".
+    let mut b = blob::encode(&Calibration::identity(7));
+    b[4] = 1;
+    reseal(&mut b);
+    assert_eq!(
+        blob::decode(&b),
+        Err(BlobError::UnsupportedVersion { version: 1 })
+    );
 }
 
 #[test]
@@ -86,16 +92,16 @@ fn every_framing_error_is_reported() {
     );
 
     b = good;
-    b[4] = 2;
+    b[4] = 3;
     assert_eq!(
         blob::decode(&b),
-        Err(BlobError::UnsupportedVersion { version: 2 })
+        Err(BlobError::UnsupportedVersion { version: 3 })
     );
 
     b = good;
     b[100] ^= 0x10;
     let stored = u32::from_le_bytes(good[508..].try_into().unwrap());
-    let computed = crc32(&b[..508]);
+    let computed = crc32c(&b[..508]);
     assert_ne!(stored, computed);
     let err = blob::decode(&b).unwrap_err();
     assert_eq!(err, BlobError::CrcMismatch { stored, computed });
@@ -147,5 +153,5 @@ fn parameter_id_depends_on_parameters_only() {
     assert_ne!(blob::parameter_id(&a), blob::parameter_id(&b));
     a.gyro.bias[0] = 1e-3;
     assert_eq!(blob::parameter_id(&a), blob::parameter_id(&b));
-    assert_eq!(blob::parameter_id(&a), crc32(&blob::encode(&a)[12..508]));
+    assert_eq!(blob::parameter_id(&a), crc32c(&blob::encode(&a)[12..508]));
 }

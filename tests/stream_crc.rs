@@ -4,7 +4,7 @@
 use std::collections::HashSet;
 
 use rand::{rngs::SmallRng, Rng, SeedableRng};
-use triad::stream::crc::{crc32c, crc32c_update, CRC32C_POLY_REFLECTED};
+use triad::crc32c::{crc32c, crc32c_update, CRC32C_POLY_REFLECTED};
 use triad::stream::{CHECKED_LEN, CRC32C_CHECK, FRAME_LEN};
 
 /// The definition, one bit at a time (reflected, init and xorout all ones).

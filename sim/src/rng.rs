@@ -8,6 +8,8 @@
 //! `exp` and `log` on the rare slow paths), so the same seed gives the same
 //! bits on every machine (no platform libm).
 
+use triad::model::Triad;
+
 /// SplitMix64's output function: a bijective 64-bit mixer.
 pub const fn mix64(mut z: u64) -> u64 {
     z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
@@ -32,15 +34,6 @@ impl SplitMix64 {
         self.0 = self.0.wrapping_add(Self::GOLDEN_GAMMA);
         mix64(self.0)
     }
-}
-
-/// Which triad a stream belongs to.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum TriadId {
-    /// The accelerometer triad.
-    Accel = 0,
-    /// The gyroscope triad.
-    Gyro = 1,
 }
 
 /// Which effect a stream feeds. The numbers are part of the file format of
@@ -89,7 +82,7 @@ impl Rng {
     /// SplitMix64 seeds: the key is packed injectively, multiplied by an odd
     /// constant (a bijection mod 2⁶⁴), XORed with a mix of the seed and mixed
     /// again (a bijection).
-    pub fn for_stream(seed: u64, triad: TriadId, axis: u8, effect: EffectId) -> Self {
+    pub fn for_stream(seed: u64, triad: Triad, axis: u8, effect: EffectId) -> Self {
         let key = ((triad as u64) << 16) | ((axis as u64) << 8) | (effect as u64);
         let inner = mix64(seed) ^ key.wrapping_mul(0x9e37_79b9_7f4a_7c15);
         Self::from_seed(mix64(inner))

@@ -1,51 +1,7 @@
 //! The few rotation-matrix operations the motion models need (3×3, f64).
 //! R maps body coordinates to the local-level frame (x east, y north, z up).
 
-/// A 3×3 matrix, row-major.
-pub type Mat3 = [[f64; 3]; 3];
-
-/// The identity.
-pub const IDENTITY: Mat3 = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-
-/// R·v.
-pub fn mul_vec(r: &Mat3, v: &[f64; 3]) -> [f64; 3] {
-    [
-        r[0][0] * v[0] + r[0][1] * v[1] + r[0][2] * v[2],
-        r[1][0] * v[0] + r[1][1] * v[1] + r[1][2] * v[2],
-        r[2][0] * v[0] + r[2][1] * v[1] + r[2][2] * v[2],
-    ]
-}
-
-/// Rᵀ·v.
-pub fn mul_transpose_vec(r: &Mat3, v: &[f64; 3]) -> [f64; 3] {
-    [
-        r[0][0] * v[0] + r[1][0] * v[1] + r[2][0] * v[2],
-        r[0][1] * v[0] + r[1][1] * v[1] + r[2][1] * v[2],
-        r[0][2] * v[0] + r[1][2] * v[1] + r[2][2] * v[2],
-    ]
-}
-
-/// A·B.
-pub fn mul(a: &Mat3, b: &Mat3) -> Mat3 {
-    let mut c = [[0.0; 3]; 3];
-    for (i, row) in c.iter_mut().enumerate() {
-        for (j, cij) in row.iter_mut().enumerate() {
-            *cij = a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j];
-        }
-    }
-    c
-}
-
-/// Aᵀ·B.
-pub fn transpose_mul(a: &Mat3, b: &Mat3) -> Mat3 {
-    let mut c = [[0.0; 3]; 3];
-    for (i, row) in c.iter_mut().enumerate() {
-        for (j, cij) in row.iter_mut().enumerate() {
-            *cij = a[0][i] * b[0][j] + a[1][i] * b[1][j] + a[2][i] * b[2][j];
-        }
-    }
-    c
-}
+pub use triad::model::matrix::{mul, mul_transpose_vec, mul_vec, transpose_mul, Mat3, IDENTITY};
 
 /// Rotation about the frame's z axis by `angle` (radians).
 pub fn rot_z(angle: f64) -> Mat3 {

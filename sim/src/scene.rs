@@ -105,14 +105,8 @@ impl Scene {
     }
 }
 
-/// Which triad a scene error is about.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Triad {
-    /// Accelerometers.
-    Accel,
-    /// Gyros.
-    Gyro,
-}
+/// Which triad a scene error is about: the core's one accel/gyro enum.
+pub use triad::model::Triad;
 
 /// Why a scene cannot be simulated.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -20,7 +20,8 @@ use super::gauss_markov::GaussMarkov;
 use super::motion::Trajectory;
 use super::quantisation::quantise;
 use super::random_walk::RandomWalk;
-use super::rng::{EffectId, Rng, TriadId};
+use super::rng::{EffectId, Rng};
+use triad::model::Triad;
 use super::saturation::saturate;
 use super::scale_misalignment;
 use super::scene::{Scene, SceneError, TriadEffects};
@@ -58,7 +59,7 @@ pub struct SimSample {
     pub measured: TrueSample,
 }
 
-fn streams(seed: u64, triad: TriadId, effect: EffectId) -> [Rng; 3] {
+fn streams(seed: u64, triad: Triad, effect: EffectId) -> [Rng; 3] {
     [
         Rng::for_stream(seed, triad, 0, effect),
         Rng::for_stream(seed, triad, 1, effect),
@@ -88,7 +89,7 @@ struct TriadState {
 }
 
 impl TriadState {
-    fn new(effects: &TriadEffects, triad: TriadId, seed: u64, ts: f64) -> Self {
+    fn new(effects: &TriadEffects, triad: Triad, seed: u64, ts: f64) -> Self {
         let mut contributions = Contributions::default();
         let white_noise = effects.white_noise.map(|n| {
             let rngs = streams(seed, triad, EffectId::WhiteNoise);
@@ -223,8 +224,8 @@ impl Simulator {
             index: 0,
             trajectory: Trajectory::new(&scene.motion, &scene.environment),
             temperature: scene.temperature,
-            accel: TriadState::new(&scene.accel, TriadId::Accel, seed, ts),
-            gyro: TriadState::new(&scene.gyro, TriadId::Gyro, seed, ts),
+            accel: TriadState::new(&scene.accel, Triad::Accel, seed, ts),
+            gyro: TriadState::new(&scene.gyro, Triad::Gyro, seed, ts),
         })
     }
 

@@ -2,7 +2,8 @@
 //! SplitMix64, the normal deviates have the right moments, and distinct
 //! (triad, axis, effect) keys give distinct streams.
 
-use triad_sim::rng::{EffectId, Rng, TriadId};
+use triad::model::Triad;
+use triad_sim::rng::{EffectId, Rng};
 
 #[test]
 fn xoshiro256plusplus_matches_reference_test_vector() {
@@ -139,7 +140,7 @@ fn uniform_lies_in_unit_interval() {
 
 #[test]
 fn distinct_keys_give_distinct_streams_and_same_key_the_same() {
-    let triads = [TriadId::Accel, TriadId::Gyro];
+    let triads = [Triad::Accel, Triad::Gyro];
     let effects = [
         EffectId::WhiteNoise,
         EffectId::GaussMarkov,
@@ -178,7 +179,7 @@ fn gaussian_sequence_is_pinned_for_portability() {
     // IEEE multiply/add/sqrt, libm's pure-Rust log) is platform independent,
     // so any machine must reproduce these bits; a change here changes every
     // simulated file ever made and must be deliberate.
-    let mut rng = Rng::for_stream(12345, TriadId::Gyro, 2, EffectId::WhiteNoise);
+    let mut rng = Rng::for_stream(12345, Triad::Gyro, 2, EffectId::WhiteNoise);
     let got: Vec<u64> = (0..4).map(|_| rng.gaussian().to_bits()).collect();
     let golden: [u64; 4] = GOLDEN;
     assert_eq!(
@@ -200,7 +201,7 @@ const GOLDEN: [u64; 4] = [
 fn long_gaussian_sequence_is_pinned_for_portability() {
     // A checksum over 10⁵ deviates, so the wedge (exp) and tail (log) paths,
     // about 1.2 % of draws, are pinned too. Recorded like GOLDEN above.
-    let mut rng = Rng::for_stream(12345, TriadId::Accel, 0, EffectId::GaussMarkov);
+    let mut rng = Rng::for_stream(12345, Triad::Accel, 0, EffectId::GaussMarkov);
     let mut h = 0u64;
     for _ in 0..100_000 {
         h = (h ^ rng.gaussian().to_bits()).wrapping_mul(0x100_0000_01b3);

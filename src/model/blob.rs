@@ -6,13 +6,13 @@
 //! | offset | size | content                                              |
 //! |-------:|-----:|------------------------------------------------------|
 //! |      0 |    4 | magic `TRCL` (0x54 0x52 0x43 0x4C)                    |
-//! |      4 |    1 | version, [`VERSION`] = 1                              |
+//! |      4 |    1 | version, [`VERSION`] = 2                              |
 //! |      5 |    1 | flags: bit 0 accel has temperature terms, bit 1 gyro; other bits 0 |
 //! |      6 |    2 | reserved, 0                                           |
 //! |      8 |    4 | calibration id, u32                                   |
 //! |     12 |  248 | accel triad (below)                                   |
 //! |    260 |  248 | gyro triad (below)                                    |
-//! |    508 |    4 | CRC-32 (IEEE, [`crc32`]) of bytes 0..508, u32         |
+//! |    508 |    4 | CRC-32C ([`crc32c`]) of bytes 0..508, u32             |
 //!
 //! A triad is 31 f64: `scale_misalignment` row-major (9), `bias` (3),
 //! `temperature.reference_c` (1), `temperature.bias_coefficients` per axis
@@ -26,14 +26,16 @@
 use core::fmt;
 
 use super::calibration::{Calibration, TemperatureTerms, TriadCalibration};
-use super::crc32::crc32;
+use crate::crc32c::crc32c;
 
 /// Total length of a blob in bytes.
 pub const BLOB_LEN: usize = 512;
 /// The magic at offset 0.
 pub const MAGIC: [u8; 4] = *b"TRCL";
-/// The layout version this code writes and reads.
-pub const VERSION: u8 = 1;
+/// The layout version this code writes and reads. Version 1 closed the blob
+/// with the Ethernet CRC-32; version 2 uses the project's one CRC, CRC-32C,
+/// so a version-1 blob is refused by its version (re-pack it).
+pub const VERSION: u8 = 2;
 
 const TRIAD_LEN: usize = 31 * 8;
 const PARAMS: core::ops::Range<usize> = 12..12 + 2 * TRIAD_LEN;
@@ -189,7 +191,7 @@ pub fn encode(cal: &Calibration) -> [u8; BLOB_LEN] {
     out[8..12].copy_from_slice(&cal.id.to_le_bytes());
     put_triad(&mut out, PARAMS.start, &cal.accel);
     put_triad(&mut out, PARAMS.start + TRIAD_LEN, &cal.gyro);
-    let crc = crc32(&out[..CRC_AT]);
+    let crc = crc32c(&out[..CRC_AT]);
     out[CRC_AT..].copy_from_slice(&crc.to_le_bytes());
     out
 }
@@ -197,7 +199,7 @@ pub fn encode(cal: &Calibration) -> [u8; BLOB_LEN] {
 /// The default calibration identity: CRC-32 of the parameter bytes 12..508
 /// of the blob, so equal parameters give equal identities whatever the id.
 pub fn parameter_id(cal: &Calibration) -> u32 {
-    crc32(&encode(cal)[PARAMS])
+    crc32c(&encode(cal)[PARAMS])
 }
 
 /// Checks length, magic, version, reserved bits and CRC, then reads the values.
@@ -218,7 +220,7 @@ pub fn decode(bytes: &[u8]) -> Result<Calibration, BlobError> {
         bytes[CRC_AT + 2],
         bytes[CRC_AT + 3],
     ]);
-    let computed = crc32(&bytes[..CRC_AT]);
+    let computed = crc32c(&bytes[..CRC_AT]);
     if stored != computed {
         return Err(BlobError::CrcMismatch { stored, computed });
     }

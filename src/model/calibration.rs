@@ -5,14 +5,17 @@
 //! m = (I+Σ)⁻¹·(m̂ − b). Everything here is in the sensor's own axes; the
 //! board's mounting [`Orientation`](super::Orientation) is applied after.
 
-/// Which triad a parameter belongs to.
+/// Which triad: the accelerometer or the gyroscope. The one such enum of the
+/// project (parameters, scenes, reports). The discriminants are part of every
+/// simulation's random-stream keys (triad-sim's `Rng::for_stream`): never
+/// renumber.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Triad {
     /// The accelerometer (m/s²).
-    Accel,
+    Accel = 0,
     /// The gyroscope (rad/s).
-    Gyro,
+    Gyro = 1,
 }
 
 impl Triad {

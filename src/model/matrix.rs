@@ -5,6 +5,9 @@
 /// A 3×3 matrix, row-major.
 pub type Mat3 = [[f64; 3]; 3];
 
+/// The identity.
+pub const IDENTITY: Mat3 = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+
 /// The determinant (cofactor expansion along the first row).
 pub fn determinant(m: &Mat3) -> f64 {
     m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
@@ -82,6 +85,26 @@ pub fn mul_vec(a: &Mat3, v: &[f64; 3]) -> [f64; 3] {
     let mut out = [0.0; 3];
     for (o, row) in out.iter_mut().zip(a.iter()) {
         *o = row[0] * v[0] + row[1] * v[1] + row[2] * v[2];
+    }
+    out
+}
+
+/// aᵀ·v.
+pub fn mul_transpose_vec(a: &Mat3, v: &[f64; 3]) -> [f64; 3] {
+    [
+        a[0][0] * v[0] + a[1][0] * v[1] + a[2][0] * v[2],
+        a[0][1] * v[0] + a[1][1] * v[1] + a[2][1] * v[2],
+        a[0][2] * v[0] + a[1][2] * v[1] + a[2][2] * v[2],
+    ]
+}
+
+/// aᵀ·b.
+pub fn transpose_mul(a: &Mat3, b: &Mat3) -> Mat3 {
+    let mut out = [[0.0; 3]; 3];
+    for (i, row) in out.iter_mut().enumerate() {
+        for (j, x) in row.iter_mut().enumerate() {
+            *x = a[0][i] * b[0][j] + a[1][i] * b[1][j] + a[2][i] * b[2][j];
+        }
     }
     out
 }

@@ -12,7 +12,6 @@
 pub mod blob;
 pub mod calibration;
 pub mod corrector;
-pub mod crc32;
 pub mod fixed;
 pub mod fixed_narrow;
 pub mod fold;

@@ -16,7 +16,7 @@
 //! |     43 | temperature    | f32      |
 //! |     47 | CRC-32C        | u32      |
 
-use super::crc::crc32c;
+use crate::crc32c::crc32c;
 use super::error::DecodeError;
 use super::flags::Flags;
 

@@ -1,9 +1,8 @@
 //! 3×3 helpers the fits need beyond [`triad::model::matrix`]: the upper
-#![allow(clippy::needless_range_loop)] // index form reads as the formula
 //! Cholesky factor and the eigenvalues of a symmetric matrix.
+#![allow(clippy::needless_range_loop)] // index form reads as the formula
 
-/// A 3×3 matrix, row-major.
-pub type Mat3 = [[f64; 3]; 3];
+pub use triad::model::matrix::Mat3;
 
 /// The upper triangular U with positive diagonal and W = UᵀU, or `None` if
 /// W is not (numerically) positive definite.

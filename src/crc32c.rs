@@ -1,4 +1,5 @@
-//! CRC-32C (Castagnoli), the frame check of the stream.
+//! CRC-32C (Castagnoli): the one CRC of the project. It closes every stream
+//! frame, the calibration blob and the scene blob.
 //!
 //! Parameters in the Rocksoft/Williams model ("CRC-32/ISCSI" in the
 //! catalogue of parametrised CRC algorithms): width 32, polynomial
