@@ -14,6 +14,7 @@ mod board;
 mod cmd;
 mod defmt_log;
 mod elf_facts;
+mod embedded_checks;
 mod qemu;
 mod setup;
 mod test;

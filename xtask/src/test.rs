@@ -1,10 +1,11 @@
-//! `cargo xtask test`: formatting and lints, every host test, the firmware
-//! build of every board × chip × bus, and the end-to-end tests on QEMU for
-//! every chip and bus of the emulated board.
+//! `cargo xtask test`: formatting and lints, every host test, the docs, clippy
+//! and the build of the firmware for every board × chip × bus, of the
+//! benchmark firmware and of the user-firmware example, and the end-to-end
+//! tests on QEMU for every chip and bus of the emulated board.
 
 use crate::board::{Board, Firmware};
 use crate::cmd::{self, cargo, check};
-use crate::{bench, qemu, setup};
+use crate::{bench, embedded_checks, qemu, setup};
 use anyhow::{bail, Context, Result};
 use std::path::Path;
 
@@ -23,13 +24,19 @@ pub fn run(e2e_only: bool) -> Result<()> {
         let clippy = ["clippy", "--all-targets", "--quiet", "--", "-D", "warnings"];
         step("cargo clippy (host)", &clippy)?;
         step("cargo test (host)", &["test", "--quiet"])?;
+        eprintln!("xtask: cargo doc (core, sim, lab)");
+        embedded_checks::docs()?;
     }
 
     let triad = cmd::build_host_tool()?;
     let calibration = cmd::pack_calibration(&triad, None)?;
     let mut qemu_elves = Vec::new();
     for firmware in Firmware::all() {
-        eprintln!("xtask: building the firmware for {}", firmware.label());
+        eprintln!(
+            "xtask: clippy and build of the firmware for {}",
+            firmware.label()
+        );
+        embedded_checks::clippy_firmware(firmware, None)?;
         let elf = cmd::build_firmware(firmware, &calibration)?;
         // What `cargo xtask run --board nucleo-f401re` reads to open the port.
         let baud = crate::elf_facts::link_baud(&elf)?;
@@ -38,6 +45,10 @@ pub fn run(e2e_only: bool) -> Result<()> {
             qemu_elves.push((firmware, elf));
         }
     }
+
+    eprintln!("xtask: clippy on the benchmark firmware and the user-firmware example");
+    embedded_checks::clippy_bench_firmware()?;
+    embedded_checks::check_example()?;
 
     eprintln!("xtask: benchmark firmware on the emulated cores, outputs against the host's");
     bench::check_firmware_outputs()?;
@@ -54,6 +65,7 @@ pub fn run(e2e_only: bool) -> Result<()> {
         "xtask: building the firmware for {} with scene {E2E_SCENE}",
         firmware.label()
     );
+    embedded_checks::clippy_firmware(firmware, Some(&blob))?;
     let elf = cmd::build_firmware_with_scene(firmware, &calibration, &blob)?;
     end_to_end(firmware, &elf, &triad, &calibration, Some(&blob))?;
     eprintln!("xtask: all tests passed");
