@@ -12,11 +12,11 @@ const DEFAULT_CALIBRATION: &str = "../calibrations/default.bin";
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");
     let out = PathBuf::from(env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));
-    one_of("board", &["qemu", "nucleo-f401re"]).unwrap_or_else(|| {
-        panic!("the firmware needs a board: --features board-qemu or board-nucleo-f401re")
-    });
-    one_of("sensor", &["icm42688", "lsm6dsox"]);
-    one_of("bus", &["spi", "i2c"]);
+    if one_of("board").is_none() {
+        panic!("the firmware needs a board: --features board-<name> (see Cargo.toml)");
+    }
+    one_of("sensor");
+    one_of("bus");
 
     println!("cargo:rerun-if-env-changed=TRIAD_CALIBRATION");
     let calibration = env::var_os("TRIAD_CALIBRATION")
@@ -32,29 +32,22 @@ fn main() {
     println!("cargo:rerun-if-changed={}", calibration.display());
 }
 
-/// Which of the features `<group>-<name>` is on: `None` for none; two at once
-/// stop the build with a message naming both.
-fn one_of(group: &str, names: &[&'static str]) -> Option<&'static str> {
-    let on: Vec<&'static str> = names
-        .iter()
-        .copied()
-        .filter(|name| {
-            let var = format!("CARGO_FEATURE_{group}_{name}")
-                .to_uppercase()
-                .replace('-', "_");
-            env::var_os(var).is_some()
-        })
+/// Which of the features `<group>-<name>` is on (Cargo.toml lists them; this
+/// reads whatever is enabled, so adding a chip or a board does not touch
+/// this file): `None` for none; two at once stop the build naming both.
+fn one_of(group: &str) -> Option<String> {
+    let prefix = format!("CARGO_FEATURE_{}_", group.to_uppercase());
+    let mut on: Vec<String> = env::vars()
+        .filter_map(|(var, _)| var.strip_prefix(&prefix).map(str::to_lowercase))
+        .map(|name| format!("{group}-{}", name.replace('_', "-")))
         .collect();
-    match on.as_slice() {
-        [] => None,
-        [one] => Some(one),
-        several => panic!(
+    on.sort();
+    match on.len() {
+        0 => None,
+        1 => on.pop(),
+        _ => panic!(
             "the firmware takes one {group}, but features {} are on together",
-            several
-                .iter()
-                .map(|name| format!("{group}-{name}"))
-                .collect::<Vec<_>>()
-                .join(", ")
+            on.join(", ")
         ),
     }
 }

@@ -104,7 +104,7 @@ fn rate_random_walk_is_recovered() {
 fn bias_instability_is_recovered() {
     // Band 0.1 s … 10⁶ s (12 terms) covers the whole τ range of the record
     // (1 s … 2^16 s): there the simulated floor is flat to ±1.5 % (the
-    // simulator's measured flatness, tests/sim_bias_instability.rs), added
+    // simulator's measured flatness, sim/tests/bias_instability.rs), added
     // to the tolerance.
     let b_true = units::deg_per_h_to_rad_per_s(2.0);
     let rate = 1.0;

@@ -13,7 +13,7 @@
 //! analytic Allan deviation over the band equals the floor 0.664·B. The
 //! number of terms is the accuracy knob: 1–3 terms give a hump, not a floor;
 //! from about one term per decade the floor is flat to about ±1 % (measured
-//! by the `bench_sim` example and bounded in tests/sim_bias_instability.rs),
+//! by the `bench_sim` example and bounded in sim/tests/bias_instability.rs),
 //! at a cost per sample proportional to the number of terms.
 
 use super::gauss_markov::{allan_variance, GaussMarkov};

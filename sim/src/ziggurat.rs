@@ -5,7 +5,7 @@
 //! The tables are constants (generated once with R = 3.6541528853610088 and
 //! layer area V = 0.00492867323399 by the recurrence
 //! x₀ = V/f(R), x₁ = R, x_{i+1} = f⁻¹(V/x_i + f(x_i)), x₂₅₆ = 0 with
-//! f(x) = e^(−x²/2); the test in tests/sim_rng.rs re-checks the recurrence).
+//! f(x) = e^(−x²/2); the test in sim/tests/rng.rs re-checks the recurrence).
 //! Being literals, they are the same bits on every machine; the only math
 //! calls (exp in the wedges, log in the tail, about 1.2 % of draws) are
 //! libm's pure-Rust ones, so the deviates are portable bit for bit.

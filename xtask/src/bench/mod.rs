@@ -1,4 +1,4 @@
-//! `cargo xtask bench`: the benchmark firmware (src/bin/bench.rs) on two
+//! `cargo xtask bench`: the benchmark firmware (bench/src/bin/bench.rs) on two
 //! emulated cores, its digests checked against the host's computation of
 //! the same variants, the accuracy of each variant against the f64
 //! reference, and the report (docs/BENCHMARKS.md, or JSON on stdout).

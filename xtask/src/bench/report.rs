@@ -231,7 +231,7 @@ fixed-point coefficients are made).
 Each row corrects 1000 6-axis samples of i16 raw data held in RAM into RAM
 (10 batches of 100: the Cortex-M0 has 16 KiB of RAM), as the reference
 harness of the benchmark issue does. The raw values are uniform over the
-whole i16 range on every axis (`src/bench/inputs.rs`), with a limit code in
+whole i16 range on every axis (`bench/src/inputs.rs`), with a limit code in
 every batch; the chip scale is the ICM-42688-P at ±16 g and ±2000 °/s.
 
 Instructions are counted, not timed: QEMU runs with `-icount shift=0`, so
@@ -247,7 +247,7 @@ is never a wrong row. `cargo xtask test` runs the same check.
 
 Accuracy is against the f64 reference (Gaussian elimination on (I+Σ), in the
 sensor's LSB and in ppm of full scale), with the realistic calibration of
-`src/bench/inputs.rs` (scale and misalignment within 0.2 %) and an extreme
+`bench/src/inputs.rs` (scale and misalignment within 0.2 %) and an extreme
 valid one (scale factors 0.52..1.45, misalignments up to 0.095). The simple
 rows (bias only, diagonal) are judged against the full model: their error is
 what they leave uncorrected. The refold rows are judged against the model at
