@@ -1,28 +1,36 @@
 //! ST NUCLEO-F401RE (STM32F401RE, Cortex-M4F) with an ICM-42688-P or an
 //! LSM6DSOX on SPI1 or I²C1, chosen by cargo features (`sensor-lsm6dsox`,
-//! `bus-i2c`; the default is the ICM-42688-P on SPI1).
+//! `bus-i2c`; the default is the ICM-42688-P on SPI1), on stm32f4xx-hal 0.23.
 //!
-//! Clocks: HSI 16 MHz → PLL → 84 MHz SYSCLK, APB1 42 MHz, APB2 84 MHz
-//! (RM0368 §6). Pins (Arduino headers; wiring in this folder's README.md):
-//! SPI1 SCK PA5 (D13), MISO PA6 (D12), MOSI PA7 (D11), chip select PB6 (D10);
-//! or I²C1 SCL PB8 (D15), SDA PB9 (D14), with PB6 holding the chip's CS high;
-//! IMU INT1 → PB0 (A3) on EXTI0 for both chips; stream on USART2 TX PA2 (the
-//! ST-LINK virtual COM port). Registers are written through the PAC; each raw
-//! value names its reference-manual section.
+//! Clocks: the ST-LINK's 8 MHz (MCO into OSC_IN, HSE bypass) when it is
+//! there, else HSI 16 MHz; either → PLL → SYSCLK 84 MHz, APB1 42 MHz (its
+//! timers 84 MHz), APB2 84 MHz. Pins (Arduino headers; wiring in this
+//! folder's README.md): SPI1 SCK PA5 (D13), MISO PA6 (D12), MOSI PA7 (D11),
+//! chip select PB6 (D10); or I²C1 SCL PB8 (D15), SDA PB9 (D14), with PB6
+//! holding the chip's CS high; the IMU's INT1 → PB0 (A3) on EXTI0, rising
+//! edge; the stream on USART2 TX PA2 (RX PA3 configured, unused), the
+//! ST-LINK's virtual COM port; timestamps from TIM5 (32-bit) at 1 MHz.
+//!
+//! Nothing here has run on silicon yet (see README.md).
 
 #![no_std]
 
 use defmt_rtt as _;
-pub use stm32f4::stm32f401 as pac;
+pub use stm32f4xx_hal::pac;
 
+use embedded_hal_nb::serial::Write as _;
+use stm32f4xx_hal::gpio::{self, Edge, ExtiPin as _, GpioExt as _, Input, PinState};
+use stm32f4xx_hal::rcc::{self, Rcc, RccExt as _};
+use stm32f4xx_hal::serial::{self, SerialExt as _};
+use stm32f4xx_hal::syscfg::{SysCfg, SysCfgExt as _};
+use stm32f4xx_hal::time::{Bps, Hertz};
+use stm32f4xx_hal::timer::FTimerUs;
+use triad::device::board::{BoardDescription, DataReadyLine, LinkTx};
 use triad::model::Orientation;
-#[cfg(feature = "bus-i2c")]
-use triad::sensor::interface::I2cInterface;
-#[cfg(not(feature = "bus-i2c"))]
-use triad::sensor::interface::SpiInterface;
 
 /// The chip on this build: the ICM-42688-P unless the `sensor-lsm6dsox`
-/// feature selects the LSM6DSOX (each file says its rate, address and SPI clock).
+/// feature selects the LSM6DSOX. Its module holds the chip's facts: driver,
+/// configuration, SPI clock divider and limit, I²C address.
 #[cfg(not(feature = "sensor-lsm6dsox"))]
 mod icm42688;
 #[cfg(not(feature = "sensor-lsm6dsox"))]
@@ -31,226 +39,295 @@ use icm42688 as chip;
 mod lsm6dsox;
 #[cfg(feature = "sensor-lsm6dsox")]
 use lsm6dsox as chip;
-#[cfg(feature = "bus-i2c")]
-mod i2c1;
-#[cfg(not(feature = "bus-i2c"))]
-mod spi1;
 
-pub use chip::{sensor_config, SAMPLE_RATE_HZ};
+pub use chip::sensor_config;
 
-/// Averaging factor: streamed frames per second = SAMPLE_RATE_HZ / DECIMATION.
-pub const DECIMATION: u16 = 1;
-/// How the sensor is mounted on the board.
-pub const ORIENTATION: Orientation = Orientation::RotationNone;
-/// USART2 baud rate (the ST-LINK/V2-1 virtual COM port carries up to 2 Mbaud).
-pub const BAUD: u32 = 921_600;
+/// This board's facts that the stream depends on.
+pub const DESCRIPTION: BoardDescription = BoardDescription {
+    name: "nucleo-f401re",
+    orientation: Orientation::RotationNone,
+    decimation: 1,
+    baud: 921_600,
+};
 
+/// The core clock: the most the STM32F401 allows.
 const SYSCLK_HZ: u32 = 84_000_000;
-const APB1_HZ: u32 = 42_000_000;
-/// APB1 timers run at twice APB1 when its prescaler is not 1 (RM0368 §6.2).
-const APB1_TIMER_HZ: u32 = 2 * APB1_HZ;
+/// APB1 (USART2, I²C1, TIM5): at most 42 MHz; its timers run at twice it.
+const PCLK1_HZ: u32 = 42_000_000;
+/// APB2 (SPI1, SYSCFG).
+const PCLK2_HZ: u32 = 84_000_000;
+/// What the ST-LINK/V2-1 feeds OSC_IN from its MCO (UM1724, "OSC clock").
+const ST_LINK_MCO_HZ: u32 = 8_000_000;
+/// How long to wait for the ST-LINK's clock before running on HSI (ST's
+/// HSE_STARTUP_TIMEOUT), in steps of at least 1 ms at HSI's 16 MHz.
+const HSE_TIMEOUT_MS: u32 = 100;
 
 /// The peripherals the application uses.
 pub struct Board {
-    /// The IMU's data-ready line (EXTI0).
-    pub sample_timer: SampleTimer,
-    /// Microsecond timestamps for the stream.
+    /// The IMU's data-ready line (PB0, EXTI0).
+    pub sample_line: SampleLine,
+    /// Microsecond timestamps for the stream (TIM5).
     pub clock: MicrosecondClock,
-    /// The stream's transmitter.
+    /// The stream's transmitter (USART2).
     pub serial: Serial,
     /// The IMU driver on SPI1 or I²C1.
     pub sensor: Sensor,
 }
 
-/// The sensor: the chosen chip's driver over SPI1.
+/// Brings up clocks and peripherals.
+pub fn init(dp: pac::Peripherals) -> Board {
+    let mut rcc = clocks(dp.RCC);
+    let gpioa = dp.GPIOA.split(&mut rcc);
+    let gpiob = dp.GPIOB.split(&mut rcc);
+    // The chip's CS, high from here on: SPI idle, or the chip's I²C mode.
+    let cs = gpiob.pb6.into_push_pull_output_in_state(PinState::High);
+    let mut syscfg = dp.SYSCFG.constrain(&mut rcc);
+    let mut exti = dp.EXTI;
+    #[cfg(not(feature = "bus-i2c"))]
+    let sensor = spi_sensor(dp.SPI1, (gpioa.pa5, gpioa.pa6, gpioa.pa7), cs, &mut rcc);
+    #[cfg(feature = "bus-i2c")]
+    let sensor = {
+        // Only its level matters: the pin keeps driving high once dropped.
+        let _cs = cs;
+        i2c_sensor(dp.I2C1, (gpiob.pb8, gpiob.pb9), &mut rcc)
+    };
+    Board {
+        sample_line: SampleLine::new(gpiob.pb0, &mut syscfg, &mut exti),
+        clock: MicrosecondClock::new(dp.TIM5, &mut rcc),
+        serial: Serial::new(dp.USART2, gpioa.pa2, gpioa.pa3, &mut rcc),
+        sensor,
+    }
+}
+
+/// SYSCLK 84 MHz from the ST-LINK's 8 MHz if it reaches OSC_IN, else from
+/// HSI; the HAL picks the PLL factors and the flash wait states.
+fn clocks(rcc: pac::RCC) -> Rcc {
+    let source = if st_link_clock_present(&rcc) {
+        defmt::info!("clock: ST-LINK 8 MHz on OSC_IN (HSE bypass)");
+        rcc::Config::hse(Hertz::from_raw(ST_LINK_MCO_HZ)).bypass_hse_oscillator()
+    } else {
+        defmt::warn!("clock: no ST-LINK clock on OSC_IN; HSI 16 MHz (±1 % at 25 °C)");
+        rcc::Config::hsi()
+    };
+    let rcc = rcc.freeze(
+        source
+            .sysclk(Hertz::from_raw(SYSCLK_HZ))
+            .pclk1(Hertz::from_raw(PCLK1_HZ))
+            .pclk2(Hertz::from_raw(PCLK2_HZ)),
+    );
+    // The SPI divider, the delay and the baud rate assume these exactly.
+    defmt::assert_eq!(rcc.clocks.sysclk().raw(), SYSCLK_HZ);
+    defmt::assert_eq!(rcc.clocks.pclk1().raw(), PCLK1_HZ);
+    defmt::assert_eq!(rcc.clocks.pclk2().raw(), PCLK2_HZ);
+    rcc
+}
+
+/// Whether the ST-LINK's MCO clock reaches OSC_IN. It does on the boards ST
+/// ships from revision MB1136 C-02 on (solder bridges SB16 and SB50 fitted);
+/// without it the HAL would wait for HSE forever, so this waits a bounded
+/// time and, if the clock never came, leaves HSE off for the HSI set-up.
+fn st_link_clock_present(rcc: &pac::RCC) -> bool {
+    // RM0368 §6.3.1: HSEBYP is written while HSE is off, then HSEON.
+    rcc.cr().modify(|_, w| w.hsebyp().set_bit());
+    rcc.cr().modify(|_, w| w.hseon().set_bit());
+    for _ in 0..HSE_TIMEOUT_MS {
+        if rcc.cr().read().hserdy().bit_is_set() {
+            return true;
+        }
+        cortex_m::asm::delay(16_000); // ≥ 1 ms at HSI's 16 MHz
+    }
+    rcc.cr().modify(|_, w| w.hseon().clear_bit());
+    rcc.cr().modify(|_, w| w.hsebyp().clear_bit());
+    false
+}
+
+/// The sensor: the chosen chip's driver over SPI1, its CS on PB6.
 #[cfg(not(feature = "bus-i2c"))]
-pub type Sensor = chip::Driver<SpiInterface<spi1::Spi1Device>>;
+pub type Sensor = chip::Driver<
+    triad::sensor::interface::SpiInterface<
+        embedded_hal_bus::spi::ExclusiveDevice<
+            stm32f4xx_hal::spi::Spi<pac::SPI1>,
+            gpio::PB6<gpio::Output>,
+            embedded_hal_bus::spi::NoDelay,
+        >,
+    >,
+>;
+
+/// SPI1's clock: PCLK2 over the chip's divider. The HAL takes a frequency
+/// and rounds PCLK2 / f to the nearest power-of-two divider, which can be
+/// faster than asked (10 MHz would give 84 MHz / 8 = 10.5 MHz); asked for
+/// PCLK2 / 2ⁿ it sets exactly that, and the chip's limit is checked here.
+#[cfg(not(feature = "bus-i2c"))]
+const SPI_HZ: u32 = PCLK2_HZ / chip::SPI_DIVIDER;
+#[cfg(not(feature = "bus-i2c"))]
+const _: () = assert!(
+    chip::SPI_DIVIDER.is_power_of_two() && chip::SPI_DIVIDER >= 2 && chip::SPI_DIVIDER <= 256,
+    "SPI1 divides PCLK2 by 2, 4, ... 256"
+);
+#[cfg(not(feature = "bus-i2c"))]
+const _: () = assert!(
+    SPI_HZ <= chip::SPI_MAX_HZ,
+    "SPI clock above the chip's limit"
+);
+
+/// The driver on SPI1 (PA5 SCK, PA6 MISO, PA7 MOSI, AF5), mode 3 at the
+/// chip's clock, as an embedded-hal `SpiDevice` with PB6 as its CS.
+#[cfg(not(feature = "bus-i2c"))]
+fn spi_sensor(
+    spi: pac::SPI1,
+    (sck, miso, mosi): (gpio::PA5, gpio::PA6, gpio::PA7),
+    cs: gpio::PB6<gpio::Output>,
+    rcc: &mut Rcc,
+) -> Sensor {
+    use stm32f4xx_hal::spi::SpiExt as _;
+    // Fast edges for 10.5 MHz (the HAL leaves new pins at low speed).
+    let pins = (
+        Some(sck.into_alternate::<5>().speed(gpio::Speed::VeryHigh)),
+        Some(miso.into_alternate::<5>()),
+        Some(mosi.into_alternate::<5>().speed(gpio::Speed::VeryHigh)),
+    );
+    let bus = spi.spi(
+        pins,
+        embedded_hal::spi::MODE_3,
+        Hertz::from_raw(SPI_HZ),
+        rcc,
+    );
+    // The HAL's transfers wait for each byte's reception, so the last clock
+    // edge is over before the device raises CS (its `flush` is a no-op).
+    let Ok(device) = embedded_hal_bus::spi::ExclusiveDevice::new_no_delay(bus, cs);
+    chip::Driver::new_spi(device)
+}
+
 /// The sensor: the chosen chip's driver over I²C1.
 #[cfg(feature = "bus-i2c")]
-pub type Sensor = chip::Driver<I2cInterface<i2c1::I2c1>>;
+pub type Sensor =
+    chip::Driver<triad::sensor::interface::I2cInterface<stm32f4xx_hal::i2c::I2c<pac::I2C1>>>;
+
+/// The driver on I²C1 (PB8 SCL, PB9 SDA, AF4 open drain) at 400 kHz, at the
+/// chip's address. The pins' internal pull-ups (about 40 kΩ) are on but too
+/// weak alone for 400 kHz: the breakout's 2.2-4.7 kΩ must be fitted.
+#[cfg(feature = "bus-i2c")]
+fn i2c_sensor(i2c: pac::I2C1, (scl, sda): (gpio::PB8, gpio::PB9), rcc: &mut Rcc) -> Sensor {
+    use stm32f4xx_hal::i2c::I2cExt as _;
+    let pins = (
+        scl.into_alternate_open_drain::<4>().internal_pull_up(true),
+        sda.into_alternate_open_drain::<4>().internal_pull_up(true),
+    );
+    // Above 100 kHz the HAL picks fast mode, duty 2:1: CCR = 42 MHz / (3 ×
+    // 400 kHz) = 35, TRISE = 13 (RM0368 §18.6.8-9).
+    let bus = i2c.i2c(pins, Hertz::kHz(400), rcc);
+    chip::Driver::new_i2c(bus, chip::I2C_ADDRESS)
+}
 
 /// Nothing to do on hardware: the chip raises INT1 by itself.
 pub fn data_ready(_sensor: &mut Sensor) {}
 
-/// Brings up clocks and peripherals.
-pub fn init(dp: pac::Peripherals) -> Board {
-    init_clocks(&dp);
-    let rcc = &dp.RCC;
-    // RM0368 §6.3.9-12: GPIOA, GPIOB; USART2, TIM5 (and I2C1); SYSCFG (and SPI1).
-    rcc.ahb1enr()
-        .modify(|_, w| w.gpioaen().set_bit().gpioben().set_bit());
-    rcc.apb1enr()
-        .modify(|_, w| w.usart2en().set_bit().tim5en().set_bit());
-    rcc.apb2enr().modify(|_, w| w.syscfgen().set_bit());
-    #[cfg(not(feature = "bus-i2c"))]
-    rcc.apb2enr().modify(|_, w| w.spi1en().set_bit());
-    #[cfg(feature = "bus-i2c")]
-    rcc.apb1enr().modify(|_, w| w.i2c1en().set_bit());
-    init_pins(&dp);
-    Board {
-        sample_timer: SampleTimer::new(&dp),
-        clock: MicrosecondClock::new(dp.TIM5, APB1_TIMER_HZ),
-        serial: Serial::new(dp.USART2, USART_DIV_X16),
-        sensor: sensor(dp.SPI1, dp.GPIOB, dp.I2C1),
+/// The IMU's INT1 on PB0 → EXTI0, rising edge. PB0 is pulled down so that
+/// a missing or not yet configured chip leaves the line low, not floating.
+pub struct SampleLine(gpio::PB0<Input>);
+
+impl SampleLine {
+    fn new(pin: gpio::PB0, syscfg: &mut SysCfg, exti: &mut pac::EXTI) -> Self {
+        let mut pin = pin.into_pull_down_input();
+        pin.make_interrupt_source(syscfg);
+        pin.trigger_on_edge(exti, Edge::Rising);
+        pin.enable_interrupt(exti);
+        Self(pin)
     }
 }
 
-/// The driver on SPI1, with the chip's clock divider.
-#[cfg(not(feature = "bus-i2c"))]
-fn sensor(spi: pac::SPI1, cs: pac::GPIOB, _: pac::I2C1) -> Sensor {
-    chip::Driver::new_spi(spi1::Spi1Device::new(spi, cs, chip::SPI_BR))
-}
-
-/// The driver on I²C1 at the chip's address (PB6 stays high: CS selects I²C).
-#[cfg(feature = "bus-i2c")]
-fn sensor(_: pac::SPI1, _: pac::GPIOB, i2c: pac::I2C1) -> Sensor {
-    chip::Driver::new_i2c(i2c1::I2c1::new(i2c), chip::I2C_ADDRESS)
-}
-
-/// HSI 16 MHz / M 16 × N 336 / P 4 = 84 MHz; flash 2 wait states (RM0368 §3.4.1).
-fn init_clocks(dp: &pac::Peripherals) {
-    let rcc = &dp.RCC;
-    dp.FLASH
-        .acr()
-        .modify(|_, w| unsafe { w.latency().bits(2) }.prften().set_bit());
-    // SAFETY (all raw field writes below): values within the fields' ranges per RM0368 §6.3.2.
-    rcc.pllcfgr().write(|w| unsafe {
-        w.pllsrc()
-            .clear_bit()
-            .pllm()
-            .bits(16)
-            .plln()
-            .bits(336)
-            .pllp()
-            .bits(0b01)
-            .pllq()
-            .bits(7)
-    });
-    rcc.cr().modify(|_, w| w.pllon().set_bit());
-    while rcc.cr().read().pllrdy().bit_is_clear() {}
-    // AHB /1, APB1 /2 (≤ 42 MHz), APB2 /1; then switch SYSCLK to the PLL.
-    rcc.cfgr()
-        .modify(|_, w| unsafe { w.hpre().bits(0).ppre1().bits(0b100).ppre2().bits(0) });
-    rcc.cfgr().modify(|_, w| unsafe { w.sw().bits(0b10) });
-    while rcc.cfgr().read().sws().bits() != 0b10 {}
-}
-
-/// Pins (RM0368 §8.4; alternate functions from datasheet DS9716 table 9):
-/// PA2 USART2_TX AF7; PB6 push-pull output held high (the chip's CS: idle for
-/// SPI, I²C mode for I²C); PB0 input for INT1 (its reset mode); and the bus:
-/// PA5/6/7 SPI1 AF5, or PB8/9 I²C1 AF4 open drain.
-fn init_pins(dp: &pac::Peripherals) {
-    let (a, b) = (&dp.GPIOA, &dp.GPIOB);
-    // SAFETY (every raw MODER/OTYPER/OSPEEDR/PUPDR/AFR write here): two bits
-    // per pin in MODER, OSPEEDR and PUPDR, one in OTYPER, four in AFRL/AFRH
-    // (§8.4.1-4, §8.4.9-10); each write masks its own pins, others keep their values.
-    a.afrl()
-        .modify(|r, w| unsafe { w.bits((r.bits() & !(0xF << 8)) | (7 << 8)) });
-    a.moder()
-        .modify(|r, w| unsafe { w.bits((r.bits() & !(0b11 << 4)) | (0b10 << 4)) });
-    b.bsrr().write(|w| w.bs6().set_bit());
-    b.moder()
-        .modify(|r, w| unsafe { w.bits((r.bits() & !((0b11 << 12) | 0b11)) | (0b01 << 12)) });
-    #[cfg(not(feature = "bus-i2c"))]
-    spi1_pins(a);
-    #[cfg(feature = "bus-i2c")]
-    i2c1_pins(b);
-}
-
-/// PA5 SCK, PA6 MISO, PA7 MOSI: AF5, very high speed.
-#[cfg(not(feature = "bus-i2c"))]
-fn spi1_pins(a: &pac::GPIOA) {
-    // SAFETY: as in `init_pins`; pins 5..=7 only.
-    a.afrl().modify(|r, w| unsafe {
-        w.bits((r.bits() & !0xFFF0_0000) | (5 << 20) | (5 << 24) | (5 << 28))
-    });
-    a.ospeedr()
-        .modify(|r, w| unsafe { w.bits(r.bits() | (0b11 << 10) | (0b11 << 12) | (0b11 << 14)) });
-    a.moder().modify(|r, w| unsafe {
-        w.bits(
-            (r.bits() & !((0b11 << 10) | (0b11 << 12) | (0b11 << 14)))
-                | (0b10 << 10)
-                | (0b10 << 12)
-                | (0b10 << 14),
-        )
-    });
-}
-
-/// PB8 SCL, PB9 SDA: AF4, open drain (§8.4.2: OTYPER 1), fast speed, and the
-/// internal pull-ups (about 40 kΩ: too weak alone at 400 kHz, so the
-/// breakout's 2.2-4.7 kΩ pull-ups to 3V3 must be fitted; README.md). The
-/// alternate function and output type are set before MODER hands the pins
-/// to I²C1, so no push-pull glitch reaches the bus.
-#[cfg(feature = "bus-i2c")]
-fn i2c1_pins(b: &pac::GPIOB) {
-    // SAFETY: as in `init_pins`; pins 8 and 9 only.
-    b.afrh()
-        .modify(|r, w| unsafe { w.bits((r.bits() & !0xFF) | 4 | (4 << 4)) });
-    b.otyper()
-        .modify(|r, w| unsafe { w.bits(r.bits() | (1 << 8) | (1 << 9)) });
-    b.ospeedr().modify(|r, w| unsafe {
-        w.bits((r.bits() & !((0b11 << 16) | (0b11 << 18))) | (0b10 << 16) | (0b10 << 18))
-    });
-    b.pupdr().modify(|r, w| unsafe {
-        w.bits((r.bits() & !((0b11 << 16) | (0b11 << 18))) | (0b01 << 16) | (0b01 << 18))
-    });
-    b.moder().modify(|r, w| unsafe {
-        w.bits((r.bits() & !((0b11 << 16) | (0b11 << 18))) | (0b10 << 16) | (0b10 << 18))
-    });
-}
-
-/// The IMU's INT1 on PB0 → EXTI0, rising edge (RM0368 §10.2, §7.2.3).
-pub struct SampleTimer;
-
-impl SampleTimer {
-    fn new(dp: &pac::Peripherals) -> Self {
-        // SAFETY: EXTICR1 EXTI0 = 0b0001 selects port B.
-        dp.SYSCFG
-            .exticr1()
-            .modify(|r, w| unsafe { w.bits((r.bits() & !0xF) | 0b0001) });
-        dp.EXTI.rtsr().modify(|_, w| w.tr0().set_bit());
-        dp.EXTI.imr().modify(|_, w| w.mr0().set_bit());
-        SampleTimer
+impl DataReadyLine for SampleLine {
+    /// Clears EXTI0's pending bit (RTIC clears only the NVIC's).
+    fn acknowledge(&mut self) {
+        self.0.clear_interrupt_pending_bit();
     }
 
-    /// Clears EXTI0's pending flag (write 1 to clear).
-    pub fn acknowledge(&mut self) {
-        // SAFETY: PR is write-1-to-clear; bit 0 is this line only.
-        unsafe { (*pac::EXTI::ptr()).pr().write(|w| w.bits(1)) };
-    }
-
-    /// True when the next data-ready edge already arrived: this step overran.
-    pub fn next_step_pending(&self) -> bool {
-        // SAFETY: read-only access to EXTI PR.
-        unsafe { (*pac::EXTI::ptr()).pr().read().bits() & 1 != 0 }
+    /// EXTI0's pending bit is set again: the next edge came during this step.
+    fn next_step_pending(&self) -> bool {
+        self.0.check_interrupt()
     }
 }
 
-mod microsecond_clock;
-pub use microsecond_clock::MicrosecondClock;
+/// Microseconds since start: TIM5, 32 bits, counting at 1 MHz.
+pub struct MicrosecondClock(pac::TIM5);
 
-mod serial_tx;
+impl MicrosecondClock {
+    /// The HAL enables and resets TIM5 and sets its prescaler from the
+    /// frozen clocks (84 MHz / 84). Its `Counter` is not used: `start(d)`
+    /// loads ARR = d − 1 ticks, so its longest period is 2³² − 1 µs, and
+    /// the count must wrap at 2³². So ARR = 2³² − 1 is written here, then
+    /// an update event loads the prescaler and the counter starts.
+    fn new(tim: pac::TIM5, rcc: &mut Rcc) -> Self {
+        let tim = FTimerUs::new(tim, rcc).release();
+        tim.arr().write(|w| w.arr().set(u32::MAX));
+        tim.egr().write(|w| w.ug().set_bit());
+        tim.cr1().modify(|_, w| w.cen().set_bit());
+        Self(tim)
+    }
+}
 
-/// The stream's link: USART2, transmit only, 8N1, to the ST-LINK virtual COM port.
-pub type Serial = serial_tx::SerialTx<pac::USART2>;
+impl triad::device::board::MicrosecondClock for MicrosecondClock {
+    fn now_us(&self) -> u32 {
+        self.0.cnt().read().bits()
+    }
+}
 
-// RM0368 §19.3.4: USARTDIV = f_APB1 / (16 · baud) in 12.4 fixed point;
-// 42 MHz / 921600 rounds to 46 = 2 + 14/16: 913 kbaud, −0.9 %.
-const USART_DIV_X16: u16 = ((APB1_HZ + BAUD / 2) / BAUD) as u16;
+/// The stream's link: USART2 8N1 at `DESCRIPTION.baud`, TX on PA2 (AF7) to
+/// the ST-LINK's virtual COM port; RX on PA3 is configured and unused.
+pub struct Serial(serial::Serial<pac::USART2>);
 
-/// A busy-wait delay for the driver's start-up waits (84 MHz core).
+impl Serial {
+    /// 921600 baud from 42 MHz: the HAL writes BRR = 46 (16× oversampling,
+    /// 2 + 14/16), 913 kbaud, −0.9 %.
+    fn new(usart: pac::USART2, tx: gpio::PA2, rx: gpio::PA3, rcc: &mut Rcc) -> Self {
+        let config = serial::Config::default().baudrate(Bps(DESCRIPTION.baud));
+        match usart.serial((tx, rx), config, rcc) {
+            Ok(serial) => Self(serial),
+            // Only a baud rate above PCLK1 / 8 is refused.
+            Err(serial::config::InvalidConfig) => {
+                defmt::error!("USART2 cannot run at {} baud", DESCRIPTION.baud);
+                exit(false)
+            }
+        }
+    }
+}
+
+impl LinkTx for Serial {
+    fn write_all(&mut self, bytes: &[u8]) {
+        for &byte in bytes {
+            // Waits for TXE; the transmit path reports no errors (the
+            // error type is the receiver's), so the result carries nothing.
+            let _ = stm32f4xx_hal::block!(self.0.write(byte));
+        }
+    }
+}
+
+/// A busy-wait delay for the driver's start-up waits, counted in cycles of
+/// the 84 MHz core (valid once [`init`] has set the clocks). `asm::delay`
+/// waits at least the cycles asked for. SysTick is left to RTIC.
 pub struct Delay;
 
 impl embedded_hal::delay::DelayNs for Delay {
     fn delay_ns(&mut self, ns: u32) {
-        cortex_m::asm::delay(ns / (1_000_000_000 / SYSCLK_HZ) + 1);
+        // At most 2³² ns × 0.084 cycles/ns ≈ 3.6 × 10⁸ cycles: fits a u32.
+        let cycles = (u64::from(ns) * u64::from(SYSCLK_HZ)).div_ceil(1_000_000_000);
+        cortex_m::asm::delay(u32::try_from(cycles).unwrap_or(u32::MAX));
     }
 }
 
-/// Stops the firmware; under `probe-rs run` the breakpoint ends the session.
-pub fn exit(_success: bool) -> ! {
-    cortex_m::asm::bkpt();
-    loop {
-        cortex_m::asm::wfi();
+/// Stops the firmware, logging the outcome. Success halts on a breakpoint
+/// (`bkpt`, in a loop), which ends a `probe-rs run` session; failure raises
+/// a HardFault (`udf`), which probe-rs reports with a backtrace and a
+/// non-zero exit. Without a debugger, both end in the HardFault handler's
+/// loop (a `bkpt` with no debugger attached escalates to a HardFault).
+pub fn exit(success: bool) -> ! {
+    if success {
+        defmt::info!("exit: success");
+        loop {
+            cortex_m::asm::bkpt();
+        }
+    } else {
+        defmt::error!("exit: failure");
+        cortex_m::asm::udf()
     }
 }
