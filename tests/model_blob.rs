@@ -3,8 +3,8 @@
 mod model_support;
 
 use model_support::*;
-use triad::model::blob::{self, BLOB_LEN, MAGIC, VERSION};
 use triad::crc32c::crc32c;
+use triad::model::blob::{self, BLOB_LEN, MAGIC, VERSION};
 use triad::model::{BlobError, Calibration};
 
 fn bits(cal: &Calibration) -> Vec<u64> {

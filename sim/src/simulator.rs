@@ -21,7 +21,6 @@ use super::motion::Trajectory;
 use super::quantisation::quantise;
 use super::random_walk::RandomWalk;
 use super::rng::{EffectId, Rng};
-use triad::model::Triad;
 use super::saturation::saturate;
 use super::scale_misalignment;
 use super::scene::{Scene, SceneError, TriadEffects};
@@ -29,6 +28,7 @@ use super::source::{SampleSource, TrueSample};
 use super::temperature_dependence::TemperatureDependence;
 use super::temperature_profile::TemperatureProfile;
 use super::white_noise::WhiteNoise;
+use triad::model::Triad;
 
 /// The last additive contribution of each stochastic or bias effect of one
 /// triad (zero for effects that are off), for inspection and tests.

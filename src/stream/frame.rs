@@ -16,9 +16,9 @@
 //! |     43 | temperature    | f32      |
 //! |     47 | CRC-32C        | u32      |
 
-use crate::crc32c::crc32c;
 use super::error::DecodeError;
 use super::flags::Flags;
+use crate::crc32c::crc32c;
 
 /// Version byte of the format this crate writes and reads.
 pub const VERSION: u8 = 1;
