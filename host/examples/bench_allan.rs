@@ -194,17 +194,21 @@ fn run_peer(path: &Path) -> Option<(Run, String)> {
     ))
 }
 
+/// Writes a `rows`-row CSV (`t,gx`, 1 kHz) at `path`.
+fn write_csv(path: &Path, rows: u64) {
+    let mut w = BufWriter::with_capacity(1 << 20, File::create(path).expect("csv"));
+    writeln!(w, "t,gx").expect("csv");
+    let mut rng = Rng::from_seed(7);
+    for k in 0..rows {
+        writeln!(w, "{},{}", k as f64 * 1e-3, 1e-3 * rng.gaussian()).expect("csv");
+    }
+    w.flush().expect("csv");
+}
+
+/// `triad allan --json` end to end on a `rows`-row CSV: time and peak memory.
 fn csv_end_to_end(rows: u64) {
     let path = std::env::temp_dir().join(format!("triad-bench-allan-{rows}.csv"));
-    {
-        let mut w = BufWriter::with_capacity(1 << 20, File::create(&path).expect("csv"));
-        writeln!(w, "t,gx").expect("csv");
-        let mut rng = Rng::from_seed(7);
-        for k in 0..rows {
-            writeln!(w, "{},{}", k as f64 * 1e-3, 1e-3 * rng.gaussian()).expect("csv");
-        }
-        w.flush().expect("csv");
-    }
+    write_csv(&path, rows);
     let size = std::fs::metadata(&path).map_or(0, |m| m.len());
     let exe = std::env::current_exe().expect("own path");
     let triad = exe
@@ -255,6 +259,21 @@ fn main() {
         child(&args[1]).expect("read the record");
         return;
     }
+    let (sizes, csv_rows) = parse_args(&args);
+    println!(
+        "overlapping ADEV at octave tau, rate data: white noise + random walk + 1e4 sigma bias"
+    );
+    for n in sizes {
+        compare(n);
+    }
+    if let Some(rows) = csv_rows {
+        println!();
+        csv_end_to_end(rows);
+    }
+}
+
+/// The record sizes (default 10⁷ and 10⁸) and `--csv ROWS`.
+fn parse_args(args: &[String]) -> (Vec<u64>, Option<u64>) {
     let mut sizes: Vec<u64> = vec![];
     let mut csv_rows = None;
     let mut it = args.iter();
@@ -271,51 +290,52 @@ fn main() {
     if sizes.is_empty() {
         sizes = vec![10_000_000, 100_000_000];
     }
+    (sizes, csv_rows)
+}
+
+/// triad and allantools on the same `n`-sample record.
+fn compare(n: u64) {
+    let path: PathBuf = std::env::temp_dir().join(format!("triad-bench-allan-{n}.f64"));
+    write_record(&path, n).expect("write the record");
+    let mine = run_triad(&path);
     println!(
-        "overlapping ADEV at octave tau, rate data: white noise + random walk + 1e4 sigma bias"
+        "\nN = {n:e}: triad streaming: {:.2} s ({:.0} M samples/s), peak {:.0} MB, {} octaves",
+        mine.seconds,
+        n as f64 / mine.seconds / 1e6,
+        mine.peak_mb,
+        mine.m.len()
     );
-    for n in sizes {
-        let path: PathBuf = std::env::temp_dir().join(format!("triad-bench-allan-{n}.f64"));
-        write_record(&path, n).expect("write the record");
-        let mine = run_triad(&path);
-        println!(
-            "\nN = {n:e}: triad streaming: {:.2} s ({:.0} M samples/s), peak {:.0} MB, {} octaves",
-            mine.seconds,
-            n as f64 / mine.seconds / 1e6,
-            mine.peak_mb,
-            mine.m.len()
-        );
-        match run_peer(&path) {
-            Some((peer, tool)) => {
-                let mut worst = (0.0f64, 0u64);
-                let mut common = 0;
-                for (m, d) in mine.m.iter().zip(&mine.dev) {
-                    if let Some(j) = peer.m.iter().position(|x| x == m) {
-                        common += 1;
-                        let rel = (d - peer.dev[j]).abs() / peer.dev[j];
-                        if rel > worst.0 {
-                            worst = (rel, *m);
-                        }
-                    }
-                }
-                println!(
-                    "N = {n:e}: {tool}: {:.2} s, peak {:.0} MB",
-                    peer.seconds, peer.peak_mb
-                );
-                println!(
-                    "N = {n:e}: time ratio allantools/triad = {:.1}, memory ratio = {:.1}; largest relative difference over {common} common tau: {:.2e} (m = {})",
-                    peer.seconds / mine.seconds,
-                    peer.peak_mb / mine.peak_mb,
-                    worst.0,
-                    worst.1
-                );
+    match run_peer(&path) {
+        Some((peer, tool)) => print_comparison(n, &mine, &peer, &tool),
+        None => println!(
+            "N = {n:e}: allantools peer not run (pip install allantools numpy; set TRIAD_PYTHON)"
+        ),
+    }
+    let _ = std::fs::remove_file(&path);
+}
+
+/// The peer's figures, the ratios and the largest difference over the common τ.
+fn print_comparison(n: u64, mine: &Run, peer: &Run, tool: &str) {
+    let mut worst = (0.0f64, 0u64);
+    let mut common = 0;
+    for (m, d) in mine.m.iter().zip(&mine.dev) {
+        if let Some(j) = peer.m.iter().position(|x| x == m) {
+            common += 1;
+            let rel = (d - peer.dev[j]).abs() / peer.dev[j];
+            if rel > worst.0 {
+                worst = (rel, *m);
             }
-            None => println!("N = {n:e}: allantools peer not run (pip install allantools numpy; set TRIAD_PYTHON)"),
         }
-        let _ = std::fs::remove_file(&path);
     }
-    if let Some(rows) = csv_rows {
-        println!();
-        csv_end_to_end(rows);
-    }
+    println!(
+        "N = {n:e}: {tool}: {:.2} s, peak {:.0} MB",
+        peer.seconds, peer.peak_mb
+    );
+    println!(
+        "N = {n:e}: time ratio allantools/triad = {:.1}, memory ratio = {:.1}; largest relative difference over {common} common tau: {:.2e} (m = {})",
+        peer.seconds / mine.seconds,
+        peer.peak_mb / mine.peak_mb,
+        worst.0,
+        worst.1
+    );
 }

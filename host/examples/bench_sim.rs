@@ -14,15 +14,12 @@ use std::path::Path;
 use std::process::Command;
 use std::time::Instant;
 
+use triad_host::scene_file;
 use triad_sim::bias_instability::BiasInstabilityParams;
 use triad_sim::motion::{Environment, Motion, Trajectory};
 use triad_sim::scene::{GaussMarkovParams, Scene, TriadEffects};
 use triad_sim::simulator::Simulator;
 use triad_sim::temperature_dependence::TemperatureDependence;
-
-#[allow(dead_code)]
-#[path = "../src/scene_file/mod.rs"]
-mod scene_file;
 
 /// Runs `n` steps and returns samples per second (best of 3 runs, to skip
 /// warm-up and scheduler noise on a shared machine).
@@ -152,8 +149,15 @@ fn main() {
         .and_then(|a| a.parse().ok())
         .unwrap_or(2_000_000);
     println!("triad simulator benchmark: {n} samples per figure (one sample = 6 axes + temperature), best of 3\n");
+    shipped_scenes(n);
+    let rates = each_effect(n);
+    unnamed_cost(n, &rates);
+    bias_instability_terms(n);
+    numpy(n, &rates);
+}
 
-    // 1. Shipped scenes.
+/// 1. Shipped scenes: samples per second, with CSV, and an hour's time.
+fn shipped_scenes(n: u64) {
     println!("== Shipped scenes ==");
     println!(
         "{:<16} {:>14} {:>10} {:>18} {:>14}",
@@ -180,10 +184,24 @@ fn main() {
             hour / r_csv
         );
     }
+}
 
-    // 2. Each effect alone (both triads), static scene at 1 kHz.
-    println!("\n== Each effect alone (both triads, static, 1 kHz) ==");
-    let base = rate(&static_scene(), n);
+/// The rates of section 2, which sections 3 and 5 quote.
+struct EffectRates {
+    /// No effect named.
+    base: f64,
+    /// `Simulator::step_truth`.
+    truth: f64,
+    /// `Trajectory::at`.
+    motion: f64,
+    /// Each effect alone.
+    each: Vec<(&'static str, f64)>,
+    /// All of them.
+    all: f64,
+}
+
+/// Samples per second of the truth alone and of the motion alone.
+fn truth_and_motion_rates(n: u64) -> (f64, f64) {
     let mut truth_only = Simulator::new(&static_scene(), 1).unwrap();
     let start = Instant::now();
     for _ in 0..n {
@@ -198,7 +216,25 @@ fn main() {
     for k in 0..n {
         black_box(traj.at(black_box(k as f64 * 1e-3)));
     }
-    let motion_rate = n as f64 / start.elapsed().as_secs_f64();
+    (truth_rate, n as f64 / start.elapsed().as_secs_f64())
+}
+
+/// A row of the effects table: rate, time per sample, time over none.
+fn effect_row(name: &str, r: f64, base: f64) {
+    println!(
+        "{:<20} {:>14.0} {:>10.2} {:>14.2}",
+        name,
+        r,
+        ns(r),
+        ns(r) - ns(base)
+    );
+}
+
+/// 2. Each effect alone (both triads), static scene at 1 kHz.
+fn each_effect(n: u64) -> EffectRates {
+    println!("\n== Each effect alone (both triads, static, 1 kHz) ==");
+    let base = rate(&static_scene(), n);
+    let (truth, motion) = truth_and_motion_rates(n);
     println!(
         "{:<20} {:>14} {:>10} {:>14}",
         "effect", "samples/s", "ns/sample", "ns over none"
@@ -210,42 +246,40 @@ fn main() {
         ns(base),
         "-"
     );
-    let mut rust_effect_rates = Vec::new();
+    let mut each = Vec::new();
     for name in EFFECTS {
         let mut s = static_scene();
         s.accel = effect(name, false);
         s.gyro = effect(name, true);
         let r = rate(&s, n);
-        rust_effect_rates.push((name, r));
-        println!(
-            "{:<20} {:>14.0} {:>10.2} {:>14.2}",
-            name,
-            r,
-            ns(r),
-            ns(r) - ns(base)
-        );
+        each.push((name, r));
+        effect_row(name, r, base);
     }
     let mut s = static_scene();
     s.accel = all_effects(false);
     s.gyro = all_effects(true);
-    let all_rate = rate(&s, n);
-    println!(
-        "{:<20} {:>14.0} {:>10.2} {:>14.2}",
-        "all of them",
-        all_rate,
-        ns(all_rate),
-        ns(all_rate) - ns(base)
-    );
+    let all = rate(&s, n);
+    effect_row("all of them", all, base);
+    EffectRates {
+        base,
+        truth,
+        motion,
+        each,
+        all,
+    }
+}
 
-    // 3. The cost of an unnamed effect.
+/// 3. The cost of an unnamed effect.
+fn unnamed_cost(n: u64, rates: &EffectRates) {
+    let base = rates.base;
     println!("\n== The cost of an unnamed effect ==");
     println!(
         "motion only (Trajectory::at):           {:>8.2} ns/sample",
-        ns(motion_rate)
+        ns(rates.motion)
     );
     println!(
         "truth only (Simulator::step_truth):     {:>8.2} ns/sample",
-        ns(truth_rate)
+        ns(rates.truth)
     );
     println!(
         "all 24 effects unnamed (Simulator::step): {:>6.2} ns/sample",
@@ -253,8 +287,8 @@ fn main() {
     );
     println!(
         "=> 24 unnamed effects together cost {:.2} ns/sample over truth only ({:.3} ns each): one `None` test each, no arithmetic",
-        ns(base) - ns(truth_rate),
-        (ns(base) - ns(truth_rate)) / 24.0
+        ns(base) - ns(rates.truth),
+        (ns(base) - ns(rates.truth)) / 24.0
     );
     let mut zero = static_scene();
     zero.accel.white_noise = Some([0.0; 3]);
@@ -265,8 +299,10 @@ fn main() {
         ns(zero_rate),
         ns(zero_rate) - ns(base)
     );
+}
 
-    // 4. Bias-instability terms vs Allan-floor flatness vs time per sample.
+/// 4. Bias-instability terms vs Allan-floor flatness vs time per sample.
+fn bias_instability_terms(n: u64) {
     println!("\n== Bias instability: terms vs Allan-floor flatness (band 1 s–10⁴ s) vs time ==");
     println!(
         "{:>5} {:>22} {:>18} {:>12}",
@@ -291,9 +327,11 @@ fn main() {
             ns(r)
         );
     }
+}
 
-    // 5. NumPy, same effects, same run.
-    println!("\n== Side by side with NumPy (bench/sim_numpy.py) ==");
+/// The output of bench/sim_numpy.py for `n` samples ("effect samples_per_second"
+/// lines), or None (said why) when it cannot run.
+fn numpy_output(n: u64) -> Option<String> {
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../bench/sim_numpy.py");
     // The same interpreter variable as bench_allan: a venv with NumPy.
     let python = std::env::var("TRIAD_PYTHON").unwrap_or_else(|_| "python3".into());
@@ -302,8 +340,8 @@ fn main() {
         .arg("--samples")
         .arg(n.to_string())
         .output();
-    let out = match out {
-        Ok(o) if o.status.success() => String::from_utf8_lossy(&o.stdout).into_owned(),
+    match out {
+        Ok(o) if o.status.success() => Some(String::from_utf8_lossy(&o.stdout).into_owned()),
         Ok(o) => {
             println!(
                 "{python} {} failed: {}",
@@ -311,24 +349,32 @@ fn main() {
                 String::from_utf8_lossy(&o.stderr).trim()
             );
             println!("(install NumPy with `pip install numpy` to get the comparison)");
-            return;
+            None
         }
         Err(e) => {
             println!("{python} not runnable ({e}); no NumPy comparison");
-            return;
+            None
         }
+    }
+}
+
+/// 5. NumPy, same effects, same run.
+fn numpy(n: u64, rates: &EffectRates) {
+    println!("\n== Side by side with NumPy (bench/sim_numpy.py) ==");
+    let Some(out) = numpy_output(n) else {
+        return;
     };
     println!(
         "{:<20} {:>14} {:>14} {:>10}",
         "effect", "Rust samples/s", "NumPy samples/s", "Rust/NumPy"
     );
-    let mut rows: Vec<(String, f64)> = rust_effect_rates
+    let mut rows: Vec<(String, f64)> = rates
+        .each
         .iter()
         .map(|(k, v)| (k.to_string(), *v))
         .collect();
-    rows.push(("all".to_string(), all_rate));
+    rows.push(("all".to_string(), rates.all));
     for line in out.lines() {
-        // Lines are "effect samples_per_second".
         let mut parts = line.split_whitespace();
         let (Some(name), Some(v)) = (parts.next(), parts.next()) else {
             continue;

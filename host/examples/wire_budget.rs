@@ -13,6 +13,12 @@ use triad::stream::{encode, max_frame_rate, Decoder, Flags, Frame, MAX_ENCODED_L
 const BITS_PER_BYTE: u32 = 10;
 
 fn main() {
+    wire_budget();
+    decoder_throughput();
+}
+
+/// Bytes per frame and the frame rates the UART sustains.
+fn wire_budget() {
     // Every frame encodes to the same length; measure it over frames with
     // many zero bytes (most stuffing work) and with none.
     let mut shortest = usize::MAX;
@@ -55,8 +61,11 @@ fn main() {
             max_frame_rate(baud)
         );
     }
+}
 
-    // Host decoder throughput over a long clean stream.
+/// Host decoder throughput over a long clean stream.
+fn decoder_throughput() {
+    let mut out = [0u8; MAX_ENCODED_LEN];
     let frames = 200_000u32;
     let mut stream = Vec::with_capacity(frames as usize * MAX_ENCODED_LEN);
     for i in 0..frames {

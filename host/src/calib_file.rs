@@ -2,7 +2,7 @@
 //! [`load`] and written by `triad calib fit` through [`render`].
 //!
 //! ```toml
-//! id = 7                          # optional; default: CRC-32 of the blob's parameter bytes
+//! id = 7                          # optional; default: CRC-32C of the blob's parameter bytes
 //! orientation = "ROTATION_NONE"   # optional; PX4 name or id, default ROTATION_NONE
 //! [accel]
 //! scale_misalignment = [[1.002, 0.001, -0.0005], [0.0003, 0.998, 0.002], [0.0, -0.001, 1.001]]  # I + Σ
@@ -164,7 +164,7 @@ pub fn vector(v: &[f64; 3]) -> toml::Value {
 }
 
 /// Renders a calibration file: `header` as `#` comment lines, no `id` (so
-/// the identity is the CRC-32 of the parameters), the orientation when it is
+/// the identity is the CRC-32C of the parameters), the orientation when it is
 /// not ROTATION_NONE, `[accel]`, `[gyro]`, and `extra` top-level tables
 /// (metadata such as `[fit.accel]`, which [`parse`] ignores). The text is
 /// parsed back before it is returned: what is written reads back to exactly
@@ -225,4 +225,83 @@ pub fn fit_metadata(path: &Path) -> anyhow::Result<Option<toml::Table>> {
         Some(toml::Value::Table(t)) => Some(t.clone()),
         _ => None,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use triad::model::calibration::IDENTITY;
+
+    const MINIMAL: &str = "[accel]\nscale_misalignment = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]\nbias = [0.1, 0.0, 0.0]\n\
+                           [gyro]\nscale_misalignment = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]\nbias = [0.0, 0.0, 0.01]\n";
+
+    fn parsed(text: &str) -> anyhow::Result<CalibFile> {
+        parse(text, Path::new("c.toml"))
+    }
+
+    #[test]
+    fn without_id_the_identity_is_the_parameters_crc() {
+        let f = parsed(MINIMAL).unwrap();
+        assert!(f.id_from_parameters);
+        assert_eq!(f.calibration.id, blob::parameter_id(&f.calibration));
+        assert_eq!(f.orientation, Orientation::RotationNone);
+        assert_eq!(f.calibration.gyro.bias, [0.0, 0.0, 0.01]);
+        let f = parsed(&format!(
+            "id = 7\norientation = \"ROTATION_YAW_90\"\n{MINIMAL}"
+        ))
+        .unwrap();
+        assert_eq!((f.calibration.id, f.id_from_parameters), (7, false));
+        assert_eq!(
+            f.orientation,
+            Orientation::from_name("ROTATION_YAW_90").unwrap()
+        );
+    }
+
+    #[test]
+    fn orientations_are_px4_names_or_ids() {
+        let by_id = parse_orientation(&toml::Value::Integer(0)).unwrap();
+        assert_eq!(by_id, Orientation::RotationNone);
+        let err = parse_orientation(&toml::Value::String("ROTATION_YAW_45".into())).unwrap_err();
+        assert!(
+            err.contains("not one of the 24 right-angle orientations"),
+            "{err}"
+        );
+        assert!(parse_orientation(&toml::Value::Integer(-1))
+            .unwrap_err()
+            .contains("-1 is not a PX4 rotation id"));
+        assert!(parse_orientation(&toml::Value::Float(1.0))
+            .unwrap_err()
+            .contains("found float"));
+    }
+
+    #[test]
+    fn toml_errors_are_one_line_with_position_and_key() {
+        let text = MINIMAL.replace("bias = [0.1, 0.0, 0.0]\n", "bias = [0.1, 0.0]\n");
+        let err = parsed(&text).unwrap_err().to_string();
+        assert!(err.starts_with("c.toml: 3:8: invalid length 2"), "{err}");
+        assert!(
+            err.ends_with("(in `accel.bias`)") && !err.contains('\n'),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn rendered_files_read_back_to_the_same_calibration() {
+        let mut cal = Calibration::identity(0);
+        cal.accel.bias = [0.25, -1e-9, 3.0];
+        cal.gyro.scale_misalignment = [[1.001, 2e-3, 0.0], [0.0, 0.999, 0.0], [0.0, 0.0, 1.0]];
+        let mut extra = toml::Table::new();
+        extra.insert("fit".into(), toml::Value::Table(toml::Table::new()));
+        let yaw = Orientation::from_name("ROTATION_YAW_90").unwrap();
+        let text = render(&cal, yaw, "First line\n\nthird", extra).unwrap();
+        assert!(text.starts_with("# First line\n#\n# third\n\n"), "{text}");
+        assert!(!text.contains("\nid ="));
+        let back = parsed(&text).unwrap();
+        assert_eq!(
+            (back.calibration.accel, back.calibration.gyro),
+            (cal.accel, cal.gyro)
+        );
+        assert_eq!(back.orientation, yaw);
+        assert_eq!(back.calibration.accel.scale_misalignment, IDENTITY);
+    }
 }

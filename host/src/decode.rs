@@ -146,78 +146,126 @@ fn decode_stream(
     verbose: bool,
 ) -> anyhow::Result<Outcome> {
     let mut decoder = Decoder::new();
-    let mut clock = TimestampUnwrapper::new();
-    let mut first_us = None;
+    let mut sink = Sink {
+        csv,
+        limits,
+        verbose,
+        clock: TimestampUnwrapper::new(),
+        first_us: None,
+        written: 0,
+    };
     let mut buffer = [0u8; 4096];
-    let mut written = 0u64;
-    let mut stop = write_line(csv, format_args!("{CSV_HEADER}"))
-        .err()
-        .map(|_| Stop::OutputClosed);
-    if limits.max_frames == Some(0) {
-        stop = stop.or(Some(Stop::MaxFrames));
-    }
-    'read: while stop.is_none() {
+    let mut stop = sink.start();
+    while stop.is_none() {
         if interrupted.load(Ordering::SeqCst) {
             stop = Some(Stop::Interrupted);
             break;
         }
-        let n = match source.read(&mut buffer) {
-            Ok(0) => {
-                stop = Some(Stop::EndOfInput);
+        let n = match read_some(&mut source, &mut buffer, live)? {
+            Chunk::Bytes(n) => n,
+            Chunk::Again => continue,
+            Chunk::End(why) => {
+                stop = Some(why);
                 break;
             }
-            Ok(n) => n,
-            Err(e) if matches!(e.kind(), ErrorKind::TimedOut | ErrorKind::Interrupted) => continue,
-            // A serial port that goes away (USB unplugged, pty closed) reads
-            // as EIO on Unix: the stream has ended, the summary still counts.
-            Err(e) if live && is_port_gone(&e) => {
-                stop = Some(Stop::PortClosed(e.to_string()));
-                break;
-            }
-            Err(e) => return Err(e).context("reading the stream"),
         };
-        for result in decoder.feed(&buffer[..n]) {
-            let frame = match result {
-                Ok(frame) => frame,
-                Err(error) => {
-                    if verbose {
-                        report_rejected(&error);
-                    }
-                    continue;
-                }
-            };
-            let t_us = clock.unwrap(frame.timestamp_us);
-            let t0 = *first_us.get_or_insert(t_us);
-            if limits
-                .max_elapsed_us
-                .is_some_and(|limit| t_us.saturating_sub(t0) >= limit)
-            {
-                stop = Some(Stop::Seconds);
-                break 'read;
-            }
-            if write_frame(csv, &frame, t_us).is_err() {
-                stop = Some(Stop::OutputClosed);
-                break 'read;
-            }
-            written += 1;
-            if limits.max_frames.is_some_and(|max| written >= max) {
-                stop = Some(Stop::MaxFrames);
-                break 'read;
-            }
-        }
-        if live && csv.flush().is_err() {
+        stop = sink.feed(&mut decoder, &buffer[..n]);
+        if stop.is_none() && live && sink.csv.flush().is_err() {
             stop = Some(Stop::OutputClosed);
         }
     }
-    if csv.flush().is_err() {
+    if sink.csv.flush().is_err() {
         stop = Some(Stop::OutputClosed);
     }
     Ok(Outcome {
         stats: *decoder.stats(),
-        rows: written,
+        rows: sink.written,
         pending_bytes: decoder.pending_bytes(),
         stop: stop.unwrap_or(Stop::EndOfInput),
     })
+}
+
+/// What one read of the source gave.
+enum Chunk {
+    /// Bytes to decode.
+    Bytes(usize),
+    /// Nothing yet (a port's poll timed out, a signal): read again.
+    Again,
+    /// The stream has ended.
+    End(Stop),
+}
+
+fn read_some(source: &mut dyn Read, buffer: &mut [u8], live: bool) -> anyhow::Result<Chunk> {
+    match source.read(buffer) {
+        Ok(0) => Ok(Chunk::End(Stop::EndOfInput)),
+        Ok(n) => Ok(Chunk::Bytes(n)),
+        Err(e) if matches!(e.kind(), ErrorKind::TimedOut | ErrorKind::Interrupted) => {
+            Ok(Chunk::Again)
+        }
+        // A serial port that goes away (USB unplugged, pty closed) reads
+        // as EIO on Unix: the stream has ended, the summary still counts.
+        Err(e) if live && is_port_gone(&e) => Ok(Chunk::End(Stop::PortClosed(e.to_string()))),
+        Err(e) => Err(e).context("reading the stream"),
+    }
+}
+
+/// Where good frames go: the CSV, within the limits.
+struct Sink<'a, W> {
+    csv: &'a mut W,
+    limits: &'a Limits,
+    verbose: bool,
+    clock: TimestampUnwrapper,
+    /// The first good frame's time, µs.
+    first_us: Option<u64>,
+    written: u64,
+}
+
+impl<W: Write> Sink<'_, W> {
+    /// Writes the header; stops at once when it cannot or no frame is wanted.
+    fn start(&mut self) -> Option<Stop> {
+        if write_line(self.csv, format_args!("{CSV_HEADER}")).is_err() {
+            return Some(Stop::OutputClosed);
+        }
+        (self.limits.max_frames == Some(0)).then_some(Stop::MaxFrames)
+    }
+
+    /// Decodes `bytes` and writes each good frame; why to stop, if a limit
+    /// is reached or the output closed.
+    fn feed(&mut self, decoder: &mut Decoder, bytes: &[u8]) -> Option<Stop> {
+        for result in decoder.feed(bytes) {
+            match result {
+                Ok(frame) => {
+                    if let Some(stop) = self.frame(&frame) {
+                        return Some(stop);
+                    }
+                }
+                Err(error) if self.verbose => report_rejected(&error),
+                Err(_) => {}
+            }
+        }
+        None
+    }
+
+    /// One good frame: the time limit, the row, the frame limit.
+    fn frame(&mut self, frame: &Frame) -> Option<Stop> {
+        let t_us = self.clock.unwrap(frame.timestamp_us);
+        let t0 = *self.first_us.get_or_insert(t_us);
+        if self
+            .limits
+            .max_elapsed_us
+            .is_some_and(|limit| t_us.saturating_sub(t0) >= limit)
+        {
+            return Some(Stop::Seconds);
+        }
+        if write_frame(self.csv, frame, t_us).is_err() {
+            return Some(Stop::OutputClosed);
+        }
+        self.written += 1;
+        self.limits
+            .max_frames
+            .is_some_and(|max| self.written >= max)
+            .then_some(Stop::MaxFrames)
+    }
 }
 
 /// One CSV line. `t` is printed exactly (integer µs as seconds with six
@@ -249,6 +297,11 @@ fn report_rejected(error: &DecodeError) {
 }
 
 fn print_summary(outcome: &Outcome) {
+    eprint!("{}", summary(outcome));
+}
+
+/// Why decoding stopped and the decoder's counters, a line each.
+fn summary(outcome: &Outcome) -> String {
     let s = &outcome.stats;
     let why = match &outcome.stop {
         Stop::EndOfInput => "end of input".to_string(),
@@ -258,27 +311,137 @@ fn print_summary(outcome: &Outcome) {
         Stop::OutputClosed => "output closed".to_string(),
         Stop::PortClosed(reason) => format!("port closed ({reason})"),
     };
-    eprintln!("triad decode: stopped at {why}");
-    eprintln!(
-        "frames: {} ({} written as CSV rows)",
-        s.frames, outcome.rows
+    let mut text = format!(
+        "triad decode: stopped at {why}\n\
+         frames: {} ({} written as CSV rows)\n\
+         crc errors: {}\n\
+         malformed: {}\n\
+         sequence gaps: {} ({} frames lost)\n\
+         sequence restarts: {}\n\
+         bytes: {} ({} skipped)\n",
+        s.frames,
+        outcome.rows,
+        s.crc_errors,
+        s.malformed,
+        s.sequence_gaps,
+        s.frames_lost,
+        s.sequence_restarts,
+        s.bytes,
+        s.bytes_skipped
     );
-    eprintln!("crc errors: {}", s.crc_errors);
-    eprintln!("malformed: {}", s.malformed);
-    eprintln!(
-        "sequence gaps: {} ({} frames lost)",
-        s.sequence_gaps, s.frames_lost
-    );
-    eprintln!("sequence restarts: {}", s.sequence_restarts);
-    eprintln!("bytes: {} ({} skipped)", s.bytes, s.bytes_skipped);
     if outcome.pending_bytes > 0 {
-        eprintln!(
-            "incomplete frame at the end: {} bytes",
+        text += &format!(
+            "incomplete frame at the end: {} bytes\n",
             outcome.pending_bytes
         );
     }
-    eprintln!(
-        "device reported: {} overruns, {} frames dropped",
+    text += &format!(
+        "device reported: {} overruns, {} frames dropped\n",
         s.device_overruns, s.device_dropped
     );
+    text
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use triad::stream::{encode, Flags, MAX_ENCODED_LEN};
+
+    /// Frames 0..n, 10 ms apart, as the firmware sends them.
+    fn stream(n: u32) -> Vec<u8> {
+        let mut bytes = Vec::new();
+        let mut out = [0u8; MAX_ENCODED_LEN];
+        for i in 0..n {
+            let frame = Frame {
+                sequence: i,
+                timestamp_us: 1_000_000 + 10_000 * i,
+                flags: Flags::from_bits_retain(0),
+                accel: [0.5, -1.0, 9.75],
+                gyro: [0.0, 0.125, -2.0],
+                temperature: 25.5,
+                ..Frame::default()
+            };
+            let len = encode(&frame, &mut out);
+            bytes.extend_from_slice(&out[..len]);
+        }
+        bytes
+    }
+
+    fn decode(bytes: Vec<u8>, max_frames: Option<u64>, seconds: Option<f64>) -> (Outcome, String) {
+        let limits = Limits {
+            max_frames,
+            max_elapsed_us: seconds.map(|s| (s * 1e6) as u64),
+        };
+        let mut csv = Vec::new();
+        let source: Box<dyn Read> = Box::new(io::Cursor::new(bytes));
+        let never = AtomicBool::new(false);
+        let outcome = decode_stream(source, false, &mut csv, &limits, &never, false).unwrap();
+        (outcome, String::from_utf8(csv).unwrap())
+    }
+
+    #[test]
+    fn every_frame_is_a_row_with_exact_time_and_values() {
+        let (outcome, csv) = decode(stream(3), None, None);
+        let lines: Vec<&str> = csv.lines().collect();
+        assert_eq!(lines[0], CSV_HEADER);
+        assert_eq!(lines[1], "0,1.000000,0.5,-1.0,9.75,0.0,0.125,-2.0,25.5,0");
+        assert_eq!(lines[3], "2,1.020000,0.5,-1.0,9.75,0.0,0.125,-2.0,25.5,0");
+        assert_eq!((outcome.rows, outcome.stop), (3, Stop::EndOfInput));
+        assert_eq!(outcome.stats.frames, 3);
+    }
+
+    #[test]
+    fn the_limits_stop_the_stream() {
+        let (outcome, csv) = decode(stream(10), Some(4), None);
+        assert_eq!((outcome.rows, outcome.stop), (4, Stop::MaxFrames));
+        assert_eq!(csv.lines().count(), 5);
+        // 0.025 s from the first frame: frames at 0, 10 and 20 ms.
+        let (outcome, _) = decode(stream(10), None, Some(0.025));
+        assert_eq!((outcome.rows, outcome.stop), (3, Stop::Seconds));
+        let (outcome, csv) = decode(stream(2), Some(0), None);
+        assert_eq!(
+            (outcome.rows, csv.as_str()),
+            (0, "seq,t,ax,ay,az,gx,gy,gz,temp,flags\n")
+        );
+    }
+
+    #[test]
+    fn the_summary_says_why_and_counts() {
+        let mut bytes = stream(2);
+        bytes.extend_from_slice(&[1, 2, 3]);
+        let (outcome, _) = decode(bytes, None, None);
+        let text = summary(&outcome);
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines[0], "triad decode: stopped at end of input");
+        assert_eq!(lines[1], "frames: 2 (2 written as CSV rows)");
+        assert!(
+            text.contains("incomplete frame at the end: 3 bytes\n"),
+            "{text}"
+        );
+        assert!(lines
+            .last()
+            .unwrap()
+            .starts_with("device reported: 0 overruns"));
+    }
+
+    #[test]
+    fn seconds_must_be_positive_and_baud_non_zero() {
+        use clap::Parser;
+        #[derive(Parser)]
+        struct Cli {
+            #[command(flatten)]
+            args: DecodeArgs,
+        }
+        let limits = |argv: &[&str]| {
+            let cli = Cli::try_parse_from([&["decode"], argv].concat()).unwrap();
+            Limits::from_args(&cli.args)
+        };
+        assert_eq!(
+            limits(&["--seconds", "1.5"]).unwrap().max_elapsed_us,
+            Some(1_500_000)
+        );
+        let err = limits(&["--seconds", "-1"]).err().unwrap().to_string();
+        assert!(err.starts_with("--seconds -1: must be a positive"), "{err}");
+        assert!(limits(&["--baud", "0"]).is_err());
+    }
 }

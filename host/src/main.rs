@@ -1,17 +1,9 @@
-//! `triad`: the host side of triad. Each subcommand lives in its own module;
-//! this file only parses the command line and reports errors in one line.
+//! `triad`: the host side of triad. The subcommands live in the `triad_host`
+//! library; this file only parses the command line, dispatches, and reports
+//! errors in one line.
 
 use clap::{Parser, Subcommand};
-
-mod allan;
-mod allan_plot;
-mod calib;
-mod calib_file;
-mod correct;
-mod decode;
-mod progress;
-mod scene_file;
-mod sim;
+use triad_host::{allan, calib, correct, decode, sim};
 
 #[derive(Parser)]
 #[command(

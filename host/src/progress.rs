@@ -35,13 +35,16 @@ impl Progress {
 
     /// Redraws the bar at `done`.
     pub fn update(&self, done: u64) {
-        if !self.shown {
-            return;
+        if self.shown {
+            eprint!("{}", self.line(done, self.start.elapsed().as_secs_f64()));
         }
+    }
+
+    /// The bar at `done` after `elapsed` seconds (from a carriage return on).
+    fn line(&self, done: u64, elapsed: f64) -> String {
         let frac = (done as f64 / self.total as f64).min(1.0);
         let width = 40;
         let filled = (frac * width as f64) as usize;
-        let elapsed = self.start.elapsed().as_secs_f64();
         let eta = if frac > 0.0 {
             elapsed * (1.0 - frac) / frac
         } else {
@@ -51,12 +54,12 @@ impl Progress {
             Unit::Samples => format!("{done}/{} samples", self.total),
             Unit::Bytes => format!("{} MB", done >> 20),
         };
-        eprint!(
+        format!(
             "\r[{}{}] {:5.1} % {amount}, {eta:.0} s left ",
             "#".repeat(filled),
             " ".repeat(width - filled),
             100.0 * frac,
-        );
+        )
     }
 
     /// Draws the full bar and ends its line.
@@ -65,5 +68,37 @@ impl Progress {
             self.update(self.total);
             eprintln!();
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_bar_shows_the_fraction_the_amount_and_the_time_left() {
+        let bar = Progress::new(200, 0, Unit::Samples);
+        let line = bar.line(50, 10.0);
+        assert_eq!(
+            line,
+            format!(
+                "\r[{}{}]  25.0 % 50/200 samples, 30 s left ",
+                "#".repeat(10),
+                " ".repeat(30)
+            )
+        );
+        let bytes = Progress::new(8 << 20, 0, Unit::Bytes);
+        assert!(bytes
+            .line(3 << 20, 1.0)
+            .contains("]  37.5 % 3 MB, 2 s left"));
+        // Past the total: full, nothing left.
+        assert!(bar
+            .line(400, 5.0)
+            .contains(&format!("[{}] 100.0 %", "#".repeat(40))));
+    }
+
+    #[test]
+    fn short_runs_show_no_bar() {
+        assert!(!Progress::new(10, 100, Unit::Samples).shown);
     }
 }

@@ -134,7 +134,7 @@ fn pack_writes_the_blob_and_the_checked_in_default_matches_its_toml() {
     let packed = std::fs::read(&out_path).unwrap();
     assert_eq!(packed.len(), blob::BLOB_LEN);
     let cal = blob::decode(&packed).unwrap();
-    // The values of default.toml, and its id is the CRC-32 of the parameters.
+    // The values of default.toml, and its id is the CRC-32C of the parameters.
     assert_eq!(cal.accel.scale_misalignment[0], [1.002, 0.001, -0.0005]);
     assert_eq!(cal.accel.bias, [0.05, -0.02, 0.10]);
     assert_eq!(cal.gyro.bias, [0.001, -0.002, 0.0005]);

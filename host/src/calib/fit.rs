@@ -15,18 +15,17 @@
 //! other triad are kept. The fitted triad's temperature terms are dropped (a
 //! fit at one temperature says nothing about them). The fit statistics go in
 //! `[fit.accel]` / `[fit.gyro]`, which the loader ignores. The file has no
-//! `id`: its identity is the CRC-32 of the parameters. The written file is
+//! `id`: its identity is the CRC-32C of the parameters. The written file is
 //! validated as `triad calib check` does before it is written.
+
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use anyhow::{anyhow, bail, Context};
-use triad::model::{Calibration, Orientation, TriadCalibration};
-use triad_lab::calib_fit::static_segments;
+use anyhow::{anyhow, Context};
+use triad::model::{Calibration, Orientation, Triad, TriadCalibration};
 
-use super::fit_csv::{self, Record};
 use super::{fit_accel, fit_gyro, Ranges};
-use crate::calib_file::{self, vector};
+use crate::calib_file;
 
 /// Arguments of `triad calib fit`.
 #[derive(clap::Args)]
@@ -45,15 +44,16 @@ enum FitCommand {
 
 /// Where the result goes and what it starts from.
 #[derive(clap::Args)]
-pub(super) struct Output {
+pub struct Output {
     /// A calibration file to start from (its other triad and orientation are kept); default: identity.
     #[arg(long)]
-    pub(super) base: Option<PathBuf>,
+    pub base: Option<PathBuf>,
     /// The calibration file to write (TOML).
     #[arg(long)]
-    pub(super) out: PathBuf,
+    pub out: PathBuf,
+    /// The sensor's ranges the written file is validated at.
     #[command(flatten)]
-    pub(super) ranges: Ranges,
+    pub ranges: Ranges,
 }
 
 /// Runs `triad calib fit`.
@@ -65,7 +65,7 @@ pub fn run(args: FitArgs) -> anyhow::Result<ExitCode> {
 }
 
 /// The files, for messages: all of them up to three, else first … last (N files).
-pub(super) fn names(paths: &[PathBuf]) -> String {
+pub fn names(paths: &[PathBuf]) -> String {
     match paths {
         [first, .., last] if paths.len() > 3 => {
             format!(
@@ -83,115 +83,8 @@ pub(super) fn names(paths: &[PathBuf]) -> String {
     }
 }
 
-/// One segment's samples, where they came from and their statistics.
-pub(super) struct Stat {
-    pub(super) file: usize,
-    pub(super) from: f64,
-    pub(super) to: f64,
-    pub(super) mean: [f64; 3],
-    /// Standard error of the mean per axis (white noise: s/√n).
-    pub(super) standard_error: [f64; 3],
-    pub(super) count: usize,
-}
-
-pub(super) fn stat(record: &Record, file: usize, range: std::ops::Range<usize>) -> Stat {
-    let s = &record.samples[range.clone()];
-    let sd = static_segments::standard_deviation(s);
-    Stat {
-        file,
-        from: record.t[range.start],
-        to: record.t[range.end - 1],
-        mean: static_segments::mean(s),
-        standard_error: sd.map(|x| x / (s.len() as f64).sqrt()),
-        count: s.len(),
-    }
-}
-
-/// The segments FROM-TO of `--segments` in `record`.
-pub(super) fn given_segments(record: &Record, text: &str) -> anyhow::Result<Vec<Stat>> {
-    fit_csv::parse_segments(text)?
-        .into_iter()
-        .map(|(from, to)| {
-            let start = record.t.partition_point(|&t| t < from);
-            let n = record.between(from, to).len();
-            if n < 2 {
-                bail!(
-                    "--segments {from}-{to}: {n} sample(s) of {} in that time range, need at least 2",
-                    record.path.display()
-                );
-            }
-            Ok(stat(record, 0, start..start + n))
-        })
-        .collect()
-}
-
-fn insert_sigmas(table: &mut toml::Table, m: Option<&[[f64; 3]; 3]>, b: Option<&[f64; 3]>) {
-    if let (Some(m), Some(b)) = (m, b) {
-        table.insert(
-            "sigma_scale_misalignment".into(),
-            toml::Value::Array(m.iter().map(vector).collect()),
-        );
-        table.insert("sigma_bias".into(), vector(b));
-    }
-}
-
-/// What every (I+Σ), b fit prints and writes: the estimates with their
-/// standard deviations, the segment count, the residuals and the condition
-/// number. Each fit adds its own method, convention and inputs.
-pub(super) struct FitReport<'a> {
-    pub scale_misalignment: &'a [[f64; 3]; 3],
-    pub sigma_scale_misalignment: Option<&'a [[f64; 3]; 3]>,
-    pub bias: &'a [f64; 3],
-    pub sigma_bias: Option<&'a [f64; 3]>,
-    pub segments: usize,
-    pub residual_rms: f64,
-    pub residual_max: f64,
-    pub condition: f64,
-}
-
-impl FitReport<'_> {
-    /// Prints (I+Σ) under `matrix_title` and b in `bias_unit`; without
-    /// standard deviations, says why (`no_dof`).
-    pub fn print(&self, matrix_title: &str, bias_unit: &str, no_dof: &str) {
-        print_matrix(
-            matrix_title,
-            self.scale_misalignment,
-            self.sigma_scale_misalignment,
-        );
-        print_vector(&format!("b ({bias_unit})"), self.bias, self.sigma_bias);
-        if self.sigma_bias.is_none() {
-            println!("  (no standard deviations: {no_dof})");
-        }
-    }
-
-    /// The fit table's common keys: segments, residuals, condition number, σ's.
-    pub fn insert_statistics(&self, table: &mut toml::Table) {
-        table.insert(
-            "segments".into(),
-            toml::Value::Integer(self.segments as i64),
-        );
-        table.insert("residual_rms".into(), toml::Value::Float(self.residual_rms));
-        table.insert("residual_max".into(), toml::Value::Float(self.residual_max));
-        table.insert(
-            "condition_number".into(),
-            toml::Value::Float(self.condition),
-        );
-        insert_sigmas(table, self.sigma_scale_misalignment, self.sigma_bias);
-    }
-
-    /// The fitted triad (no temperature terms: a fit at one temperature says
-    /// nothing about them).
-    pub fn triad(&self) -> TriadCalibration {
-        TriadCalibration {
-            scale_misalignment: *self.scale_misalignment,
-            bias: *self.bias,
-            temperature: None,
-        }
-    }
-}
-
 /// The input files as a TOML array of strings.
-pub(super) fn file_list(paths: &[PathBuf]) -> toml::Value {
+pub fn file_list(paths: &[PathBuf]) -> toml::Value {
     toml::Value::Array(
         paths
             .iter()
@@ -200,103 +93,117 @@ pub(super) fn file_list(paths: &[PathBuf]) -> toml::Value {
     )
 }
 
-fn print_matrix(name: &str, m: &[[f64; 3]; 3], sigma: Option<&[[f64; 3]; 3]>) {
-    println!("  {name}:");
-    for (i, row) in m.iter().enumerate() {
-        let cells: Vec<String> = row
-            .iter()
-            .enumerate()
-            .map(|(j, x)| match sigma {
-                Some(s) => format!("{x:+.7} ± {:.1e}", s[i][j]),
-                None => format!("{x:+.7}"),
-            })
-            .collect();
-        println!("    [{}]", cells.join(", "));
-    }
+/// What a fit starts from: the calibration, the orientation, the earlier
+/// fits' statistics, and a sentence saying where they came from.
+struct Base {
+    calibration: Calibration,
+    orientation: Orientation,
+    fit_meta: toml::Table,
+    note: String,
 }
 
-pub(super) fn print_vector(name: &str, v: &[f64; 3], sigma: Option<&[f64; 3]>) {
-    let cells: Vec<String> = v
-        .iter()
-        .enumerate()
-        .map(|(i, x)| match sigma {
-            Some(s) => format!("{x:+.6e} ± {:.1e}", s[i]),
-            None => format!("{x:+.6e}"),
+impl Base {
+    /// `--base`, or the identity.
+    fn of(output: &Output) -> anyhow::Result<Base> {
+        let Some(path) = &output.base else {
+            return Ok(Base {
+                calibration: Calibration::identity(0),
+                orientation: Orientation::RotationNone,
+                fit_meta: toml::Table::new(),
+                note: "The other triad is the identity (no --base given).".to_string(),
+            });
+        };
+        let file = calib_file::load(path)?;
+        Ok(Base {
+            calibration: file.calibration,
+            orientation: file.orientation,
+            fit_meta: calib_file::fit_metadata(path)?.unwrap_or_default(),
+            note: format!(
+                "The other triad and the orientation are those of {}.",
+                path.display()
+            ),
         })
-        .collect();
-    println!("  {name}: [{}]", cells.join(", "));
-}
-
-/// Which triad a fit replaces.
-#[derive(Clone, Copy, PartialEq)]
-pub(super) enum Which {
-    /// The accelerometer.
-    Accel,
-    /// The gyroscope.
-    Gyro,
-}
-
-impl Which {
-    fn name(self) -> &'static str {
-        match self {
-            Which::Accel => "accel",
-            Which::Gyro => "gyro",
-        }
     }
 }
 
-/// Puts `triad` into the base (or identity) calibration, validates it like
-/// `triad calib check`, and writes it with the fit's statistics.
-pub(super) fn write_calibration(
+/// `calibration` with its `triad` replaced by `fitted`.
+pub fn with_triad(
+    mut calibration: Calibration,
+    triad: Triad,
+    fitted: TriadCalibration,
+) -> Calibration {
+    match triad {
+        Triad::Accel => calibration.accel = fitted,
+        Triad::Gyro => calibration.gyro = fitted,
+    }
+    calibration
+}
+
+/// Puts `fitted` into the base (or identity) calibration as its `triad`,
+/// validates it like `triad calib check`, and writes it with the fit's
+/// statistics (`fit_table`, as `[fit.accel]` or `[fit.gyro]`) under `header`.
+pub fn write_calibration(
     output: &Output,
-    which: Which,
-    triad: TriadCalibration,
+    triad: Triad,
+    fitted: TriadCalibration,
     header: &str,
     fit_table: toml::Table,
 ) -> anyhow::Result<ExitCode> {
-    let (mut calibration, orientation, mut fit_meta, base_note) = match &output.base {
-        Some(path) => {
-            let file = calib_file::load(path)?;
-            let meta = calib_file::fit_metadata(path)?.unwrap_or_default();
-            (
-                file.calibration,
-                file.orientation,
-                meta,
-                format!(
-                    "The other triad and the orientation are those of {}.",
-                    path.display()
-                ),
-            )
-        }
-        None => (
-            Calibration::identity(0),
-            Orientation::RotationNone,
-            toml::Table::new(),
-            "The other triad is the identity (no --base given).".to_string(),
-        ),
-    };
-    match which {
-        Which::Accel => calibration.accel = triad,
-        Which::Gyro => calibration.gyro = triad,
-    }
+    let mut base = Base::of(output)?;
+    let calibration = with_triad(base.calibration, triad, fitted);
     let (a, g) = output.ranges.full_scale_si();
-    triad::model::Corrector::new_si(&calibration, a, g, orientation).map_err(|e| {
+    triad::model::Corrector::new_si(&calibration, a, g, base.orientation).map_err(|e| {
         anyhow!(
             "the fitted calibration is rejected, {} not written: {e}",
             output.out.display()
         )
     })?;
-    fit_meta.insert(which.name().into(), toml::Value::Table(fit_table));
+    base.fit_meta
+        .insert(triad.name().into(), toml::Value::Table(fit_table));
     let mut extra = toml::Table::new();
-    extra.insert("fit".into(), toml::Value::Table(fit_meta));
+    extra.insert("fit".into(), toml::Value::Table(base.fit_meta));
     let text = calib_file::render(
         &calibration,
-        orientation,
-        &format!("{header}\n{base_note}"),
+        base.orientation,
+        &format!("{header}\n{}", base.note),
         extra,
     )?;
     std::fs::write(&output.out, text)
         .with_context(|| format!("{}: cannot write", output.out.display()))?;
     println!("wrote {}", output.out.display());
     Ok(ExitCode::SUCCESS)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn many_files_are_named_by_the_first_and_the_last() {
+        let paths: Vec<PathBuf> = ["a.csv", "b.csv", "c.csv", "d.csv"]
+            .iter()
+            .map(PathBuf::from)
+            .collect();
+        assert_eq!(names(&paths[..3]), "a.csv, b.csv, c.csv");
+        assert_eq!(names(&paths), "a.csv … d.csv (4 files)");
+        assert_eq!(names(&[]), "");
+        let list = file_list(&paths[..2]);
+        assert_eq!(list.as_array().map(Vec::len), Some(2));
+        assert_eq!(list[1].as_str(), Some("b.csv"));
+    }
+
+    #[test]
+    fn the_fitted_triad_replaces_only_its_own() {
+        let fitted = TriadCalibration {
+            scale_misalignment: [[2.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 2.0]],
+            bias: [1.0, 2.0, 3.0],
+            temperature: None,
+        };
+        let base = Calibration::identity(7);
+        let c = with_triad(base, Triad::Gyro, fitted);
+        assert_eq!(c.gyro, fitted);
+        assert_eq!(c.accel, base.accel);
+        let c = with_triad(base, Triad::Accel, fitted);
+        assert_eq!((c.accel, c.gyro), (fitted, base.gyro));
+    }
 }

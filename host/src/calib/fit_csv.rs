@@ -47,10 +47,21 @@ impl Record {
     }
 }
 
+/// Reads `t` and the three `columns` of each of `paths`.
+pub fn read_all(paths: &[PathBuf], columns: [&str; 3]) -> anyhow::Result<Vec<Record>> {
+    paths.iter().map(|p| read(p, columns)).collect()
+}
+
 /// Reads `t` and the three `columns` of `path`.
 pub fn read(path: &Path, columns: [&str; 3]) -> anyhow::Result<Record> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("{}: cannot read", path.display()))?;
+    parse(&text, path, columns)
+}
+
+/// Parses `t` and the three `columns` of the CSV `text` read from `path`.
+pub fn parse(text: &str, path: &Path, columns: [&str; 3]) -> anyhow::Result<Record> {
     let name = path.display();
-    let text = std::fs::read_to_string(path).with_context(|| format!("{name}: cannot read"))?;
     let mut lines = text
         .lines()
         .enumerate()
@@ -58,36 +69,76 @@ pub fn read(path: &Path, columns: [&str; 3]) -> anyhow::Result<Record> {
     let Some((_, header)) = lines.next() else {
         bail!("{name}: empty file, expected a header such as `t,ax,ay,az,gx,gy,gz,temp`");
     };
-    let names: Vec<&str> = header.split(',').map(str::trim).collect();
     let wanted = ["t", columns[0], columns[1], columns[2]];
-    let missing: Vec<&str> = wanted
-        .iter()
-        .copied()
-        .filter(|w| !names.contains(w))
-        .collect();
-    if !missing.is_empty() {
-        bail!(
-            "{name}: missing column(s) {} in the header `{}` (expected the columns `triad sim` writes: t,ax,ay,az,gx,gy,gz,temp)",
-            missing.iter().map(|m| format!("`{m}`")).collect::<Vec<_>>().join(", "),
-            header.trim()
-        );
-    }
-    let index: Vec<usize> = wanted
-        .iter()
-        .map(|w| names.iter().position(|n| n == w).unwrap_or(0))
-        .collect();
+    let (width, index) = header_indices(header, wanted).map_err(|e| anyhow!("{name}: {e}"))?;
     let mut record = Record {
         path: path.to_path_buf(),
         t: Vec::new(),
         samples: Vec::new(),
     };
     for (i, line) in lines {
-        let number = i + 1;
+        let at = Line {
+            path,
+            number: i + 1,
+        };
+        let v = at.values(line, width, &index, wanted)?;
+        if let Some(&last) = record.t.last() {
+            if v[0] <= last {
+                bail!(
+                    "{name} line {}: t = {} does not increase (previous {last})",
+                    i + 1,
+                    v[0]
+                );
+            }
+        }
+        record.t.push(v[0]);
+        record.samples.push([v[1], v[2], v[3]]);
+    }
+    if record.t.is_empty() {
+        bail!("{name}: no samples after the header");
+    }
+    Ok(record)
+}
+
+/// The header's column count and the cell index of each `wanted` column.
+fn header_indices(header: &str, wanted: [&str; 4]) -> anyhow::Result<(usize, [usize; 4])> {
+    let names: Vec<&str> = header.split(',').map(str::trim).collect();
+    let missing: Vec<String> = wanted
+        .iter()
+        .filter(|w| !names.contains(w))
+        .map(|m| format!("`{m}`"))
+        .collect();
+    if !missing.is_empty() {
+        bail!(
+            "missing column(s) {} in the header `{}` (expected the columns `triad sim` writes: t,ax,ay,az,gx,gy,gz,temp)",
+            missing.join(", "),
+            header.trim()
+        );
+    }
+    let index = wanted.map(|w| names.iter().position(|n| *n == w).unwrap_or(0));
+    Ok((names.len(), index))
+}
+
+/// A line of a record, for messages: "FILE line N".
+struct Line<'a> {
+    path: &'a Path,
+    number: usize,
+}
+
+impl Line<'_> {
+    /// The `wanted` cells (at `index`) of `line`, which must have `width` cells.
+    fn values(
+        &self,
+        line: &str,
+        width: usize,
+        index: &[usize; 4],
+        wanted: [&str; 4],
+    ) -> anyhow::Result<[f64; 4]> {
+        let (name, number) = (self.path.display(), self.number);
         let fields: Vec<&str> = line.split(',').map(str::trim).collect();
-        if fields.len() != names.len() {
+        if fields.len() != width {
             bail!(
-                "{name} line {number}: expected {} columns as in the header, found {}",
-                names.len(),
+                "{name} line {number}: expected {width} columns as in the header, found {}",
                 fields.len()
             );
         }
@@ -105,21 +156,8 @@ pub fn read(path: &Path, columns: [&str; 3]) -> anyhow::Result<Record> {
                     )
                 })?;
         }
-        if let Some(&last) = record.t.last() {
-            if v[0] <= last {
-                bail!(
-                    "{name} line {number}: t = {} does not increase (previous {last})",
-                    v[0]
-                );
-            }
-        }
-        record.t.push(v[0]);
-        record.samples.push([v[1], v[2], v[3]]);
+        Ok(v)
     }
-    if record.t.is_empty() {
-        bail!("{name}: no samples after the header");
-    }
-    Ok(record)
 }
 
 /// Parses `--segments 0-10,12-22.5` (seconds) into (from, to) pairs.
@@ -149,4 +187,63 @@ pub fn parse_segments(text: &str) -> anyhow::Result<Vec<(f64, f64)>> {
             Ok((from, to))
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn record(text: &str) -> anyhow::Result<Record> {
+        parse(text, Path::new("r.csv"), GYRO)
+    }
+
+    #[test]
+    fn the_columns_are_found_by_name_in_any_order() {
+        let r = record("gz, t,gx,gy,ax\n\n3,0.0,1,2,9\n6,0.5,4,5,9\n").unwrap();
+        assert_eq!(r.t, [0.0, 0.5]);
+        assert_eq!(r.samples, [[1.0, 2.0, 3.0], [4.0, 5.0, 6.0]]);
+        assert_eq!(r.rate_hz().unwrap(), 2.0);
+        assert_eq!(r.between(0.1, 1.0), &[[4.0, 5.0, 6.0]]);
+        assert!(r.between(0.6, 1.0).is_empty());
+    }
+
+    #[test]
+    fn bad_records_are_named_by_line_and_column() {
+        let err = |text: &str| record(text).err().unwrap().to_string();
+        assert!(err("").starts_with("r.csv: empty file"));
+        assert!(
+            err("t,gx,gy\n").starts_with("r.csv: missing column(s) `gz` in the header `t,gx,gy`")
+        );
+        assert_eq!(err("t,gx,gy,gz\n"), "r.csv: no samples after the header");
+        assert_eq!(
+            err("t,gx,gy,gz\n0,1,2\n"),
+            "r.csv line 2: expected 4 columns as in the header, found 3"
+        );
+        assert_eq!(
+            err("t,gx,gy,gz\n0,1,x,3\n"),
+            "r.csv line 2, column 3 (gy): `x` is not a finite number"
+        );
+        assert_eq!(
+            err("t,gx,gy,gz\n1,1,2,3\n\n1,1,2,3\n"),
+            "r.csv line 4: t = 1 does not increase (previous 1)"
+        );
+        let one = record("t,gx,gy,gz\n1,1,2,3\n").unwrap();
+        assert!(one
+            .rate_hz()
+            .unwrap_err()
+            .to_string()
+            .contains("cannot tell the sample rate"));
+    }
+
+    #[test]
+    fn segments_are_from_to_pairs_in_seconds() {
+        assert_eq!(
+            parse_segments("0-10, 12-22.5,").unwrap(),
+            [(0.0, 10.0), (12.0, 22.5)]
+        );
+        let err = |t: &str| parse_segments(t).unwrap_err().to_string();
+        assert!(err("5").contains("`5` is not FROM-TO"));
+        assert!(err("5-2").contains("`5-2` ends before it starts"));
+        assert!(err("a-2").contains("`a` in `a-2` is not a non-negative number"));
+    }
 }

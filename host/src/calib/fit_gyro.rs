@@ -5,16 +5,16 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{anyhow, bail};
-use triad::model::TriadCalibration;
+use triad::model::matrix::{mul_vec, Mat3};
+use triad::model::{Triad, TriadCalibration};
 use triad::units::{deg_to_rad, rad_to_deg, EARTH_RATE};
-use triad_lab::calib_fit::gyro_fit::{self, RateSegment};
+use triad_lab::calib_fit::gyro_fit::{self, LinearFit, RateSegment};
 use triad_lab::calib_fit::static_segments;
 
-use super::fit::{
-    file_list, given_segments, names, print_vector, stat, write_calibration, FitReport, Output,
-    Which,
-};
+use super::fit::{file_list, names, write_calibration, Output};
 use super::fit_csv;
+use super::report::{fit_report, method_table, print_vector};
+use super::segments::{self, stat, Stat};
 use crate::calib_file::{self, vector};
 
 /// Arguments of `triad calib fit gyro`.
@@ -48,142 +48,79 @@ pub struct GyroArgs {
 
 /// Runs `triad calib fit gyro`.
 pub fn run(args: GyroArgs) -> anyhow::Result<ExitCode> {
-    if args.static_record.is_some() {
-        gyro_static(args)
-    } else {
-        gyro_rate_table(args)
+    match &args.static_record {
+        Some(path) => gyro_static(&args, path),
+        None => rate_table(&args),
     }
 }
 
-/// `x:+30` → (axis index, sign·rate in rad/s).
-fn parse_rates(text: &str) -> anyhow::Result<Vec<[f64; 3]>> {
+/// `x:+30` → the rate vector, rad/s, about that sensor axis.
+pub fn parse_rates(text: &str) -> anyhow::Result<Vec<[f64; 3]>> {
     text.split(',')
         .map(str::trim)
         .filter(|s| !s.is_empty())
-        .map(|item| {
-            let (axis, rate) = item.split_once(':').ok_or_else(|| {
-                anyhow!("--rates: `{item}` is not AXIS:RATE (e.g. z:+30, in °/s about the sensor's z axis)")
-            })?;
-            let (sign, index) = match axis.trim() {
-                "x" | "+x" => (1.0, 0),
-                "-x" => (-1.0, 0),
-                "y" | "+y" => (1.0, 1),
-                "-y" => (-1.0, 1),
-                "z" | "+z" => (1.0, 2),
-                "-z" => (-1.0, 2),
-                other => bail!("--rates: axis `{other}` in `{item}` is not one of x, y, z, -x, -y, -z"),
-            };
-            let dps: f64 = rate
-                .trim()
-                .parse()
-                .ok()
-                .filter(|x: &f64| x.is_finite())
-                .ok_or_else(|| anyhow!("--rates: `{}` in `{item}` is not a number of °/s", rate.trim()))?;
-            let mut w = [0.0; 3];
-            w[index] = sign * deg_to_rad(dps);
-            Ok(w)
-        })
+        .map(parse_rate)
         .collect()
 }
 
-fn gyro_rate_table(args: GyroArgs) -> anyhow::Result<ExitCode> {
+fn parse_rate(item: &str) -> anyhow::Result<[f64; 3]> {
+    let (axis, rate) = item.split_once(':').ok_or_else(|| {
+        anyhow!("--rates: `{item}` is not AXIS:RATE (e.g. z:+30, in °/s about the sensor's z axis)")
+    })?;
+    let (sign, index) = match axis.trim() {
+        "x" | "+x" => (1.0, 0),
+        "-x" => (-1.0, 0),
+        "y" | "+y" => (1.0, 1),
+        "-y" => (-1.0, 1),
+        "z" | "+z" => (1.0, 2),
+        "-z" => (-1.0, 2),
+        other => bail!("--rates: axis `{other}` in `{item}` is not one of x, y, z, -x, -y, -z"),
+    };
+    let dps: f64 = rate
+        .trim()
+        .parse()
+        .ok()
+        .filter(|x: &f64| x.is_finite())
+        .ok_or_else(|| {
+            anyhow!(
+                "--rates: `{}` in `{item}` is not a number of °/s",
+                rate.trim()
+            )
+        })?;
+    let mut w = [0.0; 3];
+    w[index] = sign * deg_to_rad(dps);
+    Ok(w)
+}
+
+/// The rate-table fit: ω̂ = (I+Σ)ω + b over one segment per known rate.
+fn rate_table(args: &GyroArgs) -> anyhow::Result<ExitCode> {
     let Some(rates_text) = &args.rates else {
         bail!("--rate-table needs --rates: the true rate of each run, e.g. \"z:+30,z:-30,x:+30,y:+30\" (°/s)");
     };
     let rates = parse_rates(rates_text)?;
-    let records = args
-        .rate_table
-        .iter()
-        .map(|p| fit_csv::read(p, fit_csv::GYRO))
-        .collect::<anyhow::Result<Vec<_>>>()?;
-    let stats = match &args.segments {
-        Some(text) => {
-            if records.len() != 1 {
-                bail!(
-                    "--segments applies to a single --rate-table file; {} were given",
-                    records.len()
-                );
-            }
-            given_segments(&records[0], text)?
-        }
-        None => records
+    let records = fit_csv::read_all(&args.rate_table, fit_csv::GYRO)?;
+    let stats = segments::given_or(&records, args.segments.as_deref(), "--rate-table", || {
+        Ok(records
             .iter()
             .enumerate()
             .map(|(i, r)| stat(r, i, 0..r.samples.len()))
-            .collect(),
-    };
-    if stats.len() != rates.len() {
-        bail!(
-            "--rates gives {} rate(s) for {} segment(s) ({}): give one rate per run",
-            rates.len(),
-            stats.len(),
-            if args.segments.is_some() {
-                "--segments"
-            } else {
-                "--rate-table files"
-            }
-        );
-    }
-    let segments: Vec<RateSegment> = stats
-        .iter()
-        .zip(&rates)
-        .map(|(s, w)| RateSegment {
-            true_rate: *w,
-            measured: s.mean,
-        })
-        .collect();
+            .collect())
+    })?;
+    let segments = rate_segments(&stats, &rates, args.segments.is_some())?;
     let fit = gyro_fit::fit(&segments).map_err(|e| anyhow!("{}: {e}", names(&args.rate_table)))?;
-    println!("gyro rate-table fit: {} segments", fit.segments);
-    println!("  segment  true rate (°/s)            measured mean (°/s)                    residual (°/s)");
-    for (i, s) in segments.iter().enumerate() {
-        let model = triad::model::matrix::mul_vec(&fit.scale_misalignment, &s.true_rate);
-        let r: Vec<String> = (0..3)
-            .map(|k| {
-                format!(
-                    "{:+.2e}",
-                    rad_to_deg(s.measured[k] - model[k] - fit.bias[k])
-                )
-            })
-            .collect();
-        println!(
-            "  {:7}  [{:+7.2}, {:+7.2}, {:+7.2}]  [{:+10.5}, {:+10.5}, {:+10.5}]  [{}]",
-            i + 1,
-            rad_to_deg(s.true_rate[0]),
-            rad_to_deg(s.true_rate[1]),
-            rad_to_deg(s.true_rate[2]),
-            rad_to_deg(s.measured[0]),
-            rad_to_deg(s.measured[1]),
-            rad_to_deg(s.measured[2]),
-            r.join(", ")
-        );
-    }
-    println!(
-        "  residual ω̂ − (I+Σ)ω − b: RMS {:.3e} rad/s, max {:.3e} rad/s; condition number {:.3e}",
-        fit.residual_rms, fit.residual_max, fit.condition
-    );
-    let report = FitReport {
-        scale_misalignment: &fit.scale_misalignment,
-        sigma_scale_misalignment: fit.sigma_scale_misalignment.as_ref(),
-        bias: &fit.bias,
-        sigma_bias: fit.sigma_bias.as_ref(),
-        segments: fit.segments,
-        residual_rms: fit.residual_rms,
-        residual_max: fit.residual_max,
-        condition: fit.condition,
-    };
+    print_rate_table(&segments, &fit);
+    let report = fit_report!(fit);
     report.print(
         "I+Σ",
         "rad/s",
         "4 segments for 4 unknowns per axis leave no degree of freedom",
     );
-    let s = |x: &str| toml::Value::String(x.into());
-    let mut table = toml::Table::new();
-    table.insert(
-        "method".into(),
-        s("rate table, known rates: ω̂ = (I+Σ)ω + b, linear least squares (QR)"),
+    let mut table = method_table(
+        "rate table, known rates: ω̂ = (I+Σ)ω + b, linear least squares (QR)",
+        None,
     );
     table.insert("records".into(), file_list(&args.rate_table));
-    table.insert("rates".into(), s(rates_text));
+    table.insert("rates".into(), toml::Value::String(rates_text.clone()));
     report.insert_statistics(&mut table);
     let header = format!(
         "Gyroscope fitted by `triad calib fit gyro` from {} rate-table segments of {}\n\
@@ -192,11 +129,68 @@ fn gyro_rate_table(args: GyroArgs) -> anyhow::Result<ExitCode> {
         names(&args.rate_table),
         fit.residual_rms
     );
-    write_calibration(&args.output, Which::Gyro, report.triad(), &header, table)
+    write_calibration(&args.output, Triad::Gyro, report.triad(), &header, table)
 }
 
-fn gyro_static(args: GyroArgs) -> anyhow::Result<ExitCode> {
-    let path: &Path = args.static_record.as_deref().unwrap_or(Path::new("-"));
+/// Each segment's mean against its true rate; one rate per segment.
+fn rate_segments(
+    stats: &[Stat],
+    rates: &[[f64; 3]],
+    given: bool,
+) -> anyhow::Result<Vec<RateSegment>> {
+    if stats.len() != rates.len() {
+        bail!(
+            "--rates gives {} rate(s) for {} segment(s) ({}): give one rate per run",
+            rates.len(),
+            stats.len(),
+            if given {
+                "--segments"
+            } else {
+                "--rate-table files"
+            }
+        );
+    }
+    Ok(stats
+        .iter()
+        .zip(rates)
+        .map(|(s, w)| RateSegment {
+            true_rate: *w,
+            measured: s.mean,
+        })
+        .collect())
+}
+
+/// The rate-table fit's segments (true rate, mean, residual; °/s) and conditioning.
+fn print_rate_table(segments: &[RateSegment], fit: &LinearFit) {
+    println!("gyro rate-table fit: {} segments", fit.segments);
+    println!("  segment  true rate (°/s)            measured mean (°/s)                    residual (°/s)");
+    for (i, s) in segments.iter().enumerate() {
+        let model = mul_vec(&fit.scale_misalignment, &s.true_rate);
+        let r: Vec<String> = (0..3)
+            .map(|k| {
+                format!(
+                    "{:+.2e}",
+                    rad_to_deg(s.measured[k] - model[k] - fit.bias[k])
+                )
+            })
+            .collect();
+        let [w0, w1, w2] = s.true_rate.map(rad_to_deg);
+        let [m0, m1, m2] = s.measured.map(rad_to_deg);
+        println!(
+            "  {:7}  [{w0:+7.2}, {w1:+7.2}, {w2:+7.2}]  [{m0:+10.5}, {m1:+10.5}, {m2:+10.5}]  [{}]",
+            i + 1,
+            r.join(", ")
+        );
+    }
+    println!(
+        "  residual ω̂ − (I+Σ)ω − b: RMS {:.3e} rad/s, max {:.3e} rad/s; condition number {:.3e}",
+        fit.residual_rms, fit.residual_max, fit.condition
+    );
+}
+
+/// `--static`: the bias alone, the mean of each axis (less the vertical
+/// Earth rate with `--latitude`), the scale kept from `--base`.
+fn gyro_static(args: &GyroArgs, path: &Path) -> anyhow::Result<ExitCode> {
     let gyro = fit_csv::read(path, fit_csv::GYRO)?;
     let s = stat(&gyro, 0, 0..gyro.samples.len());
     if s.count < 2 {
@@ -213,38 +207,14 @@ fn gyro_static(args: GyroArgs) -> anyhow::Result<ExitCode> {
         ),
         None => (triad::model::calibration::IDENTITY, "identity"),
     };
-    let mut bias = s.mean;
-    let earth_note = match args.latitude {
-        Some(lat) => {
-            if !(lat.is_finite() && lat.abs() <= 90.0) {
-                bail!("--latitude {lat}: must be within −90..90 degrees");
-            }
-            // At rest the specific force points up: its mean direction is the
-            // vertical, which carries Ω·sin φ of the Earth rate. The gyro
-            // measures it through (I+Σ): ω̂ = (I+Σ)·ω_e + b.
-            let accel = fit_csv::read(path, fit_csv::ACCEL)?;
-            let f = static_segments::mean(&accel.samples);
-            let n = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
-            if n.is_nan() || n <= 0.0 {
-                bail!("{}: the mean specific force is zero: cannot tell the vertical", path.display());
-            }
-            let vertical = EARTH_RATE * deg_to_rad(lat).sin();
-            let w = f.map(|fi| vertical * fi / n);
-            let seen = triad::model::matrix::mul_vec(&base_matrix, &w);
-            for (b, x) in bias.iter_mut().zip(seen) {
-                *b -= x;
-            }
-            let horizontal = EARTH_RATE * deg_to_rad(lat).cos();
+    let (bias, earth_note) = match args.latitude {
+        Some(lat) => without_earth_rate(path, s.mean, lat, &base_matrix)?,
+        None => (
+            s.mean,
             format!(
-                "the vertical Earth rate Ω·sin φ = {:.3} °/h is removed along the measured vertical; the horizontal \
-                 part Ω·cos φ = {:.3} °/h (its direction is unknown without a heading) is still included",
-                rad_to_deg(vertical) * 3600.0,
-                rad_to_deg(horizontal) * 3600.0
-            )
-        }
-        None => format!(
-            "the Earth rate (up to Ω = {:.3} °/h) is included in the bias: give --latitude to remove its vertical part",
-            rad_to_deg(EARTH_RATE) * 3600.0
+                "the Earth rate (up to Ω = {:.3} °/h) is included in the bias: give --latitude to remove its vertical part",
+                rad_to_deg(EARTH_RATE) * 3600.0
+            ),
         ),
     };
     println!(
@@ -255,19 +225,7 @@ fn gyro_static(args: GyroArgs) -> anyhow::Result<ExitCode> {
     print_vector("b (rad/s)", &bias, Some(&s.standard_error));
     println!("  (± is the standard error s/√n, which assumes white noise; `triad allan` shows the correlated part)");
     println!("  {earth_note}");
-    let s_ = |x: &str| toml::Value::String(x.into());
-    let mut table = toml::Table::new();
-    table.insert(
-        "method".into(),
-        s_("static record: bias = mean of each axis"),
-    );
-    table.insert(
-        "records".into(),
-        toml::Value::Array(vec![s_(&path.display().to_string())]),
-    );
-    table.insert("samples".into(), toml::Value::Integer(s.count as i64));
-    table.insert("sigma_bias".into(), vector(&s.standard_error));
-    table.insert("earth_rate".into(), s_(&earth_note));
+    let table = static_table(path, &s, &earth_note);
     let header = format!(
         "Gyroscope bias fitted by `triad calib fit gyro --static` from {} ({} samples);\n\
          gyro scale_misalignment {base_note}; {earth_note}.",
@@ -279,5 +237,121 @@ fn gyro_static(args: GyroArgs) -> anyhow::Result<ExitCode> {
         bias,
         temperature: None,
     };
-    write_calibration(&args.output, Which::Gyro, triad, &header, table)
+    write_calibration(&args.output, Triad::Gyro, triad, &header, table)
+}
+
+/// The `[fit.gyro]` table of a static bias.
+fn static_table(path: &Path, s: &Stat, earth_note: &str) -> toml::Table {
+    let mut table = method_table("static record: bias = mean of each axis", None);
+    let text = |x: &str| toml::Value::String(x.into());
+    table.insert(
+        "records".into(),
+        toml::Value::Array(vec![text(&path.display().to_string())]),
+    );
+    table.insert("samples".into(), toml::Value::Integer(s.count as i64));
+    table.insert("sigma_bias".into(), vector(&s.standard_error));
+    table.insert("earth_rate".into(), text(earth_note));
+    table
+}
+
+/// The static `mean` of the record at `path` less the vertical Earth rate
+/// at latitude `lat` (degrees) as a gyro of scale `matrix` sees it, and the
+/// sentence saying what was removed.
+fn without_earth_rate(
+    path: &Path,
+    mean: [f64; 3],
+    lat: f64,
+    matrix: &Mat3,
+) -> anyhow::Result<([f64; 3], String)> {
+    if !(lat.is_finite() && lat.abs() <= 90.0) {
+        bail!("--latitude {lat}: must be within −90..90 degrees");
+    }
+    // At rest the specific force points up: its mean direction is the
+    // vertical, which carries Ω·sin φ of the Earth rate.
+    let accel = fit_csv::read(path, fit_csv::ACCEL)?;
+    let up = static_segments::mean(&accel.samples);
+    let bias = remove_vertical_rate(mean, up, lat, matrix).ok_or_else(|| {
+        anyhow!(
+            "{}: the mean specific force is zero: cannot tell the vertical",
+            path.display()
+        )
+    })?;
+    let vertical = EARTH_RATE * deg_to_rad(lat).sin();
+    let horizontal = EARTH_RATE * deg_to_rad(lat).cos();
+    let note = format!(
+        "the vertical Earth rate Ω·sin φ = {:.3} °/h is removed along the measured vertical; the horizontal \
+         part Ω·cos φ = {:.3} °/h (its direction is unknown without a heading) is still included",
+        rad_to_deg(vertical) * 3600.0,
+        rad_to_deg(horizontal) * 3600.0
+    );
+    Ok((bias, note))
+}
+
+/// `mean` less Ω·sin φ along the direction of `up`, as the gyro measures it
+/// through (I+Σ) = `matrix`: ω̂ = (I+Σ)·ω_e + b. None when `up` is zero.
+fn remove_vertical_rate(mean: [f64; 3], up: [f64; 3], lat: f64, matrix: &Mat3) -> Option<[f64; 3]> {
+    let n = (up[0] * up[0] + up[1] * up[1] + up[2] * up[2]).sqrt();
+    if n.is_nan() || n <= 0.0 {
+        return None;
+    }
+    let vertical = EARTH_RATE * deg_to_rad(lat).sin();
+    let w = up.map(|fi| vertical * fi / n);
+    let seen = mul_vec(matrix, &w);
+    let mut bias = mean;
+    for (b, x) in bias.iter_mut().zip(seen) {
+        *b -= x;
+    }
+    Some(bias)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use triad::model::calibration::IDENTITY;
+
+    #[test]
+    fn rates_are_signed_axes_in_degrees_per_second() {
+        let r = parse_rates("z:+30, -x:90,,y:0").unwrap();
+        assert_eq!(r.len(), 3);
+        assert_eq!(r[0], [0.0, 0.0, deg_to_rad(30.0)]);
+        assert_eq!(r[1], [-deg_to_rad(90.0), 0.0, 0.0]);
+        let err = |t: &str| parse_rates(t).unwrap_err().to_string();
+        assert!(err("z30").contains("is not AXIS:RATE"));
+        assert!(err("w:30").contains("axis `w` in `w:30`"));
+        assert!(err("z:inf").contains("`inf` in `z:inf` is not a number"));
+    }
+
+    #[test]
+    fn one_rate_per_segment() {
+        let s = Stat {
+            file: 0,
+            from: 0.0,
+            to: 1.0,
+            mean: [1.0, 2.0, 3.0],
+            standard_error: [0.0; 3],
+            count: 10,
+        };
+        let segs = rate_segments(std::slice::from_ref(&s), &[[0.5, 0.0, 0.0]], false).unwrap();
+        assert_eq!(
+            (segs[0].true_rate[0], segs[0].measured),
+            (0.5, [1.0, 2.0, 3.0])
+        );
+        let err = rate_segments(&[s.clone(), s], &[[0.0; 3]], true).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "--rates gives 1 rate(s) for 2 segment(s) (--segments): give one rate per run"
+        );
+    }
+
+    #[test]
+    fn the_vertical_earth_rate_is_removed_along_the_measured_up() {
+        // Level, z up, at the pole: all of Ω on z.
+        let b = remove_vertical_rate([1.0, 2.0, 3.0], [0.0, 0.0, 9.8], 90.0, &IDENTITY).unwrap();
+        assert_eq!((b[0], b[1]), (1.0, 2.0));
+        assert!((b[2] - (3.0 - EARTH_RATE)).abs() < 1e-15);
+        // At the equator nothing is vertical.
+        let b = remove_vertical_rate([1.0; 3], [0.0, 9.8, 0.0], 0.0, &IDENTITY).unwrap();
+        assert_eq!(b, [1.0; 3]);
+        assert!(remove_vertical_rate([0.0; 3], [0.0; 3], 45.0, &IDENTITY).is_none());
+    }
 }

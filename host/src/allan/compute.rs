@@ -1,0 +1,357 @@
+//! Streaming the Allan deviation: the file read once, one thread splitting
+//! and parsing rows in blocks while this one integrates them into each
+//! column's [`OctaveAccumulator`] (whose ring grows, before it wraps, up to
+//! what the τ grid and the record need), then each column's curve and fit.
+
+use std::sync::mpsc::{Receiver, SyncSender};
+
+use anyhow::anyhow;
+use triad::model::Triad;
+use triad_lab::allan::accumulate::OctaveAccumulator;
+use triad_lab::allan::noise_terms::NoiseFit;
+
+use super::columns::{Layout, Selected};
+use super::curve::{self, Point};
+use super::fit::fit_octaves;
+use super::rows::{self, Rows};
+use super::time;
+use super::AllanArgs;
+use crate::progress::{Progress, Unit};
+
+/// Rows whose mean is each column's offset.
+pub const OFFSET_ROWS: usize = 4096;
+
+/// Fewest samples analysed (three octaves).
+pub const MIN_SAMPLES: u64 = 8;
+
+/// Default largest averaging factor of the octave mode.
+const DEFAULT_MAX_M: u64 = 1 << 24;
+
+/// Default largest averaging factor of the every-τ mode.
+const DEFAULT_MAX_M_ALL_TAU: u64 = 1 << 14;
+
+/// First ring length.
+const FIRST_RING: usize = 4096;
+
+/// Rows per block handed from the parsing thread to the accumulating one.
+const BLOCK_ROWS: usize = 8192;
+
+/// One analysed column.
+pub struct ColumnResult {
+    /// Its header name.
+    pub name: String,
+    /// Gyro or accel.
+    pub triad: Triad,
+    /// The curve, shortest τ first.
+    pub points: Vec<Point>,
+    /// The fitted noise model (None with fewer than one valid point).
+    pub fit: Option<NoiseFit>,
+}
+
+/// Everything the outputs need.
+pub struct Analysis {
+    /// Samples per column.
+    pub samples: u64,
+    /// Sample rate, Hz.
+    pub rate: f64,
+    /// Where the rate came from.
+    pub rate_source: &'static str,
+    /// Per column.
+    pub columns: Vec<ColumnResult>,
+}
+
+/// Per-column streaming state.
+struct ColumnState {
+    acc: OctaveAccumulator<Vec<f64>>,
+    all: Option<Vec<f64>>,
+    ring_cap: usize,
+}
+
+impl ColumnState {
+    /// Pushes one sample, growing the ring (before it wraps) up to its cap.
+    fn push(&mut self, v: f64) {
+        let len = self.acc.ring_len();
+        if self.acc.samples() + 1 == len as u64 && len < self.ring_cap {
+            // Cannot fail: a longer power of two, before the ring wraps.
+            let _ = self.acc.grow(vec![0.0; 2 * len]);
+        }
+        self.acc.push(v);
+        if let Some(all) = self.all.as_mut() {
+            all.push(v);
+        }
+    }
+}
+
+/// Pushes a block of rows (`states.len()` leading values per row of `width`).
+fn push_block(states: &mut [ColumnState], block: &[f64], width: usize) {
+    for row in block.chunks_exact(width) {
+        for (st, &v) in states.iter_mut().zip(row) {
+            st.push(v);
+        }
+    }
+}
+
+/// Reads the CSV once and computes every column's curve and fit.
+///
+/// Two threads: one splits and parses the rows, the other integrates them
+/// (on two cores the parsing and the accumulation overlap).
+pub fn analyse(args: &AllanArgs) -> anyhow::Result<Analysis> {
+    let name = args.input.display().to_string();
+    let opened = rows::open(&args.input, &name)?;
+    let size = opened.size;
+    let layout = Layout::new(&opened.header, args.columns.as_deref(), args.rate.is_none())
+        .map_err(|e| anyhow!("{name}: {e}"))?;
+    let mut rows = Rows::new(opened, &layout, &name);
+    let width = layout.width();
+    let first = first_block(&mut rows, width)?;
+    let first_rows = first.len() / width;
+    let mut states = column_states(args, &rows, &first, width, layout.selected.len(), size)?;
+    push_block(&mut states, &first, width);
+    drop(first);
+    let bytes_per_row = rows.bytes as f64 / first_rows.max(1) as f64;
+    let rows = stream(rows, &mut states, width, size, bytes_per_row, &name)?;
+    let samples = states[0].acc.samples();
+    if samples < MIN_SAMPLES {
+        anyhow::bail!("{name}: too few samples: {samples} rows; the Allan deviation needs at least {MIN_SAMPLES}");
+    }
+    let (rate, rate_source) = time::sample_rate(args.rate, rows.time.as_ref(), samples, &name)?;
+    let columns = results(args, layout.selected, states, rate, samples);
+    Ok(Analysis {
+        samples,
+        rate,
+        rate_source,
+        columns,
+    })
+}
+
+/// The first [`OFFSET_ROWS`] rows, `width` values each: they give the
+/// offsets (means), the rate from t and the record's length from the file's size.
+fn first_block(rows: &mut Rows, width: usize) -> anyhow::Result<Vec<f64>> {
+    let mut values = vec![0.0; width];
+    let mut first: Vec<f64> = Vec::with_capacity(OFFSET_ROWS * width);
+    while first.len() < OFFSET_ROWS * width && rows.next_row(&mut values)? {
+        first.extend_from_slice(&values);
+    }
+    Ok(first)
+}
+
+/// One accumulator per column, its offset the column's mean over `first`.
+fn column_states(
+    args: &AllanArgs,
+    rows: &Rows,
+    first: &[f64],
+    width: usize,
+    columns: usize,
+    size: u64,
+) -> anyhow::Result<Vec<ColumnState>> {
+    let first_rows = first.len() / width;
+    let rate = time::provisional_rate(args.rate, rows.time.as_ref());
+    let ring_cap = ring_cap(args, rate, size, rows.bytes, first_rows);
+    (0..columns)
+        .map(|c| {
+            let offset = if first_rows == 0 {
+                0.0
+            } else {
+                (0..first_rows).map(|r| first[r * width + c]).sum::<f64>() / first_rows as f64
+            };
+            let acc = OctaveAccumulator::new(vec![0.0; FIRST_RING.min(ring_cap)], offset)
+                .map_err(|e| anyhow!("{e}"))?;
+            Ok(ColumnState {
+                acc,
+                all: args.all_tau.then(Vec::new),
+                ring_cap,
+            })
+        })
+        .collect()
+}
+
+/// The rest of the rows: parsed in blocks by a second thread, pushed here.
+/// Returns the rows (their t check) once the file is read.
+fn stream(
+    rows: Rows,
+    states: &mut [ColumnState],
+    width: usize,
+    size: u64,
+    bytes_per_row: f64,
+    name: &str,
+) -> anyhow::Result<Rows> {
+    // Inputs over 64 MB show the bar.
+    let progress = Progress::new(size, 64 << 20, Unit::Bytes);
+    let (tx, rx) = std::sync::mpsc::sync_channel::<anyhow::Result<Vec<f64>>>(4);
+    let rows = std::thread::scope(|scope| {
+        let parser = scope.spawn(move || parse_blocks(rows, width, tx));
+        let failure = accumulate(rx, states, width, |consumed| {
+            // Bytes done, from the rows done and the first rows' mean length.
+            progress.update((consumed as f64 * bytes_per_row) as u64)
+        });
+        let rows = parser
+            .join()
+            .map_err(|_| anyhow!("{name}: the parsing thread failed"))?;
+        match failure {
+            Some(e) => Err(e),
+            None => Ok(rows),
+        }
+    })?;
+    progress.finish();
+    Ok(rows)
+}
+
+/// The parsing thread: blocks of [`BLOCK_ROWS`] rows sent on `tx`, then the
+/// first error if any; returns the rows when done.
+fn parse_blocks(mut rows: Rows, width: usize, tx: SyncSender<anyhow::Result<Vec<f64>>>) -> Rows {
+    let mut values = vec![0.0; width];
+    loop {
+        let mut block = Vec::with_capacity(BLOCK_ROWS * width);
+        let mut result = Ok(());
+        while block.len() < BLOCK_ROWS * width {
+            match rows.next_row(&mut values) {
+                Ok(true) => block.extend_from_slice(&values),
+                Ok(false) => break,
+                Err(e) => {
+                    result = Err(e);
+                    break;
+                }
+            }
+        }
+        let done = block.len() < BLOCK_ROWS * width || result.is_err();
+        if !block.is_empty() && tx.send(Ok(block)).is_err() {
+            break;
+        }
+        if let Err(e) = result {
+            let _ = tx.send(Err(e));
+            break;
+        }
+        if done {
+            break;
+        }
+    }
+    rows
+}
+
+/// This thread: pushes each block as it comes, reporting the rows consumed
+/// every 16 blocks; returns the parsing thread's error, if any.
+fn accumulate(
+    rx: Receiver<anyhow::Result<Vec<f64>>>,
+    states: &mut [ColumnState],
+    width: usize,
+    report: impl Fn(u64),
+) -> Option<anyhow::Error> {
+    let mut consumed = 0u64;
+    for msg in rx {
+        match msg {
+            Ok(block) => {
+                push_block(states, &block, width);
+                consumed += (block.len() / width) as u64;
+                if consumed % (16 * BLOCK_ROWS as u64) == 0 {
+                    report(consumed);
+                }
+            }
+            Err(e) => return Some(e),
+        }
+    }
+    None
+}
+
+/// Each column's curve (octaves or every τ, up to the largest m) and fit.
+fn results(
+    args: &AllanArgs,
+    selected: Vec<Selected>,
+    states: Vec<ColumnState>,
+    rate: f64,
+    samples: u64,
+) -> Vec<ColumnResult> {
+    let max_m = max_m(args, rate);
+    selected
+        .into_iter()
+        .zip(states)
+        .map(|(sel, st)| {
+            let raw = match &st.all {
+                Some(all) => curve::every_tau(all, st.acc.offset(), rate, max_m),
+                None => curve::octaves(&st.acc, rate, max_m),
+            };
+            let points = curve::with_intervals(&raw, samples, args.confidence);
+            let fit = fit_octaves(&points);
+            ColumnResult {
+                name: sel.name,
+                triad: sel.triad,
+                points,
+                fit,
+            }
+        })
+        .collect()
+}
+
+/// The ring length cap: twice the largest m (from --max-tau or the mode's
+/// default), and no longer than the record needs: the largest octave with
+/// 2m ≤ N wants 2^⌊log2 N⌋ slots, N estimated from the file's size and the
+/// first rows' mean length with a 1.5 margin (rows that later get much
+/// shorter could cost the last octave; longer ones only memory).
+fn ring_cap(args: &AllanArgs, rate: f64, size: u64, bytes_read: u64, rows_read: usize) -> usize {
+    let by_grid = (2 * max_m(args, rate)).next_power_of_two();
+    let by_record = if rows_read > 0 && bytes_read > 0 {
+        let per_row = bytes_read as f64 / rows_read as f64;
+        let estimate = (1.5 * size as f64 / per_row).max(2.0) as u64;
+        1u64 << estimate.ilog2()
+    } else {
+        by_grid
+    };
+    by_grid.min(by_record).clamp(2, 1 << 40) as usize
+}
+
+/// The largest averaging factor: from --max-tau, else the mode's default.
+fn max_m(args: &AllanArgs, rate: f64) -> u64 {
+    let default = if args.all_tau {
+        DEFAULT_MAX_M_ALL_TAU
+    } else {
+        DEFAULT_MAX_M
+    };
+    match args.max_tau {
+        Some(t) => ((t * rate).floor() as u64).clamp(1, 1 << 40),
+        None => default,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::allan::tests::args;
+
+    #[test]
+    fn the_largest_m_comes_from_max_tau_or_the_mode() {
+        let mut a = args("x.csv");
+        assert_eq!(max_m(&a, 100.0), 1 << 24);
+        a.all_tau = true;
+        assert_eq!(max_m(&a, 100.0), 1 << 14);
+        a.max_tau = Some(2.5);
+        assert_eq!(max_m(&a, 100.0), 250);
+        a.max_tau = Some(1e-9);
+        assert_eq!(max_m(&a, 100.0), 1);
+    }
+
+    #[test]
+    fn the_ring_is_no_longer_than_the_grid_or_the_record_needs() {
+        let mut a = args("x.csv");
+        // 1000 rows of 10 bytes in the first block, a 10 MB file: ~1.5e6
+        // rows estimated, so 2^20 slots, below the grid's 2^25.
+        assert_eq!(ring_cap(&a, 100.0, 10_000_000, 10_000, 1000), 1 << 20);
+        // A short --max-tau bounds it by the grid: 2·500 → 1024.
+        a.max_tau = Some(5.0);
+        assert_eq!(ring_cap(&a, 100.0, 10_000_000, 10_000, 1000), 1024);
+        // Nothing read yet: the grid alone.
+        assert_eq!(ring_cap(&a, 100.0, 0, 0, 0), 1024);
+    }
+
+    #[test]
+    fn a_pushed_column_grows_its_ring_up_to_the_cap() {
+        let mut st = ColumnState {
+            acc: OctaveAccumulator::new(vec![0.0; 4], 0.0).unwrap(),
+            all: Some(Vec::new()),
+            ring_cap: 16,
+        };
+        let rows: Vec<f64> = (0..40).map(|i| i as f64).collect();
+        push_block(std::slice::from_mut(&mut st), &rows, 1);
+        assert_eq!(st.acc.ring_len(), 16);
+        assert_eq!(st.acc.samples(), 40);
+        assert_eq!(st.all.as_ref().map(Vec::len), Some(40));
+    }
+}

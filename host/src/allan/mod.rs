@@ -1,0 +1,163 @@
+//! `triad allan`: overlapping Allan deviation of rate columns of a CSV, with
+//! χ² confidence intervals, the jointly fitted noise terms of IEEE Std 952
+//! (Q, N, B, K, R) in data-sheet units, and the sensor grade.
+//!
+//! Octave τ (the default) streams: the file is read once (one thread splits
+//! and parses, another integrates), each column feeds an
+//! [`OctaveAccumulator`](triad_lab::allan::accumulate::OctaveAccumulator)
+//! whose ring of cumulative sums starts at 4096 slots and doubles (before it
+//! wraps) up to what the τ grid needs: 2·m_max slots, m_max = 2^24 by default
+//! or from `--max-tau`, and no more than the record needs (N estimated from
+//! the file's size). Memory is therefore at most 8·2·m_max bytes per column
+//! (256 MiB by default) whatever the record's length, and time is linear in
+//! N. `--all-tau` holds the whole record in memory (8·N bytes per column) and
+//! costs O(N) per τ, O(N·m_max) in all, so its largest m defaults to 2^14
+//! (change it with `--max-tau`).
+//!
+//! Each sample has the mean of the first [`OFFSET_ROWS`] rows of its column
+//! subtracted before it is integrated, so a mean far above the noise (1 g on
+//! an accelerometer) costs no digits (see `triad_lab::allan::accumulate`).
+//!
+//! The modules, in the order of the work: [`columns`] (the header and the
+//! columns analysed), `rows` and `time` (the rows and the t column),
+//! [`compute`] (streaming the deviations), [`curve`] (the points and their
+//! intervals), [`fit`] (the noise terms), [`grade`], and the outputs
+//! [`summary`], [`table`], [`json`] and [`plot`].
+
+pub mod columns;
+pub mod compute;
+pub mod curve;
+pub mod fit;
+pub mod grade;
+pub mod json;
+pub mod plot;
+mod rows;
+pub mod summary;
+pub mod table;
+mod time;
+
+use std::io::{BufWriter, Write};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::{bail, Context};
+use triad_lab::allan::edf::ONE_SIGMA;
+
+pub use compute::{analyse, Analysis, ColumnResult, MIN_SAMPLES, OFFSET_ROWS};
+pub use curve::Point;
+pub use fit::{datasheet, si_unit};
+pub use grade::grade_of;
+
+/// Arguments of `triad allan`.
+#[derive(clap::Args)]
+pub struct AllanArgs {
+    /// Input CSV with a header (e.g. `t,ax,ay,az,gx,gy,gz,temp` as `triad sim` writes; SI units).
+    pub input: PathBuf,
+    /// Columns to analyse, comma-separated (default: every column whose name
+    /// starts with `g` (gyro, rad/s) or `a` (accel, m/s²)).
+    #[arg(long, value_delimiter = ',')]
+    pub columns: Option<Vec<String>>,
+    /// Sample rate in Hz (default: from the `t` column, which must then be uniform).
+    #[arg(long, allow_hyphen_values = true)]
+    pub rate: Option<f64>,
+    /// Write the table `column,tau,oadev,ci_low,ci_high,m,terms,edf,noise,adev` (SI units).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Write a log-log plot of σ(τ) with confidence bars and the fitted terms (SVG).
+    #[arg(long)]
+    pub plot: Option<PathBuf>,
+    /// Print the fitted terms, their uncertainties and the grade as JSON.
+    #[arg(long)]
+    pub json: bool,
+    /// Every τ = m·τ₀ (m = 1, 2, 3, … up to 2^14 or --max-tau) instead of
+    /// octaves; holds the record in memory, costs N per τ.
+    #[arg(long)]
+    pub all_tau: bool,
+    /// Longest averaging time, seconds (bounds the memory of the octave mode).
+    #[arg(long, allow_hyphen_values = true)]
+    pub max_tau: Option<f64>,
+    /// Confidence level of the intervals (default 0.6827, one sigma).
+    #[arg(long, default_value_t = ONE_SIGMA)]
+    pub confidence: f64,
+}
+
+/// Runs `triad allan`.
+pub fn run(args: AllanArgs) -> anyhow::Result<ExitCode> {
+    check(&args)?;
+    let analysis = analyse(&args)?;
+    if let Some(path) = &args.out {
+        table::write(path, &analysis.columns)?;
+    }
+    if let Some(path) = &args.plot {
+        plot::write_svg(path, &analysis.columns)
+            .with_context(|| format!("writing {}", path.display()))?;
+    }
+    let stdout = std::io::stdout();
+    let mut w = BufWriter::new(stdout.lock());
+    if args.json {
+        let v = json::report(&args, &analysis);
+        writeln!(w, "{}", serde_json::to_string_pretty(&v)?)?;
+    } else {
+        summary::write(&mut w, &args, &analysis)?;
+    }
+    w.flush()?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The options that must be in range before the file is read.
+fn check(args: &AllanArgs) -> anyhow::Result<()> {
+    if !(args.confidence > 0.0 && args.confidence < 1.0) {
+        bail!(
+            "--confidence {}: must lie strictly between 0 and 1",
+            args.confidence
+        );
+    }
+    if let Some(r) = args.rate {
+        if !(r.is_finite() && r > 0.0) {
+            bail!("--rate {r}: the sample rate must be a positive number of Hz");
+        }
+    }
+    if let Some(t) = args.max_tau {
+        if !(t.is_finite() && t > 0.0) {
+            bail!("--max-tau {t}: must be a positive number of seconds");
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+
+    /// Arguments as the command line gives them for `input` and nothing else.
+    pub(crate) fn args(input: &str) -> AllanArgs {
+        AllanArgs {
+            input: PathBuf::from(input),
+            columns: None,
+            rate: None,
+            out: None,
+            plot: None,
+            json: false,
+            all_tau: false,
+            max_tau: None,
+            confidence: ONE_SIGMA,
+        }
+    }
+
+    #[test]
+    fn out_of_range_options_are_refused_before_reading() {
+        assert!(check(&args("x.csv")).is_ok());
+        let mut a = args("x.csv");
+        a.confidence = 1.0;
+        assert!(check(&a)
+            .unwrap_err()
+            .to_string()
+            .contains("--confidence 1"));
+        let mut a = args("x.csv");
+        a.rate = Some(0.0);
+        assert!(check(&a).unwrap_err().to_string().contains("--rate 0"));
+        let mut a = args("x.csv");
+        a.max_tau = Some(f64::NAN);
+        assert!(check(&a).unwrap_err().to_string().contains("--max-tau NaN"));
+    }
+}

@@ -1,0 +1,122 @@
+//! The report on stdout: the record, then per column its τ range, each
+//! fitted term in data-sheet units with its uncertainty, and the grade.
+
+use std::io::Write;
+
+use triad_lab::allan::noise_terms::{NoiseFit, Term};
+
+use super::compute::{Analysis, ColumnResult};
+use super::fit::{datasheet, si_unit};
+use super::grade::grade_of;
+use super::AllanArgs;
+
+/// Writes the report of `a` to `w`.
+pub fn write(w: &mut impl Write, args: &AllanArgs, a: &Analysis) -> anyhow::Result<()> {
+    writeln!(
+        w,
+        "{}: {} samples at {} Hz ({}), {} s; {} tau, {:.1} % confidence intervals",
+        args.input.display(),
+        a.samples,
+        a.rate,
+        a.rate_source,
+        a.samples as f64 / a.rate,
+        if args.all_tau { "every" } else { "octave" },
+        100.0 * args.confidence
+    )?;
+    for col in &a.columns {
+        write_column(w, col)?;
+    }
+    Ok(())
+}
+
+/// One column: its heading, its terms and its grade.
+fn write_column(w: &mut impl Write, col: &ColumnResult) -> anyhow::Result<()> {
+    let (first, last) = (col.points.first(), col.points.last());
+    writeln!(
+        w,
+        "\n{} ({}, {}): tau {} .. {} s",
+        col.name,
+        col.triad.name(),
+        si_unit(col.triad),
+        first.map_or(f64::NAN, |p| p.tau),
+        last.map_or(f64::NAN, |p| p.tau)
+    )?;
+    let Some(fit) = &col.fit else {
+        writeln!(w, "  no fit (no valid point)")?;
+        return Ok(());
+    };
+    write_terms(w, col, fit)?;
+    if let Some((g, d)) = grade_of(col) {
+        writeln!(w, "  grade: {g} (decided by {d})")?;
+    }
+    Ok(())
+}
+
+/// A line per term: symbol, name, value ± sigma in data-sheet units.
+fn write_terms(w: &mut impl Write, col: &ColumnResult, fit: &NoiseFit) -> anyhow::Result<()> {
+    for t in Term::ALL {
+        let (f, unit) = datasheet(col.triad, t);
+        let e = fit.term(t);
+        let note = if e.in_support {
+            ""
+        } else {
+            "  (not seen: value at 0, sigma is what it could hide)"
+        };
+        writeln!(
+            w,
+            "  {} {:<17} {:>12.4e} ± {:.2e} {unit}{note}",
+            t.symbol(),
+            term_name(t),
+            e.value * f,
+            e.sigma * f
+        )?;
+    }
+    Ok(())
+}
+
+/// A term's name in the report.
+pub fn term_name(t: Term) -> &'static str {
+    match t {
+        Term::Quantisation => "quantisation",
+        Term::WhiteNoise => "white noise",
+        Term::BiasInstability => "bias instability",
+        Term::RandomWalk => "rate random walk",
+        Term::RateRamp => "rate ramp",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::allan::table::tests::column;
+    use crate::allan::tests::args;
+    use triad::model::Triad;
+
+    #[test]
+    fn the_report_names_the_record_and_each_column() {
+        let a = Analysis {
+            samples: 100,
+            rate: 10.0,
+            rate_source: "--rate",
+            columns: vec![column("gz", Triad::Gyro)],
+        };
+        let mut out = Vec::new();
+        write(&mut out, &args("rec.csv"), &a).unwrap();
+        let text = String::from_utf8(out).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(
+            lines[0],
+            "rec.csv: 100 samples at 10 Hz (--rate), 10 s; octave tau, 68.3 % confidence intervals"
+        );
+        assert_eq!(lines[1], "");
+        assert_eq!(lines[2], "gz (gyro, rad/s): tau 0.1 .. 0.2 s");
+        assert_eq!(lines[3], "  no fit (no valid point)");
+    }
+
+    #[test]
+    fn every_term_has_a_distinct_name() {
+        let names: std::collections::HashSet<_> = Term::ALL.iter().map(|&t| term_name(t)).collect();
+        assert_eq!(names.len(), Term::ALL.len());
+        assert_eq!(term_name(Term::RandomWalk), "rate random walk");
+    }
+}

@@ -1,0 +1,21 @@
+//! The host side of triad: the library behind the `triad` command. Each
+//! subcommand is a module here (its arguments, its `run`, and the pure
+//! functions it is made of); `src/main.rs` only parses the command line and
+//! dispatches.
+//!
+//! - [`decode`]: the firmware's binary stream → CSV;
+//! - [`correct`]: a calibration applied to measured samples;
+//! - [`calib`]: check, pack and fit calibration files ([`calib_file`]);
+//! - [`sim`]: what a sensor measures in a scene ([`scene_file`]);
+//! - [`allan`]: Allan deviation, noise terms and grade of rate columns.
+
+#![warn(missing_docs)]
+
+pub mod allan;
+pub mod calib;
+pub mod calib_file;
+pub mod correct;
+pub mod decode;
+pub mod progress;
+pub mod scene_file;
+pub mod sim;
