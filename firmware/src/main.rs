@@ -49,6 +49,9 @@ mod app {
 
     #[init(local = [queue: Queue<Frame, QUEUE_LEN> = Queue::new()])]
     fn init(cx: init::Context) -> (Shared, Local) {
+        // First: the emulated board's sample timer must start before anything
+        // slow (a semihosting log line), see boards/qemu's `SampleLine`.
+        let b = board::init(cx.device);
         let config = board::sensor_config();
         let rate_hz = config.sample_rate_hz();
         let description = board::DESCRIPTION;
@@ -58,7 +61,6 @@ mod app {
             rate_hz,
             description.decimation
         );
-        let b = board::init(cx.device);
         let mut sensor = b.sensor;
         if let Err(error) = sensor.init(&mut board::Delay, &config) {
             defmt::error!(
