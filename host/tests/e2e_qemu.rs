@@ -23,7 +23,7 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
 
-use triad::device::{start_calibration, Sampler, StepOutcome};
+use triad::device::{sample_period_us, start_calibration, Sampler, StepOutcome};
 use triad::model::Corrector;
 use triad::sensor::interface::{I2cInterface, SpiInterface};
 use triad::sensor::{Imu, ImuScale, RawSample};
@@ -285,7 +285,7 @@ fn firmware_frames_equal_host_computation_bit_for_bit() {
     let timestamps: Vec<u32> = device.iter().map(|f| f.timestamp_us).collect();
     let (host, _, _) = host_frames(device.len(), &timestamps);
     // One streamed frame per `decimation` data-ready periods, to the microsecond.
-    let period_us = (1e6 / HostSensor::from_env().sample_rate_hz()).round() as u32
+    let period_us = sample_period_us(HostSensor::from_env().sample_rate_hz())
         * u32::from(DESCRIPTION.decimation);
     for (n, (d, h)) in device.iter().zip(&host).enumerate() {
         assert_eq!(d.sequence, n as u32);

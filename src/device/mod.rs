@@ -17,6 +17,6 @@ pub mod step_monitor;
 pub use data_ready::{on_data_ready, Stepped};
 pub use decimator::Decimator;
 pub use framer::Framer;
-pub use sampler::{Sampler, StepOutcome};
+pub use sampler::{sample_period_us, Sampler, StepOutcome};
 pub use startup::{start_calibration, CalibrationSource, StartUp};
 pub use step_monitor::StepMonitor;

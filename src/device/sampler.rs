@@ -12,6 +12,13 @@ use crate::stream::Frame;
 /// keeps the fold within 0.1 s of the die temperature.
 const REFOLDS_PER_SECOND: f64 = 10.0;
 
+/// The data-ready period of a chip sampling at `rate_hz`, to the whole
+/// microsecond: what the step monitor expects, the emulated board's timer
+/// runs at, and the stream's timestamps step by.
+pub fn sample_period_us(rate_hz: f64) -> u32 {
+    libm::round(1e6 / rate_hz) as u32
+}
+
 /// What a step produced.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum StepOutcome<E> {
@@ -61,7 +68,7 @@ impl Sampler {
     /// period (to the microsecond), temperature terms re-folded ten times a
     /// second. The firmware and the end-to-end test both build it this way.
     pub fn at_rate(corrector: Corrector, calibrated: bool, decimation: u16, rate_hz: f64) -> Self {
-        let period_us = libm::round(1e6 / rate_hz) as u32;
+        let period_us = sample_period_us(rate_hz);
         let refold_every = libm::round(rate_hz / REFOLDS_PER_SECOND) as u32;
         Self::new(corrector, calibrated, decimation, period_us, refold_every)
     }

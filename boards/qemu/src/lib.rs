@@ -61,7 +61,7 @@ pub struct SampleLine(pac::TIM3);
 impl SampleLine {
     /// TIM3 pending EXTI0 every sample period of `rate_hz`, to the microsecond.
     fn new(tim: pac::TIM3, clock: &MicrosecondClock, rate_hz: f64) -> Self {
-        let period_us = libm::round(1e6 / rate_hz) as u32;
+        let period_us = triad::device::sample_period_us(rate_hz);
         tim.psc()
             .write(|w| w.psc().set((TIMER_CLOCK_HZ / 1_000_000 - 1) as u16));
         tim.egr().write(|w| w.ug().set_bit());
