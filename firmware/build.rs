@@ -1,5 +1,4 @@
-//! Checks that the features name one board, at most one sensor chip and at
-//! most one bus, and embeds the calibration blob chosen at build time
+//! Checks that the features name one board and at most one bus, and embeds the calibration blob chosen at build time
 //! (TRIAD_CALIBRATION, default calibrations/default.bin). The board crate puts
 //! its memory map on the linker path.
 
@@ -15,7 +14,6 @@ fn main() {
     if one_of("board").is_none() {
         panic!("the firmware needs a board: --features board-<name> (see Cargo.toml)");
     }
-    one_of("sensor");
     one_of("bus");
 
     println!("cargo:rerun-if-env-changed=TRIAD_CALIBRATION");
@@ -33,7 +31,7 @@ fn main() {
 }
 
 /// Which of the features `<group>-<name>` is on (Cargo.toml lists them; this
-/// reads whatever is enabled, so adding a chip or a board does not touch
+/// reads whatever is enabled, so adding a board does not touch
 /// this file): `None` for none; two at once stop the build naming both.
 fn one_of(group: &str) -> Option<String> {
     let prefix = format!("CARGO_FEATURE_{}_", group.to_uppercase());

@@ -1,9 +1,10 @@
 //! The triad firmware: an RTIC 2 application that is wiring only. Every
 //! decision lives in the core (`triad::device`: which calibration starts, the
 //! data-ready step), where host tests call it; the board crate (chosen by a
-//! cargo feature) owns the peripherals and the sensor. Its chip and bus are
-//! cargo features too (`sensor-*`, `bus-*`), which the board turns into
-//! `board::Sensor` and `board::sensor_config()`, so nothing here names a chip.
+//! cargo feature) owns the peripherals and the sensor's bus (SPI, or I²C with
+//! the `bus-i2c` feature). The chip is found on that bus by its identity
+//! (`triad::sensor::AnyChip`), so nothing here names a chip and one build
+//! serves every chip triad drives.
 #![no_std]
 #![no_main]
 
@@ -49,26 +50,30 @@ mod app {
 
     #[init(local = [queue: Queue<Frame, QUEUE_LEN> = Queue::new()])]
     fn init(cx: init::Context) -> (Shared, Local) {
-        let config = board::sensor_config();
-        let rate_hz = config.sample_rate_hz();
-        let description = board::DESCRIPTION;
-        // The emulated board's sample timer corrects for its start time only to
-        // the microsecond (boards/qemu `SampleLine`); this line's length is
-        // what the end-to-end test's 1000 µs periods were measured with.
-        defmt::info!(
-            "triad firmware: {} Hz, decimation {}",
-            rate_hz as u32,
-            description.decimation
-        );
         let b = board::init(cx.device);
-        let mut sensor = b.sensor;
-        if let Err(error) = sensor.init(&mut board::Delay, &config) {
+        let mut sensor = match board::find_sensor(b.sensor_bus) {
+            Ok(sensor) => sensor,
+            Err(error) => {
+                defmt::error!("no known IMU on the bus: {}", defmt::Debug2Format(&error));
+                board::exit(false)
+            }
+        };
+        if let Err(error) = sensor.start(&mut board::Delay) {
             defmt::error!(
-                "sensor initialisation failed: {}",
+                "{} initialisation failed: {}",
+                sensor.name(),
                 defmt::Debug2Format(&error)
             );
             board::exit(false);
         }
+        let rate_hz = sensor.sample_rate_hz();
+        let description = board::DESCRIPTION;
+        defmt::info!(
+            "triad firmware: {} at {} Hz, decimation {}",
+            sensor.name(),
+            rate_hz as u32,
+            description.decimation
+        );
         let startup =
             match start_calibration(CALIBRATION_BLOB, &sensor.scale(), description.orientation) {
                 Ok(startup) => startup,

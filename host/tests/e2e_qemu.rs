@@ -4,10 +4,10 @@
 //!
 //! The firmware reads a chip model serving the documented demo motion (or,
 //! when xtask sets TRIAD_E2E_SCENE, the simulator running that scene) through
-//! the real driver: the ICM-42688-P or the LSM6DSOX, on SPI or I²C, as the
-//! build chose (xtask says which in TRIAD_E2E_SENSOR and TRIAD_E2E_BUS). The
-//! host builds the same chip model and driver from the board's own files
-//! (triad_sim::emulated_board), runs the same `Sampler::step` per data-ready tick,
+//! the real driver of the chip it finds on the bus: the model of the chip the
+//! build named, on SPI or I²C (xtask says which in TRIAD_EMULATED_CHIP and
+//! TRIAD_E2E_BUS). The host builds the same chip model, finds and starts it
+//! as the firmware does (triad_sim::emulated_board, triad::sensor::AnyChip), runs the same `Sampler::step` per data-ready tick,
 //! and so knows every raw sample the firmware read. Checked:
 //! - at least 1000 frames, no CRC error, no sequence gap, no bytes skipped,
 //!   no overrun or drop reported by the device;
@@ -26,11 +26,11 @@ use std::process::{Command, Stdio};
 use triad::device::{sample_period_us, start_calibration, Sampler, StepOutcome};
 use triad::model::Corrector;
 use triad::sensor::interface::{I2cInterface, SpiInterface};
-use triad::sensor::{Imu, ImuScale, RawSample};
+use triad::sensor::{AnyChip, Imu, ImuScale, RawSample, CHIP_NAMES};
 use triad::stream::{Decoder, Frame};
 
-/// The emulated board's chips: the very code the firmware builds.
-use triad_sim::emulated_board::{icm42688, lsm6dsox, source, DESCRIPTION};
+/// The emulated board's chip models: the very code the firmware builds.
+use triad_sim::emulated_board::{source, EmulatedChip, DESCRIPTION};
 
 const TRIAD: &str = env!("CARGO_BIN_EXE_triad");
 
@@ -58,114 +58,72 @@ impl embedded_hal::delay::DelayNs for NoDelay {
     fn delay_ns(&mut self, _: u32) {}
 }
 
-/// The emulated board's sensor as the firmware build chose it: chip
-/// (`TRIAD_E2E_SENSOR`: icm42688 or lsm6dsox) and bus (`TRIAD_E2E_BUS`: spi or
-/// i2c), each the board's default (ICM-42688-P, SPI) when unset.
+/// The emulated board's sensor as the firmware build chose it: the chip model
+/// `TRIAD_EMULATED_CHIP` names on the bus `TRIAD_E2E_BUS` (spi or i2c), each
+/// the board's default (the first listed chip, SPI) when unset; found on the
+/// bus and started as the firmware does.
 enum HostSensor {
-    IcmSpi(icm42688::Driver<SpiInterface<icm42688::Model>>),
-    IcmI2c(icm42688::Driver<I2cInterface<icm42688::Model>>),
-    LsmSpi(lsm6dsox::Driver<SpiInterface<lsm6dsox::Model>>),
-    LsmI2c(lsm6dsox::Driver<I2cInterface<lsm6dsox::Model>>),
+    Spi(AnyChip<SpiInterface<EmulatedChip>>),
+    I2c(AnyChip<I2cInterface<EmulatedChip>>),
 }
 
-/// Runs `$body` with `$s` bound to the driver, whatever chip and bus.
-macro_rules! each_sensor {
+/// Runs `$body` with `$s` bound to the driver, whatever the bus.
+macro_rules! each_bus {
     ($sensor:expr, $s:ident => $body:expr) => {
         match $sensor {
-            HostSensor::IcmSpi($s) => $body,
-            HostSensor::IcmI2c($s) => $body,
-            HostSensor::LsmSpi($s) => $body,
-            HostSensor::LsmI2c($s) => $body,
+            HostSensor::Spi($s) => $body,
+            HostSensor::I2c($s) => $body,
         }
     };
 }
 
 impl HostSensor {
-    /// The chip and bus the firmware under test was built with, initialised
-    /// as the firmware does (the board's configuration).
+    /// The chip model and bus the firmware under test was built with.
     fn from_env() -> Self {
-        let chip = std::env::var("TRIAD_E2E_SENSOR").unwrap_or_else(|_| "icm42688".into());
+        let chip = std::env::var("TRIAD_EMULATED_CHIP").unwrap_or_else(|_| CHIP_NAMES[0].into());
         let bus = std::env::var("TRIAD_E2E_BUS").unwrap_or_else(|_| "spi".into());
         Self::new(&chip, &bus)
     }
 
-    /// `chip` (icm42688, lsm6dsox) on `bus` (spi, i2c), initialised with the board's configuration.
+    /// The model of `chip` on `bus` (spi, i2c), found and started as the firmware does.
     fn new(chip: &str, bus: &str) -> Self {
-        let icm = || icm42688::model(model_source(icm42688::sensor_config().sample_rate_hz()));
-        let lsm = || lsm6dsox::model(model_source(lsm6dsox::sensor_config().sample_rate_hz()));
-        let mut sensor = match (chip, bus) {
-            ("icm42688", "spi") => Self::IcmSpi(icm42688::Driver::new_spi(icm())),
-            ("icm42688", "i2c") => {
-                Self::IcmI2c(icm42688::Driver::new_i2c(icm(), icm42688::I2C_ADDRESS))
-            }
-            ("lsm6dsox", "spi") => Self::LsmSpi(lsm6dsox::Driver::new_spi(lsm())),
-            ("lsm6dsox", "i2c") => {
-                Self::LsmI2c(lsm6dsox::Driver::new_i2c(lsm(), lsm6dsox::I2C_ADDRESS))
-            }
-            other => panic!(
-                "TRIAD_E2E_SENSOR/TRIAD_E2E_BUS {other:?}: expected icm42688 or lsm6dsox on spi or i2c"
-            ),
+        let model = EmulatedChip::named(chip, model_source)
+            .unwrap_or_else(|| panic!("{chip:?}: not one of {CHIP_NAMES:?}"));
+        let mut sensor = match bus {
+            "spi" => Self::Spi(AnyChip::detect(SpiInterface::new(model)).expect("found on SPI")),
+            "i2c" => Self::I2c(AnyChip::detect_i2c(model).expect("found on I²C")),
+            other => panic!("TRIAD_E2E_BUS {other:?}: expected spi or i2c"),
         };
-        let debug = |e: &dyn std::fmt::Debug| format!("{e:?}");
-        let initialised = match &mut sensor {
-            Self::IcmSpi(s) => s
-                .init(&mut NoDelay, &icm42688::sensor_config())
-                .map_err(|e| debug(&e)),
-            Self::IcmI2c(s) => s
-                .init(&mut NoDelay, &icm42688::sensor_config())
-                .map_err(|e| debug(&e)),
-            Self::LsmSpi(s) => s
-                .init(&mut NoDelay, &lsm6dsox::sensor_config())
-                .map_err(|e| debug(&e)),
-            Self::LsmI2c(s) => s
-                .init(&mut NoDelay, &lsm6dsox::sensor_config())
-                .map_err(|e| debug(&e)),
-        };
-        initialised.expect("the chip model initialises");
+        assert_eq!(each_bus!(&sensor, s => s.name()), chip, "the chip found");
+        each_bus!(&mut sensor, s => s.start(&mut NoDelay).expect("the chip model starts"));
         sensor
     }
 
-    /// The data-ready rate, Hz: the board's chip configuration's.
+    /// The data-ready rate, Hz: the started chip's configuration's.
     fn sample_rate_hz(&self) -> f64 {
-        match self {
-            Self::IcmSpi(_) | Self::IcmI2c(_) => icm42688::sensor_config().sample_rate_hz(),
-            Self::LsmSpi(_) | Self::LsmI2c(_) => lsm6dsox::sensor_config().sample_rate_hz(),
-        }
+        each_bus!(self, s => s.sample_rate_hz())
     }
 
-    /// Samples the chip model has produced.
-    fn samples_produced(&self) -> u64 {
-        each_sensor!(self, s => s.bus().samples_produced())
+    /// The chip model.
+    fn model(&self) -> &EmulatedChip {
+        each_bus!(self, s => s.bus())
     }
 
     /// What the emulated board's `data_ready` does: the model's clock moves to its next sample.
     fn data_ready(&mut self) {
-        match self {
-            Self::IcmSpi(s) => advance_icm(s.bus_mut()),
-            Self::IcmI2c(s) => advance_icm(s.bus_mut()),
-            Self::LsmSpi(s) => advance_lsm(s.bus_mut()),
-            Self::LsmI2c(s) => advance_lsm(s.bus_mut()),
-        }
+        each_bus!(self, s => s.bus_mut().advance_one_sample())
     }
-}
-
-fn advance_icm(model: &mut icm42688::Model) {
-    model.advance(icm42688::next_sample_ns(model));
-}
-
-fn advance_lsm(model: &mut lsm6dsox::Model) {
-    model.advance(lsm6dsox::next_sample_ns(model));
 }
 
 impl Imu for HostSensor {
     type Error = String;
 
     fn read_sample(&mut self) -> Result<RawSample, String> {
-        each_sensor!(self, s => s.read_sample().map_err(|e| format!("{e:?}")))
+        each_bus!(self, s => s.read_sample().map_err(|e| format!("{e:?}")))
     }
 
     fn scale(&self) -> ImuScale {
-        each_sensor!(self, s => s.scale())
+        each_bus!(self, s => s.scale())
     }
 }
 
@@ -176,11 +134,11 @@ fn every_emulated_data_ready_brings_exactly_one_new_sample() {
     // ⌈P⌉ step would gain one sample per 1.49 million ticks; ⌊P⌋ would miss
     // the very first).
     const TICKS: u64 = 200_000;
-    for (chip, bus) in [("icm42688", "spi"), ("lsm6dsox", "i2c")] {
+    for (chip, bus) in CHIP_NAMES.iter().zip(["spi", "i2c"].iter().cycle()) {
         let mut sensor = HostSensor::new(chip, bus);
         for tick in 1..=TICKS {
             sensor.data_ready();
-            assert_eq!(sensor.samples_produced(), tick, "{chip} on {bus}");
+            assert_eq!(sensor.model().samples_produced(), tick, "{chip} on {bus}");
         }
     }
 }
@@ -188,16 +146,12 @@ fn every_emulated_data_ready_brings_exactly_one_new_sample() {
 #[test]
 fn the_chip_models_sample_at_their_configured_rate() {
     // 1000 ticks of each chip model's clock span 1000 of its configured periods.
-    for (chip, bus) in [("icm42688", "spi"), ("lsm6dsox", "spi")] {
-        let mut sensor = HostSensor::new(chip, bus);
+    for chip in CHIP_NAMES {
+        let mut sensor = HostSensor::new(chip, "spi");
         let period_ns = 1e9 / sensor.sample_rate_hz();
         let mut elapsed_ns = 0u64;
         for _ in 0..1000 {
-            elapsed_ns += match &sensor {
-                HostSensor::IcmSpi(s) => icm42688::next_sample_ns(s.bus()),
-                HostSensor::LsmSpi(s) => lsm6dsox::next_sample_ns(s.bus()),
-                _ => unreachable!("SPI builds only"),
-            };
+            elapsed_ns += sensor.model().next_sample_ns();
             sensor.data_ready();
         }
         let drift = elapsed_ns as f64 - 1000.0 * period_ns;

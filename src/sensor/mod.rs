@@ -1,6 +1,7 @@
 //! Sensors: the raw sample, the IMU trait the firmware and the model see, and
 //! one module per chip.
 
+pub mod detect;
 pub mod error;
 pub mod fifo;
 pub mod icm42688;
@@ -8,6 +9,7 @@ pub mod interface;
 pub mod interrupt;
 pub mod lsm6dsox;
 
+pub use detect::{AnyChip, DetectError, Undetected, CHIP_NAMES};
 pub use error::Error;
 pub use fifo::{FifoConfig, FifoImu, FifoMode, FifoRead};
 pub use interrupt::InterruptPin;

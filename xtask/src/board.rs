@@ -1,6 +1,8 @@
-//! The boards, sensor chips and buses xtask can build and run, and what it
-//! must know of each. A firmware build is one board with one chip on one bus,
-//! chosen by cargo features (`board-*`, `sensor-*`, `bus-*`; see Cargo.toml).
+//! The boards and buses xtask can build and run, and what it must know of
+//! each. A firmware build is one board with one bus, chosen by cargo features
+//! (`board-*`, `bus-*`; see firmware/Cargo.toml); the firmware finds its
+//! chip on the bus. The emulated board's chip model is one of the core's
+//! chips (`triad::sensor::CHIP_NAMES`), named at build by TRIAD_EMULATED_CHIP.
 
 /// A board crate under boards/.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -30,28 +32,6 @@ impl Board {
     }
 }
 
-/// The IMU chip the firmware reads.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum Sensor {
-    /// TDK InvenSense ICM-42688-P (the default).
-    Icm42688,
-    /// ST LSM6DSOX.
-    Lsm6dsox,
-}
-
-impl Sensor {
-    /// Every chip.
-    pub const ALL: [Sensor; 2] = [Sensor::Icm42688, Sensor::Lsm6dsox];
-
-    /// The cargo feature suffix, and the name `TRIAD_E2E_SENSOR` carries.
-    pub fn name(self) -> &'static str {
-        match self {
-            Sensor::Icm42688 => "icm42688",
-            Sensor::Lsm6dsox => "lsm6dsox",
-        }
-    }
-}
-
 /// The bus between the microcontroller and the chip.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Bus {
@@ -74,76 +54,105 @@ impl Bus {
     }
 }
 
-/// One firmware build: a board with a chip on a bus.
+/// One firmware build: a board with a bus, and for the emulated board the
+/// chip model it serves.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Firmware {
     /// The board.
     pub board: Board,
-    /// The chip.
-    pub sensor: Sensor,
     /// The bus.
     pub bus: Bus,
+    /// The emulated board's chip model (one of `triad::sensor::CHIP_NAMES`);
+    /// `None` on hardware, where the firmware finds whichever chip is fitted.
+    pub emulated_chip: Option<&'static str>,
 }
 
 impl Firmware {
-    /// Every valid board × chip × bus (all of them: both boards wire both chips on both buses).
+    /// Every build: each bus of each board, the emulated board with each chip model.
     pub fn all() -> impl Iterator<Item = Firmware> {
         Board::ALL.into_iter().flat_map(|board| {
-            Sensor::ALL.into_iter().flat_map(move |sensor| {
-                Bus::ALL
-                    .into_iter()
-                    .map(move |bus| Firmware { board, sensor, bus })
+            let chips: Vec<Option<&'static str>> = match board {
+                Board::Qemu => CHIP_NAMES.iter().copied().map(Some).collect(),
+                Board::NucleoF401re => vec![None],
+            };
+            chips.into_iter().flat_map(move |emulated_chip| {
+                Bus::ALL.into_iter().map(move |bus| Firmware {
+                    board,
+                    bus,
+                    emulated_chip,
+                })
             })
         })
     }
 
-    /// The emulated board with the default chip and bus (ICM-42688-P on SPI).
+    /// The emulated board with the first listed chip on SPI.
     pub fn default_emulated() -> Firmware {
         Firmware {
             board: Board::Qemu,
-            sensor: Sensor::Icm42688,
             bus: Bus::Spi,
+            emulated_chip: Some(CHIP_NAMES[0]),
         }
     }
 
     /// The cargo features that select this build.
     pub fn features(self) -> String {
-        format!(
-            "board-{},sensor-{},bus-{}",
-            self.board.name(),
-            self.sensor.name(),
-            self.bus.name()
-        )
+        format!("board-{},bus-{}", self.board.name(), self.bus.name())
     }
 
-    /// A short name: `qemu/lsm6dsox/i2c`.
+    /// The environment the build reads besides its features.
+    pub fn build_env(self) -> Vec<(&'static str, &'static str)> {
+        self.emulated_chip
+            .map(|chip| ("TRIAD_EMULATED_CHIP", chip))
+            .into_iter()
+            .collect()
+    }
+
+    /// A short name: `qemu/lsm6dsox/i2c`, `nucleo-f401re/spi`.
     pub fn label(self) -> String {
-        format!(
-            "{}/{}/{}",
-            self.board.name(),
-            self.sensor.name(),
-            self.bus.name()
-        )
+        match self.emulated_chip {
+            Some(chip) => format!("{}/{chip}/{}", self.board.name(), self.bus.name()),
+            None => format!("{}/{}", self.board.name(), self.bus.name()),
+        }
+    }
+
+    /// A file-name stem for this build's artefacts: `lsm6dsox-i2c`, `spi`.
+    pub fn stem(self) -> String {
+        match self.emulated_chip {
+            Some(chip) => format!("{chip}-{}", self.bus.name()),
+            None => self.bus.name().to_owned(),
+        }
     }
 }
+
+use triad::sensor::CHIP_NAMES;
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
-    fn every_combination_is_built_once_with_its_features() {
+    fn every_build_once_each_chip_model_on_the_emulated_board() {
         let all: Vec<Firmware> = Firmware::all().collect();
-        assert_eq!(all.len(), 8);
+        assert_eq!(
+            all.len(),
+            CHIP_NAMES.len() * Bus::ALL.len() + Bus::ALL.len()
+        );
         assert!(all.contains(&Firmware {
             board: Board::Qemu,
-            sensor: Sensor::Lsm6dsox,
-            bus: Bus::I2c
+            bus: Bus::I2c,
+            emulated_chip: Some("lsm6dsox"),
         }));
         assert_eq!(
-            all[0].features(),
-            "board-qemu,sensor-icm42688,bus-spi",
-            "the default chip and bus come first"
+            all[0],
+            Firmware::default_emulated(),
+            "the default comes first"
+        );
+        assert_eq!(all[0].features(), "board-qemu,bus-spi");
+        assert_eq!(all[0].build_env(), [("TRIAD_EMULATED_CHIP", "icm42688")]);
+        let hardware = all.iter().find(|f| f.board == Board::NucleoF401re).unwrap();
+        assert!(
+            hardware.build_env().is_empty(),
+            "hardware has no chip model"
         );
     }
 }

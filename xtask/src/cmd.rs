@@ -109,7 +109,7 @@ fn build(firmware: Firmware, calibration: &Path, scene: Option<&Path>) -> Result
         bail!("--scene feeds the emulated board's chip model: use it with --board qemu");
     }
     // One target dir per board: each board's build keeps its artefacts, and
-    // the chip and bus features rebuild only the firmware and board crates.
+    // the chip model and bus rebuild only the firmware and board crates.
     let target_dir = root().join("target/firmware").join(board.name());
     let mut command = cargo();
     command
@@ -119,6 +119,7 @@ fn build(firmware: Firmware, calibration: &Path, scene: Option<&Path>) -> Result
             Some(_) => format!("{},sim-scene", firmware.features()),
             None => firmware.features(),
         })
+        .envs(firmware.build_env())
         .env("TRIAD_CALIBRATION", calibration)
         .env("CARGO_TARGET_DIR", &target_dir);
     if let Some(blob) = scene {
@@ -132,9 +133,8 @@ fn build(firmware: Firmware, calibration: &Path, scene: Option<&Path>) -> Result
         .join(board.target())
         .join("release/triad-firmware");
     let elf = target_dir.join(format!(
-        "triad-firmware-{}-{}{}",
-        firmware.sensor.name(),
-        firmware.bus.name(),
+        "triad-firmware-{}{}",
+        firmware.stem(),
         if scene.is_some() { "-scene" } else { "" }
     ));
     std::fs::copy(&built, &elf)

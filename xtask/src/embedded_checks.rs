@@ -1,5 +1,5 @@
 //! The checks of the crates that only build for the embedded targets: clippy
-//! on the firmware of every board × chip × bus (and with a simulated scene),
+//! on the firmware of every board × bus (and chip model) (and with a simulated scene),
 //! on the benchmark firmware for both cores and on the example of a user's
 //! own firmware, whose dependency tree must hold only the core.
 
@@ -33,6 +33,7 @@ pub fn clippy_firmware(firmware: Firmware, scene_blob: Option<&Path>) -> Result<
         .args(["clippy", "--quiet", "-p", "triad-firmware"])
         .args(["--target", firmware.board.target(), "--features", &features])
         .args(["--", "-D", "warnings"])
+        .envs(firmware.build_env())
         .env(
             "CARGO_TARGET_DIR",
             root().join("target/firmware").join(firmware.board.name()),

@@ -59,9 +59,10 @@ pub struct RunArgs {
     /// The board: `qemu` (emulated, the default) or `nucleo-f401re` (hardware via probe-rs).
     #[arg(long, default_value = "qemu")]
     board: board::Board,
-    /// The IMU chip (cargo feature `sensor-*`): on the emulated board, the chip model it serves.
-    #[arg(long, default_value = "icm42688")]
-    sensor: board::Sensor,
+    /// The emulated board's chip model (the firmware finds it on the bus, as
+    /// it finds the chip fitted to a hardware board).
+    #[arg(long, value_parser = clap::builder::PossibleValuesParser::new(triad::sensor::CHIP_NAMES))]
+    sensor: Option<String>,
     /// The bus between the microcontroller and the chip (cargo feature `bus-*`).
     #[arg(long, default_value = "spi")]
     bus: board::Bus,
@@ -110,10 +111,25 @@ fn run(args: RunArgs) -> anyhow::Result<()> {
     setup::ensure_for(args.board)?;
     let triad = cmd::build_host_tool()?;
     let calibration = cmd::pack_calibration(&triad, args.calib.as_deref())?;
+    let emulated_chip = match (args.board, args.sensor.as_deref()) {
+        (board::Board::Qemu, chip) => {
+            let chip = chip.unwrap_or(triad::sensor::CHIP_NAMES[0]);
+            triad::sensor::CHIP_NAMES
+                .iter()
+                .copied()
+                .find(|c| *c == chip)
+        }
+        (_, None) => None,
+        (board, Some(chip)) => anyhow::bail!(
+            "--sensor {chip}: the {} firmware finds whichever chip is fitted; \
+             --sensor names the emulated board's chip model",
+            board.name()
+        ),
+    };
     let firmware = board::Firmware {
         board: args.board,
-        sensor: args.sensor,
         bus: args.bus,
+        emulated_chip,
     };
     eprintln!("xtask: firmware for {}", firmware.label());
     let elf = match &args.scene {

@@ -1,5 +1,5 @@
 //! `cargo xtask test`: formatting and lints, every host test, the docs, clippy
-//! and the build of the firmware for every board × chip × bus, of the
+//! and the build of the firmware for every board × bus (and chip model), of the
 //! benchmark firmware and of the user-firmware example, and the end-to-end
 //! tests on QEMU for every chip and bus of the emulated board.
 
@@ -87,9 +87,8 @@ fn end_to_end(
     };
     eprintln!("xtask: end-to-end on QEMU, {label}: {E2E_FRAMES} frames");
     let dir = cmd::root().join("target/e2e").join(format!(
-        "{}-{}{}",
-        firmware.sensor.name(),
-        firmware.bus.name(),
+        "{}{}",
+        firmware.stem(),
         if scene.is_some() { "-scene" } else { "" }
     ));
     std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
@@ -122,7 +121,7 @@ fn end_to_end(
             cmd::root().join("calibrations/default.toml"),
         )
         .env("TRIAD_E2E_FRAMES", E2E_FRAMES.to_string())
-        .env("TRIAD_E2E_SENSOR", firmware.sensor.name())
+        .envs(firmware.build_env())
         .env("TRIAD_E2E_BUS", firmware.bus.name());
     if let Some(blob) = scene {
         command.env("TRIAD_E2E_SCENE", blob);

@@ -1,6 +1,6 @@
-//! ST NUCLEO-F401RE (STM32F401RE, Cortex-M4F) with an ICM-42688-P or an
-//! LSM6DSOX on SPI1 or I²C1, chosen by cargo features (`sensor-lsm6dsox`,
-//! `bus-i2c`; the default is the ICM-42688-P on SPI1), on stm32f4xx-hal 0.23.
+//! ST NUCLEO-F401RE (STM32F401RE, Cortex-M4F) with any IMU triad drives
+//! (found by its identity: `triad::sensor::AnyChip`) on SPI1 or I²C1, chosen
+//! by the cargo feature `bus-i2c` (default SPI1), on stm32f4xx-hal 0.23.
 //!
 //! Clocks: the ST-LINK's 8 MHz (MCO into OSC_IN, HSE bypass) when it is
 //! there, else HSI 16 MHz; either → PLL → SYSCLK 84 MHz, APB1 42 MHz (its
@@ -27,20 +27,11 @@ use stm32f4xx_hal::time::{Bps, Hertz};
 use stm32f4xx_hal::timer::FTimerUs;
 use triad::device::board::{BoardDescription, DataReadyLine, LinkTx};
 use triad::model::Orientation;
-
-/// The chip on this build: the ICM-42688-P unless the `sensor-lsm6dsox`
-/// feature selects the LSM6DSOX. Its module holds the chip's facts: driver,
-/// configuration, SPI clock divider and limit, I²C address.
-#[cfg(not(feature = "sensor-lsm6dsox"))]
-mod icm42688;
-#[cfg(not(feature = "sensor-lsm6dsox"))]
-use icm42688 as chip;
-#[cfg(feature = "sensor-lsm6dsox")]
-mod lsm6dsox;
-#[cfg(feature = "sensor-lsm6dsox")]
-use lsm6dsox as chip;
-
-pub use chip::sensor_config;
+#[cfg(feature = "bus-i2c")]
+use triad::sensor::interface::I2cInterface;
+#[cfg(not(feature = "bus-i2c"))]
+use triad::sensor::interface::SpiInterface;
+use triad::sensor::{AnyChip, DetectError};
 
 /// This board's facts that the stream depends on.
 pub const DESCRIPTION: BoardDescription = BoardDescription {
@@ -70,8 +61,8 @@ pub struct Board {
     pub clock: MicrosecondClock,
     /// The stream's transmitter (USART2).
     pub serial: Serial,
-    /// The IMU driver on SPI1 or I²C1.
-    pub sensor: Sensor,
+    /// The IMU's bus, SPI1 or I²C1, for [`find_sensor`].
+    pub sensor_bus: SensorBus,
 }
 
 /// Brings up clocks and peripherals.
@@ -84,18 +75,18 @@ pub fn init(dp: pac::Peripherals) -> Board {
     let mut syscfg = dp.SYSCFG.constrain(&mut rcc);
     let mut exti = dp.EXTI;
     #[cfg(not(feature = "bus-i2c"))]
-    let sensor = spi_sensor(dp.SPI1, (gpioa.pa5, gpioa.pa6, gpioa.pa7), cs, &mut rcc);
+    let sensor_bus = spi_bus(dp.SPI1, (gpioa.pa5, gpioa.pa6, gpioa.pa7), cs, &mut rcc);
     #[cfg(feature = "bus-i2c")]
-    let sensor = {
+    let sensor_bus = {
         // Only its level matters: the pin keeps driving high once dropped.
         let _cs = cs;
-        i2c_sensor(dp.I2C1, (gpiob.pb8, gpiob.pb9), &mut rcc)
+        i2c_bus(dp.I2C1, (gpiob.pb8, gpiob.pb9), &mut rcc)
     };
     Board {
         sample_line: SampleLine::new(gpiob.pb0, &mut syscfg, &mut exti),
         clock: MicrosecondClock::new(dp.TIM5, &mut rcc),
         serial: Serial::new(dp.USART2, gpioa.pa2, gpioa.pa3, &mut rcc),
-        sensor,
+        sensor_bus,
     }
 }
 
@@ -141,46 +132,79 @@ fn st_link_clock_present(rcc: &pac::RCC) -> bool {
     false
 }
 
-/// The sensor: the chosen chip's driver over SPI1, its CS on PB6.
+/// The IMU's bus: SPI1 as an embedded-hal `SpiDevice` with PB6 as its CS.
 #[cfg(not(feature = "bus-i2c"))]
-pub type Sensor = chip::Driver<
-    triad::sensor::interface::SpiInterface<
-        embedded_hal_bus::spi::ExclusiveDevice<
-            stm32f4xx_hal::spi::Spi<pac::SPI1>,
-            gpio::PB6<gpio::Output>,
-            embedded_hal_bus::spi::NoDelay,
-        >,
-    >,
+pub type SensorBus = embedded_hal_bus::spi::ExclusiveDevice<
+    stm32f4xx_hal::spi::Spi<pac::SPI1>,
+    gpio::PB6<gpio::Output>,
+    embedded_hal_bus::spi::NoDelay,
 >;
 
-/// SPI1's clock: PCLK2 over the chip's divider. The HAL takes a frequency
-/// and rounds PCLK2 / f to the nearest power-of-two divider, which can be
-/// faster than asked (10 MHz would give 84 MHz / 8 = 10.5 MHz); asked for
-/// PCLK2 / 2ⁿ it sets exactly that, and the chip's limit is checked here.
-#[cfg(not(feature = "bus-i2c"))]
-const SPI_HZ: u32 = PCLK2_HZ / chip::SPI_DIVIDER;
-#[cfg(not(feature = "bus-i2c"))]
-const _: () = assert!(
-    chip::SPI_DIVIDER.is_power_of_two() && chip::SPI_DIVIDER >= 2 && chip::SPI_DIVIDER <= 256,
-    "SPI1 divides PCLK2 by 2, 4, ... 256"
-);
-#[cfg(not(feature = "bus-i2c"))]
-const _: () = assert!(
-    SPI_HZ <= chip::SPI_MAX_HZ,
-    "SPI clock above the chip's limit"
-);
+/// The IMU's bus: I²C1.
+#[cfg(feature = "bus-i2c")]
+pub type SensorBus = stm32f4xx_hal::i2c::I2c<pac::I2C1>;
 
-/// The driver on SPI1 (PA5 SCK, PA6 MISO, PA7 MOSI, AF5), mode 3 at the
-/// chip's clock, as an embedded-hal `SpiDevice` with PB6 as its CS.
+/// The sensor: the driver of the chip found on SPI1.
 #[cfg(not(feature = "bus-i2c"))]
-fn spi_sensor(
+pub type Sensor = AnyChip<SpiInterface<SensorBus>>;
+
+/// The sensor: the driver of the chip found on I²C1.
+#[cfg(feature = "bus-i2c")]
+pub type Sensor = AnyChip<I2cInterface<SensorBus>>;
+
+/// Why no chip was found on SPI1.
+#[cfg(not(feature = "bus-i2c"))]
+pub type FindError = DetectError<<SensorBus as embedded_hal::spi::ErrorType>::Error>;
+
+/// Why no chip was found on I²C1.
+#[cfg(feature = "bus-i2c")]
+pub type FindError = DetectError<<SensorBus as embedded_hal::i2c::ErrorType>::Error>;
+
+/// Finds the chip on SPI1 by its identity.
+#[cfg(not(feature = "bus-i2c"))]
+pub fn find_sensor(bus: SensorBus) -> Result<Sensor, FindError> {
+    AnyChip::detect(SpiInterface::new(bus)).map_err(|undetected| undetected.reason)
+}
+
+/// Finds the chip on I²C1 by its identity at each chip's addresses (both
+/// address-pin levels: the breakout's strap does not matter).
+#[cfg(feature = "bus-i2c")]
+pub fn find_sensor(bus: SensorBus) -> Result<Sensor, FindError> {
+    AnyChip::detect_i2c(bus).map_err(|undetected| undetected.reason)
+}
+
+/// SPI1's clock divider of PCLK2: the smallest power of two that keeps the
+/// clock within every listed chip's limit (the chip is not known until it
+/// is found on the bus): 84 MHz / 16 = 5.25 MHz for the LSM6DSOX's 10 MHz.
+#[cfg(not(feature = "bus-i2c"))]
+const SPI_DIVIDER: u32 = {
+    let mut divider = 2;
+    while PCLK2_HZ / divider > triad::sensor::detect::SPI_MAX_HZ {
+        divider *= 2;
+    }
+    divider
+};
+
+/// SPI1's clock. The HAL takes a frequency and rounds PCLK2 / f to the
+/// nearest power-of-two divider, which can be faster than asked (10 MHz
+/// would give 84 MHz / 8 = 10.5 MHz); asked for PCLK2 / 2ⁿ it sets exactly
+/// that.
+#[cfg(not(feature = "bus-i2c"))]
+const SPI_HZ: u32 = PCLK2_HZ / SPI_DIVIDER;
+#[cfg(not(feature = "bus-i2c"))]
+const _: () = assert!(SPI_DIVIDER <= 256, "SPI1 divides PCLK2 by 2, 4, ... 256");
+
+/// SPI1 (PA5 SCK, PA6 MISO, PA7 MOSI, AF5), mode 3 (both chips take 0 or 3)
+/// at [`SPI_HZ`], as an embedded-hal `SpiDevice` with PB6 as its CS.
+#[cfg(not(feature = "bus-i2c"))]
+fn spi_bus(
     spi: pac::SPI1,
     (sck, miso, mosi): (gpio::PA5, gpio::PA6, gpio::PA7),
     cs: gpio::PB6<gpio::Output>,
     rcc: &mut Rcc,
-) -> Sensor {
+) -> SensorBus {
     use stm32f4xx_hal::spi::SpiExt as _;
-    // Fast edges for 10.5 MHz (the HAL leaves new pins at low speed).
+    // Fast edges for MHz clocks (the HAL leaves new pins at low speed).
     let pins = (
         Some(sck.into_alternate::<5>().speed(gpio::Speed::VeryHigh)),
         Some(miso.into_alternate::<5>()),
@@ -195,19 +219,14 @@ fn spi_sensor(
     // The HAL's transfers wait for each byte's reception, so the last clock
     // edge is over before the device raises CS (its `flush` is a no-op).
     let Ok(device) = embedded_hal_bus::spi::ExclusiveDevice::new_no_delay(bus, cs);
-    chip::Driver::new_spi(device)
+    device
 }
 
-/// The sensor: the chosen chip's driver over I²C1.
+/// I²C1 (PB8 SCL, PB9 SDA, AF4 open drain) at 400 kHz (both chips' fast
+/// mode). The pins' internal pull-ups (about 40 kΩ) are on but too weak
+/// alone for 400 kHz: the breakout's 2.2-4.7 kΩ must be fitted.
 #[cfg(feature = "bus-i2c")]
-pub type Sensor =
-    chip::Driver<triad::sensor::interface::I2cInterface<stm32f4xx_hal::i2c::I2c<pac::I2C1>>>;
-
-/// The driver on I²C1 (PB8 SCL, PB9 SDA, AF4 open drain) at 400 kHz, at the
-/// chip's address. The pins' internal pull-ups (about 40 kΩ) are on but too
-/// weak alone for 400 kHz: the breakout's 2.2-4.7 kΩ must be fitted.
-#[cfg(feature = "bus-i2c")]
-fn i2c_sensor(i2c: pac::I2C1, (scl, sda): (gpio::PB8, gpio::PB9), rcc: &mut Rcc) -> Sensor {
+fn i2c_bus(i2c: pac::I2C1, (scl, sda): (gpio::PB8, gpio::PB9), rcc: &mut Rcc) -> SensorBus {
     use stm32f4xx_hal::i2c::I2cExt as _;
     let pins = (
         scl.into_alternate_open_drain::<4>().internal_pull_up(true),
@@ -215,8 +234,7 @@ fn i2c_sensor(i2c: pac::I2C1, (scl, sda): (gpio::PB8, gpio::PB9), rcc: &mut Rcc)
     );
     // Above 100 kHz the HAL picks fast mode, duty 2:1: CCR = 42 MHz / (3 ×
     // 400 kHz) = 35, TRISE = 13 (RM0368 §18.6.8-9).
-    let bus = i2c.i2c(pins, Hertz::kHz(400), rcc);
-    chip::Driver::new_i2c(bus, chip::I2C_ADDRESS)
+    i2c.i2c(pins, Hertz::kHz(400), rcc)
 }
 
 /// Nothing to do on hardware: the chip raises INT1 by itself.

@@ -5,10 +5,11 @@
 //! stubs, so nothing here waits on a clock-ready bit. QEMU's STM32 timers
 //! count at 1 GHz of virtual time (not at the APB clock), so prescalers and
 //! reloads are computed for that. The sensor is a register-level chip model
-//! (the ICM-42688-P, or the LSM6DSOX with the `sensor-lsm6dsox` feature), read
-//! by the real driver through the model's embedded-hal `SpiDevice` (or its
-//! `I2c` with `bus-i2c`); a timer stands in for its data-ready line and
-//! advances the model's clock.
+//! of the chip `TRIAD_EMULATED_CHIP` names at build (default the
+//! ICM-42688-P; see build.rs), on the model's embedded-hal `SpiDevice` (or
+//! its `I2c` with `bus-i2c`), where the firmware finds it by its identity as
+//! on a real board; a timer stands in for its data-ready line and advances
+//! the model's clock.
 
 use defmt_semihosting as _;
 use pac::interrupt;
@@ -21,64 +22,74 @@ const APB2_HZ: u32 = 84_000_000;
 
 /// The peripherals the application uses.
 pub struct Board {
-    /// The data-ready stand-in: one TIM3 interrupt per sample.
+    /// The data-ready stand-in: one TIM2 interrupt per sample.
     pub sample_line: SampleLine,
     /// Microsecond timestamps for the stream.
     pub clock: MicrosecondClock,
     /// The stream's transmitter.
     pub serial: Serial,
-    /// The IMU driver on its (software) SPI or I²C bus.
-    pub sensor: Sensor,
+    /// The IMU's (software) SPI or I²C bus, for [`find_sensor`].
+    pub sensor_bus: SensorBus,
 }
 
-/// Brings up the peripherals; call first thing in `init` (see [`SampleTimer`]).
-/// No clock tree set-up: QEMU's RCC is a stub.
+/// Brings up the peripherals. No clock tree set-up: QEMU's RCC is a stub.
 pub fn init(dp: pac::Peripherals) -> Board {
-    dp.RCC
-        .apb1enr()
-        .modify(|_, w| w.tim3en().set_bit().tim5en().set_bit());
+    dp.RCC.apb1enr().modify(|_, w| {
+        w.tim2en().set_bit();
+        w.tim4en().set_bit();
+        w.tim5en().set_bit()
+    });
     dp.RCC.apb2enr().modify(|_, w| w.usart1en().set_bit());
     let clock = MicrosecondClock::new(dp.TIM5, TIMER_CLOCK_HZ);
     Board {
-        sample_line: SampleLine::new(dp.TIM3, &clock, sensor_config().sample_rate_hz()),
+        sample_line: SampleLine::new(dp.TIM2, &dp.TIM4, emulated_rate_hz()),
         clock,
         serial: Serial::new(dp.USART1, USART_DIV_X16),
-        sensor: sensor(),
+        sensor_bus: emulated_chip(),
     }
 }
 
-/// The data-ready line: TIM3's update interrupt pends EXTI0 (the line's
+/// The data-ready line: TIM2's update interrupt pends EXTI0 (the line's
 /// interrupt on real boards) once per sample, so the application's
 /// data-ready task is the same on every board.
 ///
-/// QEMU 7.2's STM32 timer model lengthens every update period by the virtual
-/// time at which the counter was enabled (measured with `-icount shift=0`:
-/// enabled at 448 µs, a 1000 µs reload gave 1448 µs periods; enabled at
-/// about 1 µs, 1001 µs). So the board starts its timers first thing and shortens
-/// the reload by the enable time read from the microsecond clock.
-pub struct SampleLine(pac::TIM3);
+/// QEMU 7.2's STM32 timer model (hw/timer/stm32f2xx_timer.c) does not count
+/// from the enable: every update period is (ARR + offset) ticks, where the
+/// offset is the tick count since reset at the last write of CNT (or PSC,
+/// or EGR.UG) minus the value written. The board makes that offset exactly
+/// zero by writing CNT with the current tick count, which it reads from
+/// TIM4: a timer never written counts virtual nanoseconds since reset.
+pub struct SampleLine(pac::TIM2);
 
 impl SampleLine {
-    /// TIM3 pending EXTI0 every sample period of `rate_hz`, to the microsecond.
-    fn new(tim: pac::TIM3, clock: &MicrosecondClock, rate_hz: f64) -> Self {
+    /// TIM2 pending EXTI0 every sample period of `rate_hz`, to the microsecond.
+    fn new(tim: pac::TIM2, virtual_ns: &pac::TIM4, rate_hz: f64) -> Self {
         let period_us = triad::device::sample_period_us(rate_hz);
+        let ticks_now = || virtual_ns.cnt().read().bits() / (TIMER_CLOCK_HZ / 1_000_000);
         tim.psc()
             .write(|w| w.psc().set((TIMER_CLOCK_HZ / 1_000_000 - 1) as u16));
-        tim.egr().write(|w| w.ug().set_bit());
+        // The offset is zero when the write lands in the microsecond read
+        // before it; under -icount that is decided by instruction counts, so
+        // a retry (at most once per microsecond boundary) settles it.
+        loop {
+            let before = ticks_now();
+            tim.cnt().write(|w| w.cnt().set(before));
+            if ticks_now() == before {
+                break;
+            }
+        }
         tim.sr().write(|w| w.uif().clear_bit());
         tim.dier().write(|w| w.uie().set_bit());
-        // SAFETY: TIM3's handler below only touches TIM3's status register and
+        // SAFETY: TIM2's handler below only touches TIM2's status register and
         // the NVIC pending bit; priority 0 is the highest, above RTIC's tasks.
         unsafe {
             let mut core = cortex_m::Peripherals::steal();
-            core.NVIC.set_priority(pac::Interrupt::TIM3, 0);
-            cortex_m::peripheral::NVIC::unmask(pac::Interrupt::TIM3);
+            core.NVIC.set_priority(pac::Interrupt::TIM2, 0);
+            cortex_m::peripheral::NVIC::unmask(pac::Interrupt::TIM2);
         }
-        // Rounded up: the enable lands within the microsecond after the read.
-        let enabled_at = (clock.now_us() + 1).min(period_us / 2);
-        tim.arr()
-            .write(|w| w.arr().set((period_us - 1 - enabled_at) as u16));
         tim.cr1().modify(|_, w| w.cen().set_bit());
+        // The model schedules the first update one period after this write.
+        tim.arr().write(|w| w.arr().set(period_us));
         Self(tim)
     }
 }
@@ -94,9 +105,9 @@ impl DataReadyLine for SampleLine {
 
 /// The emulated data-ready edge.
 #[interrupt]
-fn TIM3() {
-    // SAFETY: only this handler writes TIM3's status register after start-up.
-    let tim = unsafe { &*pac::TIM3::ptr() };
+fn TIM2() {
+    // SAFETY: only this handler writes TIM2's status register after start-up.
+    let tim = unsafe { &*pac::TIM2::ptr() };
     tim.sr().write(|w| w.uif().clear_bit());
     cortex_m::peripheral::NVIC::pend(pac::Interrupt::EXTI0);
 }
@@ -126,47 +137,54 @@ pub fn exit(success: bool) -> ! {
     }
 }
 
-/// The chip on this build: the ICM-42688-P model unless the `sensor-lsm6dsox`
-/// feature selects the LSM6DSOX model (each says its rate and address).
-#[cfg(not(feature = "sensor-lsm6dsox"))]
-use triad_sim::emulated_board::icm42688 as chip;
-#[cfg(feature = "sensor-lsm6dsox")]
-use triad_sim::emulated_board::lsm6dsox as chip;
+/// The chip model's name (build.rs checks it against the core's list).
+const EMULATED_CHIP: &str = env!("TRIAD_EMULATED_CHIP");
 
 /// What the chip model measures: the demo motion or an embedded scene.
-use triad_sim::emulated_board::source;
+use triad_sim::emulated_board::{source, EmulatedChip};
 
-pub use chip::sensor_config;
 pub use triad_sim::emulated_board::DESCRIPTION;
 
-/// The sensor: the real driver of the chosen chip over SPI (or I²C with the
-/// `bus-i2c` feature), talking to the chip model serving `model_source()`.
-#[cfg(not(feature = "bus-i2c"))]
-pub type Sensor = chip::Driver<SpiInterface<chip::Model>>;
-/// The sensor: the real driver of the chosen chip over I²C, talking to the
-/// chip model (at its default address) serving `model_source()`.
-#[cfg(feature = "bus-i2c")]
-pub type Sensor = chip::Driver<I2cInterface<chip::Model>>;
+/// The bus the chip model answers on: SPI (or I²C with `bus-i2c`).
+pub type SensorBus = EmulatedChip;
 
-/// The driver on the chip model, over SPI.
+/// The sensor: the driver of the chip found on the bus.
 #[cfg(not(feature = "bus-i2c"))]
-fn sensor() -> Sensor {
-    chip::Driver::new_spi(chip::model(model_source()))
+pub type Sensor = AnyChip<SpiInterface<SensorBus>>;
+/// The sensor: the driver of the chip found on the bus.
+#[cfg(feature = "bus-i2c")]
+pub type Sensor = AnyChip<I2cInterface<SensorBus>>;
+
+/// Finds the chip on the SPI bus by its identity.
+#[cfg(not(feature = "bus-i2c"))]
+pub fn find_sensor(bus: SensorBus) -> Result<Sensor, DetectError<spi::ErrorKind>> {
+    AnyChip::detect(SpiInterface::new(bus)).map_err(|undetected| undetected.reason)
 }
 
-/// The driver on the chip model, over I²C at the model's address.
+/// Finds the chip on the I²C bus by its identity at each chip's addresses.
 #[cfg(feature = "bus-i2c")]
-fn sensor() -> Sensor {
-    chip::Driver::new_i2c(chip::model(model_source()), chip::I2C_ADDRESS)
+pub fn find_sensor(bus: SensorBus) -> Result<Sensor, DetectError<i2c::ErrorKind>> {
+    AnyChip::detect_i2c(bus).map_err(|undetected| undetected.reason)
+}
+
+/// The emulated chip's output data rate (its driver's default), Hz.
+fn emulated_rate_hz() -> f64 {
+    // build.rs admitted only listed names.
+    EmulatedChip::sample_rate_hz(EMULATED_CHIP).unwrap_or_else(|| exit(false))
+}
+
+/// The chip model serving `model_source()` at the chip's rate.
+fn emulated_chip() -> EmulatedChip {
+    EmulatedChip::named(EMULATED_CHIP, model_source).unwrap_or_else(|| exit(false))
 }
 
 /// The scene embedded at build (TRIAD_SCENE, see build.rs), simulated at the
 /// chip's rate; a blob or scene that cannot run stops the board with the
 /// reason in the log.
 #[cfg(feature = "sim-scene")]
-fn model_source() -> source::Source {
+fn model_source(rate_hz: f64) -> source::Source {
     static SCENE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/scene.bin"));
-    match source::scene(sensor_config().sample_rate_hz(), SCENE) {
+    match source::scene(rate_hz, SCENE) {
         Ok(source) => source,
         Err(error) => {
             defmt::error!("embedded scene rejected: {}", defmt::Debug2Format(&error));
@@ -177,15 +195,14 @@ fn model_source() -> source::Source {
 
 /// The documented demo motion at the chip's rate.
 #[cfg(not(feature = "sim-scene"))]
-fn model_source() -> source::Source {
-    source::demo(sensor_config().sample_rate_hz())
+fn model_source(rate_hz: f64) -> source::Source {
+    source::demo(rate_hz)
 }
 
 /// The data-ready line: on this board the timer interrupt stands in for it,
 /// and the chip model's clock advances to its next sample.
 pub fn data_ready(sensor: &mut Sensor) {
-    let model = sensor.bus_mut();
-    model.advance(chip::next_sample_ns(model));
+    sensor.bus_mut().advance_one_sample();
 }
 
 /// A busy-wait delay for the driver's start-up waits (the core runs at 168
@@ -198,8 +215,13 @@ impl embedded_hal::delay::DelayNs for Delay {
     }
 }
 
-use triad::device::board::{DataReadyLine, MicrosecondClock as _};
+#[cfg(feature = "bus-i2c")]
+use embedded_hal::i2c;
+#[cfg(not(feature = "bus-i2c"))]
+use embedded_hal::spi;
+use triad::device::board::DataReadyLine;
 #[cfg(feature = "bus-i2c")]
 use triad::sensor::interface::I2cInterface;
 #[cfg(not(feature = "bus-i2c"))]
 use triad::sensor::interface::SpiInterface;
+use triad::sensor::{AnyChip, DetectError};

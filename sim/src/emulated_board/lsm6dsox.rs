@@ -5,27 +5,16 @@
 //! firmware read.
 
 use crate::lsm6dsox_model::Lsm6dsoxModel;
-use triad::sensor::lsm6dsox::{Config, I2C_ADDRESS_SA0_LOW};
+use triad::sensor::lsm6dsox::Config;
 
-/// The chip's driver, generic over the register interface (SPI or I²C).
-pub use triad::sensor::lsm6dsox::Lsm6dsox as Driver;
-
-/// The chip model behind the bus.
+/// The chip model behind the bus, at I²C address 0x6A (SA0/SDO low).
 pub type Model = Lsm6dsoxModel<super::source::Source>;
 
-/// The model's I²C address: SA0/SDO low (DS12814 §6.3).
-pub const I2C_ADDRESS: u8 = I2C_ADDRESS_SA0_LOW;
-
-/// The driver's default: ±16 g, ±2000 °/s, 833 Hz in high-performance mode
-/// (DS12814 §9 CTRL1_XL), gyroscope data-ready on INT1. The board's sample
-/// timer runs at the whole microsecond nearest the chip's 1200.48 µs period;
-/// the chip model's own clock keeps the exact period ([`next_sample_ns`]), so
-/// every data-ready brings exactly one new sample.
-pub fn sensor_config() -> Config {
-    Config::default()
-}
-
-/// A powered-up chip model serving `source` (built at the sample rate).
+/// A powered-up chip model serving `source` (built at the sample rate of the
+/// driver's default configuration: 833 Hz in high-performance mode). The
+/// board's sample timer runs at the whole microsecond nearest the chip's
+/// 1200.48 µs period; the chip model's own clock keeps the exact period
+/// ([`next_sample_ns`]), so every data-ready brings exactly one new sample.
 pub fn model(source: super::source::Source) -> Model {
     Lsm6dsoxModel::new(source)
 }
@@ -37,7 +26,7 @@ pub fn model(source: super::source::Source) -> Model {
 pub fn next_sample_ns(model: &Model) -> u64 {
     /// ns·mHz in one second.
     const NS_MHZ: u128 = 1_000_000_000_000;
-    let rate = u128::from(sensor_config().odr.millihertz());
+    let rate = u128::from(Config::default().odr.millihertz());
     let n = u128::from(model.samples_produced());
     let at = |k: u128| (k * NS_MHZ).div_ceil(rate);
     // The difference is ⌈P⌉ or ⌊P⌋ (about 1.2 ms): it fits in u64.

@@ -1,13 +1,17 @@
 //! The emulated board's facts and sensor: its description (orientation,
 //! decimation, baud), what the simulator serves there (the demo motion or an
-//! embedded scene) and each chip model with the configuration the board's
-//! driver applies. Here, in the simulator, so that the emulated board
+//! embedded scene) and the model of each listed chip, one of which the build
+//! names ([`EmulatedChip`]); the firmware finds it on the bus as it would a
+//! real chip. Here, in the simulator, so that the emulated board
 //! (boards/qemu) and the end-to-end test on the host build the very same
 //! chip and pipeline from one source.
 
+mod emulated_chip;
 pub mod icm42688;
 pub mod lsm6dsox;
 pub mod source;
+
+pub use emulated_chip::EmulatedChip;
 
 use triad::device::board::BoardDescription;
 use triad::model::Orientation;

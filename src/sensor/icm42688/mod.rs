@@ -20,6 +20,36 @@ use super::{Imu, ImuScale, RawSample};
 pub use self::config::{AccelRange, Config, FifoConfig, FifoMode, GyroRange, InterruptPin, Odr};
 pub use self::registers::{I2C_ADDRESS_AD0_HIGH, I2C_ADDRESS_AD0_LOW};
 
+/// The chip's name, as the link and the log report it.
+pub const NAME: &str = "icm42688";
+/// The identity WHO_AM_I holds (§14).
+pub const IDENTITY: u8 = reg::WHO_AM_I_VALUE;
+/// The fastest SPI clock the chip takes, Hz (DS-000347 §4.5).
+pub const SPI_MAX_HZ: u32 = 24_000_000;
+/// The chip's I²C addresses: AP_AD0 low, then high (§9.3).
+pub const I2C_ADDRESSES: [u8; 2] = [I2C_ADDRESS_AD0_LOW, I2C_ADDRESS_AD0_HIGH];
+
+/// Reads the chip's identity register (WHO_AM_I, bank 0) without changing
+/// anything, unless REG_BANK_SEL (0x76, readable in every bank) names a user
+/// bank other than 0 — as after a warm restart of the microcontroller — when
+/// it selects bank 0 first and reads again.
+pub fn identify<I: RegisterInterface>(interface: &mut I) -> Result<u8, I::BusError> {
+    let mut read = |register| {
+        let mut value = [0];
+        interface
+            .read_registers(register, &mut value)
+            .map(|()| value[0])
+    };
+    let found = read(reg::WHO_AM_I)?;
+    if found == IDENTITY || !(1..=4).contains(&read(reg::REG_BANK_SEL)?) {
+        return Ok(found);
+    }
+    interface.write_register(reg::REG_BANK_SEL, 0)?;
+    let mut value = [0];
+    interface.read_registers(reg::WHO_AM_I, &mut value)?;
+    Ok(value[0])
+}
+
 /// FIFO packets read per bus transaction: 32 × 16 B = 512 B of stack.
 const FIFO_CHUNK_PACKETS: usize = 32;
 

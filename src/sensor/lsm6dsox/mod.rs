@@ -20,6 +20,22 @@ use super::{Imu, ImuScale, RawSample};
 pub use self::config::{AccelRange, Config, FifoConfig, FifoMode, GyroRange, InterruptPin, Odr};
 pub use self::registers::{I2C_ADDRESS_SA0_HIGH, I2C_ADDRESS_SA0_LOW};
 
+/// The chip's name, as the link and the log report it.
+pub const NAME: &str = "lsm6dsox";
+/// The identity WHO_AM_I holds (DS12814 §9).
+pub const IDENTITY: u8 = reg::WHO_AM_I_VALUE;
+/// The fastest SPI clock the chip takes, Hz (DS12814 §4.4.1).
+pub const SPI_MAX_HZ: u32 = 10_000_000;
+/// The chip's I²C addresses: SA0 low, then high (DS12814 §6.3).
+pub const I2C_ADDRESSES: [u8; 2] = [I2C_ADDRESS_SA0_LOW, I2C_ADDRESS_SA0_HIGH];
+
+/// Reads the chip's identity register (WHO_AM_I); changes nothing.
+pub fn identify<I: RegisterInterface>(interface: &mut I) -> Result<u8, I::BusError> {
+    let mut value = [0];
+    interface.read_registers(reg::WHO_AM_I, &mut value)?;
+    Ok(value[0])
+}
+
 /// Samples read per FIFO bus transaction: 32 × 2 words × 7 B = 448 B of stack.
 const FIFO_CHUNK_SAMPLES: usize = 32;
 /// Largest watermark in samples: WTM has 9 bits of words, two words per sample.

@@ -1,0 +1,208 @@
+//! Finding the chip on the bus: every chip triad drives is tried by its
+//! identity register, so one firmware build serves whichever of them a board
+//! carries, and a board or a test never names a chip.
+//!
+//! [`for_each_chip!`](crate::for_each_chip) is the one list of chips. A chip
+//! module (e.g. [`super::icm42688`]) offers `NAME`, `IDENTITY`, `SPI_MAX_HZ`,
+//! `I2C_ADDRESSES`, `identify` (a read of the identity register that changes
+//! nothing on any listed chip), `Config: Default` with `sample_rate_hz`, and
+//! a driver with `new`, `init`, `config`, `interface_mut`, `bus`, `bus_mut`
+//! and [`Imu`]: adding a chip is that module, its chip model in the
+//! simulator, and one line in the list.
+
+use embedded_hal::delay::DelayNs;
+use embedded_hal::i2c::I2c;
+
+use super::error::Error;
+use super::interface::{I2cInterface, RegisterInterface};
+use super::{icm42688, lsm6dsox, Imu, ImuScale, RawSample};
+
+/// Calls `$callback! { module::Driver, ... }` with every chip triad drives,
+/// in the order detection tries them: the one list of chips. Crates that
+/// keep something per chip (the simulator's chip models) build it from this.
+#[macro_export]
+macro_rules! for_each_chip {
+    ($callback:ident) => {
+        $callback! {
+            icm42688::Icm42688,
+            lsm6dsox::Lsm6dsox,
+        }
+    };
+}
+
+/// Why no chip was found.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum DetectError<E> {
+    /// The bus failed (on SPI; an I²C address that does not answer is only
+    /// "not there").
+    Bus(E),
+    /// No listed chip answered with its identity: what each chip's identity
+    /// register read, in [`CHIP_NAMES`] order (`None`: no answer on I²C).
+    NotFound {
+        /// The value read at each chip's identity register.
+        identities: [Option<u8>; CHIP_NAMES.len()],
+    },
+}
+
+/// Detection failed: why, and the bus (an SPI interface or an I²C bus)
+/// given back, so the caller may log, retry or use it otherwise.
+pub struct Undetected<B, E> {
+    /// Why no chip was found.
+    pub reason: DetectError<E>,
+    /// The bus, untouched since the probes.
+    pub bus: B,
+}
+
+/// The reason only: a bus need not be `Debug`.
+impl<B, E: core::fmt::Debug> core::fmt::Debug for Undetected<B, E> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("Undetected")
+            .field("reason", &self.reason)
+            .finish_non_exhaustive()
+    }
+}
+
+/// The smallest of `values` (for the SPI clock every chip takes).
+const fn min_of(values: &[u32]) -> u32 {
+    let mut min = u32::MAX;
+    let mut i = 0;
+    while i < values.len() {
+        if values[i] < min {
+            min = values[i];
+        }
+        i += 1;
+    }
+    min
+}
+
+macro_rules! define_any_chip {
+    ($($module:ident::$driver:ident),+ $(,)?) => {
+        /// Every chip's name, in the order detection tries them.
+        pub const CHIP_NAMES: [&str; [$($module::NAME),+].len()] = [$($module::NAME),+];
+
+        /// The fastest SPI clock every listed chip takes, Hz: what a board
+        /// sets before it knows which chip it carries.
+        pub const SPI_MAX_HZ: u32 = min_of(&[$($module::SPI_MAX_HZ),+]);
+
+        /// The chip found on the bus, driven by its own driver.
+        #[derive(Debug)]
+        pub enum AnyChip<I> {
+            $(
+                #[doc = concat!("The `", stringify!($module), "` driver.")]
+                $driver($module::$driver<I>),
+            )+
+        }
+
+        impl<I: RegisterInterface> AnyChip<I> {
+            /// The chip on `interface` (SPI), found by reading each listed
+            /// chip's identity register in turn; nothing is written to a chip
+            /// until [`Self::start`].
+            pub fn detect(mut interface: I) -> Result<Self, Undetected<I, I::BusError>> {
+                let mut identities = [None; CHIP_NAMES.len()];
+                let mut slot = identities.iter_mut();
+                $(
+                    let found = match $module::identify(&mut interface) {
+                        Ok(found) => found,
+                        Err(error) => {
+                            let reason = DetectError::Bus(error);
+                            return Err(Undetected { reason, bus: interface });
+                        }
+                    };
+                    if found == $module::IDENTITY {
+                        return Ok(Self::$driver($module::$driver::new(interface)));
+                    }
+                    if let Some(slot) = slot.next() {
+                        *slot = Some(found);
+                    }
+                )+
+                let reason = DetectError::NotFound { identities };
+                Err(Undetected { reason, bus: interface })
+            }
+
+            /// The chip's name (e.g. `icm42688`).
+            pub fn name(&self) -> &'static str {
+                match self {
+                    $(Self::$driver(_) => $module::NAME,)+
+                }
+            }
+
+            /// Checks the identity, resets the chip and applies its driver's
+            /// default configuration (each module's `Config::default()`).
+            pub fn start(&mut self, delay: &mut impl DelayNs) -> Result<(), Error<I::BusError>> {
+                match self {
+                    $(Self::$driver(chip) => chip.init(delay, &$module::Config::default()),)+
+                }
+            }
+
+            /// The output data rate of the configuration applied, Hz.
+            pub fn sample_rate_hz(&self) -> f64 {
+                match self {
+                    $(Self::$driver(chip) => chip.config().sample_rate_hz(),)+
+                }
+            }
+
+            /// The bus (e.g. the chip model, whose clock the emulated board advances).
+            pub fn bus_mut(&mut self) -> &mut I::Bus {
+                match self {
+                    $(Self::$driver(chip) => chip.bus_mut(),)+
+                }
+            }
+
+            /// The bus, shared.
+            pub fn bus(&self) -> &I::Bus {
+                match self {
+                    $(Self::$driver(chip) => chip.bus(),)+
+                }
+            }
+        }
+
+        impl<I2C: I2c> AnyChip<I2cInterface<I2C>> {
+            /// The chip on the I²C bus `i2c`, found by reading the identity
+            /// register at each listed chip's addresses in turn (no listed
+            /// chips share an address); an address that does not answer is
+            /// taken as no chip there.
+            pub fn detect_i2c(mut i2c: I2C) -> Result<Self, Undetected<I2C, I2C::Error>> {
+                let mut identities = [None; CHIP_NAMES.len()];
+                let mut slot = identities.iter_mut();
+                $(
+                    let mut read = None;
+                    for address in $module::I2C_ADDRESSES {
+                        let mut interface = I2cInterface::new(i2c, address);
+                        match $module::identify(&mut interface) {
+                            Ok(found) if found == $module::IDENTITY => {
+                                return Ok(Self::$driver($module::$driver::new(interface)));
+                            }
+                            Ok(found) => read = read.or(Some(found)),
+                            Err(_) => {}
+                        }
+                        i2c = interface.release();
+                    }
+                    if let Some(slot) = slot.next() {
+                        *slot = read;
+                    }
+                )+
+                let reason = DetectError::NotFound { identities };
+                Err(Undetected { reason, bus: i2c })
+            }
+        }
+
+        impl<I: RegisterInterface> Imu for AnyChip<I> {
+            type Error = Error<I::BusError>;
+
+            fn read_sample(&mut self) -> Result<RawSample, Self::Error> {
+                match self {
+                    $(Self::$driver(chip) => chip.read_sample(),)+
+                }
+            }
+
+            fn scale(&self) -> ImuScale {
+                match self {
+                    $(Self::$driver(chip) => chip.scale(),)+
+                }
+            }
+        }
+    };
+}
+
+for_each_chip!(define_any_chip);
