@@ -74,14 +74,18 @@ mod app {
             rate_hz as u32,
             description.decimation
         );
-        let startup =
-            match start_calibration(CALIBRATION_BLOB, &sensor.scale(), description.orientation) {
-                Ok(startup) => startup,
-                Err(error) => {
-                    defmt::error!("the chip's scale is invalid: {}; stopping", error);
-                    board::exit(false)
-                }
-            };
+        let startup = match start_calibration(
+            None,
+            CALIBRATION_BLOB,
+            &sensor.scale(),
+            description.orientation,
+        ) {
+            Ok(startup) => startup,
+            Err(error) => {
+                defmt::error!("the chip's scale is invalid: {}; stopping", error);
+                board::exit(false)
+            }
+        };
         if let Some(rejection) = startup.rejected {
             defmt::error!("built-in calibration rejected: {}", rejection);
         }

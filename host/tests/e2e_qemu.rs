@@ -186,7 +186,7 @@ fn captured_frames() -> Vec<Frame> {
 fn host_board() -> (HostSensor, Sampler) {
     let sensor = HostSensor::from_env();
     let blob_bytes = std::fs::read(env_path("TRIAD_E2E_BLOB")).expect("calibration blob");
-    let startup = start_calibration(&blob_bytes, &sensor.scale(), DESCRIPTION.orientation)
+    let startup = start_calibration(None, &blob_bytes, &sensor.scale(), DESCRIPTION.orientation)
         .expect("the chip's scale is valid");
     assert!(
         startup.rejected.is_none(),

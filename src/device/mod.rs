@@ -4,7 +4,8 @@
 //! pipeline: averaging N corrected samples into one streamed sample
 //! ([`Decimator`]), noticing sample steps that were late or lost
 //! ([`StepMonitor`]), and turning samples plus the counters of what went wrong
-//! into stream frames ([`Framer`]). The RTIC application only wires them.
+//! into stream frames ([`Framer`]), and the calibration kept in flash
+//! ([`CalibrationStore`]). The RTIC application only wires them.
 
 pub mod board;
 pub mod data_ready;
@@ -13,6 +14,7 @@ pub mod framer;
 pub mod sampler;
 pub mod startup;
 pub mod step_monitor;
+pub mod storage;
 
 pub use data_ready::{on_data_ready, Stepped};
 pub use decimator::Decimator;
@@ -20,3 +22,4 @@ pub use framer::Framer;
 pub use sampler::{sample_period_us, Sampler, StepOutcome};
 pub use startup::{start_calibration, CalibrationSource, StartUp};
 pub use step_monitor::StepMonitor;
+pub use storage::{CalibrationStore, StorageError};

@@ -2,9 +2,10 @@
 //! it. The RTIC application and the end-to-end test both call
 //! [`start_calibration`], so the host knows exactly what the device chose.
 //!
-//! Precedence: the calibration built into the firmware if it decodes and is
-//! valid for the chip's ranges, else the identity with every frame flagged
-//! UNCALIBRATED. (The link issue adds a stored calibration above the built-in one.)
+//! Precedence: the calibration stored on the device ([`super::storage`]) if
+//! it decodes and is valid for the chip's ranges, else the one built into the
+//! firmware under the same test, else the identity with every frame flagged
+//! UNCALIBRATED. A calibration that fails is reported, never applied.
 
 use crate::model::{blob, BlobError, Calibration, CalibrationError, Corrector, Orientation};
 use crate::sensor::ImuScale;
@@ -13,6 +14,8 @@ use crate::sensor::ImuScale;
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum CalibrationSource {
+    /// Stored on the device (flash).
+    Stored,
     /// Built into the firmware image.
     BuiltIn,
     /// None: the identity, and the stream flags every frame UNCALIBRATED.
@@ -36,7 +39,9 @@ pub struct StartUp {
     pub corrector: Corrector,
     /// Where its calibration came from.
     pub source: CalibrationSource,
-    /// The built-in calibration's rejection, when it was rejected.
+    /// The stored calibration's rejection, when one was stored and rejected.
+    pub stored_rejected: Option<Rejection>,
+    /// The built-in calibration's rejection, when it was tried and rejected.
     pub rejected: Option<Rejection>,
 }
 
@@ -53,29 +58,51 @@ impl StartUp {
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct InvalidScale(pub CalibrationError);
 
-/// Chooses the start-up calibration: `built_in` (a blob from `triad calib
-/// pack`; empty for none) when it decodes and is valid for `scale`, else the
+/// A blob's calibration folded for the chip, or why not.
+fn corrector_of(
+    bytes: &[u8],
+    scale: &ImuScale,
+    orientation: Orientation,
+) -> Result<Corrector, Rejection> {
+    let cal = blob::decode(bytes).map_err(Rejection::Blob)?;
+    Corrector::new(&cal, scale, orientation).map_err(Rejection::Invalid)
+}
+
+/// Chooses the start-up calibration: `stored` (the blob the device keeps,
+/// if any) when it decodes and is valid for `scale`, else `built_in` (a blob
+/// from `triad calib pack`; empty for none) under the same test, else the
 /// identity, flagged uncalibrated.
 pub fn start_calibration(
+    stored: Option<&[u8]>,
     built_in: &[u8],
     scale: &ImuScale,
     orientation: Orientation,
 ) -> Result<StartUp, InvalidScale> {
+    let stored_rejected = match stored.map(|b| corrector_of(b, scale, orientation)) {
+        Some(Ok(corrector)) => {
+            return Ok(StartUp {
+                corrector,
+                source: CalibrationSource::Stored,
+                stored_rejected: None,
+                rejected: None,
+            })
+        }
+        Some(Err(rejection)) => Some(rejection),
+        None => None,
+    };
     let rejected = if built_in.is_empty() {
         None
     } else {
-        match blob::decode(built_in) {
-            Err(error) => Some(Rejection::Blob(error)),
-            Ok(cal) => match Corrector::new(&cal, scale, orientation) {
-                Ok(corrector) => {
-                    return Ok(StartUp {
-                        corrector,
-                        source: CalibrationSource::BuiltIn,
-                        rejected: None,
-                    })
-                }
-                Err(error) => Some(Rejection::Invalid(error)),
-            },
+        match corrector_of(built_in, scale, orientation) {
+            Ok(corrector) => {
+                return Ok(StartUp {
+                    corrector,
+                    source: CalibrationSource::BuiltIn,
+                    stored_rejected,
+                    rejected: None,
+                })
+            }
+            Err(rejection) => Some(rejection),
         }
     };
     let corrector =
@@ -83,6 +110,7 @@ pub fn start_calibration(
     Ok(StartUp {
         corrector,
         source: CalibrationSource::None,
+        stored_rejected,
         rejected,
     })
 }
