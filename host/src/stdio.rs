@@ -90,10 +90,34 @@ pub fn raw_stdout() -> anyhow::Result<File> {
     Ok(File::from(handle))
 }
 
-/// Fails when standard output is closed: checked before any work, since a
-/// file opened later would take descriptor 1 and receive what is printed.
+/// Fails when standard output is closed (`>&-`), before any work: what is
+/// printed would be lost while the command reports success.
+///
+/// Rust's runtime puts /dev/null, opened read-write, on a closed standard
+/// descriptor before `main`; a shell's `> /dev/null` opens it write-only.
+/// So on Linux stdout on /dev/null with read-write access (from
+/// /proc/self/fdinfo) was closed; elsewhere only a failing duplicate is seen.
 pub fn check_stdout_open() -> anyhow::Result<()> {
-    raw_stdout().map(drop)
+    raw_stdout()?;
+    if stdout_was_closed_by_caller() {
+        anyhow::bail!("standard output is closed: nothing done (use > /dev/null to discard it)");
+    }
+    Ok(())
+}
+
+/// True when fd 1 is /dev/null opened read-write (Linux /proc; false
+/// where it cannot be read).
+fn stdout_was_closed_by_caller() -> bool {
+    let on_null =
+        std::fs::read_link("/proc/self/fd/1").is_ok_and(|p| p == std::path::Path::new("/dev/null"));
+    let read_write = std::fs::read_to_string("/proc/self/fdinfo/1").is_ok_and(|info| {
+        info.lines()
+            .find_map(|l| l.strip_prefix("flags:"))
+            .and_then(|f| u32::from_str_radix(f.trim(), 8).ok())
+            // O_ACCMODE = 3, O_RDWR = 2.
+            .is_some_and(|flags| flags & 3 == 2)
+    });
+    on_null && read_write
 }
 
 /// Prints `text` on standard output, whole or with an error.

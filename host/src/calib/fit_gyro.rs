@@ -272,7 +272,7 @@ fn gyro_static(args: &GyroArgs, path: &Path) -> anyhow::Result<ExitCode> {
         out,
         "gyro static bias: {} samples of {} (still: no part turned, mean rate within --max-bias)",
         s.count,
-        path.display()
+        input::name(path)
     );
     print_vector(&mut out, "b (rad/s)", &bias, Some(&s.standard_error));
     outln!(out, "  (± is the standard error s/√n, which assumes white noise; `triad allan` shows the correlated part)");
@@ -281,7 +281,7 @@ fn gyro_static(args: &GyroArgs, path: &Path) -> anyhow::Result<ExitCode> {
     let header = format!(
         "Gyroscope bias fitted by `triad calib fit gyro --static` from {} ({} samples);\n\
          gyro scale_misalignment {base_note}; {earth_note}.",
-        path.display(),
+        input::name(path),
         s.count
     );
     let triad = TriadCalibration {
@@ -298,7 +298,7 @@ fn static_table(path: &Path, s: &Stat, earth_note: &str) -> toml::Table {
     let text = |x: &str| toml::Value::String(x.into());
     table.insert(
         "records".into(),
-        toml::Value::Array(vec![text(&path.display().to_string())]),
+        toml::Value::Array(vec![text(&input::name(path))]),
     );
     table.insert("samples".into(), toml::Value::Integer(s.count as i64));
     table.insert("sigma_bias".into(), vector(&s.standard_error));
