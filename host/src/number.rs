@@ -1,14 +1,12 @@
-//! Numbers in messages in a form a person reads: `1e300`, not 301 digits.
+//! Numbers in messages in a form a person reads: `1e300`, not 301 digits
+//! (the core's [`Readable`], which its calibration errors use too).
 
-/// `x` as Rust's shortest round-trip decimal when that is short (magnitudes
-/// 1e-5 up to 1e16, and zero), in exponent form otherwise.
+use triad::model::Readable;
+
+/// `x` as the shortest decimal that reads back to it when that is short
+/// (magnitudes 1e-5 up to 1e16, and zero), in exponent form otherwise.
 pub fn readable(x: f64) -> String {
-    let a = x.abs();
-    if !x.is_finite() || x == 0.0 || (1e-5..1e16).contains(&a) {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
-    }
+    Readable(x).to_string()
 }
 
 #[cfg(test)]

@@ -901,3 +901,21 @@ fn progress_lines_show_off_a_terminal_and_quiet_silences_them() {
     assert!(quiet.status.success());
     assert!(quiet.stderr.is_empty(), "{}", text(&quiet.stderr));
 }
+
+#[test]
+fn huge_values_in_messages_are_readable() {
+    let d = dir("readable");
+    let big = d.join("big.toml");
+    let default = fs::read_to_string(calibration("default.toml")).unwrap();
+    let edited = default.replace("bias = [0.05, -0.02, 0.10]", "bias = [1e308, 0, 0]");
+    assert_ne!(edited, default);
+    fs::write(&big, edited).unwrap();
+    let out = triad(&["calib", "check", s(&big)]);
+    let stderr = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("accel bias[0] = 1e308: beyond the sensor's full scale ±156.9064"),
+        "{stderr}"
+    );
+    assert!(stderr.len() < 200, "{stderr}");
+}
