@@ -49,11 +49,15 @@ struct FileShape {
     gyro: TriadShape,
 }
 
+/// A vector or matrix as written, with where it is: its length is
+/// checked here (a fixed-size array would silently drop extra entries).
+type Spanned<T> = toml::Spanned<T>;
+
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct TriadShape {
-    scale_misalignment: [[f64; 3]; 3],
-    bias: [f64; 3],
+    scale_misalignment: Spanned<Vec<Spanned<Vec<f64>>>>,
+    bias: Spanned<Vec<f64>>,
     temperature: Option<TemperatureShape>,
 }
 
@@ -61,22 +65,78 @@ struct TriadShape {
 #[serde(deny_unknown_fields)]
 struct TemperatureShape {
     reference_c: f64,
-    bias_coefficients: [[f64; 3]; 3],
-    scale_misalignment_per_c: [[f64; 3]; 3],
+    bias_coefficients: Spanned<Vec<Spanned<Vec<f64>>>>,
+    scale_misalignment_per_c: Spanned<Vec<Spanned<Vec<f64>>>>,
 }
 
-impl From<TriadShape> for TriadCalibration {
-    fn from(t: TriadShape) -> Self {
-        TriadCalibration {
-            scale_misalignment: t.scale_misalignment,
-            bias: t.bias,
-            temperature: t.temperature.map(|x| TemperatureTerms {
-                reference_c: x.reference_c,
-                bias_coefficients: x.bias_coefficients,
-                scale_misalignment_per_c: x.scale_misalignment_per_c,
-            }),
-        }
+/// Checks lengths against the text the values were read from, for positions.
+struct Shapes<'a> {
+    path: &'a Path,
+    text: &'a str,
+}
+
+impl Shapes<'_> {
+    /// `PATH: LINE:COL: invalid length N, expected an array of length 3
+    /// (in `KEY`)`, as the TOML reader words its own errors.
+    fn wrong_length(&self, span: std::ops::Range<usize>, found: usize, key: &str) -> anyhow::Error {
+        anyhow!(
+            "{}: {}invalid length {found}, expected an array of length 3 (in `{key}`)",
+            self.path.display(),
+            position(self.text, span.start)
+        )
     }
+
+    fn vector(&self, v: &Spanned<Vec<f64>>, key: &str) -> anyhow::Result<[f64; 3]> {
+        <[f64; 3]>::try_from(v.get_ref().as_slice())
+            .map_err(|_| self.wrong_length(v.span(), v.get_ref().len(), key))
+    }
+
+    fn matrix(
+        &self,
+        m: &Spanned<Vec<Spanned<Vec<f64>>>>,
+        key: &str,
+    ) -> anyhow::Result<[[f64; 3]; 3]> {
+        let rows = m.get_ref();
+        if rows.len() != 3 {
+            return Err(self.wrong_length(m.span(), rows.len(), key));
+        }
+        let mut out = [[0.0; 3]; 3];
+        for (i, row) in rows.iter().enumerate() {
+            out[i] = self.vector(row, key)?;
+        }
+        Ok(out)
+    }
+
+    fn triad(&self, t: &TriadShape, name: &str) -> anyhow::Result<TriadCalibration> {
+        let temperature = match &t.temperature {
+            None => None,
+            Some(x) => Some(TemperatureTerms {
+                reference_c: x.reference_c,
+                bias_coefficients: self.matrix(
+                    &x.bias_coefficients,
+                    &format!("{name}.temperature.bias_coefficients"),
+                )?,
+                scale_misalignment_per_c: self.matrix(
+                    &x.scale_misalignment_per_c,
+                    &format!("{name}.temperature.scale_misalignment_per_c"),
+                )?,
+            }),
+        };
+        Ok(TriadCalibration {
+            scale_misalignment: self
+                .matrix(&t.scale_misalignment, &format!("{name}.scale_misalignment"))?,
+            bias: self.vector(&t.bias, &format!("{name}.bias"))?,
+            temperature,
+        })
+    }
+}
+
+/// `LINE:COL: ` of byte `offset` in `text`.
+fn position(text: &str, offset: usize) -> String {
+    let before = &text.as_bytes()[..offset.min(text.len())];
+    let line = before.iter().filter(|&&b| b == b'\n').count() + 1;
+    let column = before.iter().rev().take_while(|&&b| b != b'\n').count() + 1;
+    format!("{line}:{column}: ")
 }
 
 /// Reads and parses `path`; errors name the file, the line and the key.
@@ -88,6 +148,7 @@ pub fn load(path: &Path) -> anyhow::Result<CalibFile> {
 
 /// Parses the text of a calibration file read from `path`.
 pub fn parse(text: &str, path: &Path) -> anyhow::Result<CalibFile> {
+    let text = crate::input::strip_bom(text);
     let shape: FileShape =
         toml::from_str(text).map_err(|e| anyhow!("{}:{}", path.display(), one_line(&e, text)))?;
     let orientation = match &shape.orientation {
@@ -95,10 +156,11 @@ pub fn parse(text: &str, path: &Path) -> anyhow::Result<CalibFile> {
         Some(value) => parse_orientation(value)
             .map_err(|reason| anyhow!("{}: orientation: {reason}", path.display()))?,
     };
+    let shapes = Shapes { path, text };
     let mut calibration = Calibration {
         id: 0,
-        accel: shape.accel.into(),
-        gyro: shape.gyro.into(),
+        accel: shapes.triad(&shape.accel, "accel")?,
+        gyro: shapes.triad(&shape.gyro, "gyro")?,
     };
     let id_from_parameters = shape.id.is_none();
     calibration.id = shape.id.unwrap_or_else(|| blob::parameter_id(&calibration));
@@ -123,12 +185,7 @@ fn parse_orientation(value: &toml::Value) -> Result<Orientation, String> {
 
 /// `LINE:COL: message (in `key`)` from a toml error, on one line.
 fn one_line(error: &toml::de::Error, text: &str) -> String {
-    let position = error.span().map(|span| {
-        let before = &text.as_bytes()[..span.start.min(text.len())];
-        let line = before.iter().filter(|&&b| b == b'\n').count() + 1;
-        let column = before.iter().rev().take_while(|&&b| b != b'\n').count() + 1;
-        format!("{line}:{column}: ")
-    });
+    let position = error.span().map(|span| position(text, span.start));
     // Without the input, Display gives the message and then "in `a.b`".
     let mut bare = error.clone();
     bare.set_input(None);
@@ -283,6 +340,29 @@ mod tests {
             err.ends_with("(in `accel.bias`)") && !err.contains('\n'),
             "{err}"
         );
+    }
+
+    #[test]
+    fn extra_entries_and_rows_are_refused_with_the_key_and_the_count() {
+        let err = |from: &str, to: &str| {
+            let text = MINIMAL.replacen(from, to, 1);
+            assert_ne!(text, MINIMAL, "{from}");
+            parsed(&text).unwrap_err().to_string()
+        };
+        assert_eq!(
+            err("bias = [0.1, 0.0, 0.0]", "bias = [0.1, 0.0, 0.0, 0.5]"),
+            "c.toml: 3:8: invalid length 4, expected an array of length 3 (in `accel.bias`)"
+        );
+        assert_eq!(
+            err("[0.0, 0.0, 1.0]]", "[0.0, 0.0, 1.0], [0.0, 0.0, 0.0]]"),
+            "c.toml: 2:22: invalid length 4, expected an array of length 3 (in `accel.scale_misalignment`)"
+        );
+        assert_eq!(
+            err("[0.0, 1.0, 0.0]", "[0.0, 1.0, 0.0, 9.0]"),
+            "c.toml: 2:40: invalid length 4, expected an array of length 3 (in `accel.scale_misalignment`)"
+        );
+        // A byte-order mark before the first key is not part of it.
+        assert!(parsed(&format!("\u{feff}{MINIMAL}")).is_ok());
     }
 
     #[test]

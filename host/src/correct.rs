@@ -3,14 +3,15 @@
 //! (`Corrector::correct_si`); `--exact` runs the f64 reference. Streams line
 //! by line in constant memory.
 //!
-//! Input columns `t,ax,ay,az,gx,gy,gz[,temp]` (s, m/s², rad/s, °C); output
-//! the same columns, `t` and `temp` copied as written, the corrected values
-//! printed in the shortest form that reads back to the same f32 (or f64).
+//! Input columns are found by name: `t`, `ax`…`gz` (s, m/s², rad/s) and an
+//! optional `temp` (°C), in any order among others (`triad decode` writes
+//! `seq,t,ax,ay,az,gx,gy,gz,temp,flags`). The output has the input's
+//! columns: the six values corrected, printed in the shortest form that
+//! reads back to the same f32 (or f64), every other cell copied as written.
 //! With a `temp` column and temperature terms, the coefficients are refolded
 //! whenever the temperature changes (clamped to the validated range).
 
-use std::fs::File;
-use std::io::{self, BufRead, BufReader, BufWriter, Write};
+use std::io::{self, BufRead, BufWriter, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -19,6 +20,8 @@ use triad::model::Corrector;
 
 use crate::calib::{si_corrector, Ranges};
 use crate::calib_file;
+use crate::input::{self, strip_bom};
+use crate::stdio;
 
 /// Arguments of `triad correct`.
 #[derive(clap::Args)]
@@ -26,7 +29,8 @@ pub struct CorrectArgs {
     /// The calibration file (TOML).
     #[arg(long)]
     calib: PathBuf,
-    /// Input CSV with header `t,ax,ay,az,gx,gy,gz[,temp]` (`-` for stdin).
+    /// Input CSV with the columns `t,ax,ay,az,gx,gy,gz` and optionally
+    /// `temp`, found by name among any others (`-` for stdin).
     input: PathBuf,
     /// Use the f64 reference instead of the firmware's f32 hot path.
     #[arg(long)]
@@ -35,6 +39,7 @@ pub struct CorrectArgs {
     ranges: Ranges,
 }
 
+/// The columns read, by name: `t`, the six values, then the optional `temp`.
 const COLUMNS: [&str; 8] = ["t", "ax", "ay", "az", "gx", "gy", "gz", "temp"];
 
 /// Runs `triad correct`.
@@ -43,29 +48,64 @@ pub fn run(args: CorrectArgs) -> anyhow::Result<ExitCode> {
     let mut corrector = si_corrector(&file, &args.ranges)?;
     let has_terms =
         file.calibration.accel.temperature.is_some() || file.calibration.gyro.temperature.is_some();
-    let name = if args.input.as_os_str() == "-" {
-        "stdin".to_string()
-    } else {
-        args.input.display().to_string()
-    };
-    let input: Box<dyn BufRead> = if args.input.as_os_str() == "-" {
-        Box::new(io::stdin().lock())
-    } else {
-        Box::new(BufReader::new(
-            File::open(&args.input).with_context(|| format!("{name}: cannot open"))?,
-        ))
-    };
-    let mut out = BufWriter::new(io::stdout().lock());
+    let input = input::open(&args.input, 1 << 16)?;
+    let mut out = BufWriter::with_capacity(1 << 16, stdio::raw_stdout()?);
     correct_stream(
-        input,
+        input.reader,
         &mut out,
-        &name,
+        &input.name,
         &mut corrector,
         has_terms,
         args.exact,
     )?;
-    out.flush().context("stdout")?;
+    out.flush().map_err(stdio::stdout_error)?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// Where the columns are: the cell index of `t`, the six values and `temp`.
+struct Header {
+    /// The header's names, as the output's header.
+    names: Vec<String>,
+    /// Cell index of each of [`COLUMNS`] (`temp` optional).
+    index: [Option<usize>; 8],
+}
+
+impl Header {
+    /// The header from its line; `t` and the six values must be there, once.
+    fn parse(line: &str) -> Result<Header, String> {
+        let names: Vec<String> = strip_bom(line)
+            .trim()
+            .split(',')
+            .map(|n| n.trim().to_string())
+            .collect();
+        let mut index = [None; 8];
+        for (k, column) in COLUMNS.iter().enumerate() {
+            let mut at = names.iter().enumerate().filter(|(_, n)| n == column);
+            index[k] = at.next().map(|(i, _)| i);
+            if at.next().is_some() {
+                return Err(format!("column `{column}` appears twice in the header"));
+            }
+        }
+        let missing: Vec<String> = COLUMNS[..7]
+            .iter()
+            .zip(&index)
+            .filter(|(_, i)| i.is_none())
+            .map(|(c, _)| format!("`{c}`"))
+            .collect();
+        if !missing.is_empty() {
+            return Err(format!(
+                "missing column(s) {} in the header `{}` (needed: t,ax,ay,az,gx,gy,gz; temp optional)",
+                missing.join(", "),
+                names.join(",")
+            ));
+        }
+        Ok(Header { names, index })
+    }
+
+    /// The cell index of column `k` of [`COLUMNS`] (`t` and the six values are always there).
+    fn cell(&self, k: usize) -> usize {
+        self.index[k].unwrap_or(0)
+    }
 }
 
 /// Where a message points: the input's name and the line.
@@ -76,41 +116,40 @@ struct Place<'a> {
 }
 
 impl Place<'_> {
-    /// The finite number in column `col` of `fields`.
-    fn number(self, fields: &[&str], col: usize) -> anyhow::Result<f64> {
+    /// The finite number in cell `cell` of `fields`, column `column`.
+    fn number(self, fields: &[&str], cell: usize, column: &str) -> anyhow::Result<f64> {
         let Place { name, number } = self;
-        let raw = fields[col];
+        let raw = fields[cell];
         let value: f64 = raw.parse().map_err(|_| {
             anyhow!(
-                "{name} line {number}, column {} ({}): `{raw}` is not a number",
-                col + 1,
-                COLUMNS[col]
+                "{name} line {number}, column {} ({column}): `{raw}` is not a number",
+                cell + 1,
             )
         })?;
         if value.is_finite() {
             Ok(value)
         } else {
             bail!(
-                "{name} line {number}, column {} ({}): `{raw}` is not a finite number",
-                col + 1,
-                COLUMNS[col]
+                "{name} line {number}, column {} ({column}): `{raw}` is not a finite number",
+                cell + 1,
             )
         }
     }
 
     /// The six measured values straight to f32 (one correct rounding, as a
     /// device reading the same decimal would), not via f64.
-    fn f32_values(self, fields: &[&str]) -> anyhow::Result<[f32; 6]> {
+    fn f32_values(self, fields: &[&str], header: &Header) -> anyhow::Result<[f32; 6]> {
         let Place { name, number } = self;
         let mut f = [0.0f32; 6];
         for (i, x) in f.iter_mut().enumerate() {
-            *x = fields[i + 1].parse().unwrap_or(f32::NAN);
+            let cell = header.cell(i + 1);
+            *x = fields[cell].parse().unwrap_or(f32::NAN);
             if !x.is_finite() {
                 bail!(
                     "{name} line {number}, column {} ({}): `{}` is beyond the f32 range",
-                    i + 2,
+                    cell + 1,
                     COLUMNS[i + 1],
-                    fields[i + 1]
+                    fields[cell]
                 );
             }
         }
@@ -141,25 +180,18 @@ impl<R: BufRead> Lines<R> {
         }
     }
 
-    /// The header (after blank lines): 7 columns, or 8 with `temp`.
-    fn header(&mut self) -> anyhow::Result<usize> {
+    /// The header (after blank lines).
+    fn header(&mut self) -> anyhow::Result<Header> {
         let name = self.name.clone();
         loop {
             if !self.next().with_context(|| format!("{name}: read error"))? {
-                bail!("{name}: empty input, expected the header `t,ax,ay,az,gx,gy,gz[,temp]`");
+                bail!("{name}: empty input, expected a header with the columns t,ax,ay,az,gx,gy,gz[,temp]");
             }
-            let header: Vec<&str> = self.line.trim().split(',').map(str::trim).collect();
-            if header == [""] {
+            if strip_bom(&self.line).trim().is_empty() {
                 continue;
             }
-            return match header.len() {
-                7 | 8 if header[..] == COLUMNS[..header.len()] => Ok(header.len()),
-                _ => bail!(
-                    "{name} line {}: header must be `t,ax,ay,az,gx,gy,gz` or `t,ax,ay,az,gx,gy,gz,temp`, found `{}`",
-                    self.number,
-                    self.line.trim()
-                ),
-            };
+            return Header::parse(&self.line)
+                .map_err(|e| anyhow!("{name} line {}: {e}", self.number));
         }
     }
 }
@@ -179,8 +211,9 @@ fn correct_stream(
         line: String::new(),
         number: 0,
     };
-    let width = lines.header()?;
-    writeln!(out, "{}", COLUMNS[..width].join(","))?;
+    let header = lines.header()?;
+    let width = header.names.len();
+    writeln!(out, "{}", header.names.join(",")).map_err(stdio::stdout_error)?;
     let mut folded_at: Option<f64> = None;
     loop {
         let more = lines
@@ -197,16 +230,15 @@ fn correct_stream(
         let at = lines.place();
         if fields.len() != width {
             bail!(
-                "{name} line {}: expected {width} columns, found {}",
+                "{name} line {}: expected {width} columns as in the header, found {}",
                 at.number,
                 fields.len()
             );
         }
-        at.number(&fields, 0)?;
-        let temperature = if width == 8 {
-            Some(at.number(&fields, 7)?)
-        } else {
-            None
+        at.number(&fields, header.cell(0), "t")?;
+        let temperature = match header.index[7] {
+            Some(cell) => Some(at.number(&fields, cell, "temp")?),
+            None => None,
         };
         if let (Some(t), true) = (temperature, has_terms) {
             if folded_at != Some(t) {
@@ -216,55 +248,68 @@ fn correct_stream(
                 folded_at = Some(t);
             }
         }
-        correct_row(out, corrector, at, &fields, temperature, exact)?;
+        correct_row(out, corrector, at, &fields, &header, temperature, exact)?;
     }
 }
 
-/// Corrects one row's six values and writes the row, `t` and `temp` as written.
+/// Corrects one row's six values and writes the row, every other cell as written.
 fn correct_row(
     out: &mut impl Write,
     corrector: &Corrector,
     at: Place,
     fields: &[&str],
+    header: &Header,
     temperature: Option<f64>,
     exact: bool,
 ) -> anyhow::Result<()> {
     let mut v = [0.0f64; 6];
     for (i, x) in v.iter_mut().enumerate() {
-        *x = at.number(fields, i + 1)?;
+        *x = at.number(fields, header.cell(i + 1), COLUMNS[i + 1])?;
     }
-    let tail = fields.get(7).map(|t| format!(",{t}")).unwrap_or_default();
-    if exact {
+    let corrected: [String; 6] = if exact {
         let m = corrector.reference_si(
             [v[0], v[1], v[2]],
             [v[3], v[4], v[5]],
             temperature.unwrap_or(0.0),
         );
-        write_row(out, fields[0], m.accel, m.gyro, &tail)?;
+        six(m.accel, m.gyro)
     } else {
-        let f = at.f32_values(fields)?;
+        let f = at.f32_values(fields, header)?;
         let m = corrector.correct_si(
             [f[0], f[1], f[2]],
             [f[3], f[4], f[5]],
             temperature.unwrap_or(0.0) as f32,
         );
-        write_row(out, fields[0], m.accel, m.gyro, &tail)?;
-    }
-    Ok(())
+        six(m.accel, m.gyro)
+    };
+    write_row(out, fields, header, &corrected).map_err(stdio::stdout_error)
 }
 
-/// One output row: `t` as written, the corrected values in the shortest form
-/// that reads back to the same number, then `tail` (`,temp` or nothing).
-fn write_row<T: std::fmt::Display>(
-    out: &mut impl Write,
-    t: &str,
-    accel: [T; 3],
-    gyro: [T; 3],
-    tail: &str,
-) -> io::Result<()> {
+/// The six corrected values in the shortest form that reads back to the
+/// same number.
+fn six<T: std::fmt::Display>(accel: [T; 3], gyro: [T; 3]) -> [String; 6] {
     let [ax, ay, az] = accel;
     let [gx, gy, gz] = gyro;
-    writeln!(out, "{t},{ax},{ay},{az},{gx},{gy},{gz}{tail}")
+    [ax, ay, az, gx, gy, gz].map(|x| x.to_string())
+}
+
+/// One output row: the input's cells, the six values replaced by `corrected`.
+fn write_row(
+    out: &mut impl Write,
+    fields: &[&str],
+    header: &Header,
+    corrected: &[String; 6],
+) -> io::Result<()> {
+    for (cell, raw) in fields.iter().enumerate() {
+        if cell > 0 {
+            out.write_all(b",")?;
+        }
+        let value = (1..7)
+            .find(|&k| header.cell(k) == cell)
+            .map_or(*raw, |k| corrected[k - 1].as_str());
+        out.write_all(value.as_bytes())?;
+    }
+    out.write_all(b"\n")
 }
 
 #[cfg(test)]
@@ -302,12 +347,34 @@ mod tests {
     }
 
     #[test]
+    fn columns_are_found_by_name_and_the_others_copied() {
+        // `triad decode`'s columns, with a byte-order mark before the header.
+        let input =
+            "\u{feff}seq,t,ax,ay,az,gx,gy,gz,temp,flags\n7,0.01,1.0,2,3,0.1,0.2,0.3,25.5,4\n";
+        let out = corrected(input, false).unwrap();
+        assert_eq!(
+            out,
+            "seq,t,ax,ay,az,gx,gy,gz,temp,flags\n7,0.01,1,2,3,0.1,0.2,0.3,25.5,4\n"
+        );
+        let shuffled = corrected("gz,gy,gx,az,ay,ax,t\n6,5,4,3,2,1,0.5\n", true).unwrap();
+        assert_eq!(shuffled, "gz,gy,gx,az,ay,ax,t\n6,5,4,3,2,1,0.5\n");
+        let e = corrected("seq,t,ax,ay,az,gx,gy,gz\n1,0,0,0,x,0,0,0\n", false)
+            .unwrap_err()
+            .to_string();
+        assert_eq!(e, "in.csv line 2, column 5 (az): `x` is not a number");
+    }
+
+    #[test]
     fn bad_input_is_named_by_line_and_column() {
         let err = |input: &str| corrected(input, false).unwrap_err().to_string();
         assert!(err("").contains("empty input"));
-        assert!(err("t,ax\n").starts_with("in.csv line 1: header must be"));
+        assert!(err("t,ax\n").starts_with("in.csv line 1: missing column(s) `ay`, `az`, `gx`"));
+        assert!(err("t,ax,ay,az,gx,gy,gz,ax\n").contains("column `ax` appears twice"));
         let e = err("t,ax,ay,az,gx,gy,gz\n1,2,3\n");
-        assert_eq!(e, "in.csv line 2: expected 7 columns, found 3");
+        assert_eq!(
+            e,
+            "in.csv line 2: expected 7 columns as in the header, found 3"
+        );
         let e = err("t,ax,ay,az,gx,gy,gz\n\n1,2,x,0,0,0,0\n");
         assert_eq!(e, "in.csv line 3, column 3 (ay): `x` is not a number");
         let e = err("t,ax,ay,az,gx,gy,gz\n1,2,3,inf,0,0,0\n");

@@ -6,15 +6,20 @@
 //! rejected frames (with --verbose) and the final counters go to stderr.
 
 use std::fs::File;
-use std::io::{self, BufWriter, ErrorKind, Read, Write};
+use std::io::{self, ErrorKind, Read, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 
 use anyhow::{bail, Context};
 use triad::stream::{DecodeError, Decoder, DecoderStats, Frame, TimestampUnwrapper};
+
+use crate::interrupt;
+use crate::number::readable;
+use crate::progress::{Progress, Unit};
+use crate::row_writer::RowWriter;
+use crate::stdio::{self, note, ReaderGone};
 
 /// The CSV header (column order of every line).
 pub const CSV_HEADER: &str = "seq,t,ax,ay,az,gx,gy,gz,temp,flags";
@@ -32,10 +37,15 @@ pub struct DecodeArgs {
     #[arg(long, value_name = "DEV")]
     pub port: Option<String>,
     /// Baud rate of --port (8N1).
-    #[arg(long, value_name = "N", default_value_t = 115_200)]
+    #[arg(
+        long,
+        value_name = "N",
+        default_value_t = 115_200,
+        allow_negative_numbers = true
+    )]
     pub baud: u32,
     /// Stop after N good frames.
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub max_frames: Option<u64>,
     /// Stop after S seconds of stream time (by the frames' timestamps,
     /// counted from the first good frame).
@@ -46,21 +56,39 @@ pub struct DecodeArgs {
     pub verbose: bool,
 }
 
-/// Runs `triad decode`.
+/// Bytes of CSV buffered before a write (a file or a pipe; a live port
+/// flushes after every read).
+const CSV_BUFFER: usize = 1 << 16;
+
+/// Runs `triad decode`. The summary goes to stderr however decoding ends;
+/// then a failed output is an error (the reader closing the pipe a quiet
+/// one), and so is an input in which no frame decoded.
 pub fn run(args: DecodeArgs) -> anyhow::Result<ExitCode> {
     let limits = Limits::from_args(&args)?;
-    let interrupted = Arc::new(AtomicBool::new(false));
-    {
-        let flag = Arc::clone(&interrupted);
-        // If a handler cannot be installed, Ctrl-C still ends the program,
-        // only without the summary: not worth refusing to decode.
-        let _ = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst));
+    let interrupted = interrupt::flag();
+    let source = open_source(&args)?;
+    let mut csv = RowWriter::new(stdio::raw_stdout()?, CSV_BUFFER);
+    let mut outcome = decode_stream(source, &mut csv, &limits, &interrupted, args.verbose)?;
+    if outcome.failure.is_none() {
+        if let Err(e) = stdio::sync_if_file(csv.get_ref()) {
+            outcome.failure = Some(Failure::Output(format!("{e} (when syncing)")));
+        }
     }
-    let (source, live) = open_source(&args)?;
-    let stdout = io::stdout();
-    let mut csv = BufWriter::new(stdout.lock());
-    let outcome = decode_stream(source, live, &mut csv, &limits, &interrupted, args.verbose)?;
-    print_summary(&outcome);
+    note!("{}", summary(&outcome).trim_end());
+    match outcome.failure {
+        Some(Failure::ReaderGone) => return Err(ReaderGone.into()),
+        Some(Failure::Output(e)) => bail!(
+            "writing the CSV to standard output: {e}; {} rows stored",
+            outcome.rows
+        ),
+        None => {}
+    }
+    if outcome.stats.frames == 0 && limits.max_frames != Some(0) {
+        bail!(
+            "no frame decoded from {} bytes: not a triad stream (docs/PROTOCOL.md), or the wrong port or baud rate",
+            outcome.stats.bytes
+        );
+    }
     Ok(ExitCode::SUCCESS)
 }
 
@@ -77,7 +105,10 @@ impl Limits {
             Some(s) if s.is_finite() && s > 0.0 && s * 1e6 < u64::MAX as f64 => {
                 Some((s * 1e6).round() as u64)
             }
-            Some(s) => bail!("--seconds {s}: must be a positive, finite number of seconds"),
+            Some(s) => bail!(
+                "--seconds {}: must be a positive, finite number of seconds",
+                readable(s)
+            ),
         };
         if args.baud == 0 {
             bail!("--baud 0: the baud rate must be positive");
@@ -89,22 +120,43 @@ impl Limits {
     }
 }
 
-/// The input and whether it is a live link (flushed line by line).
-fn open_source(args: &DecodeArgs) -> anyhow::Result<(Box<dyn Read>, bool)> {
+/// The input: the bytes, whether it is a live link (flushed line by line)
+/// and its size (0 when unknown), for the progress.
+struct Source {
+    bytes: Box<dyn Read>,
+    live: bool,
+    size: u64,
+}
+
+fn open_source(args: &DecodeArgs) -> anyhow::Result<Source> {
     if let Some(port) = &args.port {
         let serial = serialport::new(port.as_str(), args.baud)
             .timeout(PORT_POLL)
             .open()
             .with_context(|| format!("cannot open serial port {port} at {} baud", args.baud))?;
-        return Ok((Box::new(serial), true));
+        return Ok(Source {
+            bytes: Box::new(serial),
+            live: true,
+            size: 0,
+        });
     }
+    let stdin = || Source {
+        bytes: Box::new(io::stdin()),
+        live: false,
+        size: 0,
+    };
     match &args.input {
-        None => Ok((Box::new(io::stdin()), false)),
-        Some(path) if path.as_os_str() == "-" => Ok((Box::new(io::stdin()), false)),
+        None => Ok(stdin()),
+        Some(path) if path.as_os_str() == "-" => Ok(stdin()),
         Some(path) => {
             let file =
                 File::open(path).with_context(|| format!("cannot open {}", path.display()))?;
-            Ok((Box::new(file), false))
+            let size = file.metadata().map(|m| m.len()).unwrap_or(0);
+            Ok(Source {
+                bytes: Box::new(file),
+                live: false,
+                size,
+            })
         }
     }
 }
@@ -112,9 +164,31 @@ fn open_source(args: &DecodeArgs) -> anyhow::Result<(Box<dyn Read>, bool)> {
 /// Why decoding stopped, and what the decoder counted.
 struct Outcome {
     stats: DecoderStats,
+    /// Rows the output took whole.
     rows: u64,
     pending_bytes: u64,
     stop: Stop,
+    /// Why the output failed, if it did.
+    failure: Option<Failure>,
+}
+
+/// How the output failed.
+#[derive(Debug, PartialEq, Eq)]
+enum Failure {
+    /// The reader closed the pipe.
+    ReaderGone,
+    /// Any other write error (a full disk).
+    Output(String),
+}
+
+impl Failure {
+    fn of(e: &io::Error) -> Failure {
+        if e.kind() == ErrorKind::BrokenPipe {
+            Failure::ReaderGone
+        } else {
+            Failure::Output(e.to_string())
+        }
+    }
 }
 
 #[derive(Debug, PartialEq, Eq)]
@@ -123,7 +197,7 @@ enum Stop {
     MaxFrames,
     Seconds,
     Interrupted,
-    OutputClosed,
+    OutputFailed,
     PortClosed(String),
 }
 
@@ -137,10 +211,9 @@ fn is_port_gone(e: &io::Error) -> bool {
         )
 }
 
-fn decode_stream(
-    mut source: Box<dyn Read>,
-    live: bool,
-    csv: &mut impl Write,
+fn decode_stream<W: Write>(
+    mut source: Source,
+    csv: &mut RowWriter<W>,
     limits: &Limits,
     interrupted: &AtomicBool,
     verbose: bool,
@@ -152,16 +225,19 @@ fn decode_stream(
         verbose,
         clock: TimestampUnwrapper::new(),
         first_us: None,
-        written: 0,
+        formatted: 0,
+        failure: None,
     };
+    // About a second of reading: 64 MB.
+    let progress = Progress::new(source.size, 64 << 20, Unit::Bytes);
     let mut buffer = [0u8; 4096];
     let mut stop = sink.start();
     while stop.is_none() {
-        if interrupted.load(Ordering::SeqCst) {
+        if interrupt::requested(interrupted) {
             stop = Some(Stop::Interrupted);
             break;
         }
-        let n = match read_some(&mut source, &mut buffer, live)? {
+        let n = match read_some(&mut *source.bytes, &mut buffer, source.live)? {
             Chunk::Bytes(n) => n,
             Chunk::Again => continue,
             Chunk::End(why) => {
@@ -170,18 +246,25 @@ fn decode_stream(
             }
         };
         stop = sink.feed(&mut decoder, &buffer[..n]);
-        if stop.is_none() && live && sink.csv.flush().is_err() {
-            stop = Some(Stop::OutputClosed);
+        if stop.is_none() && source.live {
+            stop = sink.flush();
+        }
+        progress.update(decoder.stats().bytes);
+    }
+    if sink.failure.is_none() {
+        if let Some(failed) = sink.flush() {
+            stop = Some(failed);
         }
     }
-    if sink.csv.flush().is_err() {
-        stop = Some(Stop::OutputClosed);
-    }
+    progress.finish();
+    let failure = sink.failure.take();
     Ok(Outcome {
         stats: *decoder.stats(),
-        rows: sink.written,
+        // The header is not a row.
+        rows: sink.csv.stored().saturating_sub(1),
         pending_bytes: decoder.pending_bytes(),
         stop: stop.unwrap_or(Stop::EndOfInput),
+        failure,
     })
 }
 
@@ -210,27 +293,43 @@ fn read_some(source: &mut dyn Read, buffer: &mut [u8], live: bool) -> anyhow::Re
 }
 
 /// Where good frames go: the CSV, within the limits.
-struct Sink<'a, W> {
-    csv: &'a mut W,
+struct Sink<'a, W: Write> {
+    csv: &'a mut RowWriter<W>,
     limits: &'a Limits,
     verbose: bool,
     clock: TimestampUnwrapper,
     /// The first good frame's time, µs.
     first_us: Option<u64>,
-    written: u64,
+    /// Rows formatted (stored or still buffered).
+    formatted: u64,
+    failure: Option<Failure>,
 }
 
 impl<W: Write> Sink<'_, W> {
     /// Writes the header; stops at once when it cannot or no frame is wanted.
     fn start(&mut self) -> Option<Stop> {
-        if write_line(self.csv, format_args!("{CSV_HEADER}")).is_err() {
-            return Some(Stop::OutputClosed);
+        if let Err(e) = self.csv.line(format_args!("{CSV_HEADER}")) {
+            return Some(self.failed(&e));
         }
         (self.limits.max_frames == Some(0)).then_some(Stop::MaxFrames)
     }
 
+    /// Records why the output failed.
+    fn failed(&mut self, e: &io::Error) -> Stop {
+        self.failure = Some(Failure::of(e));
+        Stop::OutputFailed
+    }
+
+    /// Writes what is buffered; why to stop if the output failed.
+    fn flush(&mut self) -> Option<Stop> {
+        match self.csv.flush() {
+            Ok(()) => None,
+            Err(e) => Some(self.failed(&e)),
+        }
+    }
+
     /// Decodes `bytes` and writes each good frame; why to stop, if a limit
-    /// is reached or the output closed.
+    /// is reached or the output failed.
     fn feed(&mut self, decoder: &mut Decoder, bytes: &[u8]) -> Option<Stop> {
         for result in decoder.feed(bytes) {
             match result {
@@ -257,13 +356,13 @@ impl<W: Write> Sink<'_, W> {
         {
             return Some(Stop::Seconds);
         }
-        if write_frame(self.csv, frame, t_us).is_err() {
-            return Some(Stop::OutputClosed);
+        if let Err(e) = write_frame(self.csv, frame, t_us) {
+            return Some(self.failed(&e));
         }
-        self.written += 1;
+        self.formatted += 1;
         self.limits
             .max_frames
-            .is_some_and(|max| self.written >= max)
+            .is_some_and(|max| self.formatted >= max)
             .then_some(Stop::MaxFrames)
     }
 }
@@ -271,33 +370,21 @@ impl<W: Write> Sink<'_, W> {
 /// One CSV line. `t` is printed exactly (integer µs as seconds with six
 /// decimals); the values with `{:?}`, the shortest decimal that parses back
 /// to the same f32 (exponent form for very large or small magnitudes).
-fn write_frame(csv: &mut impl Write, f: &Frame, t_us: u64) -> io::Result<()> {
+fn write_frame<W: Write>(csv: &mut RowWriter<W>, f: &Frame, t_us: u64) -> io::Result<()> {
     let [ax, ay, az] = f.accel;
     let [gx, gy, gz] = f.gyro;
-    write_line(
-        csv,
-        format_args!(
-            "{},{}.{:06},{ax:?},{ay:?},{az:?},{gx:?},{gy:?},{gz:?},{:?},{}",
-            f.sequence,
-            t_us / 1_000_000,
-            t_us % 1_000_000,
-            f.temperature,
-            f.flags.bits()
-        ),
-    )
-}
-
-fn write_line(csv: &mut impl Write, line: std::fmt::Arguments<'_>) -> io::Result<()> {
-    csv.write_fmt(line)?;
-    csv.write_all(b"\n")
+    csv.line(format_args!(
+        "{},{}.{:06},{ax:?},{ay:?},{az:?},{gx:?},{gy:?},{gz:?},{:?},{}",
+        f.sequence,
+        t_us / 1_000_000,
+        t_us % 1_000_000,
+        f.temperature,
+        f.flags.bits()
+    ))
 }
 
 fn report_rejected(error: &DecodeError) {
-    eprintln!("triad decode: rejected frame: {error}");
-}
-
-fn print_summary(outcome: &Outcome) {
-    eprint!("{}", summary(outcome));
+    note!("triad decode: rejected frame: {error}");
 }
 
 /// Why decoding stopped and the decoder's counters, a line each.
@@ -308,12 +395,16 @@ fn summary(outcome: &Outcome) -> String {
         Stop::MaxFrames => "--max-frames reached".to_string(),
         Stop::Seconds => "--seconds reached".to_string(),
         Stop::Interrupted => "interrupted".to_string(),
-        Stop::OutputClosed => "output closed".to_string(),
+        Stop::OutputFailed => match &outcome.failure {
+            Some(Failure::ReaderGone) => "the reader closing standard output".to_string(),
+            Some(Failure::Output(e)) => format!("an output error ({e})"),
+            None => "an output error".to_string(),
+        },
         Stop::PortClosed(reason) => format!("port closed ({reason})"),
     };
     let mut text = format!(
         "triad decode: stopped at {why}\n\
-         frames: {} ({} written as CSV rows)\n\
+         frames: {} ({} stored as CSV rows)\n\
          crc errors: {}\n\
          malformed: {}\n\
          sequence gaps: {} ({} frames lost)\n\
@@ -372,11 +463,15 @@ mod tests {
             max_frames,
             max_elapsed_us: seconds.map(|s| (s * 1e6) as u64),
         };
-        let mut csv = Vec::new();
-        let source: Box<dyn Read> = Box::new(io::Cursor::new(bytes));
+        let mut csv = RowWriter::new(Vec::new(), 64);
+        let source = Source {
+            bytes: Box::new(io::Cursor::new(bytes)),
+            live: false,
+            size: 0,
+        };
         let never = AtomicBool::new(false);
-        let outcome = decode_stream(source, false, &mut csv, &limits, &never, false).unwrap();
-        (outcome, String::from_utf8(csv).unwrap())
+        let outcome = decode_stream(source, &mut csv, &limits, &never, false).unwrap();
+        (outcome, String::from_utf8(csv.get_ref().clone()).unwrap())
     }
 
     #[test]
@@ -413,7 +508,7 @@ mod tests {
         let text = summary(&outcome);
         let lines: Vec<&str> = text.lines().collect();
         assert_eq!(lines[0], "triad decode: stopped at end of input");
-        assert_eq!(lines[1], "frames: 2 (2 written as CSV rows)");
+        assert_eq!(lines[1], "frames: 2 (2 stored as CSV rows)");
         assert!(
             text.contains("incomplete frame at the end: 3 bytes\n"),
             "{text}"

@@ -8,6 +8,11 @@
 //! - [`calib`]: check, pack and fit calibration files ([`calib_file`]);
 //! - [`sim`]: what a sensor measures in a scene ([`scene_file`]);
 //! - [`allan`]: Allan deviation, noise terms and grade of rate columns.
+//!
+//! What every command shares: [`input`] (a CSV file or stdin), [`outfile`]
+//! (outputs written whole or not at all), [`distinct`] (no output over an
+//! input), [`stdio`] (stdout and stderr without panics), [`progress`],
+//! [`interrupt`] (Ctrl-C) and [`number`] (readable numbers in messages).
 
 #![warn(missing_docs)]
 
@@ -16,6 +21,13 @@ pub mod calib;
 pub mod calib_file;
 pub mod correct;
 pub mod decode;
+pub mod distinct;
+pub mod input;
+pub mod interrupt;
+pub mod number;
+pub mod outfile;
 pub mod progress;
+pub mod row_writer;
 pub mod scene_file;
 pub mod sim;
+pub mod stdio;

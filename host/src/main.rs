@@ -1,9 +1,17 @@
 //! `triad`: the host side of triad. The subcommands live in the `triad_host`
 //! library; this file only parses the command line, dispatches, and reports
 //! errors in one line.
+//!
+//! Exit status: 0 on success, 1 on an error (one line on stderr), 2 for a
+//! command line clap refuses, 141 (quietly) when the reader of stdout
+//! closed it, as `… | head -1` does: files the command writes are complete
+//! before anything is printed, so they are not lost.
+
+use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
-use triad_host::{allan, calib, correct, decode, sim};
+use triad_host::stdio::{self, READER_GONE_STATUS};
+use triad_host::{allan, calib, correct, decode, progress, sim};
 
 #[derive(Parser)]
 #[command(
@@ -12,6 +20,9 @@ use triad_host::{allan, calib, correct, decode, sim};
     about = "Calibrated MEMS inertial sensors: host toolkit"
 )]
 struct Cli {
+    /// No progress lines on stderr.
+    #[arg(long, short, global = true)]
+    quiet: bool,
     #[command(subcommand)]
     command: Command,
 }
@@ -30,20 +41,28 @@ enum Command {
     Allan(allan::AllanArgs),
 }
 
-fn main() -> std::process::ExitCode {
-    let cli = Cli::parse();
-    let result = match cli.command {
+fn run(cli: Cli) -> anyhow::Result<ExitCode> {
+    if cli.quiet {
+        progress::silence();
+    }
+    stdio::check_stdout_open()?;
+    match cli.command {
         Command::Decode(args) => decode::run(args),
         Command::Correct(args) => correct::run(args),
         Command::Calib(args) => calib::run(args),
         Command::Sim(args) => sim::run(args),
         Command::Allan(args) => allan::run(args),
-    };
-    match result {
+    }
+}
+
+fn main() -> ExitCode {
+    match run(Cli::parse()) {
         Ok(code) => code,
+        Err(error) if stdio::is_reader_gone(&error) => ExitCode::from(READER_GONE_STATUS),
         Err(error) => {
-            eprintln!("triad: {error:#}");
-            std::process::ExitCode::FAILURE
+            use std::io::Write as _;
+            let _ = writeln!(std::io::stderr(), "triad: {error:#}");
+            ExitCode::FAILURE
         }
     }
 }

@@ -2,18 +2,27 @@
 //! as CSV (`t,ax,ay,az,gx,gy,gz,temp`, SI units), streaming in constant
 //! memory; or (`--pack`) write the scene as the blob the emulated board embeds.
 
-use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use anyhow::{anyhow, bail, Context};
+use anyhow::{anyhow, bail};
 use triad_sim::scene::Scene;
 use triad_sim::simulator::Simulator;
 use triad_sim::source::TrueSample;
 
+use crate::distinct::{self, named};
+use crate::interrupt;
+use crate::number::readable;
+use crate::outfile::{self, OutFile};
 use crate::progress::{Progress, Unit};
 use crate::scene_file::{self, LoadedScene};
+use crate::stdio::note;
+
+/// Default of `--max-samples`: 10⁸ samples, some 15 GB of CSV (rows of
+/// about 150 bytes) and a few minutes of work; above it a run is refused
+/// unless asked for, so a slip such as `--seconds 1e12` cannot fill a disk.
+pub const DEFAULT_MAX_SAMPLES: u64 = 100_000_000;
 
 /// Arguments of `triad sim`.
 #[derive(clap::Args)]
@@ -22,24 +31,27 @@ pub struct SimArgs {
     #[arg(long)]
     pub scene: String,
     /// Seconds to simulate (default: the scene's `duration_s`).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub seconds: Option<f64>,
     /// Sample rate in Hz (default: the scene's `rate_hz`).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub rate: Option<f64>,
     /// Seed of every random stream.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub seed: u64,
-    /// The measured samples (CSV).
+    /// The measured samples (CSV; `-`: standard output).
     #[arg(long, required_unless_present = "pack")]
     pub out: Option<PathBuf>,
     /// Instead of simulating: write the scene (with --rate and --seed) as
     /// the binary blob the emulated board embeds (`cargo xtask run --scene`).
     #[arg(long, value_name = "FILE", conflicts_with_all = ["out", "truth"])]
     pub pack: Option<PathBuf>,
-    /// Also write the truth (same columns, no errors).
+    /// Also write the truth (same columns, no errors; `-`: standard output).
     #[arg(long)]
     pub truth: Option<PathBuf>,
+    /// Refuse runs of more samples than this (seconds × rate).
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_SAMPLES, allow_negative_numbers = true)]
+    pub max_samples: u64,
 }
 
 /// The CSV header of simulated files.
@@ -53,20 +65,25 @@ pub fn write_row(w: &mut impl Write, t: f64, s: &TrueSample) -> std::io::Result<
     writeln!(w, "{t},{ax},{ay},{az},{gx},{gy},{gz},{}", s.temperature)
 }
 
-fn create(path: &PathBuf) -> anyhow::Result<BufWriter<File>> {
-    let file = File::create(path).with_context(|| format!("creating {}", path.display()))?;
-    let mut w = BufWriter::with_capacity(1 << 16, file);
-    writeln!(w, "{HEADER}")?;
-    Ok(w)
-}
-
 /// Runs `triad sim`.
 pub fn run(args: SimArgs) -> anyhow::Result<ExitCode> {
     let loaded = scene_file::load(&args.scene)?;
+    let outputs: Vec<_> = [
+        ("--out", &args.out),
+        ("--truth", &args.truth),
+        ("--pack", &args.pack),
+    ]
+    .into_iter()
+    .filter_map(|(what, p)| p.as_deref().map(|p| named(what, p)))
+    .collect();
+    distinct::check(&[named("--scene", &loaded.path)], &outputs)?;
     let mut scene = loaded.scene;
     if let Some(rate) = args.rate {
         if !(rate.is_finite() && rate > 0.0) {
-            bail!("--rate {rate}: the sample rate must be a positive number of Hz");
+            bail!(
+                "--rate {}: the sample rate must be a positive number of Hz",
+                readable(rate)
+            );
         }
         scene.rate_hz = rate;
     }
@@ -76,61 +93,87 @@ pub fn run(args: SimArgs) -> anyhow::Result<ExitCode> {
     let Some(out_path) = args.out.as_ref() else {
         bail!("--out FILE: where the samples go (or --pack FILE for the firmware's blob)");
     };
-    let total = sample_count(args.seconds, &loaded, scene.rate_hz)?;
+    let total = sample_count(args.seconds, &loaded, scene.rate_hz, args.max_samples)?;
     let sim =
         Simulator::new(&scene, args.seed).map_err(|e| anyhow!("{}: {e}", loaded.path.display()))?;
-    simulate(sim, total, out_path, args.truth.as_ref())?;
+    simulate(sim, total, out_path, args.truth.as_deref())?;
     Ok(ExitCode::SUCCESS)
 }
 
-/// Samples to write: `--seconds` (else the scene's `duration_s`) at `rate_hz`.
-fn sample_count(seconds: Option<f64>, loaded: &LoadedScene, rate_hz: f64) -> anyhow::Result<u64> {
-    let seconds = match (seconds, loaded.duration_s) {
-        (Some(s), _) | (None, Some(s)) => s,
+/// Samples to write: `--seconds` (else the scene's `duration_s`) at
+/// `rate_hz`, at most `max_samples`.
+fn sample_count(
+    seconds: Option<f64>,
+    loaded: &LoadedScene,
+    rate_hz: f64,
+    max_samples: u64,
+) -> anyhow::Result<u64> {
+    let (seconds, from) = match (seconds, loaded.duration_s) {
+        (Some(s), _) => (s, "--seconds".to_string()),
+        (None, Some(s)) => (s, format!("{} duration_s", loaded.path.display())),
         (None, None) => bail!(
             "scene {} has no duration_s; give --seconds",
             loaded.path.display()
         ),
     };
     if !(seconds.is_finite() && seconds >= 0.0) {
-        bail!("--seconds {seconds}: must be a non-negative number");
+        bail!(
+            "{from} {}: must be a non-negative number",
+            readable(seconds)
+        );
     }
     let total = (seconds * rate_hz).round();
-    if total > u64::MAX as f64 / 2.0 {
-        bail!("--seconds {seconds} at {rate_hz} Hz is too many samples");
+    if total > max_samples as f64 {
+        bail!(
+            "{from} {} at {} Hz is {} samples, above the limit of {max_samples} \
+             (--max-samples N raises it; each sample is about 150 bytes of CSV)",
+            readable(seconds),
+            readable(rate_hz),
+            readable(total)
+        );
     }
     Ok(total as u64)
 }
 
+/// A CSV output with its header written.
+fn create(path: &Path) -> anyhow::Result<OutFile> {
+    let mut out = OutFile::create(path)?;
+    writeln!(out, "{HEADER}").map_err(|e| out.error(e))?;
+    Ok(out)
+}
+
 /// Steps `sim` `total` times, writing the measurements to `out_path` and,
-/// when asked, the truth to `truth_path`.
+/// when asked, the truth to `truth_path`. Both are opened before either is
+/// written, and put in place only when both are whole.
 fn simulate(
     mut sim: Simulator,
     total: u64,
-    out_path: &PathBuf,
-    truth_path: Option<&PathBuf>,
+    out_path: &Path,
+    truth_path: Option<&Path>,
 ) -> anyhow::Result<()> {
     let mut out = create(out_path)?;
     let mut truth = truth_path.map(create).transpose()?;
+    let interrupted = interrupt::flag();
     // About a second of work: 2 M samples.
     let progress = Progress::new(total, 2_000_000, Unit::Samples);
     for k in 0..total {
         let s = sim.step();
-        write_row(&mut out, s.t, &s.measured)
-            .with_context(|| format!("writing {}", out_path.display()))?;
+        write_row(&mut out, s.t, &s.measured).map_err(|e| out.error(e))?;
         if let Some(w) = truth.as_mut() {
-            write_row(w, s.t, &s.truth)?;
+            write_row(w, s.t, &s.truth).map_err(|e| w.error(e))?;
         }
         if k & 0xffff == 0 {
             progress.update(k);
+            if interrupt::requested(&interrupted) {
+                bail!("interrupted at sample {k} of {total}: nothing written");
+            }
         }
     }
-    out.flush()
-        .with_context(|| format!("writing {}", out_path.display()))?;
-    if let Some(mut w) = truth {
-        w.flush()?;
-    }
     progress.finish();
+    out.commit()?;
+    if let Some(w) = truth {
+        w.commit()?;
+    }
     Ok(())
 }
 
@@ -141,8 +184,8 @@ fn pack(scene: &Scene, seed: u64, path: &Path, source: &Path) -> anyhow::Result<
     Simulator::new(scene, seed).map_err(|e| anyhow!("{}: {e}", source.display()))?;
     let mut blob = [0u8; MAX_BLOB_LEN];
     let len = encode(scene, seed, &mut blob).map_err(|e| anyhow!("{}: {e}", source.display()))?;
-    std::fs::write(path, &blob[..len]).with_context(|| format!("writing {}", path.display()))?;
-    eprintln!(
+    outfile::write_whole(path, &blob[..len])?;
+    note!(
         "{}: scene {} at {} Hz, seed {seed}: {len} bytes",
         path.display(),
         source.display(),
@@ -155,6 +198,8 @@ fn pack(scene: &Scene, seed: u64, path: &Path, source: &Path) -> anyhow::Result<
 mod tests {
     use super::*;
     use triad_sim::motion::Motion;
+
+    const MAX: u64 = DEFAULT_MAX_SAMPLES;
 
     fn loaded(duration_s: Option<f64>) -> LoadedScene {
         LoadedScene {
@@ -183,19 +228,41 @@ mod tests {
     #[test]
     fn the_sample_count_comes_from_seconds_or_the_scene() {
         assert_eq!(
-            sample_count(Some(1.5), &loaded(Some(9.0)), 100.0).unwrap(),
+            sample_count(Some(1.5), &loaded(Some(9.0)), 100.0, MAX).unwrap(),
             150
         );
-        assert_eq!(sample_count(None, &loaded(Some(2.0)), 100.0).unwrap(), 200);
-        assert_eq!(sample_count(Some(0.0), &loaded(None), 100.0).unwrap(), 0);
-        let err = sample_count(None, &loaded(None), 100.0).unwrap_err();
+        assert_eq!(
+            sample_count(None, &loaded(Some(2.0)), 100.0, MAX).unwrap(),
+            200
+        );
+        assert_eq!(
+            sample_count(Some(0.0), &loaded(None), 100.0, MAX).unwrap(),
+            0
+        );
+        let err = sample_count(None, &loaded(None), 100.0, MAX).unwrap_err();
         assert_eq!(
             err.to_string(),
             "scene s.toml has no duration_s; give --seconds"
         );
-        let err = sample_count(Some(-1.0), &loaded(None), 100.0).unwrap_err();
+        let err = sample_count(Some(-1.0), &loaded(None), 100.0, MAX).unwrap_err();
         assert!(err.to_string().contains("non-negative"));
-        let err = sample_count(Some(1e300), &loaded(None), 100.0).unwrap_err();
-        assert!(err.to_string().contains("too many samples"));
+        let err = sample_count(Some(1e300), &loaded(None), 100.0, MAX).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "--seconds 1e300 at 100 Hz is 1e302 samples, above the limit of 100000000 \
+             (--max-samples N raises it; each sample is about 150 bytes of CSV)"
+        );
+        // The limit counts samples, so a high rate is bounded as well.
+        let err = sample_count(None, &loaded(Some(60.0)), 1e12, MAX).unwrap_err();
+        assert!(
+            err.to_string()
+                .starts_with("s.toml duration_s 60 at 1000000000000 Hz is 60000000000000 samples"),
+            "{err}"
+        );
+        assert_eq!(
+            sample_count(Some(2.0), &loaded(None), 100.0, 200).unwrap(),
+            200
+        );
+        assert!(sample_count(Some(2.01), &loaded(None), 100.0, 200).is_err());
     }
 }

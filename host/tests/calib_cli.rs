@@ -68,6 +68,8 @@ fn check_rejects_each_bad_file_with_one_line_naming_the_problem() {
         ("temperature-absurd.toml", "accel temperature.scale_misalignment_per_c[0][0] = 0.05"),
         ("missing-bias.toml", "missing field `bias` (in `gyro`)"),
         ("short-row.toml", "2:40: invalid length 2, expected an array of length 3 (in `accel.scale_misalignment`)"),
+        ("long-bias.toml", "6:8: invalid length 4, expected an array of length 3 (in `gyro.bias`)"),
+        ("fourth-row.toml", "2:22: invalid length 4, expected an array of length 3 (in `accel.scale_misalignment`)"),
         ("misspelt-key.toml", "unknown field `temprature`"),
         ("bad-orientation.toml", "orientation: `ROTATION_YAW_45` is not one of the 24"),
     ];

@@ -165,7 +165,7 @@ fn malformed_csv_is_named_by_line_and_column() {
         ),
         (
             format!("{header}0,1,2,3,4,5\n"),
-            "stdin line 2: expected 7 columns, found 6",
+            "stdin line 2: expected 7 columns as in the header, found 6",
         ),
         (
             format!("{header}0,1,2,3,4,5,nan\n"),
@@ -177,7 +177,7 @@ fn malformed_csv_is_named_by_line_and_column() {
         ),
         (
             "t,ax,ay,az,gx,gy\n".to_string(),
-            "stdin line 1: header must be",
+            "stdin line 1: missing column(s) `gz` in the header `t,ax,ay,az,gx,gy`",
         ),
         (String::new(), "stdin: empty input"),
         (

@@ -154,10 +154,7 @@ fn file_with_damage_gives_exact_csv_and_counts() {
         }
         assert_eq!(*flags, want.flags.bits());
     }
-    assert_eq!(
-        summary_value(&stderr, "frames"),
-        "7 (7 written as CSV rows)"
-    );
+    assert_eq!(summary_value(&stderr, "frames"), "7 (7 stored as CSV rows)");
     assert_eq!(summary_value(&stderr, "crc errors"), "1");
     assert_eq!(summary_value(&stderr, "malformed"), "0");
     assert_eq!(summary_value(&stderr, "sequence gaps"), "2 (2 frames lost)");

@@ -25,4 +25,4 @@ pub use corrector::{ClipFlags, Corrector, ReferenceSample, Sample};
 pub use fixed::{FixedCorrector, FixedSample};
 pub use fold::FoldedTriad;
 pub use orientation::{Orientation, UnsupportedOrientation};
-pub use validate::{CalibrationError, Entry};
+pub use validate::{CalibrationError, Entry, Readable};

@@ -216,6 +216,22 @@ pub enum CalibrationError {
     },
 }
 
+/// A value in a message: the shortest decimal that reads back to it when
+/// that is short (magnitudes 1e-5 up to 1e16, and zero), in exponent form
+/// otherwise (`1e308`, not 309 digits).
+pub struct Readable(pub f64);
+
+impl fmt::Display for Readable {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let a = self.0.abs();
+        if !self.0.is_finite() || self.0 == 0.0 || (1e-5..1e16).contains(&a) {
+            write!(f, "{}", self.0)
+        } else {
+            write!(f, "{:e}", self.0)
+        }
+    }
+}
+
 /// ` at 85 °C` or nothing.
 struct At(Option<f64>);
 
@@ -232,13 +248,15 @@ impl fmt::Display for CalibrationError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
             CalibrationError::NonFinite { triad, entry, value } => {
+                let value = Readable(value);
                 write!(f, "{} {entry} = {value}: not a finite number", triad.name())
             }
             CalibrationError::Singular { triad, determinant, temperature_c } => write!(
                 f,
                 "{} scale_misalignment{}: singular (determinant {determinant}), cannot be inverted",
                 triad.name(),
-                At(temperature_c)
+                At(temperature_c),
+                determinant = Readable(determinant)
             ),
             CalibrationError::BadlyConditioned { triad, condition, temperature_c } => write!(
                 f,
@@ -253,41 +271,50 @@ impl fmt::Display for CalibrationError {
                 triad.name(),
                 At(temperature_c),
                 SCALE_RANGE.0,
-                SCALE_RANGE.1
+                SCALE_RANGE.1,
+                value = Readable(value)
             ),
             CalibrationError::MisalignmentTooLarge { triad, row, col, value, temperature_c } => write!(
                 f,
                 "{} scale_misalignment[{row}][{col}]{} = {value}: off-diagonal (misalignment) beyond ±{MAX_MISALIGNMENT}",
                 triad.name(),
-                At(temperature_c)
+                At(temperature_c),
+                value = Readable(value)
             ),
             CalibrationError::BiasBeyondFullScale { triad, axis, value, full_scale, temperature_c } => write!(
                 f,
                 "{} bias[{axis}]{} = {value}: beyond the sensor's full scale ±{full_scale}",
                 triad.name(),
-                At(temperature_c)
+                At(temperature_c),
+                value = Readable(value),
+                full_scale = Readable(full_scale)
             ),
             CalibrationError::ReferenceTemperatureOutOfRange { triad, value } => write!(
                 f,
                 "{} temperature.reference_c = {value}: outside the validated range {}..{} °C",
                 triad.name(),
                 TEMPERATURE_RANGE_C.0,
-                TEMPERATURE_RANGE_C.1
+                TEMPERATURE_RANGE_C.1,
+                value = Readable(value)
             ),
             CalibrationError::TemperatureTermAbsurd { triad, entry, value, limit } => write!(
                 f,
                 "{} {entry} = {value}: beyond the physical bound ±{limit} per °C",
-                triad.name()
+                triad.name(),
+                value = Readable(value)
             ),
             CalibrationError::InvalidScale { quantity, value } => {
+                let value = Readable(value);
                 write!(f, "sensor scale {quantity} = {value}: must be finite and positive")
             }
             CalibrationError::NonFiniteTemperature { value } => {
+                let value = Readable(value);
                 write!(f, "temperature {value} °C: not a finite number")
             }
             CalibrationError::FixedPointRange { quantity, max_output } => write!(
                 f,
-                "{quantity}: outputs up to {max_output} do not fit the fixed-point output range"
+                "{quantity}: outputs up to {max_output} do not fit the fixed-point output range",
+                max_output = Readable(max_output)
             ),
         }
     }

@@ -96,7 +96,7 @@ fn push_block(states: &mut [ColumnState], block: &[f64], width: usize) {
 /// Two threads: one splits and parses the rows, the other integrates them
 /// (on two cores the parsing and the accumulation overlap).
 pub fn analyse(args: &AllanArgs) -> anyhow::Result<Analysis> {
-    let name = args.input.display().to_string();
+    let name = crate::input::name(&args.input);
     let opened = rows::open(&args.input, &name)?;
     let size = opened.size;
     let layout = Layout::new(&opened.header, args.columns.as_deref(), args.rate.is_none())
@@ -288,7 +288,8 @@ fn results(
 /// shorter could cost the last octave; longer ones only memory).
 fn ring_cap(args: &AllanArgs, rate: f64, size: u64, bytes_read: u64, rows_read: usize) -> usize {
     let by_grid = (2 * max_m(args, rate)).next_power_of_two();
-    let by_record = if rows_read > 0 && bytes_read > 0 {
+    // Standard input has no size (0): the grid alone bounds the ring.
+    let by_record = if rows_read > 0 && bytes_read > 0 && size > 0 {
         let per_row = bytes_read as f64 / rows_read as f64;
         let estimate = (1.5 * size as f64 / per_row).max(2.0) as u64;
         1u64 << estimate.ilog2()

@@ -7,6 +7,8 @@ use triad_lab::allan::accumulate::OctaveAccumulator;
 use triad_lab::allan::direct;
 use triad_lab::allan::edf::{self, NoiseType};
 
+use crate::progress::{Progress, Unit};
+
 /// One point of a column's curve.
 #[derive(Clone, Copy, Debug)]
 pub struct Point {
@@ -63,8 +65,11 @@ pub fn every_tau(y: &[f64], offset: f64, rate: f64, max_m: u64) -> Vec<RawPoint>
     let mut s = vec![0.0; y.len() + 1];
     direct::cumulative_sums(y, offset, &mut s);
     let top = (y.len() as u64 / 2).min(max_m);
-    (1..=top)
+    // Each τ costs N: the work is top·N, shown once past ~1e8.
+    let progress = Progress::new(top, 100_000_000 / (y.len() as u64).max(1), Unit::Taus);
+    let points = (1..=top)
         .filter_map(|m| {
+            progress.update(m);
             let (avar, terms) = direct::overlapping(&s, m as usize)?;
             let non = direct::non_overlapping(&s, m as usize).map_or(f64::NAN, |x| x.0);
             Some(RawPoint {
@@ -75,7 +80,9 @@ pub fn every_tau(y: &[f64], offset: f64, rate: f64, max_m: u64) -> Vec<RawPoint>
                 terms,
             })
         })
-        .collect()
+        .collect();
+    progress.finish();
+    points
 }
 
 /// The index of the τ in `taus` (ascending) nearest `target` on a log scale.

@@ -15,7 +15,7 @@ use super::AllanArgs;
 pub fn report(args: &AllanArgs, a: &Analysis) -> Value {
     let columns: Vec<Value> = a.columns.iter().map(column).collect();
     json!({
-        "input": args.input.display().to_string(),
+        "input": crate::input::name(&args.input),
         "samples": a.samples,
         "rate_hz": a.rate,
         "rate_from": a.rate_source,

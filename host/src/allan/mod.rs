@@ -36,12 +36,17 @@ pub mod summary;
 pub mod table;
 mod time;
 
-use std::io::{BufWriter, Write};
+use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use anyhow::{bail, Context};
+use anyhow::bail;
 use triad_lab::allan::edf::ONE_SIGMA;
+
+use crate::distinct::{self, named, Named};
+use crate::number::readable;
+use crate::outfile::{self, is_stdout};
+use crate::stdio::{self, note};
 
 pub use compute::{analyse, Analysis, ColumnResult, MIN_SAMPLES, OFFSET_ROWS};
 pub use curve::Point;
@@ -51,7 +56,7 @@ pub use grade::grade_of;
 /// Arguments of `triad allan`.
 #[derive(clap::Args)]
 pub struct AllanArgs {
-    /// Input CSV with a header (e.g. `t,ax,ay,az,gx,gy,gz,temp` as `triad sim` writes; SI units).
+    /// Input CSV with a header (e.g. `t,ax,ay,az,gx,gy,gz,temp` as `triad sim` writes; SI units; `-`: stdin).
     pub input: PathBuf,
     /// Columns to analyse, comma-separated (default: every column whose name
     /// starts with `g` (gyro, rad/s) or `a` (accel, m/s²)).
@@ -60,10 +65,11 @@ pub struct AllanArgs {
     /// Sample rate in Hz (default: from the `t` column, which must then be uniform).
     #[arg(long, allow_hyphen_values = true)]
     pub rate: Option<f64>,
-    /// Write the table `column,tau,oadev,ci_low,ci_high,m,terms,edf,noise,adev` (SI units).
+    /// Write the table `column,tau,oadev,ci_low,ci_high,m,terms,edf,noise,adev` (SI units;
+    /// `-`: standard output, the summary then going to stderr).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Write a log-log plot of σ(τ) with confidence bars and the fitted terms (SVG).
+    /// Write a log-log plot of σ(τ) with confidence bars and the fitted terms (SVG; `-`: standard output).
     #[arg(long)]
     pub plot: Option<PathBuf>,
     /// Print the fitted terms, their uncertainties and the grade as JSON.
@@ -77,30 +83,55 @@ pub struct AllanArgs {
     #[arg(long, allow_hyphen_values = true)]
     pub max_tau: Option<f64>,
     /// Confidence level of the intervals (default 0.6827, one sigma).
-    #[arg(long, default_value_t = ONE_SIGMA)]
+    #[arg(long, default_value_t = ONE_SIGMA, allow_negative_numbers = true)]
     pub confidence: f64,
 }
 
-/// Runs `triad allan`.
+/// Runs `triad allan`: the outputs checked before the file is read, all of
+/// them written whole before any is put in place, then the summary (or
+/// JSON) printed, on stderr when an output went to stdout.
 pub fn run(args: AllanArgs) -> anyhow::Result<ExitCode> {
     check(&args)?;
+    let outputs: Vec<Named> = [("--out", &args.out), ("--plot", &args.plot)]
+        .into_iter()
+        .filter_map(|(what, p)| p.as_deref().map(|p| named(what, p)))
+        .collect();
+    distinct::check(&[named("input", &args.input)], &outputs)?;
+    let to_stdout = outputs.iter().find(|o| is_stdout(o.path));
+    if let (Some(o), true) = (to_stdout, args.json) {
+        bail!(
+            "--json and {} - both want standard output: give {} a file",
+            o.what,
+            o.what
+        );
+    }
+    for o in &outputs {
+        outfile::probe(o.path)?;
+    }
     let analysis = analyse(&args)?;
+    let mut files = Vec::new();
     if let Some(path) = &args.out {
-        table::write(path, &analysis.columns)?;
+        files.push(table::write(path, &analysis.columns)?);
     }
     if let Some(path) = &args.plot {
-        plot::write_svg(path, &analysis.columns)
-            .with_context(|| format!("writing {}", path.display()))?;
+        files.push(plot::write_svg(path, &analysis.columns)?);
     }
-    let stdout = std::io::stdout();
-    let mut w = BufWriter::new(stdout.lock());
+    for file in files {
+        file.commit()?;
+    }
+    let mut text = Vec::new();
     if args.json {
         let v = json::report(&args, &analysis);
-        writeln!(w, "{}", serde_json::to_string_pretty(&v)?)?;
+        writeln!(text, "{}", serde_json::to_string_pretty(&v)?)?;
     } else {
-        summary::write(&mut w, &args, &analysis)?;
+        summary::write(&mut text, &args, &analysis)?;
     }
-    w.flush()?;
+    let text = String::from_utf8_lossy(&text);
+    if to_stdout.is_some() {
+        note!("{}", text.trim_end());
+    } else {
+        stdio::print(&text)?;
+    }
     Ok(ExitCode::SUCCESS)
 }
 
@@ -109,17 +140,23 @@ fn check(args: &AllanArgs) -> anyhow::Result<()> {
     if !(args.confidence > 0.0 && args.confidence < 1.0) {
         bail!(
             "--confidence {}: must lie strictly between 0 and 1",
-            args.confidence
+            readable(args.confidence)
         );
     }
     if let Some(r) = args.rate {
         if !(r.is_finite() && r > 0.0) {
-            bail!("--rate {r}: the sample rate must be a positive number of Hz");
+            bail!(
+                "--rate {}: the sample rate must be a positive number of Hz",
+                readable(r)
+            );
         }
     }
     if let Some(t) = args.max_tau {
         if !(t.is_finite() && t > 0.0) {
-            bail!("--max-tau {t}: must be a positive number of seconds");
+            bail!(
+                "--max-tau {}: must be a positive number of seconds",
+                readable(t)
+            );
         }
     }
     Ok(())

@@ -10,6 +10,7 @@ use triad_lab::allan::noise_terms::{NoiseFit, Term, TermEstimate};
 
 use super::compute::ColumnResult;
 use super::fit::{datasheet, si_unit};
+use crate::outfile::OutFile;
 
 const WIDTH: f64 = 1120.0;
 const HEIGHT: f64 = 640.0;
@@ -86,9 +87,12 @@ fn escape(s: &str) -> String {
 }
 
 /// Writes the plot of `columns` to `path`.
-pub fn write_svg(path: &Path, columns: &[ColumnResult]) -> anyhow::Result<()> {
-    std::fs::write(path, render(columns))?;
-    Ok(())
+pub fn write_svg(path: &Path, columns: &[ColumnResult]) -> anyhow::Result<OutFile> {
+    use std::io::Write as _;
+    let mut out = OutFile::create(path)?;
+    out.write_all(render(columns).as_bytes())
+        .map_err(|e| out.error(e))?;
+    Ok(out)
 }
 
 /// The SVG text.

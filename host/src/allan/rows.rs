@@ -2,11 +2,12 @@
 //! parsing the cells a [`Layout`] wants, and checking the `t` column as it
 //! goes. Errors name the file, the line, the column and the cell.
 
-use std::fs::File;
-use std::io::{BufRead, BufReader};
+use std::io::BufRead;
 use std::path::Path;
 
 use anyhow::{anyhow, bail, Context};
+
+use crate::input::{self, strip_bom_bytes};
 
 use super::columns::Layout;
 use super::time::TimeCheck;
@@ -87,23 +88,27 @@ pub(crate) struct Opened {
     pub(crate) header: String,
     /// The file's size in bytes (0 when unknown).
     pub(crate) size: u64,
-    reader: BufReader<File>,
+    reader: Box<dyn BufRead + Send>,
     header_bytes: u64,
 }
 
-/// Opens the CSV at `path` (`name` in messages) and reads its header.
+/// Opens the CSV at `path` (`-`: standard input; `name` in messages) and
+/// reads its header (a byte-order mark before it dropped).
 pub(crate) fn open(path: &Path, name: &str) -> anyhow::Result<Opened> {
-    let file = File::open(path).with_context(|| format!("{name}: cannot open"))?;
-    let size = file.metadata().map(|m| m.len()).unwrap_or(0);
-    let mut reader = BufReader::with_capacity(1 << 20, file);
+    let opened = input::open(path, 1 << 20)?;
+    let mut reader = opened.reader;
     let mut line = Vec::with_capacity(256);
-    let header_bytes = reader.read_until(b'\n', &mut line)?;
+    let header_bytes = reader
+        .read_until(b'\n', &mut line)
+        .with_context(|| format!("{name}: cannot read"))?;
     if header_bytes == 0 {
         bail!("{name}: empty file (no header)");
     }
     Ok(Opened {
-        header: String::from_utf8_lossy(&line).trim().to_string(),
-        size,
+        header: String::from_utf8_lossy(strip_bom_bytes(&line))
+            .trim()
+            .to_string(),
+        size: opened.size,
         reader,
         header_bytes: header_bytes as u64,
     })
@@ -112,7 +117,7 @@ pub(crate) fn open(path: &Path, name: &str) -> anyhow::Result<Opened> {
 /// The rows after the header: line splitting, parsing, the t check.
 pub(crate) struct Rows {
     name: String,
-    reader: BufReader<File>,
+    reader: Box<dyn BufRead + Send>,
     line: Vec<u8>,
     line_no: u64,
     parser: RowParser,

@@ -15,7 +15,7 @@ pub fn write(w: &mut impl Write, args: &AllanArgs, a: &Analysis) -> anyhow::Resu
     writeln!(
         w,
         "{}: {} samples at {} Hz ({}), {} s; {} tau, {:.1} % confidence intervals",
-        args.input.display(),
+        crate::input::name(&args.input),
         a.samples,
         a.rate,
         a.rate_source,

@@ -1,24 +1,21 @@
 //! `--out`: the curve of every column as a CSV table
 //! `column,tau,oadev,ci_low,ci_high,m,terms,edf,noise,adev` (SI units).
 
-use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::Write;
 use std::path::Path;
 
-use anyhow::Context;
-
 use super::compute::ColumnResult;
+use crate::outfile::OutFile;
 
 /// The table's header line.
 pub const HEADER: &str = "column,tau,oadev,ci_low,ci_high,m,terms,edf,noise,adev";
 
-/// Writes the table of `columns` to `path`.
-pub fn write(path: &Path, columns: &[ColumnResult]) -> anyhow::Result<()> {
-    let file = File::create(path).with_context(|| format!("creating {}", path.display()))?;
-    let mut w = BufWriter::new(file);
-    render(&mut w, columns)?;
-    w.flush()
-        .with_context(|| format!("writing {}", path.display()))
+/// Writes the table of `columns` for `path`: whole, to be put in place
+/// with [`OutFile::commit`].
+pub fn write(path: &Path, columns: &[ColumnResult]) -> anyhow::Result<OutFile> {
+    let mut out = OutFile::create(path)?;
+    render(&mut out, columns).map_err(|e| out.error(e))?;
+    Ok(out)
 }
 
 /// Writes the table of `columns` to `w`.

@@ -10,6 +10,7 @@ use triad::model::{Corrector, FixedCorrector, Triad};
 
 use super::{si_corrector, Ranges};
 use crate::calib_file::CalibFile;
+use crate::stdio::{self, outln};
 
 /// Runs `triad calib check` on a loaded file.
 pub fn run(file: &CalibFile, ranges: &Ranges) -> anyhow::Result<ExitCode> {
@@ -19,27 +20,31 @@ pub fn run(file: &CalibFile, ranges: &Ranges) -> anyhow::Result<ExitCode> {
     let fixed =
         FixedCorrector::new(&per_lsb).map_err(|e| anyhow!("{}: {e}", file.path.display()))?;
     let bound = fixed.error_bound();
-    print_file(file, ranges);
+    let mut out = String::new();
+    print_file(&mut out, file, ranges);
     for (triad, bound) in [(Triad::Accel, bound[0]), (Triad::Gyro, bound[1])] {
-        println!();
-        print_triad(file, triad, &si, &per_lsb, bound);
+        outln!(out);
+        print_triad(&mut out, file, triad, &si, &per_lsb, bound);
     }
+    stdio::print(&out)?;
     Ok(ExitCode::SUCCESS)
 }
 
 /// The file's identity, orientation and the ranges assumed.
-fn print_file(file: &CalibFile, ranges: &Ranges) {
-    println!("{}: OK", file.path.display());
+fn print_file(out: &mut String, file: &CalibFile, ranges: &Ranges) {
+    outln!(out, "{}: OK", file.path.display());
     let source = if file.id_from_parameters {
         " (CRC-32C of the parameters)"
     } else {
         ""
     };
-    println!("calibration id: {:#010x}{source}", file.calibration.id);
-    println!("orientation: {}", file.orientation);
-    println!(
+    outln!(out, "calibration id: {:#010x}{source}", file.calibration.id);
+    outln!(out, "orientation: {}", file.orientation);
+    outln!(
+        out,
         "ranges: ±{} g, ±{} °/s (a 16-bit chip: full scale = 32768 LSB)",
-        ranges.accel_range_g, ranges.gyro_range_dps
+        ranges.accel_range_g,
+        ranges.gyro_range_dps
     );
 }
 
@@ -52,33 +57,46 @@ fn unit_and_format(triad: Triad) -> (&'static str, &'static str) {
 }
 
 /// One triad: conditioning, temperature terms, both folds, the bound.
-fn print_triad(file: &CalibFile, triad: Triad, si: &Corrector, per_lsb: &Corrector, bound: f64) {
+fn print_triad(
+    out: &mut String,
+    file: &CalibFile,
+    triad: Triad,
+    si: &Corrector,
+    per_lsb: &Corrector,
+    bound: f64,
+) {
     let (unit, q_format) = unit_and_format(triad);
     let scale = per_lsb.scale();
     let lsb = match triad {
         Triad::Accel => scale.accel.si_per_lsb,
         Triad::Gyro => scale.gyro.si_per_lsb,
     };
-    println!(
+    outln!(
+        out,
         "[{}] condition number κ₁ = {:.6}",
         triad.name(),
         si.condition_number(triad)
     );
     if let Some(t) = &file.calibration.triad(triad).temperature {
-        println!(
+        outln!(
+            out,
             "  temperature terms around {} °C (folded here at that temperature)",
             t.reference_c
         );
     }
     let f = si.folded(triad);
-    println!("  m = K·x + k with x in {unit} (triad correct):");
-    print_matrix("K", &f.k);
-    println!("    k = {}", vector(&f.offset));
+    outln!(out, "  m = K·x + k with x in {unit} (triad correct):");
+    print_matrix(out, "K", &f.k);
+    outln!(out, "    k = {}", vector(&f.offset));
     let f = per_lsb.folded(triad);
-    println!("  m = K·raw + k with raw in LSB ({lsb:e} {unit}/LSB, the firmware's fold):");
-    print_matrix("K", &f.k);
-    println!("    k = {}", vector(&f.offset));
-    println!(
+    outln!(
+        out,
+        "  m = K·raw + k with raw in LSB ({lsb:e} {unit}/LSB, the firmware's fold):"
+    );
+    print_matrix(out, "K", &f.k);
+    outln!(out, "    k = {}", vector(&f.offset));
+    outln!(
+        out,
         "  fixed point ({q_format}) error bound: {bound:.3e} {unit} = {:.4} LSB",
         bound / lsb
     );
@@ -110,9 +128,9 @@ fn matrix_lines(name: &str, m: &[[f64; 3]; 3]) -> Vec<String> {
         .collect()
 }
 
-fn print_matrix(name: &str, m: &[[f64; 3]; 3]) {
+fn print_matrix(out: &mut String, name: &str, m: &[[f64; 3]; 3]) {
     for line in matrix_lines(name, m) {
-        println!("{line}");
+        outln!(out, "{line}");
     }
 }
 

@@ -21,11 +21,13 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use anyhow::{anyhow, Context};
 use triad::model::{Calibration, Orientation, Triad, TriadCalibration};
 
 use super::{fit_accel, fit_gyro, Ranges};
 use crate::calib_file;
+use crate::distinct::{self, named, Named};
+use crate::outfile;
+use crate::stdio::{self, note};
 
 /// Arguments of `triad calib fit`.
 #[derive(clap::Args)]
@@ -48,12 +50,32 @@ pub struct Output {
     /// A calibration file to start from (its other triad and orientation are kept); default: identity.
     #[arg(long)]
     pub base: Option<PathBuf>,
-    /// The calibration file to write (TOML).
+    /// The calibration file to write (TOML; `-`: standard output, the
+    /// report then going to stderr).
     #[arg(long)]
     pub out: PathBuf,
     /// The sensor's ranges the written file is validated at.
     #[command(flatten)]
     pub ranges: Ranges,
+}
+
+impl Output {
+    /// Before any work: the ranges in range, `--out` none of the `inputs`
+    /// (nor `--base`), and its directory there to write in.
+    pub fn prepare(&self, inputs: &[Named]) -> anyhow::Result<()> {
+        self.ranges.check()?;
+        let mut all = inputs.to_vec();
+        if let Some(base) = &self.base {
+            all.push(named("--base", base));
+        }
+        distinct::check(&all, &[named("--out", &self.out)])?;
+        outfile::probe(&self.out)
+    }
+}
+
+/// `paths` named by the option that gave them.
+pub fn inputs<'a>(what: &'a str, paths: &'a [PathBuf]) -> Vec<Named<'a>> {
+    paths.iter().map(|p| named(what, p)).collect()
 }
 
 /// Runs `triad calib fit`.
@@ -141,23 +163,36 @@ pub fn with_triad(
 
 /// Puts `fitted` into the base (or identity) calibration as its `triad`,
 /// validates it like `triad calib check`, and writes it with the fit's
-/// statistics (`fit_table`, as `[fit.accel]` or `[fit.gyro]`) under `header`.
+/// statistics (`fit_table`, as `[fit.accel]` or `[fit.gyro]`) under
+/// `header`; then prints the fit's `report` (on stderr when the file goes
+/// to stdout). A rejected fit prints the report and writes nothing.
 pub fn write_calibration(
     output: &Output,
     triad: Triad,
     fitted: TriadCalibration,
     header: &str,
     fit_table: toml::Table,
+    report: &str,
 ) -> anyhow::Result<ExitCode> {
+    let to_stdout = outfile::is_stdout(&output.out);
+    let show = |text: &str| -> anyhow::Result<()> {
+        if to_stdout {
+            note!("{}", text.trim_end());
+            Ok(())
+        } else {
+            stdio::print(text)
+        }
+    };
     let mut base = Base::of(output)?;
     let calibration = with_triad(base.calibration, triad, fitted);
     let (a, g) = output.ranges.full_scale_si();
-    triad::model::Corrector::new_si(&calibration, a, g, base.orientation).map_err(|e| {
-        anyhow!(
+    if let Err(e) = triad::model::Corrector::new_si(&calibration, a, g, base.orientation) {
+        show(report)?;
+        anyhow::bail!(
             "the fitted calibration is rejected, {} not written: {e}",
             output.out.display()
-        )
-    })?;
+        );
+    }
     base.fit_meta
         .insert(triad.name().into(), toml::Value::Table(fit_table));
     let mut extra = toml::Table::new();
@@ -168,9 +203,12 @@ pub fn write_calibration(
         &format!("{header}\n{}", base.note),
         extra,
     )?;
-    std::fs::write(&output.out, text)
-        .with_context(|| format!("{}: cannot write", output.out.display()))?;
-    println!("wrote {}", output.out.display());
+    outfile::write_whole(&output.out, text.as_bytes())?;
+    if to_stdout {
+        show(report)?;
+    } else {
+        show(&format!("{report}wrote {}\n", output.out.display()))?;
+    }
     Ok(ExitCode::SUCCESS)
 }
 

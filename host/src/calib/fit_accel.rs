@@ -12,10 +12,11 @@ use triad_lab::calib_fit::accel_fit::AccelFit;
 use triad_lab::calib_fit::gyro_fit::LinearFit;
 use triad_lab::calib_fit::{accel_cube, accel_fit, FitError};
 
-use super::fit::{file_list, names, write_calibration, Output};
+use super::fit::{file_list, inputs, names, write_calibration, Output};
 use super::fit_csv;
 use super::report::{fit_report, method_table};
 use super::segments::{self, Stat};
+use crate::stdio::outln;
 
 /// Arguments of `triad calib fit accel`.
 #[derive(clap::Args)]
@@ -30,10 +31,10 @@ pub struct AccelArgs {
     #[arg(long)]
     segments: Option<String>,
     /// Local gravity, m/s².
-    #[arg(long, default_value_t = STANDARD_GRAVITY)]
+    #[arg(long, default_value_t = STANDARD_GRAVITY, allow_negative_numbers = true)]
     gravity: f64,
     /// Shortest static segment detected, seconds.
-    #[arg(long, default_value_t = 2.0)]
+    #[arg(long, default_value_t = 2.0, allow_negative_numbers = true)]
     min_static: f64,
     /// The positions are the faces of a cube (one sensor axis vertical in
     /// each, as in the tumble scenes): fit the full (I+Σ) and b linearly
@@ -47,6 +48,8 @@ pub struct AccelArgs {
 /// Runs `triad calib fit accel`.
 pub fn run(args: AccelArgs) -> anyhow::Result<ExitCode> {
     check(&args)?;
+    args.output
+        .prepare(&inputs("--positions", &args.positions))?;
     let records = fit_csv::read_all(&args.positions, fit_csv::ACCEL)?;
     let stats = segments::given_or(&records, args.segments.as_deref(), "--positions", || {
         segments::detected(&records, args.min_static)
@@ -63,13 +66,13 @@ fn check(args: &AccelArgs) -> anyhow::Result<()> {
     if !(args.gravity.is_finite() && args.gravity > 0.0) {
         bail!(
             "--gravity {}: must be a positive number of m/s²",
-            args.gravity
+            crate::number::readable(args.gravity)
         );
     }
     if !(args.min_static.is_finite() && args.min_static > 0.0) {
         bail!(
             "--min-static {}: must be a positive number of seconds",
-            args.min_static
+            crate::number::readable(args.min_static)
         );
     }
     Ok(())
@@ -85,9 +88,11 @@ fn ellipsoid(args: &AccelArgs, stats: &[Stat], means: &[[f64; 3]]) -> anyhow::Re
         FitError::OrientationsInOnePlane { .. } => anyhow!("{files}: {e}"),
         _ => anyhow!("{files}: {} static segments: {e}", means.len()),
     })?;
-    print_ellipsoid(args, stats, &fit);
+    let mut out = String::new();
+    print_ellipsoid(&mut out, args, stats, &fit);
     let report = fit_report!(fit);
     report.print(
+        &mut out,
         "I+Σ (upper triangular by convention)",
         "m/s²",
         &format!(
@@ -112,21 +117,32 @@ fn ellipsoid(args: &AccelArgs, stats: &[Stat], means: &[[f64; 3]]) -> anyhow::Re
          (I+Σ) is upper triangular by convention: see [fit.accel].",
         fit.segments, fit.orientations, fit.residual_rms, fit.residual_max
     );
-    write_calibration(&args.output, Triad::Accel, report.triad(), &header, table)
+    write_calibration(
+        &args.output,
+        Triad::Accel,
+        report.triad(),
+        &header,
+        table,
+        &out,
+    )
 }
 
 /// The ellipsoid fit's segments, residuals and conditioning.
-fn print_ellipsoid(args: &AccelArgs, stats: &[Stat], fit: &AccelFit) {
-    println!(
+fn print_ellipsoid(out: &mut String, args: &AccelArgs, stats: &[Stat], fit: &AccelFit) {
+    outln!(
+        out,
         "accelerometer fit: {} static segments, {} distinct orientations, g = {} m/s²",
-        fit.segments, fit.orientations, args.gravity
+        fit.segments,
+        fit.orientations,
+        args.gravity
     );
-    println!("  segment  file  from..to (s)       samples  |f̂| (m/s²)      residual (m/s²)   noise of the mean (m/s²)");
+    outln!(out, "  segment  file  from..to (s)       samples  |f̂| (m/s²)      residual (m/s²)   noise of the mean (m/s²)");
     for (i, s) in stats.iter().enumerate() {
         let raw = (s.mean[0] * s.mean[0] + s.mean[1] * s.mean[1] + s.mean[2] * s.mean[2]).sqrt();
         let r = accel_fit::residual(&fit.inverse, &fit.bias, &s.mean, args.gravity);
         let se = s.standard_error.iter().fold(0.0f64, |a, &x| a.max(x));
-        println!(
+        outln!(
+            out,
             "  {:7}  {:4}  {:8.2}..{:<8.2} {:7}  {raw:.6}  {r:+.3e}        {se:.1e}",
             i + 1,
             s.file + 1,
@@ -135,11 +151,14 @@ fn print_ellipsoid(args: &AccelArgs, stats: &[Stat], fit: &AccelFit) {
             s.count
         );
     }
-    println!(
+    outln!(
+        out,
         "  residual |(I+Σ)⁻¹(f̂ − b)| − g: RMS {:.3e} m/s², max {:.3e} m/s²",
-        fit.residual_rms, fit.residual_max
+        fit.residual_rms,
+        fit.residual_max
     );
-    println!(
+    outln!(
+        out,
         "  condition number of the scaled Jacobian {:.3e} (limit {:.0e}), {} iterations",
         fit.condition,
         accel_fit::MAX_CONDITION,
@@ -151,9 +170,11 @@ fn print_ellipsoid(args: &AccelArgs, stats: &[Stat], fit: &AccelFit) {
 fn cube(args: &AccelArgs, stats: &[Stat], means: &[[f64; 3]]) -> anyhow::Result<ExitCode> {
     let g = args.gravity;
     let fit = accel_cube::fit(means, g).map_err(|e| anyhow!("{}: {e}", names(&args.positions)))?;
-    print_cube(stats, &fit, g);
+    let mut out = String::new();
+    print_cube(&mut out, stats, &fit, g);
     let report = fit_report!(fit);
     report.print(
+        &mut out,
         "I+Σ (axes of the cube's faces)",
         "m/s²",
         "4 segments for 4 unknowns per axis leave no degree of freedom",
@@ -172,7 +193,14 @@ fn cube(args: &AccelArgs, stats: &[Stat], means: &[[f64; 3]]) -> anyhow::Result<
         names(&args.positions),
         fit.residual_rms
     );
-    write_calibration(&args.output, Triad::Accel, report.triad(), &header, table)
+    write_calibration(
+        &args.output,
+        Triad::Accel,
+        report.triad(),
+        &header,
+        table,
+        &out,
+    )
 }
 
 /// The face up of a reference specific force ±g·e_k: "+x" … "-z".
@@ -183,12 +211,14 @@ fn face(f: &[f64; 3]) -> &'static str {
 }
 
 /// The cube fit's segments (face up, residual per axis) and conditioning.
-fn print_cube(stats: &[Stat], fit: &LinearFit, g: f64) {
-    println!(
+fn print_cube(out: &mut String, stats: &[Stat], fit: &LinearFit, g: f64) {
+    outln!(
+        out,
         "accelerometer fit (axis-aligned positions): {} static segments, g = {g} m/s²",
         fit.segments
     );
-    println!(
+    outln!(
+        out,
         "  segment  file  from..to (s)       samples  face up  residual f̂ − (I+Σ)f − b (m/s²)"
     );
     for (i, s) in stats.iter().enumerate() {
@@ -197,7 +227,8 @@ fn print_cube(stats: &[Stat], fit: &LinearFit, g: f64) {
         let r: Vec<String> = (0..3)
             .map(|k| format!("{:+.2e}", s.mean[k] - model[k] - fit.bias[k]))
             .collect();
-        println!(
+        outln!(
+            out,
             "  {:7}  {:4}  {:8.2}..{:<8.2} {:7}  {:>7}  [{}]",
             i + 1,
             s.file + 1,
@@ -208,9 +239,12 @@ fn print_cube(stats: &[Stat], fit: &LinearFit, g: f64) {
             r.join(", ")
         );
     }
-    println!(
+    outln!(
+        out,
         "  residual: RMS {:.3e} m/s², max {:.3e} m/s²; condition number {:.3e}",
-        fit.residual_rms, fit.residual_max, fit.condition
+        fit.residual_rms,
+        fit.residual_max,
+        fit.condition
     );
 }
 

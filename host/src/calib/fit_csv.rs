@@ -1,10 +1,15 @@
 //! Reading the records `triad calib fit` takes: CSV with a header naming the
 //! columns (`triad sim` writes `t,ax,ay,az,gx,gy,gz,temp`, SI units); only
-//! the columns a fit needs must be present, in any order.
+//! the columns a fit needs must be present, in any order. `-` reads
+//! standard input; a byte-order mark before the header is ignored.
 
+use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use anyhow::{anyhow, bail, Context};
+
+use crate::input::{self, strip_bom};
+use crate::progress::{Progress, Unit};
 
 /// The columns of one triad.
 pub const ACCEL: [&str; 3] = ["ax", "ay", "az"];
@@ -33,7 +38,7 @@ impl Record {
         if span.is_nan() || span <= 0.0 {
             bail!(
                 "{}: {n} sample(s) spanning {span} s: cannot tell the sample rate (t must increase)",
-                self.path.display()
+                input::name(&self.path)
             );
         }
         Ok((n - 1) as f64 / span)
@@ -54,15 +59,40 @@ pub fn read_all(paths: &[PathBuf], columns: [&str; 3]) -> anyhow::Result<Vec<Rec
 
 /// Reads `t` and the three `columns` of `path`.
 pub fn read(path: &Path, columns: [&str; 3]) -> anyhow::Result<Record> {
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("{}: cannot read", path.display()))?;
-    parse(&text, path, columns)
+    parse(&read_text(path)?, path, columns)
+}
+
+/// The text of `path` (`-`: standard input), with progress for large files.
+pub fn read_text(path: &Path) -> anyhow::Result<String> {
+    let mut opened = input::open(path, 1 << 20)?;
+    let name = opened.name;
+    let mut bytes = Vec::with_capacity(opened.size as usize);
+    // About a second of reading and parsing: 64 MB.
+    let progress = Progress::new(opened.size, 64 << 20, Unit::Bytes);
+    let mut chunk = vec![0u8; 1 << 20];
+    loop {
+        let n = match opened.reader.read(&mut chunk) {
+            Ok(0) => break,
+            Ok(n) => n,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+            Err(e) => return Err(e).with_context(|| format!("{name}: cannot read")),
+        };
+        bytes.extend_from_slice(&chunk[..n]);
+        progress.update(bytes.len() as u64);
+    }
+    progress.finish();
+    String::from_utf8(bytes).map_err(|e| {
+        anyhow!(
+            "{name}: not text (invalid UTF-8 at byte {})",
+            e.utf8_error().valid_up_to()
+        )
+    })
 }
 
 /// Parses `t` and the three `columns` of the CSV `text` read from `path`.
 pub fn parse(text: &str, path: &Path, columns: [&str; 3]) -> anyhow::Result<Record> {
-    let name = path.display();
-    let mut lines = text
+    let name = input::name(path);
+    let mut lines = strip_bom(text)
         .lines()
         .enumerate()
         .filter(|(_, l)| !l.trim().is_empty());
@@ -134,7 +164,7 @@ impl Line<'_> {
         index: &[usize; 4],
         wanted: [&str; 4],
     ) -> anyhow::Result<[f64; 4]> {
-        let (name, number) = (self.path.display(), self.number);
+        let (name, number) = (input::name(self.path), self.number);
         let fields: Vec<&str> = line.split(',').map(str::trim).collect();
         if fields.len() != width {
             bail!(
@@ -205,6 +235,12 @@ mod tests {
         assert_eq!(r.rate_hz().unwrap(), 2.0);
         assert_eq!(r.between(0.1, 1.0), &[[4.0, 5.0, 6.0]]);
         assert!(r.between(0.6, 1.0).is_empty());
+    }
+
+    #[test]
+    fn a_byte_order_mark_is_not_part_of_the_first_name() {
+        let r = record("\u{feff}t,gx,gy,gz\n0,1,2,3\n1,1,2,3\n").unwrap();
+        assert_eq!(r.t, [0.0, 1.0]);
     }
 
     #[test]

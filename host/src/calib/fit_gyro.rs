@@ -11,11 +11,15 @@ use triad::units::{deg_to_rad, rad_to_deg, EARTH_RATE};
 use triad_lab::calib_fit::gyro_fit::{self, LinearFit, RateSegment};
 use triad_lab::calib_fit::static_segments;
 
-use super::fit::{file_list, names, write_calibration, Output};
+use super::fit::{file_list, inputs, names, write_calibration, Output};
 use super::fit_csv;
 use super::report::{fit_report, method_table, print_vector};
 use super::segments::{self, stat, Stat};
+use super::stillness;
 use crate::calib_file::{self, vector};
+use crate::input;
+use crate::number::readable;
+use crate::stdio::outln;
 
 /// Arguments of `triad calib fit gyro`.
 #[derive(clap::Args)]
@@ -40,14 +44,22 @@ pub struct GyroArgs {
     #[arg(long = "static")]
     static_record: Option<PathBuf>,
     /// Latitude in degrees: subtract the vertical Earth-rate component from a static bias.
-    #[arg(long, requires = "static_record")]
+    #[arg(long, requires = "static_record", allow_negative_numbers = true)]
     latitude: Option<f64>,
+    /// With --static: the largest mean rate taken as a bias, °/s (a larger
+    /// one is a turn, e.g. a rate table, and is refused).
+    #[arg(long, value_name = "DEG_PER_S", default_value_t = stillness::DEFAULT_MAX_BIAS_DPS, allow_negative_numbers = true)]
+    max_bias: f64,
     #[command(flatten)]
     output: Output,
 }
 
 /// Runs `triad calib fit gyro`.
 pub fn run(args: GyroArgs) -> anyhow::Result<ExitCode> {
+    let statics: Vec<PathBuf> = args.static_record.iter().cloned().collect();
+    let mut given = inputs("--rate-table", &args.rate_table);
+    given.extend(inputs("--static", &statics));
+    args.output.prepare(&given)?;
     match &args.static_record {
         Some(path) => gyro_static(&args, path),
         None => rate_table(&args),
@@ -108,9 +120,11 @@ fn rate_table(args: &GyroArgs) -> anyhow::Result<ExitCode> {
     })?;
     let segments = rate_segments(&stats, &rates, args.segments.is_some())?;
     let fit = gyro_fit::fit(&segments).map_err(|e| anyhow!("{}: {e}", names(&args.rate_table)))?;
-    print_rate_table(&segments, &fit);
+    let mut out = String::new();
+    print_rate_table(&mut out, &segments, &fit);
     let report = fit_report!(fit);
     report.print(
+        &mut out,
         "I+Σ",
         "rad/s",
         "4 segments for 4 unknowns per axis leave no degree of freedom",
@@ -129,7 +143,14 @@ fn rate_table(args: &GyroArgs) -> anyhow::Result<ExitCode> {
         names(&args.rate_table),
         fit.residual_rms
     );
-    write_calibration(&args.output, Triad::Gyro, report.triad(), &header, table)
+    write_calibration(
+        &args.output,
+        Triad::Gyro,
+        report.triad(),
+        &header,
+        table,
+        &out,
+    )
 }
 
 /// Each segment's mean against its true rate; one rate per segment.
@@ -161,9 +182,9 @@ fn rate_segments(
 }
 
 /// The rate-table fit's segments (true rate, mean, residual; °/s) and conditioning.
-fn print_rate_table(segments: &[RateSegment], fit: &LinearFit) {
-    println!("gyro rate-table fit: {} segments", fit.segments);
-    println!("  segment  true rate (°/s)            measured mean (°/s)                    residual (°/s)");
+fn print_rate_table(out: &mut String, segments: &[RateSegment], fit: &LinearFit) {
+    outln!(out, "gyro rate-table fit: {} segments", fit.segments);
+    outln!(out, "  segment  true rate (°/s)            measured mean (°/s)                    residual (°/s)");
     for (i, s) in segments.iter().enumerate() {
         let model = mul_vec(&fit.scale_misalignment, &s.true_rate);
         let r: Vec<String> = (0..3)
@@ -176,30 +197,59 @@ fn print_rate_table(segments: &[RateSegment], fit: &LinearFit) {
             .collect();
         let [w0, w1, w2] = s.true_rate.map(rad_to_deg);
         let [m0, m1, m2] = s.measured.map(rad_to_deg);
-        println!(
+        outln!(
+            out,
             "  {:7}  [{w0:+7.2}, {w1:+7.2}, {w2:+7.2}]  [{m0:+10.5}, {m1:+10.5}, {m2:+10.5}]  [{}]",
             i + 1,
             r.join(", ")
         );
     }
-    println!(
+    outln!(
+        out,
         "  residual ω̂ − (I+Σ)ω − b: RMS {:.3e} rad/s, max {:.3e} rad/s; condition number {:.3e}",
-        fit.residual_rms, fit.residual_max, fit.condition
+        fit.residual_rms,
+        fit.residual_max,
+        fit.condition
     );
 }
 
 /// `--static`: the bias alone, the mean of each axis (less the vertical
 /// Earth rate with `--latitude`), the scale kept from `--base`.
 fn gyro_static(args: &GyroArgs, path: &Path) -> anyhow::Result<ExitCode> {
-    let gyro = fit_csv::read(path, fit_csv::GYRO)?;
+    if !(args.max_bias.is_finite() && args.max_bias > 0.0) {
+        bail!(
+            "--max-bias {}: must be a positive number of °/s",
+            readable(args.max_bias)
+        );
+    }
+    if let Some(lat) = args.latitude {
+        if !(lat.is_finite() && lat.abs() <= 90.0) {
+            bail!(
+                "--latitude {}: must be within −90..90 degrees",
+                readable(lat)
+            );
+        }
+    }
+    // Read once (it may be standard input): the gyro, and the accelerometer when there.
+    let text = fit_csv::read_text(path)?;
+    let gyro = fit_csv::parse(&text, path, fit_csv::GYRO)?;
+    let accel = fit_csv::parse(&text, path, fit_csv::ACCEL).ok();
+    drop(text);
     let s = stat(&gyro, 0, 0..gyro.samples.len());
     if s.count < 2 {
         bail!(
             "{}: {} sample(s), need at least 2 for a mean and its standard error",
-            path.display(),
+            input::name(path),
             s.count
         );
     }
+    stillness::check(
+        &input::name(path),
+        &gyro.samples,
+        accel.as_ref().map(|a| a.samples.as_slice()),
+        &s.mean,
+        args.max_bias,
+    )?;
     let (base_matrix, base_note) = match &args.output.base {
         Some(p) => (
             calib_file::load(p)?.calibration.gyro.scale_misalignment,
@@ -208,7 +258,7 @@ fn gyro_static(args: &GyroArgs, path: &Path) -> anyhow::Result<ExitCode> {
         None => (triad::model::calibration::IDENTITY, "identity"),
     };
     let (bias, earth_note) = match args.latitude {
-        Some(lat) => without_earth_rate(path, s.mean, lat, &base_matrix)?,
+        Some(lat) => without_earth_rate(path, accel.as_ref(), s.mean, lat, &base_matrix)?,
         None => (
             s.mean,
             format!(
@@ -217,19 +267,21 @@ fn gyro_static(args: &GyroArgs, path: &Path) -> anyhow::Result<ExitCode> {
             ),
         ),
     };
-    println!(
-        "gyro static bias: {} samples of {}",
+    let mut out = String::new();
+    outln!(
+        out,
+        "gyro static bias: {} samples of {} (still: no part turned, mean rate within --max-bias)",
         s.count,
-        path.display()
+        input::name(path)
     );
-    print_vector("b (rad/s)", &bias, Some(&s.standard_error));
-    println!("  (± is the standard error s/√n, which assumes white noise; `triad allan` shows the correlated part)");
-    println!("  {earth_note}");
+    print_vector(&mut out, "b (rad/s)", &bias, Some(&s.standard_error));
+    outln!(out, "  (± is the standard error s/√n, which assumes white noise; `triad allan` shows the correlated part)");
+    outln!(out, "  {earth_note}");
     let table = static_table(path, &s, &earth_note);
     let header = format!(
         "Gyroscope bias fitted by `triad calib fit gyro --static` from {} ({} samples);\n\
          gyro scale_misalignment {base_note}; {earth_note}.",
-        path.display(),
+        input::name(path),
         s.count
     );
     let triad = TriadCalibration {
@@ -237,7 +289,7 @@ fn gyro_static(args: &GyroArgs, path: &Path) -> anyhow::Result<ExitCode> {
         bias,
         temperature: None,
     };
-    write_calibration(&args.output, Triad::Gyro, triad, &header, table)
+    write_calibration(&args.output, Triad::Gyro, triad, &header, table, &out)
 }
 
 /// The `[fit.gyro]` table of a static bias.
@@ -246,7 +298,7 @@ fn static_table(path: &Path, s: &Stat, earth_note: &str) -> toml::Table {
     let text = |x: &str| toml::Value::String(x.into());
     table.insert(
         "records".into(),
-        toml::Value::Array(vec![text(&path.display().to_string())]),
+        toml::Value::Array(vec![text(&input::name(path))]),
     );
     table.insert("samples".into(), toml::Value::Integer(s.count as i64));
     table.insert("sigma_bias".into(), vector(&s.standard_error));
@@ -256,24 +308,27 @@ fn static_table(path: &Path, s: &Stat, earth_note: &str) -> toml::Table {
 
 /// The static `mean` of the record at `path` less the vertical Earth rate
 /// at latitude `lat` (degrees) as a gyro of scale `matrix` sees it, and the
-/// sentence saying what was removed.
+/// sentence saying what was removed. `accel` is the record's accelerometer.
 fn without_earth_rate(
     path: &Path,
+    accel: Option<&fit_csv::Record>,
     mean: [f64; 3],
     lat: f64,
     matrix: &Mat3,
 ) -> anyhow::Result<([f64; 3], String)> {
-    if !(lat.is_finite() && lat.abs() <= 90.0) {
-        bail!("--latitude {lat}: must be within −90..90 degrees");
-    }
     // At rest the specific force points up: its mean direction is the
     // vertical, which carries Ω·sin φ of the Earth rate.
-    let accel = fit_csv::read(path, fit_csv::ACCEL)?;
+    let Some(accel) = accel else {
+        bail!(
+            "{}: --latitude needs the accelerometer columns ax,ay,az to tell the vertical",
+            input::name(path)
+        );
+    };
     let up = static_segments::mean(&accel.samples);
     let bias = remove_vertical_rate(mean, up, lat, matrix).ok_or_else(|| {
         anyhow!(
             "{}: the mean specific force is zero: cannot tell the vertical",
-            path.display()
+            input::name(path)
         )
     })?;
     let vertical = EARTH_RATE * deg_to_rad(lat).sin();

@@ -9,16 +9,21 @@ pub mod fit_csv;
 pub mod fit_gyro;
 pub mod report;
 pub mod segments;
+pub mod stillness;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use anyhow::{anyhow, Context};
+use anyhow::{anyhow, bail};
 use triad::model::{blob, Corrector};
 use triad::sensor::{ImuScale, TriadScale};
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
 
 use crate::calib_file::{self, CalibFile};
+use crate::distinct::{self, named};
+use crate::number::readable;
+use crate::outfile;
+use crate::stdio::note;
 
 /// Arguments of `triad calib`.
 #[derive(clap::Args)]
@@ -41,7 +46,7 @@ enum CalibCommand {
     Pack {
         /// The calibration file (TOML).
         file: PathBuf,
-        /// Where to write the blob.
+        /// Where to write the blob (`-`: standard output).
         #[arg(short, long)]
         output: PathBuf,
         #[command(flatten)]
@@ -56,14 +61,30 @@ enum CalibCommand {
 #[derive(clap::Args, Clone, Copy, Debug)]
 pub struct Ranges {
     /// Accelerometer full scale, ± g.
-    #[arg(long, default_value_t = 16.0)]
+    #[arg(long, default_value_t = 16.0, allow_negative_numbers = true)]
     pub accel_range_g: f64,
     /// Gyroscope full scale, ± °/s.
-    #[arg(long, default_value_t = 2000.0)]
+    #[arg(long, default_value_t = 2000.0, allow_negative_numbers = true)]
     pub gyro_range_dps: f64,
 }
 
 impl Ranges {
+    /// Both ranges positive and finite, or an error naming the option.
+    pub fn check(&self) -> anyhow::Result<()> {
+        for (option, value, unit) in [
+            ("--accel-range-g", self.accel_range_g, "g"),
+            ("--gyro-range-dps", self.gyro_range_dps, "°/s"),
+        ] {
+            if !(value.is_finite() && value > 0.0) {
+                bail!(
+                    "{option} {}: the full scale must be a positive number of {unit}",
+                    readable(value)
+                );
+            }
+        }
+        Ok(())
+    }
+
     /// Full scales in SI units: (m/s², rad/s).
     pub fn full_scale_si(&self) -> (f64, f64) {
         (
@@ -92,6 +113,7 @@ impl Ranges {
 
 /// Validates a file's calibration into a corrector on SI inputs (what `triad correct` uses).
 pub fn si_corrector(file: &CalibFile, ranges: &Ranges) -> anyhow::Result<Corrector> {
+    ranges.check()?;
     let (a, g) = ranges.full_scale_si();
     Corrector::new_si(&file.calibration, a, g, file.orientation)
         .map_err(|e| anyhow!("{}: {e}", file.path.display()))
@@ -100,13 +122,20 @@ pub fn si_corrector(file: &CalibFile, ranges: &Ranges) -> anyhow::Result<Correct
 /// Runs `triad calib`.
 pub fn run(args: CalibArgs) -> anyhow::Result<ExitCode> {
     match args.command {
-        CalibCommand::Check { file, ranges } => check::run(&calib_file::load(&file)?, &ranges),
+        CalibCommand::Check { file, ranges } => {
+            ranges.check()?;
+            check::run(&calib_file::load(&file)?, &ranges)
+        }
         CalibCommand::Fit(args) => fit::run(args),
         CalibCommand::Pack {
             file,
             output,
             ranges,
-        } => pack(&calib_file::load(&file)?, &output, &ranges),
+        } => {
+            ranges.check()?;
+            distinct::check(&[named("file", &file)], &[named("--output", &output)])?;
+            pack(&calib_file::load(&file)?, &output, &ranges)
+        }
     }
 }
 
@@ -114,8 +143,8 @@ pub fn run(args: CalibArgs) -> anyhow::Result<ExitCode> {
 fn pack(cal: &CalibFile, output: &Path, ranges: &Ranges) -> anyhow::Result<ExitCode> {
     si_corrector(cal, ranges)?;
     let bytes = blob::encode(&cal.calibration);
-    std::fs::write(output, bytes).with_context(|| format!("{}: cannot write", output.display()))?;
-    eprintln!(
+    outfile::write_whole(output, &bytes)?;
+    note!(
         "{}: {} bytes, calibration id {:#010x}",
         output.display(),
         bytes.len(),
@@ -140,5 +169,28 @@ mod tests {
         let s = r.scale_16_bit();
         assert_eq!(s.accel.si_per_lsb * 32768.0, a);
         assert_eq!(s.gyro.full_scale, g);
+    }
+
+    #[test]
+    fn a_range_that_is_not_positive_is_blamed_on_its_option() {
+        let r = |a: f64, g: f64| Ranges {
+            accel_range_g: a,
+            gyro_range_dps: g,
+        };
+        assert!(r(16.0, 2000.0).check().is_ok());
+        assert_eq!(
+            r(-16.0, 2000.0).check().unwrap_err().to_string(),
+            "--accel-range-g -16: the full scale must be a positive number of g"
+        );
+        assert_eq!(
+            r(16.0, 1e300).check().map(|_| ()).ok(),
+            Some(()),
+            "large but finite is a range (the bias check bounds nothing then)"
+        );
+        assert!(r(16.0, f64::NAN)
+            .check()
+            .unwrap_err()
+            .to_string()
+            .starts_with("--gyro-range-dps NaN"));
     }
 }

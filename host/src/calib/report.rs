@@ -5,6 +5,7 @@
 use triad::model::TriadCalibration;
 
 use crate::calib_file::vector;
+use crate::stdio::outln;
 
 /// A fit's common statistics (borrowed from the fit).
 pub struct FitReport<'a> {
@@ -45,16 +46,16 @@ macro_rules! fit_report {
 pub(crate) use fit_report;
 
 impl FitReport<'_> {
-    /// Prints (I+Σ) under `matrix_title` and b in `bias_unit`; without
-    /// standard deviations, says why (`no_dof`).
-    pub fn print(&self, matrix_title: &str, bias_unit: &str, no_dof: &str) {
-        println!("  {matrix_title}:");
+    /// Adds (I+Σ) under `matrix_title` and b in `bias_unit` to the report
+    /// `out`; without standard deviations, says why (`no_dof`).
+    pub fn print(&self, out: &mut String, matrix_title: &str, bias_unit: &str, no_dof: &str) {
+        outln!(out, "  {matrix_title}:");
         for line in matrix_rows(self.scale_misalignment, self.sigma_scale_misalignment) {
-            println!("    {line}");
+            outln!(out, "    {line}");
         }
-        print_vector(&format!("b ({bias_unit})"), self.bias, self.sigma_bias);
+        print_vector(out, &format!("b ({bias_unit})"), self.bias, self.sigma_bias);
         if self.sigma_bias.is_none() {
-            println!("  (no standard deviations: {no_dof})");
+            outln!(out, "  (no standard deviations: {no_dof})");
         }
     }
 
@@ -131,9 +132,9 @@ pub fn vector_line(name: &str, v: &[f64; 3], sigma: Option<&[f64; 3]>) -> String
     format!("  {name}: [{}]", cells.join(", "))
 }
 
-/// Prints [`vector_line`].
-pub fn print_vector(name: &str, v: &[f64; 3], sigma: Option<&[f64; 3]>) {
-    println!("{}", vector_line(name, v, sigma));
+/// Adds [`vector_line`] to the report `out`.
+pub fn print_vector(out: &mut String, name: &str, v: &[f64; 3], sigma: Option<&[f64; 3]>) {
+    outln!(out, "{}", vector_line(name, v, sigma));
 }
 
 #[cfg(test)]

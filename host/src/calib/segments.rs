@@ -48,7 +48,7 @@ pub fn given(record: &Record, text: &str) -> anyhow::Result<Vec<Stat>> {
             if n < 2 {
                 bail!(
                     "--segments {from}-{to}: {n} sample(s) of {} in that time range, need at least 2",
-                    record.path.display()
+                    crate::input::name(&record.path)
                 );
             }
             Ok(stat(record, 0, start..start + n))
@@ -99,7 +99,7 @@ pub fn detected(records: &[Record], min_static: f64) -> anyhow::Result<Vec<Stat>
             vec![Segment { start: 0, end: 0 }; record.samples.len() / detector.block + 1];
         let n = detector
             .detect(&record.samples, &mut buffer)
-            .map_err(|e| anyhow!("{}: {e}", record.path.display()))?;
+            .map_err(|e| anyhow!("{}: {e}", crate::input::name(&record.path)))?;
         stats.extend(
             buffer[..n]
                 .iter()

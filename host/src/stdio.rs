@@ -1,0 +1,154 @@
+//! Standard output and standard error without panics.
+//!
+//! `println!` panics when stdout is a closed pipe or a full disk, and Rust's
+//! stdout silently swallows writes when the descriptor is closed (`>&-`).
+//! Here every write to stdout returns its error: a reader that went away
+//! (`triad … | head -1`) becomes [`ReaderGone`], which `main` turns into a
+//! quiet exit with status [`READER_GONE_STATUS`]; any other failure
+//! (`> /dev/full`) is an error naming standard output. Messages to stderr
+//! ([`note!`]) ignore their own errors: there is nowhere left to report them.
+
+use std::fs::File;
+use std::io::{self, Write};
+
+/// Exit status when the reader of stdout closed the pipe: 128 + SIGPIPE
+/// (13), what a shell reports for `cat`, `seq` and the other Unix tools that
+/// a closed pipe stops, so `set -o pipefail` scripts see the same.
+pub const READER_GONE_STATUS: u8 = 141;
+
+/// The reader of standard output closed it: stop quietly (files already
+/// written stay written).
+#[derive(Debug)]
+pub struct ReaderGone;
+
+impl std::fmt::Display for ReaderGone {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "the reader of standard output closed it (broken pipe)")
+    }
+}
+
+impl std::error::Error for ReaderGone {}
+
+/// A line on stderr; a failure to write it is ignored (stderr is the last
+/// place to report anything).
+macro_rules! note {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), $($arg)*);
+    }};
+}
+pub(crate) use note;
+
+/// A line of a report built in a `String` (printed whole with [`print`]
+/// once the command's files are written).
+macro_rules! outln {
+    ($out:expr) => {
+        $out.push('\n')
+    };
+    ($out:expr, $($arg:tt)*) => {{
+        $out.push_str(&format!($($arg)*));
+        $out.push('\n');
+    }};
+}
+pub(crate) use outln;
+
+/// The error of a failed write to standard output.
+pub fn stdout_error(e: io::Error) -> anyhow::Error {
+    if e.kind() == io::ErrorKind::BrokenPipe {
+        anyhow::Error::new(ReaderGone)
+    } else {
+        anyhow::anyhow!("writing to standard output: {e}")
+    }
+}
+
+/// True when `error` (or what it wraps) is [`ReaderGone`].
+pub fn is_reader_gone(error: &anyhow::Error) -> bool {
+    error.chain().any(|e| e.is::<ReaderGone>())
+}
+
+/// Standard output as a file of its own (a duplicate of descriptor 1):
+/// unbuffered, so a write's count is what the output took, and an error
+/// when stdout is closed instead of writes that vanish.
+#[cfg(unix)]
+pub fn raw_stdout() -> anyhow::Result<File> {
+    use std::os::fd::AsFd;
+    let fd = io::stdout()
+        .as_fd()
+        .try_clone_to_owned()
+        .map_err(|e| anyhow::anyhow!("standard output is closed ({e}): nothing done"))?;
+    Ok(File::from(fd))
+}
+
+/// Standard output as a file of its own (a duplicate of its handle).
+#[cfg(windows)]
+pub fn raw_stdout() -> anyhow::Result<File> {
+    use std::os::windows::io::AsHandle;
+    let handle = io::stdout()
+        .as_handle()
+        .try_clone_to_owned()
+        .map_err(|e| anyhow::anyhow!("standard output is closed ({e}): nothing done"))?;
+    Ok(File::from(handle))
+}
+
+/// Fails when standard output is closed (`>&-`), before any work: what is
+/// printed would be lost while the command reports success.
+///
+/// Rust's runtime puts /dev/null, opened read-write, on a closed standard
+/// descriptor before `main`; a shell's `> /dev/null` opens it write-only.
+/// So on Linux stdout on /dev/null with read-write access (from
+/// /proc/self/fdinfo) was closed; elsewhere only a failing duplicate is seen.
+pub fn check_stdout_open() -> anyhow::Result<()> {
+    raw_stdout()?;
+    if stdout_was_closed_by_caller() {
+        anyhow::bail!("standard output is closed: nothing done (use > /dev/null to discard it)");
+    }
+    Ok(())
+}
+
+/// True when fd 1 is /dev/null opened read-write (Linux /proc; false
+/// where it cannot be read).
+fn stdout_was_closed_by_caller() -> bool {
+    let on_null =
+        std::fs::read_link("/proc/self/fd/1").is_ok_and(|p| p == std::path::Path::new("/dev/null"));
+    let read_write = std::fs::read_to_string("/proc/self/fdinfo/1").is_ok_and(|info| {
+        info.lines()
+            .find_map(|l| l.strip_prefix("flags:"))
+            .and_then(|f| u32::from_str_radix(f.trim(), 8).ok())
+            // O_ACCMODE = 3, O_RDWR = 2.
+            .is_some_and(|flags| flags & 3 == 2)
+    });
+    on_null && read_write
+}
+
+/// Prints `text` on standard output, whole or with an error.
+pub fn print(text: &str) -> anyhow::Result<()> {
+    let mut out = raw_stdout()?;
+    out.write_all(text.as_bytes()).map_err(stdout_error)
+}
+
+/// Makes what was written to `out` durable when it is a regular file (a
+/// full or failing disk reports here what `write` accepted); pipes and
+/// terminals have nothing to sync.
+pub fn sync_if_file(out: &File) -> io::Result<()> {
+    match out.metadata() {
+        Ok(m) if m.is_file() => out.sync_all(),
+        _ => Ok(()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_broken_pipe_is_the_reader_gone_and_other_errors_name_stdout() {
+        let gone = stdout_error(io::Error::from(io::ErrorKind::BrokenPipe));
+        assert!(is_reader_gone(&gone));
+        let full = stdout_error(io::Error::from_raw_os_error(28));
+        assert!(!is_reader_gone(&full));
+        assert!(full
+            .to_string()
+            .starts_with("writing to standard output: No space left on device"));
+        assert!(is_reader_gone(&gone.context("printing the report")));
+    }
+}
