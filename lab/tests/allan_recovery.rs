@@ -2,49 +2,31 @@
 //! the streaming Allan variance and the joint five-term fit, and each grade
 //! preset is classified into its own grade.
 //!
-//! Tolerance: the fit reports a 1σ uncertainty per term (from the χ²-based
-//! weights); a term must lie within 3σ of the truth (a 0.3 % chance of a
+//! Tolerance: the fit reports a 1σ uncertainty per term (generalised least
+//! squares with the covariance of the estimates); a term must lie within 3σ of the truth (a 0.3 % chance of a
 //! false failure per assertion for a correct estimator; the seeds are fixed,
 //! so the outcome is deterministic). Where the simulated process differs from
 //! the model by a known amount, that amount is added and said.
 
+mod common;
+
+use common::{factors, octave_points};
 use triad::units;
-use triad_lab::allan::accumulate::OctaveAccumulator;
-use triad_lab::allan::edf::{self, NoiseType};
+use triad_lab::allan::covariance::OctaveCovariance;
+use triad_lab::allan::gls;
 use triad_lab::allan::grade::{classify_accel, classify_gyro};
-use triad_lab::allan::noise_terms::{fit, CurvePoint, NoiseFit, Term};
+use triad_lab::allan::noise_terms::{NoiseFit, Term};
 use triad_sim::bias_instability::BiasInstabilityParams;
 use triad_sim::grade::{AccelGrade, GyroGrade};
 use triad_sim::motion::Motion;
 use triad_sim::scene::{Scene, TriadEffects};
 use triad_sim::simulator::Simulator;
 
-/// The octave curve of one series, EDF from the local slope as `triad allan` does.
-fn octave_points(y: impl Iterator<Item = f64>, rate: f64) -> Vec<CurvePoint> {
-    let mut acc = OctaveAccumulator::new(vec![0.0; 1 << 22], 0.0).unwrap();
-    for v in y {
-        acc.push(v);
-    }
-    let n = acc.samples();
-    let r: Vec<_> = acc.results().collect();
-    (0..r.len())
-        .map(|i| {
-            let (a, b) = (i.saturating_sub(1), (i + 1).min(r.len() - 1));
-            let mu = (r[b].overlapping / r[a].overlapping).ln()
-                / ((r[b].m as f64) / (r[a].m as f64)).ln();
-            let nu = edf::edf_conservative(NoiseType::from_slope(mu), n, r[i].m);
-            CurvePoint {
-                tau: r[i].m as f64 / rate,
-                avar: r[i].overlapping,
-                edf: nu,
-            }
-        })
-        .collect()
-}
-
-fn fitted(points: &[CurvePoint]) -> NoiseFit {
-    let mut w = vec![0.0; points.len()];
-    fit(points, &mut w).unwrap()
+/// The GLS fit of a series' octave curve.
+fn fitted(y: &[f64], rate: f64) -> NoiseFit {
+    let points = octave_points(y, rate);
+    let cov = OctaveCovariance::new(y.len() as u64, 1.0 / rate, &factors(&points, rate)).unwrap();
+    gls::fit(&points, &cov).unwrap()
 }
 
 /// Simulates `samples` of a static scene with `gyro` effects and returns gx.
@@ -74,14 +56,23 @@ fn white_noise_density_is_recovered() {
         ..TriadEffects::NONE
     };
     let y = gyro_x(effects, rate, 1 << 18, 3);
-    let f = fitted(&octave_points(y.into_iter(), rate));
+    let f = fitted(&y, rate);
     let n = f.term(Term::WhiteNoise);
     assert!(n.in_support);
     assert_within(n.value, n.sigma, n_true, 0.0, "N");
-    // Nothing else in the record: the other terms are below their own 3σ.
-    for t in [Term::BiasInstability, Term::RandomWalk, Term::RateRamp] {
+    // Nothing else in the record: no other term is reported.
+    for t in [
+        Term::Quantisation,
+        Term::BiasInstability,
+        Term::RandomWalk,
+        Term::RateRamp,
+    ] {
         let e = f.term(t);
-        assert!(e.value <= 3.0 * e.sigma, "{t:?}: {} ± {}", e.value, e.sigma);
+        assert!(
+            !e.significant,
+            "{t:?}: {} ± {} (z {})",
+            e.value, e.sigma, e.z
+        );
     }
 }
 
@@ -94,7 +85,7 @@ fn rate_random_walk_is_recovered() {
         ..TriadEffects::NONE
     };
     let y = gyro_x(effects, rate, 1 << 18, 4);
-    let f = fitted(&octave_points(y.into_iter(), rate));
+    let f = fitted(&y, rate);
     let k = f.term(Term::RandomWalk);
     assert!(k.in_support);
     assert_within(k.value, k.sigma, k_true, 0.0, "K");
@@ -119,7 +110,7 @@ fn bias_instability_is_recovered() {
         ..TriadEffects::NONE
     };
     let y = gyro_x(effects, rate, 1 << 18, 5);
-    let f = fitted(&octave_points(y.into_iter(), rate));
+    let f = fitted(&y, rate);
     let b = f.term(Term::BiasInstability);
     assert!(b.in_support);
     assert_within(b.value, b.sigma, b_true, 0.015, "B");
@@ -142,7 +133,7 @@ fn each_gyro_preset_is_classified_into_its_own_grade() {
             }
         }
         for (i, y) in axes.into_iter().enumerate() {
-            let f = fitted(&octave_points(y.into_iter(), rate));
+            let f = fitted(&y, rate);
             let arw = units::arw_si_to_deg_per_sqrt_h(f.term(Term::WhiteNoise).value);
             let bi = units::rad_per_s_to_deg_per_h(f.term(Term::BiasInstability).value);
             let c = classify_gyro(arw, bi);
@@ -172,8 +163,7 @@ fn each_accel_preset_is_classified_into_its_own_grade() {
             }
         }
         for (i, y) in axes.into_iter().enumerate() {
-            let offset = y[..4096].iter().sum::<f64>() / 4096.0;
-            let f = fitted(&octave_points(y.into_iter().map(|v| v - offset), rate));
+            let f = fitted(&y, rate);
             let noise = units::si_to_ug_per_sqrt_hz(f.term(Term::WhiteNoise).value);
             let bi = units::mps2_to_ug(f.term(Term::BiasInstability).value);
             let c = classify_accel(noise, bi);

@@ -1,5 +1,6 @@
-//! `cargo xtask test`: formatting and lints, every host test, the docs, clippy
-//! and the build of the firmware for every board × bus (and chip model), of the
+//! `cargo xtask test`: formatting and lints, every host test (the statistical
+//! sweeps in release), the docs, clippy and the build of the firmware for
+//! every board × bus (and chip model), of the
 //! benchmark firmware and of the user-firmware example, and the end-to-end
 //! tests on QEMU for every chip and bus of the emulated board.
 
@@ -24,6 +25,17 @@ pub fn run(e2e_only: bool) -> Result<()> {
         let clippy = ["clippy", "--all-targets", "--quiet", "--", "-D", "warnings"];
         step("cargo clippy (host)", &clippy)?;
         step("cargo test (host)", &["test", "--quiet"])?;
+        // Statistical sweeps are ignored in debug builds: run here in release.
+        let sweeps = [
+            "test",
+            "--release",
+            "--quiet",
+            "-p",
+            "triad-lab",
+            "--test",
+            "allan_coverage",
+        ];
+        step("cargo test --release (the Allan coverage sweep)", &sweeps)?;
         eprintln!("xtask: cargo doc (core, sim, lab)");
         embedded_checks::docs()?;
     }

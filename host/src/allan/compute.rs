@@ -12,7 +12,7 @@ use triad_lab::allan::noise_terms::NoiseFit;
 
 use super::columns::{Layout, Selected};
 use super::curve::{self, Point};
-use super::fit::fit_octaves;
+use super::fit::{fit_octaves, CovarianceCache, NoFit};
 use super::rows::{self, Rows};
 use super::time;
 use super::AllanArgs;
@@ -44,8 +44,8 @@ pub struct ColumnResult {
     pub triad: Triad,
     /// The curve, shortest τ first.
     pub points: Vec<Point>,
-    /// The fitted noise model (None with fewer than one valid point).
-    pub fit: Option<NoiseFit>,
+    /// The fitted noise model, or why there is none.
+    pub fit: Result<NoiseFit, NoFit>,
 }
 
 /// Everything the outputs need.
@@ -115,7 +115,8 @@ pub fn analyse(args: &AllanArgs) -> anyhow::Result<Analysis> {
         anyhow::bail!("{name}: too few samples: {samples} rows; the Allan deviation needs at least {MIN_SAMPLES}");
     }
     let (rate, rate_source) = time::sample_rate(args.rate, rows.time.as_ref(), samples, &name)?;
-    let columns = results(args, layout.selected, states, rate, samples);
+    let columns = results(args, layout.selected, states, rate, samples)
+        .map_err(|e| anyhow!("{name}: {e}"))?;
     Ok(Analysis {
         samples,
         rate,
@@ -252,15 +253,18 @@ fn accumulate(
     None
 }
 
-/// Each column's curve (octaves or every τ, up to the largest m) and fit.
+/// Each column's curve (octaves or every τ, up to the largest m) and fit;
+/// an estimate that is not finite (values so large that their squares
+/// overflow) is an error naming the column and τ.
 fn results(
     args: &AllanArgs,
     selected: Vec<Selected>,
     states: Vec<ColumnState>,
     rate: f64,
     samples: u64,
-) -> Vec<ColumnResult> {
+) -> anyhow::Result<Vec<ColumnResult>> {
     let max_m = max_m(args, rate);
+    let mut cache = CovarianceCache::default();
     selected
         .into_iter()
         .zip(states)
@@ -269,14 +273,22 @@ fn results(
                 Some(all) => curve::every_tau(all, st.acc.offset(), rate, max_m),
                 None => curve::octaves(&st.acc, rate, max_m),
             };
+            if let Some(p) = raw.iter().find(|p| !p.avar.is_finite()) {
+                anyhow::bail!(
+                    "column {}: the Allan variance at tau {:e} s is {} (the values are too large to square and sum)",
+                    sel.name,
+                    p.tau,
+                    p.avar
+                );
+            }
             let points = curve::with_intervals(&raw, samples, args.confidence);
-            let fit = fit_octaves(&points);
-            ColumnResult {
+            let fit = fit_octaves(&points, st.acc.offset(), samples, rate, &mut cache);
+            Ok(ColumnResult {
                 name: sel.name,
                 triad: sel.triad,
                 points,
                 fit,
-            }
+            })
         })
         .collect()
 }

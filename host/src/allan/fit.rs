@@ -1,27 +1,118 @@
-//! The noise terms: the joint IEEE 952 fit on a column's octave points, and
-//! what it returns in data-sheet units (per triad and term).
+//! The noise terms: the generalised least-squares fit of IEEE 952's five
+//! terms on a column's octave points (`triad_lab::allan::gls`, with the
+//! covariance of the overlapping estimates), the reasons a column gets no
+//! fit, and what the terms are in data-sheet units (per triad and term).
 
 use triad::model::Triad;
 use triad::units;
-use triad_lab::allan::noise_terms::{self, CurvePoint, NoiseFit, Term};
+use triad_lab::allan::covariance::OctaveCovariance;
+use triad_lab::allan::gls;
+use triad_lab::allan::noise_terms::{CurvePoint, FitError, NoiseFit, Term};
 
 use super::curve::Point;
 
-/// The joint fit on the octave points (m a power of two: in every-τ mode the
+/// Why a column has no fit.
+#[derive(Clone, Debug, PartialEq)]
+pub enum NoFit {
+    /// Every σ(τ) is zero or at the rounding level of the column's values:
+    /// a dead or constant channel.
+    NoNoise,
+    /// Fewer octave points than the fit takes.
+    TooFewPoints {
+        /// The octave points.
+        count: usize,
+        /// The fewest the fit takes.
+        needed: usize,
+    },
+    /// The fit failed for another reason (its message).
+    Failed(String),
+}
+
+impl std::fmt::Display for NoFit {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            NoFit::NoNoise => write!(
+                f,
+                "no noise detected (sigma(tau) is 0 at every tau: a dead or constant channel); no grade"
+            ),
+            NoFit::TooFewPoints { count, needed } => write!(
+                f,
+                "no fit: {count} octave tau points, too few to fit the noise terms (at least {needed}: one per term and one to judge the fit); lengthen --max-tau or the record"
+            ),
+            NoFit::Failed(why) => write!(f, "no fit: {why}"),
+        }
+    }
+}
+
+/// Relative size, to the column's offset (its mean), of the Allan deviation
+/// that rounding alone can make: below it a column holds no noise.
+const ROUNDING: f64 = 64.0 * f64::EPSILON;
+
+/// The octave points of a curve (m a power of two: in every-τ mode the
 /// neighbouring points are strongly correlated and would overstate the
-/// information). None when no point is valid.
-pub fn fit_octaves(points: &[Point]) -> Option<NoiseFit> {
-    let curve: Vec<CurvePoint> = points
+/// information).
+fn octave_curve(points: &[Point]) -> (Vec<CurvePoint>, Vec<u64>) {
+    points
         .iter()
         .filter(|p| p.m.is_power_of_two())
-        .map(|p| CurvePoint {
-            tau: p.tau,
-            avar: p.avar,
-            edf: p.edf,
+        .map(|p| {
+            let c = CurvePoint {
+                tau: p.tau,
+                avar: p.avar,
+                edf: p.edf,
+            };
+            (c, p.m)
         })
-        .collect();
-    let mut scratch = vec![0.0; curve.len()];
-    noise_terms::fit(&curve, &mut scratch).ok()
+        .unzip()
+}
+
+/// The covariance of a record's octave estimates, computed once for all its
+/// columns (they share the record's length and τ grid).
+#[derive(Default)]
+pub struct CovarianceCache {
+    cached: Option<Box<OctaveCovariance>>,
+}
+
+impl CovarianceCache {
+    fn get(&mut self, samples: u64, rate: f64, m: &[u64]) -> Result<&OctaveCovariance, NoFit> {
+        let stale = self.cached.as_ref().is_none_or(|c| c.factors() != m);
+        if stale {
+            let cov = OctaveCovariance::new(samples, 1.0 / rate, m)
+                .map_err(|e| NoFit::Failed(e.to_string()))?;
+            self.cached = Some(Box::new(cov));
+        }
+        self.cached
+            .as_deref()
+            .ok_or_else(|| NoFit::Failed("no covariance".into()))
+    }
+}
+
+/// The fit on the octave points of a column whose values have mean
+/// `offset`, from a record of `samples` at `rate` Hz.
+pub fn fit_octaves(
+    points: &[Point],
+    offset: f64,
+    samples: u64,
+    rate: f64,
+    cache: &mut CovarianceCache,
+) -> Result<NoiseFit, NoFit> {
+    let floor = ROUNDING * offset.abs();
+    if points.iter().all(|p| p.avar.sqrt() <= floor) {
+        return Err(NoFit::NoNoise);
+    }
+    let (curve, m) = octave_curve(points);
+    if curve.len() < gls::MIN_POINTS {
+        return Err(NoFit::TooFewPoints {
+            count: curve.len(),
+            needed: gls::MIN_POINTS,
+        });
+    }
+    let cov = cache.get(samples, rate, &m)?;
+    gls::fit(&curve, cov).map_err(|e| match e {
+        FitError::NoNoise => NoFit::NoNoise,
+        FitError::TooFewPoints { count, needed } => NoFit::TooFewPoints { count, needed },
+        other => NoFit::Failed(other.to_string()),
+    })
 }
 
 /// SI unit of a triad's samples.
@@ -93,17 +184,14 @@ mod tests {
         );
     }
 
-    #[test]
-    fn white_noise_points_fit_a_white_noise_term() {
-        // σ²(τ) = N²/τ with N = 1e-3 on octaves, plenty of degrees of freedom.
-        let n = 1e-3;
-        let points: Vec<Point> = (0..12)
+    fn points(avar: impl Fn(f64) -> f64, octaves: u32) -> Vec<Point> {
+        (0..octaves)
             .map(|k| {
                 let m = 1u64 << k;
                 Point {
                     m,
                     tau: m as f64,
-                    avar: n * n / m as f64,
+                    avar: avar(m as f64),
                     avar_non_overlapping: f64::NAN,
                     terms: 1000,
                     noise: NoiseType::from_slope(-1.0),
@@ -111,11 +199,45 @@ mod tests {
                     ci: (0.0, 1.0),
                 }
             })
-            .collect();
-        let fit = fit_octaves(&points).expect("a fit");
+            .collect()
+    }
+
+    #[test]
+    fn white_noise_points_fit_a_white_noise_term() {
+        // σ²(τ) = N²/τ with N = 1e-3 on octaves of 2^16 samples at 1 Hz.
+        let n = 1e-3;
+        let mut cache = CovarianceCache::default();
+        let fit =
+            fit_octaves(&points(|t| n * n / t, 12), 0.0, 1 << 16, 1.0, &mut cache).expect("a fit");
         let w = fit.term(Term::WhiteNoise);
         assert!((w.value - n).abs() < 1e-3 * n, "N = {}", w.value);
-        assert!(fit.term(Term::RandomWalk).value < 1e-3 * n);
-        assert!(fit_octaves(&[]).is_none());
+        assert!(w.significant);
+        assert!(!fit.term(Term::RandomWalk).significant);
+    }
+
+    #[test]
+    fn dead_channels_and_short_grids_get_no_fit() {
+        let mut cache = CovarianceCache::default();
+        let zero = points(|_| 0.0, 12);
+        assert_eq!(
+            fit_octaves(&zero, 0.0, 1 << 16, 1.0, &mut cache),
+            Err(NoFit::NoNoise)
+        );
+        // A constant 0.1 whose mean is off by rounding: σ at the 1e-17 level.
+        let rounding = points(|_| 1e-34, 12);
+        assert_eq!(
+            fit_octaves(&rounding, 0.1, 1 << 16, 1.0, &mut cache),
+            Err(NoFit::NoNoise)
+        );
+        let two = points(|t| 1e-6 / t, 2);
+        let e = fit_octaves(&two, 0.0, 1 << 16, 1.0, &mut cache).unwrap_err();
+        assert_eq!(
+            e,
+            NoFit::TooFewPoints {
+                count: 2,
+                needed: 6
+            }
+        );
+        assert!(e.to_string().contains("2 octave tau points"), "{e}");
     }
 }

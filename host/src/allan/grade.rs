@@ -1,19 +1,36 @@
 //! The sensor grade of a column: its fitted white noise and bias
 //! instability, in data-sheet units, placed in the grade tables
-//! (`triad_lab::allan::grade`).
+//! (`triad_lab::allan::grade`). A term the data do not support is graded on
+//! its upper limit ([`reported`]): the grade is then one the sensor is
+//! known to meet, not one an undetected term happens to allow. A column
+//! without a fit (no noise, too few points) has no grade.
 
 use triad::model::Triad;
 use triad_lab::allan::grade::{classify_accel, classify_gyro};
-use triad_lab::allan::noise_terms::Term;
+use triad_lab::allan::noise_terms::{Term, TermEstimate};
 
 use super::compute::ColumnResult;
 use super::fit::datasheet;
 
+/// Standard deviations of c above the estimate that bound an undetected term.
+pub const UPPER_LIMIT_SIGMAS: f64 = 2.0;
+
+/// A term's reported value (SI): the estimate when the data support it,
+/// else its upper limit √(c + 2σ_c); and whether it is that limit.
+pub fn reported(e: &TermEstimate) -> (f64, bool) {
+    if e.significant {
+        (e.value, false)
+    } else {
+        let bound = e.squared.max(0.0) + UPPER_LIMIT_SIGMAS * e.squared_sigma;
+        (bound.max(0.0).sqrt(), true)
+    }
+}
+
 /// The grade line of a column: (grade name, decided by); None without a fit.
 pub fn grade_of(col: &ColumnResult) -> Option<(String, &'static str)> {
-    let fit = col.fit.as_ref()?;
-    let n = fit.term(Term::WhiteNoise).value;
-    let b = fit.term(Term::BiasInstability).value;
+    let fit = col.fit.as_ref().ok()?;
+    let (n, _) = reported(fit.term(Term::WhiteNoise));
+    let (b, _) = reported(fit.term(Term::BiasInstability));
     Some(grade(col.triad, n, b))
 }
 
@@ -68,7 +85,7 @@ mod tests {
             name: "gx".into(),
             triad: Triad::Gyro,
             points: Vec::new(),
-            fit: None,
+            fit: Err(crate::allan::fit::NoFit::NoNoise),
         };
         assert!(grade_of(&col).is_none());
     }

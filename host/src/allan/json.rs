@@ -1,14 +1,19 @@
 //! `--json`: the fitted terms with their uncertainties (data-sheet units and
-//! SI), the grade and the curve of every column.
+//! SI), whether the data support each (`significant`, its `z`), the τ range
+//! that decided it and its share of σ²(τ) there, or its upper limit; the
+//! fit's statistics; the grade; and the curve of every column. A column
+//! without a fit has `"fit": null`, `"terms": {}`, `"grade": null` and its
+//! reason in `"no_fit"`.
 
 use serde_json::{json, Map, Value};
 use triad::model::Triad;
 use triad::units;
-use triad_lab::allan::noise_terms::{NoiseFit, Term};
+use triad_lab::allan::gls::SIGNIFICANCE_Z;
+use triad_lab::allan::noise_terms::{NoiseFit, Term, TermEstimate};
 
 use super::compute::{Analysis, ColumnResult};
-use super::fit::{datasheet, si_unit};
-use super::grade::grade_of;
+use super::fit::{datasheet, si_unit, NoFit};
+use super::grade::{grade_of, reported};
 use super::AllanArgs;
 
 /// The whole report.
@@ -30,21 +35,61 @@ fn column(col: &ColumnResult) -> Value {
     let terms = col
         .fit
         .as_ref()
-        .map_or_else(Map::new, |fit| terms(col.triad, fit));
+        .map_or_else(|_| Map::new(), |fit| terms(col.triad, fit));
     let grade = grade_of(col).map(|(g, d)| json!({"grade": g, "decided_by": d}));
     let curve: Vec<_> = col
         .points
         .iter()
         .map(|p| json!({"tau": p.tau, "oadev": p.avar.sqrt(), "ci_low": p.ci.0, "ci_high": p.ci.1, "edf": p.edf}))
         .collect();
+    let fit = col.fit.as_ref().ok().map(|f| {
+        json!({
+            "method": "generalised least squares, covariance of the overlapping estimates",
+            "chi2": f.chi2,
+            "dof": f.dof,
+            "sigma_scale": f.inflation,
+            "significance_z": SIGNIFICANCE_Z,
+        })
+    });
+    let no_fit = col.fit.as_ref().err().map(|e| match e {
+        NoFit::NoNoise => json!({"reason": "no noise detected", "message": e.to_string()}),
+        NoFit::TooFewPoints { count, needed } => json!({
+            "reason": "too few tau points", "points": count, "needed": needed, "message": e.to_string()
+        }),
+        NoFit::Failed(_) => json!({"reason": "failed", "message": e.to_string()}),
+    });
     json!({
         "column": col.name,
         "kind": col.triad.name(),
         "unit": si_unit(col.triad),
         "terms": terms,
         "grade": grade,
-        "fit": col.fit.map(|f| json!({"chi2": f.chi2, "dof": f.dof})),
+        "fit": fit,
+        "no_fit": no_fit,
         "curve": curve,
+    })
+}
+
+/// One term: value, σ, unit, the test and the τ range that decided it.
+fn term(e: &TermEstimate, factor: f64, unit: &str) -> Value {
+    let (limit, is_limit) = reported(e);
+    let range = if e.significant {
+        json!([e.tau_range.0, e.tau_range.1])
+    } else {
+        Value::Null
+    };
+    json!({
+        "value": e.value * factor,
+        "sigma": e.sigma * factor,
+        "unit": unit,
+        "significant": e.significant,
+        "z": e.z,
+        "upper_limit": if is_limit { json!(limit * factor) } else { Value::Null },
+        "tau_range_s": range,
+        "share": e.share,
+        "fitted": e.in_support,
+        "si": e.value,
+        "si_sigma": e.sigma,
     })
 }
 
@@ -53,25 +98,13 @@ fn terms(triad: Triad, fit: &NoiseFit) -> Map<String, Value> {
     let mut terms = Map::new();
     for t in Term::ALL {
         let (f, unit) = datasheet(triad, t);
-        let e = fit.term(t);
-        terms.insert(
-            t.symbol().to_string(),
-            json!({
-                "value": e.value * f,
-                "sigma": e.sigma * f,
-                "unit": unit,
-                "fitted": e.in_support,
-                "si": e.value,
-                "si_sigma": e.sigma,
-            }),
-        );
+        terms.insert(t.symbol().to_string(), term(fit.term(t), f, unit));
     }
     if triad == Triad::Accel {
-        let e = fit.term(Term::WhiteNoise);
         let f = units::SQRT_SECONDS_PER_HOUR;
         terms.insert(
             "N_vrw".into(),
-            json!({"value": e.value * f, "sigma": e.sigma * f, "unit": "m/s/sqrt(h)", "fitted": e.in_support}),
+            term(fit.term(Term::WhiteNoise), f, "m/s/sqrt(h)"),
         );
     }
     terms
@@ -100,9 +133,10 @@ mod tests {
         assert_eq!(c["column"], "ay");
         assert_eq!(c["kind"], "accel");
         assert_eq!(c["unit"], "m/s^2");
-        // No fit: no terms, no grade, no fit statistics; the curve is there.
+        // No fit: no terms, no grade, no fit statistics, the reason; the curve is there.
         assert_eq!(c["terms"], json!({}));
         assert!(c["grade"].is_null() && c["fit"].is_null());
+        assert_eq!(c["no_fit"]["reason"], "no noise detected");
         assert_eq!(c["curve"][0]["oadev"], 2.0);
         assert_eq!(c["curve"].as_array().map(Vec::len), Some(2));
     }

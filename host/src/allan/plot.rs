@@ -106,7 +106,7 @@ pub fn render(columns: &[ColumnResult]) -> String {
         let colour = COLOURS[ci % COLOURS.len()];
         let _ = writeln!(s, r#"<g clip-path="url(#plot)">"#);
         points(&mut s, &ax, col, colour);
-        if let Some(fit) = &col.fit {
+        if let Ok(fit) = &col.fit {
             model_lines(&mut s, &ax, col, fit, colour);
         }
         let _ = writeln!(s, "</g>");
@@ -228,7 +228,7 @@ fn model_path(ax: &Axes, avar: &dyn Fn(f64) -> f64) -> String {
     d
 }
 
-/// The fitted model (thin) and each fitted term (dashed, labelled).
+/// The fitted model (thin) and each reported (significant) term (dashed, labelled).
 fn model_lines(s: &mut String, ax: &Axes, col: &ColumnResult, fit: &NoiseFit, colour: &str) {
     let total = model_path(ax, &|tau| fit.avar(tau));
     let _ = writeln!(
@@ -237,7 +237,7 @@ fn model_lines(s: &mut String, ax: &Axes, col: &ColumnResult, fit: &NoiseFit, co
     );
     for t in Term::ALL {
         let e = fit.term(t);
-        if !(e.in_support && e.squared > 0.0) {
+        if !(e.significant && e.squared > 0.0) {
             continue;
         }
         let d = model_path(ax, &|tau| e.squared * t.basis(tau));
@@ -287,9 +287,9 @@ fn legend(s: &mut String, col: &ColumnResult, colour: &str, mut y: f64) -> f64 {
     y += 16.0;
     let fitted = Term::ALL
         .into_iter()
-        .filter_map(|t| Some((t, col.fit.as_ref()?.term(t))))
+        .filter_map(|t| Some((t, col.fit.as_ref().ok()?.term(t))))
         // As drawn before: a NaN estimate is listed (it shows as NaN).
-        .filter(|(_, e)| e.in_support && (e.squared > 0.0 || e.squared.is_nan()));
+        .filter(|(_, e)| e.significant && (e.squared > 0.0 || e.squared.is_nan()));
     for (t, e) in fitted {
         let (f, unit) = datasheet(col.triad, t);
         let _ = writeln!(

@@ -56,15 +56,27 @@ impl RowParser {
     }
 
     fn cell(&self, cell: &[u8], line_no: u64, slot: usize) -> anyhow::Result<f64> {
-        parse_cell(cell).ok_or_else(|| {
+        let v = parse_cell(cell).ok_or_else(|| {
             anyhow!(
                 "line {line_no}, column {}: \"{}\" is not a finite number",
                 self.names[slot],
                 String::from_utf8_lossy(cell).trim()
             )
-        })
+        })?;
+        if v.abs() > MAX_MAGNITUDE {
+            bail!(
+                "line {line_no}, column {}: {v:e} is too large (|value| above {MAX_MAGNITUDE:e}: the Allan sums of its squares would overflow)",
+                self.names[slot]
+            );
+        }
+        Ok(v)
     }
 }
+
+/// The largest |value| analysed: a second difference of sums of up to 2^40
+/// samples, squared and summed 2^40 times, stays far below f64's 1.8e308
+/// (2^92·(1e100)² = 5e227); no sensor reads anywhere near it.
+const MAX_MAGNITUDE: f64 = 1e100;
 
 /// A cell's finite number, spaces around it allowed.
 fn parse_cell(cell: &[u8]) -> Option<f64> {

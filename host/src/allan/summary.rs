@@ -1,13 +1,17 @@
-//! The report on stdout: the record, then per column its τ range, each
-//! fitted term in data-sheet units with its uncertainty, and the grade.
+//! The report on stdout: the record, then per column its τ range, the fit
+//! (generalised least squares, its χ² and the test a term must pass), each
+//! term in data-sheet units — with its uncertainty, its z and the τ range
+//! that decided it when the data support it, else its upper limit — and the
+//! grade, or why the column has none.
 
 use std::io::Write;
 
+use triad_lab::allan::gls::SIGNIFICANCE_Z;
 use triad_lab::allan::noise_terms::{NoiseFit, Term};
 
 use super::compute::{Analysis, ColumnResult};
 use super::fit::{datasheet, si_unit};
-use super::grade::grade_of;
+use super::grade::{grade_of, reported, UPPER_LIMIT_SIGMAS};
 use super::AllanArgs;
 
 /// Writes the report of `a` to `w`.
@@ -29,7 +33,7 @@ pub fn write(w: &mut impl Write, args: &AllanArgs, a: &Analysis) -> anyhow::Resu
     Ok(())
 }
 
-/// One column: its heading, its terms and its grade.
+/// One column: its heading, its fit, its terms and its grade.
 fn write_column(w: &mut impl Write, col: &ColumnResult) -> anyhow::Result<()> {
     let (first, last) = (col.points.first(), col.points.last());
     writeln!(
@@ -41,35 +45,70 @@ fn write_column(w: &mut impl Write, col: &ColumnResult) -> anyhow::Result<()> {
         first.map_or(f64::NAN, |p| p.tau),
         last.map_or(f64::NAN, |p| p.tau)
     )?;
-    let Some(fit) = &col.fit else {
-        writeln!(w, "  no fit (no valid point)")?;
-        return Ok(());
+    let fit = match &col.fit {
+        Ok(fit) => fit,
+        Err(why) => {
+            writeln!(w, "  {why}")?;
+            return Ok(());
+        }
     };
+    writeln!(
+        w,
+        "  fit: generalised least squares on {} octaves, chi2 {:.1} for {} dof (sigmas x{:.2}); a term is reported at z >= {SIGNIFICANCE_Z}",
+        fit.dof + fit.terms.iter().filter(|e| e.in_support).count(),
+        fit.chi2,
+        fit.dof,
+        fit.inflation
+    )?;
     write_terms(w, col, fit)?;
     if let Some((g, d)) = grade_of(col) {
-        writeln!(w, "  grade: {g} (decided by {d})")?;
+        let limits: Vec<&str> = [Term::WhiteNoise, Term::BiasInstability]
+            .into_iter()
+            .filter(|&t| !fit.term(t).significant)
+            .map(|t| t.symbol())
+            .collect();
+        let note = if limits.is_empty() {
+            String::new()
+        } else {
+            format!(
+                "; {} not detected: graded on its upper limit",
+                limits.join(" and ")
+            )
+        };
+        writeln!(w, "  grade: {g} (decided by {d}){note}")?;
     }
     Ok(())
 }
 
-/// A line per term: symbol, name, value ± sigma in data-sheet units.
+/// A line per term: symbol, name, then value ± sigma, z and τ range in
+/// data-sheet units, or the upper limit of a term the data do not support.
 fn write_terms(w: &mut impl Write, col: &ColumnResult, fit: &NoiseFit) -> anyhow::Result<()> {
     for t in Term::ALL {
         let (f, unit) = datasheet(col.triad, t);
         let e = fit.term(t);
-        let note = if e.in_support {
-            ""
+        if e.significant {
+            writeln!(
+                w,
+                "  {} {:<17} {:>12.4e} ± {:.2e} {unit}  (z {:.1}; decided by tau {:.3e} .. {:.3e} s)",
+                t.symbol(),
+                term_name(t),
+                e.value * f,
+                e.sigma * f,
+                e.z,
+                e.tau_range.0,
+                e.tau_range.1
+            )?;
         } else {
-            "  (not seen: value at 0, sigma is what it could hide)"
-        };
-        writeln!(
-            w,
-            "  {} {:<17} {:>12.4e} ± {:.2e} {unit}{note}",
-            t.symbol(),
-            term_name(t),
-            e.value * f,
-            e.sigma * f
-        )?;
+            let (limit, _) = reported(e);
+            writeln!(
+                w,
+                "  {} {:<17} not detected: < {:.2e} {unit} ({UPPER_LIMIT_SIGMAS}-sigma upper limit, z {:.1})",
+                t.symbol(),
+                term_name(t),
+                limit * f,
+                e.z
+            )?;
+        }
     }
     Ok(())
 }
@@ -110,7 +149,7 @@ mod tests {
         );
         assert_eq!(lines[1], "");
         assert_eq!(lines[2], "gz (gyro, rad/s): tau 0.1 .. 0.2 s");
-        assert_eq!(lines[3], "  no fit (no valid point)");
+        assert!(lines[3].starts_with("  no noise detected"), "{}", lines[3]);
     }
 
     #[test]

@@ -1,14 +1,18 @@
 //! `--out`: the curve of every column as a CSV table
-//! `column,tau,oadev,ci_low,ci_high,m,terms,edf,noise,adev` (SI units).
+//! `column,tau,oadev,ci_low,ci_high,m,terms,edf,noise,adev,decides` (SI
+//! units); `decides` names the reported noise terms whose deciding τ range
+//! holds the point (`N`, `B;K`, …; empty for none).
 
 use std::io::Write;
 use std::path::Path;
+
+use triad_lab::allan::noise_terms::Term;
 
 use super::compute::ColumnResult;
 use crate::outfile::OutFile;
 
 /// The table's header line.
-pub const HEADER: &str = "column,tau,oadev,ci_low,ci_high,m,terms,edf,noise,adev";
+pub const HEADER: &str = "column,tau,oadev,ci_low,ci_high,m,terms,edf,noise,adev,decides";
 
 /// Writes the table of `columns` for `path`: whole, to be put in place
 /// with [`OutFile::commit`].
@@ -25,7 +29,7 @@ pub fn render(w: &mut impl Write, columns: &[ColumnResult]) -> std::io::Result<(
         for p in &col.points {
             writeln!(
                 w,
-                "{},{},{},{},{},{},{},{},{},{}",
+                "{},{},{},{},{},{},{},{},{},{},{}",
                 col.name,
                 p.tau,
                 p.avar.sqrt(),
@@ -35,11 +39,28 @@ pub fn render(w: &mut impl Write, columns: &[ColumnResult]) -> std::io::Result<(
                 p.terms,
                 p.edf,
                 p.noise.name(),
-                p.avar_non_overlapping.sqrt()
+                p.avar_non_overlapping.sqrt(),
+                decides(col, p.tau)
             )?;
         }
     }
     Ok(())
+}
+
+/// The reported terms whose deciding τ range holds `tau`, `;`-separated.
+fn decides(col: &ColumnResult, tau: f64) -> String {
+    let Ok(fit) = &col.fit else {
+        return String::new();
+    };
+    Term::ALL
+        .into_iter()
+        .filter(|&t| {
+            let e = fit.term(t);
+            e.significant && e.tau_range.0 <= tau && tau <= e.tau_range.1
+        })
+        .map(|t| t.symbol())
+        .collect::<Vec<_>>()
+        .join(";")
 }
 
 #[cfg(test)]
@@ -65,7 +86,7 @@ pub(crate) mod tests {
             name: name.into(),
             triad,
             points: vec![point(1, 4.0), point(2, 1.0)],
-            fit: None,
+            fit: Err(crate::allan::fit::NoFit::NoNoise),
         }
     }
 
@@ -82,7 +103,7 @@ pub(crate) mod tests {
         assert_eq!(lines.len(), 5);
         assert_eq!(lines[0], HEADER);
         let noise = NoiseType::from_slope(-1.0).name();
-        assert_eq!(lines[1], format!("gx,0.1,2,0.5,3,1,9,4.5,{noise},NaN"));
+        assert_eq!(lines[1], format!("gx,0.1,2,0.5,3,1,9,4.5,{noise},NaN,"));
         assert!(lines[4].starts_with("az,0.2,1,"));
     }
 }

@@ -13,14 +13,19 @@
 //! - [`direct`]: any m on a record held in memory (every-τ mode, reference sets);
 //! - [`chi2`]: the χ² distribution and its quantile;
 //! - [`edf`]: equivalent degrees of freedom and confidence intervals;
-//! - [`noise_terms`]: the joint weighted fit of Q, N, B, K, R;
+//! - [`covariance`]: the covariance of the octave estimates under the model;
+//! - [`noise_terms`]: the model of Q, N, B, K, R and its types;
+//! - [`gls`]: its fit, by generalised least squares with that covariance;
 //! - [`grade`]: the sensor grade from N and B per the published tables.
 
 pub mod accumulate;
 pub mod chi2;
+pub mod covariance;
 pub mod direct;
 pub mod edf;
+pub mod gls;
 pub mod grade;
+mod nnls;
 pub mod noise_terms;
 mod sum;
 

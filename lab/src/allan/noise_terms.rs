@@ -8,35 +8,21 @@
 //! and rate ramp R (+1). The model is linear in the squared coefficients
 //! c = (Q², N², B², K², R²) ≥ 0.
 //!
-//! Fit: weighted non-negative least squares of σ²(τᵢ). A variance estimate
-//! with ν EDF has Var(s²) = 2σ⁴/ν (χ²), so the weight is wᵢ = νᵢ/(2σᵢ⁴).
-//! Using the measured s² for σ² would favour points that happen to fall low
-//! (with ν = 1 a draw can be 100 times below σ²); the weights therefore come
-//! from the confidence intervals and are iterated ([`ITERATIONS`] passes):
-//! the first uses the upper end of each point's 1σ interval,
-//! σ² ≈ ν s²/χ²_{0.159}(ν) (≈ s² for many EDF, ≈ 25 s² for ν = 1), each
-//! next one the previous fit's model. The
-//! non-negativity is exact: with five terms every support set (31 of them)
-//! is solved by unconstrained weighted least squares (Cholesky of the
-//! column-scaled normal matrix) and the feasible solution of least weighted
-//! residual is kept — the NNLS optimum is the unconstrained optimum on its
-//! own support.
+//! The fit itself is [`super::gls::fit`]: generalised least squares with
+//! the covariance of the estimates ([`super::covariance`]). This module
+//! holds the model, its types and [`first_guess`], the fit that treats the
+//! points as independent (weights from their EDF), which starts it.
 //!
-//! Uncertainties: the covariance of c on the support is the inverse normal
-//! matrix, scaled by the reduced χ² when that exceeds 1 (the model explains
-//! the curve worse than the EDF say). A term outside the support is reported
-//! as 0 with the standard deviation it would have with its column added.
-//! For a coefficient √c the standard deviation is σ_c/(2√c) (first order);
-//! for c = 0 it is √σ_c, the size of a term one standard deviation would hide.
-//!
-//! Limitation: the weights treat the points as independent. Overlapping
-//! estimates at neighbouring octaves are correlated — strongly for flicker
-//! noise, whose long memory can hold several long-τ octaves 10–20 % above
-//! the floor in one record — so a K or R term fitted from the last few
-//! octaves of a record (τ within a factor ~10 of its length) can be
-//! reported with an uncertainty several times too small.
+//! First guess: weighted non-negative least squares of σ²(τᵢ). A variance
+//! estimate with ν EDF has Var(s²) = 2σ⁴/ν (χ²), so the weight is wᵢ =
+//! νᵢ/(2σᵢ⁴). Using the measured s² for σ² would favour points that happen
+//! to fall low (with ν = 1 a draw can be 100 times below σ²); the weights
+//! therefore come from the confidence intervals and are iterated
+//! ([`ITERATIONS`] passes): the first uses the upper end of each point's 1σ
+//! interval, σ² ≈ ν s²/χ²_{0.159}(ν), each next one the previous fit's
+//! model. Its uncertainties are not reported: the points are correlated.
 
-use super::chi2;
+use super::{chi2, nnls};
 
 /// Weight iterations of the fit.
 pub const ITERATIONS: usize = 4;
@@ -124,14 +110,41 @@ pub struct CurvePoint {
 pub struct TermEstimate {
     /// The coefficient (≥ 0).
     pub value: f64,
-    /// Its standard deviation (see the module comment).
+    /// Its standard deviation: σ_c/(2√c) for c > 0 (first order); for c = 0,
+    /// √σ_c, the size of a term one standard deviation would hide.
     pub sigma: f64,
-    /// The squared coefficient as fitted.
+    /// The squared coefficient c as fitted.
     pub squared: f64,
-    /// The standard deviation of the squared coefficient.
+    /// The standard deviation of c (from the estimates' covariance).
     pub squared_sigma: f64,
     /// False when the non-negativity constraint set the term to zero.
     pub in_support: bool,
+    /// The test statistic c/σ_c (0 off the support).
+    pub z: f64,
+    /// True when the data support the term: in the support and
+    /// z ≥ [`SIGNIFICANCE_Z`](super::gls::SIGNIFICANCE_Z).
+    pub significant: bool,
+    /// The τ range (s) that decided the term: the points where it is the
+    /// largest part of the fitted σ²(τ); where it leads nowhere, the points
+    /// where its share is at least half its largest. NaN without a share.
+    pub tau_range: (f64, f64),
+    /// The term's largest share of the fitted σ²(τ) over the points (0–1).
+    pub share: f64,
+}
+
+impl TermEstimate {
+    /// A term at zero with no information.
+    pub const ZERO: Self = Self {
+        value: 0.0,
+        sigma: 0.0,
+        squared: 0.0,
+        squared_sigma: 0.0,
+        in_support: false,
+        z: 0.0,
+        significant: false,
+        tau_range: (f64::NAN, f64::NAN),
+        share: 0.0,
+    };
 }
 
 /// The fitted model.
@@ -139,10 +152,14 @@ pub struct TermEstimate {
 pub struct NoiseFit {
     /// The coefficients, in [`Term::ALL`] order.
     pub terms: [TermEstimate; TERMS],
-    /// The weighted residual Σ wᵢ (sᵢ² − model(τᵢ))².
+    /// The generalised residual rᵀV⁻¹r.
     pub chi2: f64,
     /// Degrees of freedom of the residual: points − terms in the support.
     pub dof: usize,
+    /// The factor the standard deviations were scaled by: √(χ²/dof) when χ²
+    /// fails the goodness-of-fit test (the model explains the curve worse
+    /// than its covariance says), else 1.
+    pub inflation: f64,
 }
 
 impl NoiseFit {
@@ -160,11 +177,18 @@ impl NoiseFit {
     }
 }
 
-/// Why a curve cannot be fitted.
+/// Why a curve is not fitted.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum FitError {
-    /// No point at all.
-    NoPoints,
+    /// Fewer points than a fit needs.
+    TooFewPoints {
+        /// The points given.
+        count: usize,
+        /// The fewest a fit takes.
+        needed: usize,
+    },
+    /// Every estimate is zero: the data hold no noise (a dead or constant channel).
+    NoNoise,
     /// A point whose τ is not positive, variance negative or EDF not positive (or NaN).
     BadPoint {
         /// Index of the point.
@@ -176,12 +200,20 @@ pub enum FitError {
         /// Its EDF.
         edf: f64,
     },
+    /// The covariance was computed for other points (count or τ).
+    CovarianceMismatch,
+    /// The covariance of the estimates is not positive definite.
+    Covariance,
 }
 
 impl core::fmt::Display for FitError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match self {
-            FitError::NoPoints => write!(f, "no Allan-variance point to fit"),
+            FitError::TooFewPoints { count, needed } => write!(
+                f,
+                "{count} tau points: too few to fit the noise terms (at least {needed})"
+            ),
+            FitError::NoNoise => write!(f, "no noise detected: the Allan variance is 0 at every tau"),
             FitError::BadPoint {
                 index,
                 tau,
@@ -189,178 +221,21 @@ impl core::fmt::Display for FitError {
                 edf,
             } => write!(
                 f,
-                "point {index} (tau {tau} s, variance {avar}, edf {edf}) is not a valid estimate"
+                "point {index} (tau {tau:e} s, variance {avar:e}, edf {edf:e}) is not a valid estimate"
+            ),
+            FitError::CovarianceMismatch => {
+                write!(f, "the covariance was computed for other tau points")
+            }
+            FitError::Covariance => write!(
+                f,
+                "the covariance of the Allan estimates is not positive definite"
             ),
         }
     }
 }
 
-type Matrix = [[f64; TERMS]; TERMS];
-
-/// The weighted normal equations of the terms `idx[..n]`.
-#[allow(clippy::needless_range_loop)]
-fn normal_equations(
-    points: &[CurvePoint],
-    weights: &[f64],
-    n: usize,
-    idx: &[usize; TERMS],
-) -> (Matrix, [f64; TERMS]) {
-    let mut g = [[0.0; TERMS]; TERMS];
-    let mut r = [0.0; TERMS];
-    for (p, &w) in points.iter().zip(weights) {
-        let mut a = [0.0; TERMS];
-        for (i, &k) in idx[..n].iter().enumerate() {
-            a[i] = Term::ALL[k].basis(p.tau);
-        }
-        for i in 0..n {
-            r[i] += w * a[i] * p.avar;
-            for j in 0..n {
-                g[i][j] += w * a[i] * a[j];
-            }
-        }
-    }
-    (g, r)
-}
-
-/// Cholesky factor (lower) of the n×n leading block; None when not positive definite.
-// Indices as in the textbook formula: checkable at a glance.
-#[allow(clippy::needless_range_loop)]
-fn cholesky(g: &Matrix, n: usize) -> Option<Matrix> {
-    let mut l = [[0.0; TERMS]; TERMS];
-    for i in 0..n {
-        for j in 0..=i {
-            let mut s = g[i][j];
-            for k in 0..j {
-                s -= l[i][k] * l[j][k];
-            }
-            if i == j {
-                let positive = s > 1e-13 * g[i][i].abs() && s.is_finite();
-                if !positive {
-                    return None;
-                }
-                l[i][i] = libm::sqrt(s);
-            } else {
-                l[i][j] = s / l[j][j];
-            }
-        }
-    }
-    Some(l)
-}
-
-#[allow(clippy::needless_range_loop)]
-fn cholesky_solve(l: &Matrix, n: usize, b: &[f64; TERMS]) -> [f64; TERMS] {
-    let mut y = [0.0; TERMS];
-    for i in 0..n {
-        let mut s = b[i];
-        for k in 0..i {
-            s -= l[i][k] * y[k];
-        }
-        y[i] = s / l[i][i];
-    }
-    let mut x = [0.0; TERMS];
-    for i in (0..n).rev() {
-        let mut s = y[i];
-        for k in i + 1..n {
-            s -= l[k][i] * x[k];
-        }
-        x[i] = s / l[i][i];
-    }
-    x
-}
-
-/// The support's term indices.
-fn members(support: u32) -> ([usize; TERMS], usize) {
-    let mut idx = [0; TERMS];
-    let mut n = 0;
-    for (k, slot) in (0..TERMS).filter(|k| support & (1 << k) != 0).zip(0..) {
-        idx[slot] = k;
-        n += 1;
-    }
-    (idx, n)
-}
-
-/// A weighted least-squares solve on one support: the squared coefficients
-/// (full length, zero off the support) and the diagonal of their covariance;
-/// None when the normal matrix is singular.
-#[allow(clippy::needless_range_loop)]
-fn solve_support(
-    points: &[CurvePoint],
-    weights: &[f64],
-    support: u32,
-) -> Option<([f64; TERMS], [f64; TERMS])> {
-    let (idx, n) = members(support);
-    if n == 0 || n > points.len() {
-        return None;
-    }
-    let (g, r) = normal_equations(points, weights, n, &idx);
-    // Column scaling: the bases differ by many decades over the τ range.
-    let mut scale = [1.0; TERMS];
-    for i in 0..n {
-        if g[i][i].partial_cmp(&0.0) != Some(core::cmp::Ordering::Greater) {
-            return None;
-        }
-        scale[i] = 1.0 / libm::sqrt(g[i][i]);
-    }
-    let mut gs = [[0.0; TERMS]; TERMS];
-    let mut rs = [0.0; TERMS];
-    for i in 0..n {
-        rs[i] = r[i] * scale[i];
-        for j in 0..n {
-            gs[i][j] = g[i][j] * scale[i] * scale[j];
-        }
-    }
-    let l = cholesky(&gs, n)?;
-    let xs = cholesky_solve(&l, n, &rs);
-    let mut coef = [0.0; TERMS];
-    let mut var = [0.0; TERMS];
-    for i in 0..n {
-        coef[idx[i]] = xs[i] * scale[i];
-        let mut e = [0.0; TERMS];
-        e[i] = 1.0;
-        let col = cholesky_solve(&l, n, &e);
-        var[idx[i]] = col[i] * scale[i] * scale[i];
-    }
-    Some((coef, var))
-}
-
-fn residual(points: &[CurvePoint], weights: &[f64], coef: &[f64; TERMS]) -> f64 {
-    points
-        .iter()
-        .zip(weights)
-        .map(|(p, &w)| {
-            let model: f64 = Term::ALL
-                .iter()
-                .map(|&t| coef[t as usize] * t.basis(p.tau))
-                .sum();
-            w * (p.avar - model) * (p.avar - model)
-        })
-        .sum()
-}
-
-/// The NNLS solution for fixed weights: (coefficients, covariance diagonal, support, χ²).
-fn nnls(points: &[CurvePoint], weights: &[f64]) -> ([f64; TERMS], [f64; TERMS], u32, f64) {
-    let zero = [0.0; TERMS];
-    let mut best = (zero, zero, 0u32, residual(points, weights, &zero));
-    for support in 1u32..(1 << TERMS) {
-        if let Some((coef, var)) = solve_support(points, weights, support) {
-            if coef.iter().all(|&c| c >= 0.0 && c.is_finite()) {
-                let chi2 = residual(points, weights, &coef);
-                if chi2 < best.3 {
-                    best = (coef, var, support, chi2);
-                }
-            }
-        }
-    }
-    best
-}
-
-/// Fits the five-term model to `points`; `weights` is scratch space of the
-/// same length (the core does not allocate). Points with zero variance are
-/// kept (they pull the model down) with the weight of the model there.
-pub fn fit(points: &[CurvePoint], weights: &mut [f64]) -> Result<NoiseFit, FitError> {
-    if points.is_empty() || weights.len() < points.len() {
-        return Err(FitError::NoPoints);
-    }
+/// Checks every point: τ > 0, variance ≥ 0, EDF > 0, all finite.
+pub(crate) fn check_points(points: &[CurvePoint]) -> Result<(), FitError> {
     for (index, p) in points.iter().enumerate() {
         let ok = p.tau.is_finite()
             && p.tau > 0.0
@@ -377,81 +252,48 @@ pub fn fit(points: &[CurvePoint], weights: &mut [f64]) -> Result<NoiseFit, FitEr
             });
         }
     }
-    let weights = &mut weights[..points.len()];
+    Ok(())
+}
+
+/// The model's Allan variance at τ for squared coefficients `c`.
+pub(crate) fn model(c: &[f64; TERMS], tau: f64) -> f64 {
+    Term::ALL
+        .iter()
+        .map(|&t| c[t as usize] * t.basis(tau))
+        .sum()
+}
+
+/// The first guess of the squared coefficients (see the module comment):
+/// `rows` and `data` are scratch space of the points' length (the core does
+/// not allocate). The points must have been checked and hold some noise.
+pub(crate) fn first_guess(
+    points: &[CurvePoint],
+    rows: &mut [[f64; TERMS]],
+    data: &mut [f64],
+) -> [f64; TERMS] {
+    let (rows, data) = (&mut rows[..points.len()], &mut data[..points.len()]);
     let peak = points.iter().map(|p| p.avar).fold(0.0f64, f64::max);
-    if peak == 0.0 {
-        let zero = TermEstimate {
-            value: 0.0,
-            sigma: 0.0,
-            squared: 0.0,
-            squared_sigma: 0.0,
-            in_support: false,
-        };
-        return Ok(NoiseFit {
-            terms: [zero; TERMS],
-            chi2: 0.0,
-            dof: points.len(),
-        });
-    }
     // A floor keeps weights finite where a variance (or the model) is zero.
     let floor = peak * 1e-30;
     let lower_tail = 0.5 * (1.0 - super::edf::ONE_SIGMA);
-    for (w, p) in weights.iter_mut().zip(points) {
-        let upper = p.avar * p.edf / chi2::quantile(lower_tail, p.edf);
-        let v = if upper.is_finite() { upper } else { p.avar }.max(floor);
-        *w = p.edf / (2.0 * v * v);
-    }
-    let mut solution = nnls(points, weights);
-    for _ in 1..ITERATIONS {
-        for (w, p) in weights.iter_mut().zip(points) {
-            let model: f64 = Term::ALL
-                .iter()
-                .map(|&t| solution.0[t as usize] * t.basis(p.tau))
-                .sum();
-            let v = model.max(floor);
-            *w = p.edf / (2.0 * v * v);
+    let weigh = |rows: &mut [[f64; TERMS]], data: &mut [f64], i: usize, p: &CurvePoint, v: f64| {
+        let sw = libm::sqrt(p.edf / 2.0) / v.max(floor);
+        for (k, t) in Term::ALL.iter().enumerate() {
+            rows[i][k] = sw * t.basis(p.tau);
         }
-        solution = nnls(points, weights);
-    }
-    let (coef, var, support, chi2) = solution;
-    let in_support = support.count_ones() as usize;
-    let dof = points.len().saturating_sub(in_support);
-    let inflation = if dof > 0 {
-        (chi2 / dof as f64).max(1.0)
-    } else {
-        1.0
+        data[i] = sw * p.avar;
     };
-    let mut terms = [TermEstimate {
-        value: 0.0,
-        sigma: 0.0,
-        squared: 0.0,
-        squared_sigma: 0.0,
-        in_support: false,
-    }; TERMS];
-    for (k, est) in terms.iter_mut().enumerate() {
-        let inside = support & (1 << k) != 0;
-        let v = if inside {
-            var[k]
-        } else {
-            solve_support(points, weights, support | (1 << k))
-                .map(|(_, v)| v[k])
-                .unwrap_or(f64::INFINITY)
-        };
-        let squared_sigma = libm::sqrt(v * inflation);
-        let c = coef[k];
-        let value = libm::sqrt(c);
-        let sigma = if c > 0.0 {
-            squared_sigma / (2.0 * value)
-        } else {
-            libm::sqrt(squared_sigma)
-        };
-        *est = TermEstimate {
-            value,
-            sigma,
-            squared: c,
-            squared_sigma,
-            in_support: inside,
-        };
+    for (i, p) in points.iter().enumerate() {
+        let upper = p.avar * p.edf / chi2::quantile(lower_tail, p.edf);
+        let v = if upper.is_finite() { upper } else { p.avar };
+        weigh(rows, data, i, p, v);
     }
-    Ok(NoiseFit { terms, chi2, dof })
+    let mut c = nnls::solve(rows, data).coef;
+    for _ in 1..ITERATIONS {
+        for (i, p) in points.iter().enumerate() {
+            weigh(rows, data, i, p, model(&c, p.tau));
+        }
+        c = nnls::solve(rows, data).coef;
+    }
+    c
 }

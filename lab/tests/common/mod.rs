@@ -1,0 +1,73 @@
+//! What the Allan tests share: a simulated static record and its octave
+//! curve, as `triad allan` computes it.
+
+// Each test crate that includes this module uses a part of it.
+#![allow(dead_code)]
+
+use triad_lab::allan::accumulate::OctaveAccumulator;
+use triad_lab::allan::edf::{self, NoiseType};
+use triad_lab::allan::noise_terms::CurvePoint;
+use triad_sim::motion::Motion;
+use triad_sim::scene::Scene;
+use triad_sim::simulator::Simulator;
+
+/// The octave curve of one series: the mean of its first 4096 samples
+/// subtracted (as `triad allan` does), the EDF from the local slope.
+pub fn octave_points(y: &[f64], rate: f64) -> Vec<CurvePoint> {
+    let first = &y[..y.len().min(4096)];
+    let offset = first.iter().sum::<f64>() / first.len().max(1) as f64;
+    let ring = (y.len() / 2).next_power_of_two().max(2) * 2;
+    let mut acc = OctaveAccumulator::new(vec![0.0; ring], offset).unwrap();
+    for &v in y {
+        acc.push(v);
+    }
+    let n = acc.samples();
+    let r: Vec<_> = acc.results().collect();
+    (0..r.len())
+        .map(|i| {
+            let (a, b) = (i.saturating_sub(1), (i + 1).min(r.len() - 1));
+            let mu = (r[b].overlapping / r[a].overlapping).ln()
+                / ((r[b].m as f64) / (r[a].m as f64)).ln();
+            let nu = edf::edf_conservative(NoiseType::from_slope(mu), n, r[i].m);
+            CurvePoint {
+                tau: r[i].m as f64 / rate,
+                avar: r[i].overlapping,
+                edf: nu,
+            }
+        })
+        .collect()
+}
+
+/// The averaging factors of an octave curve at `rate`.
+pub fn factors(points: &[CurvePoint], rate: f64) -> Vec<u64> {
+    points
+        .iter()
+        .map(|p| (p.tau * rate).round() as u64)
+        .collect()
+}
+
+/// `samples` of a static `scene`, gyro (or accel) axes as three series.
+pub fn axes(scene: &Scene, gyro: bool, samples: usize, seed: u64) -> [Vec<f64>; 3] {
+    let mut sim = Simulator::new(scene, seed).unwrap();
+    let mut axes: [Vec<f64>; 3] = Default::default();
+    for a in axes.iter_mut() {
+        a.reserve(samples);
+    }
+    for _ in 0..samples {
+        let m = sim.step().measured;
+        let s = if gyro {
+            m.angular_rate
+        } else {
+            m.specific_force
+        };
+        for (a, v) in axes.iter_mut().zip(s) {
+            a.push(v);
+        }
+    }
+    axes
+}
+
+/// A static scene at `rate`.
+pub fn static_scene(rate: f64) -> Scene {
+    Scene::new(rate, Motion::Static { attitude: [0.0; 3] })
+}
