@@ -7,15 +7,22 @@
 //! - [`correct`]: a calibration applied to measured samples;
 //! - [`calib`]: check, pack and fit calibration files ([`calib_file`]);
 //! - [`sim`]: what a sensor measures in a scene ([`scene_file`]);
-//! - [`allan`]: Allan deviation, noise terms and grade of rate columns.
+//! - [`allan`]: Allan deviation, noise terms and grade of rate columns;
+//! - [`cli_docs`]: shell completions and man pages of the command line.
+//!
+//! [`shipped`] is what the binary carries (scenes, the default calibration);
+//! [`version`] what `triad --version` says.
 
 #![warn(missing_docs)]
 
 pub mod allan;
 pub mod calib;
 pub mod calib_file;
+pub mod cli_docs;
 pub mod correct;
 pub mod decode;
 pub mod progress;
 pub mod scene_file;
+pub mod shipped;
 pub mod sim;
+pub mod version;

@@ -2,13 +2,14 @@
 //! library; this file only parses the command line, dispatches, and reports
 //! errors in one line.
 
+use clap::CommandFactory;
 use clap::{Parser, Subcommand};
-use triad_host::{allan, calib, correct, decode, sim};
+use triad_host::{allan, calib, cli_docs, correct, decode, sim, version};
 
 #[derive(Parser)]
 #[command(
     name = "triad",
-    version,
+    version = version::text(),
     about = "Calibrated MEMS inertial sensors: host toolkit"
 )]
 struct Cli {
@@ -28,6 +29,10 @@ enum Command {
     Sim(sim::SimArgs),
     /// Allan deviation, IEEE 952 noise terms and sensor grade of rate columns.
     Allan(allan::AllanArgs),
+    /// Print a shell completion script (bash, zsh, fish, elvish, powershell).
+    Completions(cli_docs::CompletionsArgs),
+    /// Print the man page, or write every command's page into a directory.
+    Man(cli_docs::ManArgs),
 }
 
 fn main() -> std::process::ExitCode {
@@ -38,6 +43,8 @@ fn main() -> std::process::ExitCode {
         Command::Calib(args) => calib::run(args),
         Command::Sim(args) => sim::run(args),
         Command::Allan(args) => allan::run(args),
+        Command::Completions(args) => cli_docs::completions(args, Cli::command()),
+        Command::Man(args) => cli_docs::man(args, Cli::command()),
     };
     match result {
         Ok(code) => code,

@@ -18,9 +18,13 @@ use crate::scene_file::{self, LoadedScene};
 /// Arguments of `triad sim`.
 #[derive(clap::Args)]
 pub struct SimArgs {
-    /// A shipped scene's name (scenes/NAME.toml) or a scene file.
-    #[arg(long)]
-    pub scene: String,
+    /// A shipped scene's name (built into triad; `--list` shows them) or a
+    /// scene file. An existing file of that name wins.
+    #[arg(long, value_name = "NAME|FILE", required_unless_present = "list")]
+    pub scene: Option<String>,
+    /// List the shipped scenes, grade presets and calibrations, and exit.
+    #[arg(long, exclusive = true)]
+    pub list: bool,
     /// Seconds to simulate (default: the scene's `duration_s`).
     #[arg(long)]
     pub seconds: Option<f64>,
@@ -31,7 +35,7 @@ pub struct SimArgs {
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// The measured samples (CSV).
-    #[arg(long, required_unless_present = "pack")]
+    #[arg(long, required_unless_present_any = ["pack", "list"])]
     pub out: Option<PathBuf>,
     /// Instead of simulating: write the scene (with --rate and --seed) as
     /// the binary blob the emulated board embeds (`cargo xtask run --scene`).
@@ -62,7 +66,15 @@ fn create(path: &PathBuf) -> anyhow::Result<BufWriter<File>> {
 
 /// Runs `triad sim`.
 pub fn run(args: SimArgs) -> anyhow::Result<ExitCode> {
-    let loaded = scene_file::load(&args.scene)?;
+    let Some(scene) = args.scene.as_deref().filter(|_| !args.list) else {
+        let listing = crate::shipped::listing();
+        std::io::stdout()
+            .lock()
+            .write_all(listing.as_bytes())
+            .context("writing to stdout")?;
+        return Ok(ExitCode::SUCCESS);
+    };
+    let loaded = scene_file::load(scene)?;
     let mut scene = loaded.scene;
     if let Some(rate) = args.rate {
         if !(rate.is_finite() && rate > 0.0) {
