@@ -14,6 +14,15 @@ pub fn root() -> PathBuf {
         .to_path_buf()
 }
 
+/// Cargo's target directory for host builds: `CARGO_TARGET_DIR` when set
+/// (relative to the workspace root, where [`cargo`] runs), else `target/`.
+pub fn host_target_dir() -> PathBuf {
+    match std::env::var_os("CARGO_TARGET_DIR") {
+        Some(dir) => root().join(dir),
+        None => root().join("target"),
+    }
+}
+
 /// `cargo` (the one running xtask), in the workspace root.
 pub fn cargo() -> Command {
     let mut command = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()));
@@ -21,9 +30,11 @@ pub fn cargo() -> Command {
     command
 }
 
-/// Runs `command`; an error names `what` failed and how.
+/// Runs `command` with its stdout on stderr (xtask's stdout is for data:
+/// `cargo xtask run`'s CSV); an error names `what` failed and how.
 pub fn check(mut command: Command, what: &str) -> Result<()> {
     let status = command
+        .stdout(std::io::stderr())
         .status()
         .with_context(|| format!("starting {what}"))?;
     if !status.success() {
@@ -45,7 +56,7 @@ pub fn build_host_tool() -> Result<PathBuf> {
         "triad",
     ]);
     check(command, "building the triad host tool")?;
-    Ok(root().join("target/release/triad"))
+    Ok(host_target_dir().join("release/triad"))
 }
 
 /// Packs the calibration TOML into the blob the firmware embeds and returns the
