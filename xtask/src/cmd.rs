@@ -23,6 +23,15 @@ pub fn host_target_dir() -> PathBuf {
     }
 }
 
+/// `target/NAME` in the workspace root, where xtask keeps what it makes
+/// (blobs, firmware, captures) whatever `CARGO_TARGET_DIR` says; the
+/// directory is made if missing.
+fn artefact(name: &str) -> Result<PathBuf> {
+    let dir = root().join("target");
+    std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+    Ok(dir.join(name))
+}
+
 /// `cargo` (the one running xtask), in the workspace root.
 pub fn cargo() -> Command {
     let mut command = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()));
@@ -65,7 +74,7 @@ pub fn pack_calibration(triad: &Path, toml: Option<&Path>) -> Result<PathBuf> {
     let source = toml
         .map(Path::to_path_buf)
         .unwrap_or_else(|| root().join("calibrations/default.toml"));
-    let blob = root().join("target/calibration.bin");
+    let blob = artefact("calibration.bin")?;
     let mut command = Command::new(triad);
     command
         .args(["calib", "pack"])
@@ -97,7 +106,7 @@ pub fn build_firmware_with_scene(
 /// Writes the blob of scene `name` (a scenes/ name or a file) with `seed`
 /// for the emulated board, with `triad sim --pack`; returns its path.
 pub fn pack_scene(triad: &Path, name: &str, seed: u64) -> Result<PathBuf> {
-    let blob = root().join("target/scene.bin");
+    let blob = artefact("scene.bin")?;
     let mut command = Command::new(triad);
     command
         .current_dir(root())

@@ -70,9 +70,11 @@ fn xtask_run_prints_only_csv() -> Result<()> {
 }
 
 /// `cargo install --locked --path host --root TMP` (into the host target
-/// directory, so the release build is reused), then the installed `triad`
-/// simulates the shipped `static-bench` in an empty directory: its samples
-/// must be exactly those of the checkout's scenes/static-bench.toml.
+/// directory, so the release build is reused), then the installed `triad`,
+/// in an empty directory outside the checkout, packs the scene
+/// `static-bench` (saying where it took it from: `shipped:static-bench`, the
+/// copy built in, not a file) and simulates it: its samples must be exactly
+/// those of the checkout's scenes/static-bench.toml.
 fn installed_triad_runs_anywhere(triad: &Path) -> Result<()> {
     let scratch = std::env::temp_dir().join(format!("triad-first-run-{}", std::process::id()));
     let result = install_and_simulate(triad, &scratch);
@@ -92,6 +94,23 @@ fn install_and_simulate(triad: &Path, scratch: &Path) -> Result<()> {
         .arg(cmd::host_target_dir());
     check(install, "cargo install --path host")?;
     let installed = root.join("bin/triad");
+
+    let packed = Command::new(&installed)
+        .current_dir(&elsewhere)
+        .args([
+            "sim",
+            "--scene",
+            "static-bench",
+            "--pack",
+            "static-bench.bin",
+        ])
+        .output()
+        .context("starting the installed triad")?;
+    let said = String::from_utf8_lossy(&packed.stderr);
+    ensure!(
+        packed.status.success() && said.contains("scene shipped:static-bench at"),
+        "the installed triad did not take static-bench from its built-in scenes: {said}"
+    );
 
     let simulate = |triad: &Path, scene: &str, out: &PathBuf| -> Result<Vec<u8>> {
         let mut command = Command::new(triad);
