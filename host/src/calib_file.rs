@@ -139,11 +139,12 @@ fn position(text: &str, offset: usize) -> String {
     format!("{line}:{column}: ")
 }
 
-/// Reads and parses `path`; errors name the file, the line and the key.
+/// Reads and parses `path`, or the shipped calibration of that name
+/// (`default`; the rule is [`crate::shipped`]'s); errors name the file, the
+/// line and the key.
 pub fn load(path: &Path) -> anyhow::Result<CalibFile> {
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("{}: cannot read", path.display()))?;
-    parse(&text, path)
+    let source = crate::shipped::locate(path, "calibration", crate::shipped::CALIBRATIONS)?;
+    parse(&source.text()?, &source.shown())
 }
 
 /// Parses the text of a calibration file read from `path`.

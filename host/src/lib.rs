@@ -7,18 +7,22 @@
 //! - [`correct`]: a calibration applied to measured samples;
 //! - [`calib`]: check, pack and fit calibration files ([`calib_file`]);
 //! - [`sim`]: what a sensor measures in a scene ([`scene_file`]);
-//! - [`allan`]: Allan deviation, noise terms and grade of rate columns.
+//! - [`allan`]: Allan deviation, noise terms and grade of rate columns;
+//! - [`cli_docs`]: shell completions and man pages of the command line.
 //!
 //! What every command shares: [`input`] (a CSV file or stdin), [`outfile`]
 //! (outputs written whole or not at all), [`distinct`] (no output over an
 //! input), [`stdio`] (stdout and stderr without panics), [`progress`],
 //! [`interrupt`] (Ctrl-C) and [`number`] (readable numbers in messages).
+//! [`shipped`] is what the binary carries (scenes, the default calibration);
+//! [`version`] what `triad --version` says.
 
 #![warn(missing_docs)]
 
 pub mod allan;
 pub mod calib;
 pub mod calib_file;
+pub mod cli_docs;
 pub mod correct;
 pub mod decode;
 pub mod distinct;
@@ -29,5 +33,7 @@ pub mod outfile;
 pub mod progress;
 pub mod row_writer;
 pub mod scene_file;
+pub mod shipped;
 pub mod sim;
 pub mod stdio;
+pub mod version;

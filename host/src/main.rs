@@ -9,14 +9,15 @@
 
 use std::process::ExitCode;
 
+use clap::CommandFactory;
 use clap::{Parser, Subcommand};
 use triad_host::stdio::{self, READER_GONE_STATUS};
-use triad_host::{allan, calib, correct, decode, progress, sim};
+use triad_host::{allan, calib, cli_docs, correct, decode, progress, sim, version};
 
 #[derive(Parser)]
 #[command(
     name = "triad",
-    version,
+    version = version::text(),
     about = "Calibrated MEMS inertial sensors: host toolkit"
 )]
 struct Cli {
@@ -39,6 +40,10 @@ enum Command {
     Sim(sim::SimArgs),
     /// Allan deviation, IEEE 952 noise terms and sensor grade of rate columns.
     Allan(allan::AllanArgs),
+    /// Print a shell completion script (bash, zsh, fish, elvish, powershell).
+    Completions(cli_docs::CompletionsArgs),
+    /// Print the man page, or write every command's page into a directory.
+    Man(cli_docs::ManArgs),
 }
 
 fn run(cli: Cli) -> anyhow::Result<ExitCode> {
@@ -52,6 +57,8 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Calib(args) => calib::run(args),
         Command::Sim(args) => sim::run(args),
         Command::Allan(args) => allan::run(args),
+        Command::Completions(args) => cli_docs::completions(args, Cli::command()),
+        Command::Man(args) => cli_docs::man(args, Cli::command()),
     }
 }
 

@@ -27,9 +27,13 @@ pub const DEFAULT_MAX_SAMPLES: u64 = 100_000_000;
 /// Arguments of `triad sim`.
 #[derive(clap::Args)]
 pub struct SimArgs {
-    /// A shipped scene's name (scenes/NAME.toml) or a scene file.
-    #[arg(long)]
-    pub scene: String,
+    /// A shipped scene's name (built into triad; `--list` shows them) or a
+    /// scene file. An existing file of that name wins.
+    #[arg(long, value_name = "NAME|FILE", required_unless_present = "list")]
+    pub scene: Option<String>,
+    /// List the shipped scenes, grade presets and calibrations, and exit.
+    #[arg(long, exclusive = true)]
+    pub list: bool,
     /// Seconds to simulate (default: the scene's `duration_s`).
     #[arg(long, allow_negative_numbers = true)]
     pub seconds: Option<f64>,
@@ -40,7 +44,7 @@ pub struct SimArgs {
     #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub seed: u64,
     /// The measured samples (CSV; `-`: standard output).
-    #[arg(long, required_unless_present = "pack")]
+    #[arg(long, required_unless_present_any = ["pack", "list"])]
     pub out: Option<PathBuf>,
     /// Instead of simulating: write the scene (with --rate and --seed) as
     /// the binary blob the emulated board embeds (`cargo xtask run --scene`).
@@ -67,7 +71,12 @@ pub fn write_row(w: &mut impl Write, t: f64, s: &TrueSample) -> std::io::Result<
 
 /// Runs `triad sim`.
 pub fn run(args: SimArgs) -> anyhow::Result<ExitCode> {
-    let loaded = scene_file::load(&args.scene)?;
+    let Some(scene) = args.scene.as_deref().filter(|_| !args.list) else {
+        let listing = crate::shipped::listing();
+        crate::stdio::print(&listing)?;
+        return Ok(ExitCode::SUCCESS);
+    };
+    let loaded = scene_file::load(scene)?;
     let outputs: Vec<_> = [
         ("--out", &args.out),
         ("--truth", &args.truth),

@@ -573,7 +573,8 @@ fn sim_refuses_unbounded_work_naming_the_limit_and_the_value() {
     ]);
     assert!(
         e.contains(
-            "static-bench.toml duration_s 3600 at 1000000000000 Hz is 3600000000000000 samples"
+            // The shipped scene (built into triad) is named `shipped:static-bench`.
+            "static-bench duration_s 3600 at 1000000000000 Hz is 3600000000000000 samples"
         ),
         "{e}"
     );

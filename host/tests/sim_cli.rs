@@ -210,7 +210,7 @@ fn wrong_unit_dimension_is_an_error() {
 }
 
 #[test]
-fn unknown_scene_name_says_where_it_looked() {
+fn unknown_scene_name_lists_the_shipped_scenes() {
     let output = triad()
         .args(["sim", "--scene", "no-such-scene", "--seconds", "1", "--out"])
         .arg(tmp("never2.csv"))
@@ -218,7 +218,11 @@ fn unknown_scene_name_says_where_it_looked() {
         .unwrap();
     assert!(!output.status.success());
     let err = String::from_utf8_lossy(&output.stderr);
-    assert!(err.contains("no-such-scene.toml"), "{err}");
+    assert!(
+        err.contains("scene `no-such-scene`: no such file, and no shipped scene"),
+        "{err}"
+    );
+    assert!(err.contains("static-bench, thermal-ramp"), "{err}");
 }
 
 /// `--pack` writes the blob the emulated board embeds: decoded and simulated,

@@ -14,6 +14,24 @@ pub fn root() -> PathBuf {
         .to_path_buf()
 }
 
+/// Cargo's target directory for host builds: `CARGO_TARGET_DIR` when set
+/// (relative to the workspace root, where [`cargo`] runs), else `target/`.
+pub fn host_target_dir() -> PathBuf {
+    match std::env::var_os("CARGO_TARGET_DIR") {
+        Some(dir) => root().join(dir),
+        None => root().join("target"),
+    }
+}
+
+/// `target/NAME` in the workspace root, where xtask keeps what it makes
+/// (blobs, firmware, captures) whatever `CARGO_TARGET_DIR` says; the
+/// directory is made if missing.
+fn artefact(name: &str) -> Result<PathBuf> {
+    let dir = root().join("target");
+    std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+    Ok(dir.join(name))
+}
+
 /// `cargo` (the one running xtask), in the workspace root.
 pub fn cargo() -> Command {
     let mut command = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()));
@@ -21,9 +39,11 @@ pub fn cargo() -> Command {
     command
 }
 
-/// Runs `command`; an error names `what` failed and how.
+/// Runs `command` with its stdout on stderr (xtask's stdout is for data:
+/// `cargo xtask run`'s CSV); an error names `what` failed and how.
 pub fn check(mut command: Command, what: &str) -> Result<()> {
     let status = command
+        .stdout(std::io::stderr())
         .status()
         .with_context(|| format!("starting {what}"))?;
     if !status.success() {
@@ -45,7 +65,7 @@ pub fn build_host_tool() -> Result<PathBuf> {
         "triad",
     ]);
     check(command, "building the triad host tool")?;
-    Ok(root().join("target/release/triad"))
+    Ok(host_target_dir().join("release/triad"))
 }
 
 /// Packs the calibration TOML into the blob the firmware embeds and returns the
@@ -54,7 +74,7 @@ pub fn pack_calibration(triad: &Path, toml: Option<&Path>) -> Result<PathBuf> {
     let source = toml
         .map(Path::to_path_buf)
         .unwrap_or_else(|| root().join("calibrations/default.toml"));
-    let blob = root().join("target/calibration.bin");
+    let blob = artefact("calibration.bin")?;
     let mut command = Command::new(triad);
     command
         .args(["calib", "pack"])
@@ -86,7 +106,7 @@ pub fn build_firmware_with_scene(
 /// Writes the blob of scene `name` (a scenes/ name or a file) with `seed`
 /// for the emulated board, with `triad sim --pack`; returns its path.
 pub fn pack_scene(triad: &Path, name: &str, seed: u64) -> Result<PathBuf> {
-    let blob = root().join("target/scene.bin");
+    let blob = artefact("scene.bin")?;
     let mut command = Command::new(triad);
     command
         .current_dir(root())

@@ -2,8 +2,9 @@
 //!
 //! - `cargo xtask run`: set up, build the firmware for a board, chip and bus,
 //!   run it (QEMU by default) and print the decoded, calibrated samples as CSV.
-//! - `cargo xtask test`: every host test, every board's firmware build, and the
-//!   end-to-end tests on QEMU.
+//! - `cargo xtask test`: every host test, the first-run checks, every board's
+//!   firmware build, and the end-to-end tests on QEMU.
+//! - `cargo xtask man DIR`: the `triad` man pages, from its argument definitions.
 //! - `cargo xtask bench`: the benchmark firmware on emulated cores; writes
 //!   docs/BENCHMARKS.md.
 
@@ -15,6 +16,7 @@ mod cmd;
 mod defmt_log;
 mod elf_facts;
 mod embedded_checks;
+mod first_run;
 mod qemu;
 mod setup;
 mod test;
@@ -33,8 +35,13 @@ enum Command {
     /// Run every host test, build every board × chip × bus, run the end-to-end tests on QEMU.
     Test {
         /// Only the firmware builds and the end-to-end tests on QEMU.
-        #[arg(long)]
+        #[arg(long, conflicts_with = "first_run_only")]
         e2e_only: bool,
+        /// Only the first-run checks: `cargo xtask run`'s stdout is CSV alone, and
+        /// `triad` installed by `cargo install --path host` runs a shipped scene
+        /// outside the checkout.
+        #[arg(long)]
+        first_run_only: bool,
     },
     /// Benchmark every variant on the emulated cores; write docs/BENCHMARKS.md.
     Bench {
@@ -44,6 +51,11 @@ enum Command {
     },
     /// Install what the project needs (rustup targets, QEMU) and exit.
     Setup,
+    /// Write the man pages of `triad` (triad.1, triad-sim.1, ...) into DIR.
+    Man {
+        /// The directory to write them into (made if missing).
+        dir: std::path::PathBuf,
+    },
     /// Decode a captured defmt log (e.g. QEMU's stdout) with the firmware ELF.
     Log {
         /// The firmware ELF whose defmt table decodes the log.
@@ -88,9 +100,17 @@ fn main() -> std::process::ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Run(args) => run(args),
-        Command::Test { e2e_only } => test::run(e2e_only),
+        Command::Test {
+            e2e_only,
+            first_run_only,
+        } => test::run(match (e2e_only, first_run_only) {
+            (true, _) => test::Scope::EndToEnd,
+            (_, true) => test::Scope::FirstRun,
+            _ => test::Scope::All,
+        }),
         Command::Bench { json } => setup::ensure_all().and_then(|()| bench::run(json)),
         Command::Setup => setup::ensure_all(),
+        Command::Man { dir } => man(&dir),
         Command::Log { elf, log } => defmt_log::print_file(&elf, &log),
     };
     match result {
@@ -148,4 +168,13 @@ fn run(args: RunArgs) -> anyhow::Result<()> {
         }
         board::Board::NucleoF401re => cmd::run_on_hardware(&elf, &triad, &args.port, args.seconds),
     }
+}
+
+/// `triad man --out-dir DIR` of the freshly built host tool: the pages come
+/// from the argument definitions `triad` itself parses.
+fn man(dir: &std::path::Path) -> anyhow::Result<()> {
+    let triad = cmd::build_host_tool()?;
+    let mut command = std::process::Command::new(triad);
+    command.args(["man", "--out-dir"]).arg(dir);
+    cmd::check(command, "triad man")
 }

@@ -1,12 +1,13 @@
 //! `cargo xtask test`: formatting and lints, every host test (the statistical
-//! sweeps in release), the docs, clippy and the build of the firmware for
+//! sweeps in release), the docs, the first-run checks (`cargo xtask run`'s
+//! stdout, an installed `triad`), clippy and the build of the firmware for
 //! every board × bus (and chip model), of the
 //! benchmark firmware and of the user-firmware example, and the end-to-end
 //! tests on QEMU for every chip and bus of the emulated board.
 
 use crate::board::{Board, Firmware};
 use crate::cmd::{self, cargo, check};
-use crate::{bench, embedded_checks, qemu, setup};
+use crate::{bench, embedded_checks, first_run, qemu, setup};
 use anyhow::{bail, Context, Result};
 use std::path::Path;
 
@@ -16,10 +17,24 @@ const E2E_FRAMES: u64 = 1500;
 const E2E_SCENE: &str = "thermal-ramp";
 const E2E_SEED: u64 = 7;
 
-/// Runs every test (or, with `e2e_only`, the firmware builds and the
-/// end-to-end tests); fails on the first failing step.
-pub fn run(e2e_only: bool) -> Result<()> {
+/// Which tests `cargo xtask test` runs.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub enum Scope {
+    /// Everything.
+    All,
+    /// The firmware builds and the end-to-end tests on QEMU.
+    EndToEnd,
+    /// The first-run checks of [`first_run`] alone.
+    FirstRun,
+}
+
+/// Runs the tests of `scope`; fails on the first failing step.
+pub fn run(scope: Scope) -> Result<()> {
     setup::ensure_all()?;
+    if scope == Scope::FirstRun {
+        return first_run::run(&cmd::build_host_tool()?);
+    }
+    let e2e_only = scope == Scope::EndToEnd;
     if !e2e_only {
         step("cargo fmt --check", &["fmt", "--all", "--", "--check"])?;
         let clippy = ["clippy", "--all-targets", "--quiet", "--", "-D", "warnings"];
@@ -41,6 +56,9 @@ pub fn run(e2e_only: bool) -> Result<()> {
     }
 
     let triad = cmd::build_host_tool()?;
+    if !e2e_only {
+        first_run::run(&triad)?;
+    }
     let calibration = cmd::pack_calibration(&triad, None)?;
     let mut qemu_elves = Vec::new();
     for firmware in Firmware::all() {

@@ -40,9 +40,9 @@ pub mod unit;
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{bail, Context};
 use triad_sim::scene::Scene;
 
+use crate::shipped;
 use build::Builder;
 use parse::Source;
 
@@ -71,46 +71,11 @@ pub fn parse(text: &str, path: &Path) -> anyhow::Result<LoadedScene> {
     })
 }
 
-/// Where shipped scenes live: `scenes/` under the current directory, then
-/// under the repository root this binary was built from.
-pub fn scene_dirs() -> Vec<PathBuf> {
-    vec![
-        PathBuf::from("scenes"),
-        Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("..")
-            .join("scenes"),
-    ]
-}
-
-/// The file of NAME (a shipped scene) or FILE (a path).
-pub fn resolve(name_or_file: &str) -> anyhow::Result<PathBuf> {
-    let as_path = Path::new(name_or_file);
-    if as_path.is_file() {
-        return Ok(as_path.to_path_buf());
-    }
-    let candidates: Vec<PathBuf> = scene_dirs()
-        .into_iter()
-        .map(|d| d.join(format!("{name_or_file}.toml")))
-        .collect();
-    match candidates.iter().find(|p| p.is_file()) {
-        Some(p) => Ok(p.clone()),
-        None => bail!(
-            "scene `{name_or_file}` is neither a file nor a shipped scene (looked for {})",
-            candidates
-                .iter()
-                .map(|p| p.display().to_string())
-                .collect::<Vec<_>>()
-                .join(", ")
-        ),
-    }
-}
-
-/// Resolves NAME (a shipped scene) or FILE (a path) and loads it.
+/// Loads NAME (a shipped scene) or FILE, by the rule of [`crate::shipped`].
 pub fn load(name_or_file: &str) -> anyhow::Result<LoadedScene> {
-    let path = resolve(name_or_file)?;
-    let text = std::fs::read_to_string(&path)
-        .with_context(|| format!("reading scene {}", path.display()))?;
-    parse(&text, &path)
+    let source = shipped::locate(Path::new(name_or_file), "scene", shipped::SCENES)?;
+    let text = source.text()?;
+    parse(&text, &source.shown())
 }
 
 #[cfg(test)]
@@ -213,11 +178,15 @@ mod tests {
     }
 
     #[test]
-    fn names_resolve_to_shipped_scenes_and_unknown_ones_say_where_they_were_looked_for() {
-        let path = resolve("static-bench").unwrap();
-        assert!(path.ends_with("static-bench.toml"));
-        let err = resolve("no-such-scene").unwrap_err().to_string();
-        assert!(err.contains("no-such-scene.toml"), "{err}");
+    fn names_load_shipped_scenes_and_unknown_ones_are_named() {
+        let loaded = load("static-bench").unwrap();
+        assert_eq!(loaded.path, PathBuf::from("shipped:static-bench"));
+        assert!(loaded.duration_s.is_some());
+        let err = load("no-such-scene").unwrap_err().to_string();
+        assert!(
+            err.starts_with("scene `no-such-scene`: no such file"),
+            "{err}"
+        );
         assert!(load("tumble-6").is_ok());
     }
 }

@@ -1,0 +1,34 @@
+//! What `triad --version` says: the package version and the versions of the
+//! binary formats this build speaks, each defined where the format is (the
+//! stream in the core, docs/PROTOCOL.md; the calibration blob in the core's
+//! model; the scene blob in the simulator). A decoder that meets a frame of
+//! another version rejects it, so the user needs these numbers to know which
+//! firmware a `triad` reads.
+
+use std::sync::LazyLock;
+
+/// `0.1.0 (stream protocol v1, calibration blob v2, scene blob v1)`.
+pub fn text() -> &'static str {
+    static TEXT: LazyLock<String> = LazyLock::new(|| {
+        format!(
+            "{} (stream protocol v{}, calibration blob v{}, scene blob v{})",
+            env!("CARGO_PKG_VERSION"),
+            triad::stream::VERSION,
+            triad::model::blob::VERSION,
+            triad_sim::scene_blob::VERSION,
+        )
+    });
+    &TEXT
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn the_version_names_each_format_version() {
+        let text = super::text();
+        assert!(text.starts_with(env!("CARGO_PKG_VERSION")), "{text}");
+        let stream = format!("stream protocol v{}", triad::stream::VERSION);
+        assert!(text.contains(&stream), "{text}");
+        assert!(text.contains("calibration blob v") && text.contains("scene blob v"));
+    }
+}
