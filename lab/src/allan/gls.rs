@@ -14,9 +14,9 @@
 //!
 //! Fit: the covariance V depends on the model, so the fit iterates
 //! ([`ITERATIONS`] at most): V from the current coefficients (the first from
-//! [`first_guess`](super::noise_terms)), V = LLᵀ, the design and the
+//! `first_guess`(super::noise_terms)), V = LLᵀ, the design and the
 //! estimates whitened by L⁻¹, then the exact non-negative least squares of
-//! [`super::nnls`]. The covariance of the coefficients on the support is
+//! `super::nnls`. The covariance of the coefficients on the support is
 //! (AᵀV⁻¹A)⁻¹, scaled by √(χ²/dof) when χ² fails the goodness-of-fit test
 //! at [`FIT_TEST_LEVEL`] (the model does not explain the curve).
 //!

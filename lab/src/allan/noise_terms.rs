@@ -10,7 +10,7 @@
 //!
 //! The fit itself is [`super::gls::fit`]: generalised least squares with
 //! the covariance of the estimates ([`super::covariance`]). This module
-//! holds the model, its types and [`first_guess`], the fit that treats the
+//! holds the model, its types and `first_guess`, the fit that treats the
 //! points as independent (weights from their EDF), which starts it.
 //!
 //! First guess: weighted non-negative least squares of σ²(τᵢ). A variance
