@@ -172,57 +172,33 @@ impl<F: NorFlash> CalibrationStore<F> {
         })
     }
 
-    /// Both slots' states; `blob` ends up holding the newest valid record's
-    /// blob when there is one.
-    fn scan(&mut self, blob: &mut [u8; BLOB_LEN]) -> Result<Loaded, StorageError<F::Error>> {
-        let mut other = [0u8; BLOB_LEN];
-        let a = self.read_slot(0, blob)?;
-        let b = self.read_slot(1, &mut other)?;
-        let damaged_slots =
-            u8::from(matches!(a, Slot::Damaged)) | (u8::from(matches!(b, Slot::Damaged)) << 1);
-        let record = match (a, b) {
-            (Slot::Valid(ga), Slot::Valid(gb)) if gb > ga => {
-                *blob = other;
-                Some(Stored {
-                    generation: gb,
-                    slot: 1,
-                })
-            }
-            (Slot::Valid(ga), _) => Some(Stored {
-                generation: ga,
-                slot: 0,
-            }),
-            (_, Slot::Valid(gb)) => {
-                *blob = other;
-                Some(Stored {
-                    generation: gb,
-                    slot: 1,
-                })
-            }
+    /// The newest valid record: its blob copied into `blob` (left as it
+    /// was when there is none), and which slots hold damage.
+    pub fn load(&mut self, blob: &mut [u8; BLOB_LEN]) -> Result<Loaded, StorageError<F::Error>> {
+        let (mut a, mut b) = ([0u8; BLOB_LEN], [0u8; BLOB_LEN]);
+        let states = [self.read_slot(0, &mut a)?, self.read_slot(1, &mut b)?];
+        let damaged = |slot: &Slot| u8::from(matches!(slot, Slot::Damaged));
+        let damaged_slots = damaged(&states[0]) | (damaged(&states[1]) << 1);
+        let record = match states {
+            [Slot::Valid(ga), Slot::Valid(gb)] if gb > ga => Some((gb, 1)),
+            [Slot::Valid(ga), _] => Some((ga, 0)),
+            [_, Slot::Valid(gb)] => Some((gb, 1)),
             _ => None,
-        };
+        }
+        .map(|(generation, slot)| {
+            *blob = if slot == 0 { a } else { b };
+            Stored { generation, slot }
+        });
         Ok(Loaded {
             record,
             damaged_slots,
         })
     }
 
-    /// The newest valid record: its blob copied into `blob` (left as it
-    /// was when there is none), and which slots hold damage.
-    pub fn load(&mut self, blob: &mut [u8; BLOB_LEN]) -> Result<Loaded, StorageError<F::Error>> {
-        let mut found = [0u8; BLOB_LEN];
-        let loaded = self.scan(&mut found)?;
-        if loaded.record.is_some() {
-            *blob = found;
-        }
-        Ok(loaded)
-    }
-
     /// Stores `blob` as the newest record (see the module's power-cut
     /// argument); returns where it went.
     pub fn save(&mut self, blob: &[u8; BLOB_LEN]) -> Result<Stored, StorageError<F::Error>> {
-        let mut scratch = [0u8; BLOB_LEN];
-        let newest = self.scan(&mut scratch)?.record;
+        let newest = self.load(&mut [0u8; BLOB_LEN])?.record;
         let (slot, generation) = match newest {
             Some(stored) => (1 - stored.slot, stored.generation.wrapping_add(1)),
             None => (0, 1),
@@ -247,8 +223,10 @@ impl<F: NorFlash> CalibrationStore<F> {
     /// Removes every record: the older slot first, then the newer (see the
     /// module's power-cut argument).
     pub fn erase(&mut self) -> Result<(), StorageError<F::Error>> {
-        let mut scratch = [0u8; BLOB_LEN];
-        let newest = self.scan(&mut scratch)?.record.map_or(1, |s| s.slot);
+        let newest = self
+            .load(&mut [0u8; BLOB_LEN])?
+            .record
+            .map_or(1, |s| s.slot);
         for slot in [1 - newest, newest] {
             let offset = self.slot_offset(slot);
             self.flash

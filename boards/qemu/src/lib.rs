@@ -40,12 +40,12 @@ pub fn init(dp: pac::Peripherals) -> Board {
         w.tim5en().set_bit()
     });
     dp.RCC.apb2enr().modify(|_, w| w.usart1en().set_bit());
-    let clock = MicrosecondClock::new(dp.TIM5, TIMER_CLOCK_HZ);
+    let sensor_bus = emulated_chip();
     Board {
-        sample_line: SampleLine::new(dp.TIM2, &dp.TIM4, emulated_rate_hz()),
-        clock,
+        sample_line: SampleLine::new(dp.TIM2, &dp.TIM4, sensor_bus.sample_rate_hz()),
+        clock: MicrosecondClock::new(dp.TIM5, TIMER_CLOCK_HZ),
         serial: Serial::new(dp.USART1, USART_DIV_X16),
-        sensor_bus: emulated_chip(),
+        sensor_bus,
     }
 }
 
@@ -167,13 +167,8 @@ pub fn find_sensor(bus: SensorBus) -> Result<Sensor, DetectError<i2c::ErrorKind>
     AnyChip::detect_i2c(bus).map_err(|undetected| undetected.reason)
 }
 
-/// The emulated chip's output data rate (its driver's default), Hz.
-fn emulated_rate_hz() -> f64 {
-    // build.rs admitted only listed names.
-    EmulatedChip::sample_rate_hz(EMULATED_CHIP).unwrap_or_else(|| exit(false))
-}
-
-/// The chip model serving `model_source()` at the chip's rate.
+/// The chip model serving `model_source()` at the chip's rate (build.rs
+/// admitted only listed names; any other stops the board).
 fn emulated_chip() -> EmulatedChip {
     EmulatedChip::named(EMULATED_CHIP, model_source).unwrap_or_else(|| exit(false))
 }

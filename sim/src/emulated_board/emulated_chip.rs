@@ -22,10 +22,9 @@ macro_rules! define_emulated_chip {
         }
 
         impl EmulatedChip {
-            /// The output data rate of the chip named `name` (one of
-            /// `triad::sensor::CHIP_NAMES`) under its driver's default
-            /// configuration, Hz; `None` for a name not listed.
-            pub fn sample_rate_hz(name: &str) -> Option<f64> {
+            /// The output data rate of the chip named `name` under its
+            /// driver's default configuration, Hz; `None` for a name not listed.
+            fn rate_of(name: &str) -> Option<f64> {
                 $(
                     if name == triad::sensor::$module::NAME {
                         return Some(triad::sensor::$module::Config::default().sample_rate_hz());
@@ -34,10 +33,19 @@ macro_rules! define_emulated_chip {
                 None
             }
 
-            /// The model of the chip named `name` serving `source`, which is
-            /// built at that chip's rate; `None` for a name not listed.
+            /// The model's output data rate (its driver's default
+            /// configuration, which the firmware applies), Hz.
+            pub fn sample_rate_hz(&self) -> f64 {
+                match self {
+                    $(Self::$driver(_) => triad::sensor::$module::Config::default().sample_rate_hz(),)+
+                }
+            }
+
+            /// The model of the chip named `name` (one of
+            /// `triad::sensor::CHIP_NAMES`) serving `source`, which is built at
+            /// that chip's rate; `None` for a name not listed.
             pub fn named(name: &str, source: impl FnOnce(f64) -> Source) -> Option<Self> {
-                let rate_hz = Self::sample_rate_hz(name)?;
+                let rate_hz = Self::rate_of(name)?;
                 $(
                     if name == triad::sensor::$module::NAME {
                         return Some(Self::$driver($module::model(source(rate_hz))));
