@@ -152,6 +152,13 @@ impl<S: SampleSource> Icm42688Model<S> {
         self.chip.advance(ns);
     }
 
+    /// The nanoseconds until the next sample at the rate the chip runs (the
+    /// one its driver wrote; every ICM-42688-P period is a whole number of
+    /// ns). `None`: both sensors off.
+    pub fn ns_to_next_sample(&self) -> Option<u64> {
+        Some(self.chip.period_ns()? - self.chip.phase_ns)
+    }
+
     /// Injects a fault (see [`Fault`]).
     pub fn inject(&mut self, fault: Fault) {
         match fault {

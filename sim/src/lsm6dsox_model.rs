@@ -144,6 +144,17 @@ impl<S: SampleSource> Lsm6dsoxModel<S> {
         self.chip.advance(ns);
     }
 
+    /// The whole nanoseconds until the next sample at the rate the chip
+    /// runs (the one its driver wrote): the model's clock then stands on or
+    /// just after each exact sample instant, ⌈(n+1)·P⌉ − ⌈n·P⌉ from a start
+    /// at 0, with no repeat and no skip however long it runs. `None`: both
+    /// sensors off.
+    pub fn ns_to_next_sample(&self) -> Option<u64> {
+        let rate = u128::from(self.chip.rate_millihertz()?);
+        // At most one period (about 1.2 ms at 833 Hz): fits in u64.
+        u64::try_from((NS_MHZ_PER_SECOND - self.chip.phase).div_ceil(rate)).ok()
+    }
+
     /// Injects a fault (see [`Fault`]).
     pub fn inject(&mut self, fault: Fault) {
         match fault {

@@ -1,8 +1,7 @@
 //! The emulated board's chip: the model of whichever listed chip the build
 //! names (`TRIAD_EMULATED_CHIP`), built from the core's one list of chips
 //! (`triad::for_each_chip!`), so adding a chip model here is its module
-//! under `emulated_board/` (`Model`, `model`, `next_sample_ns`) and nothing
-//! else. It answers SPI and I²C like the chip it models.
+//! under `emulated_board/` (`Model`, `model`) and nothing else. It answers SPI and I²C like the chip it models.
 
 use embedded_hal::{i2c, spi};
 
@@ -22,17 +21,6 @@ macro_rules! define_emulated_chip {
         }
 
         impl EmulatedChip {
-            /// The output data rate of the chip named `name` under its
-            /// driver's default configuration, Hz; `None` for a name not listed.
-            fn rate_of(name: &str) -> Option<f64> {
-                $(
-                    if name == triad::sensor::$module::NAME {
-                        return Some(triad::sensor::$module::Config::default().sample_rate_hz());
-                    }
-                )+
-                None
-            }
-
             /// The model's output data rate (its driver's default
             /// configuration, which the firmware applies), Hz.
             pub fn sample_rate_hz(&self) -> f64 {
@@ -45,9 +33,9 @@ macro_rules! define_emulated_chip {
             /// `triad::sensor::CHIP_NAMES`) serving `source`, which is built at
             /// that chip's rate; `None` for a name not listed.
             pub fn named(name: &str, source: impl FnOnce(f64) -> Source) -> Option<Self> {
-                let rate_hz = Self::rate_of(name)?;
                 $(
                     if name == triad::sensor::$module::NAME {
+                        let rate_hz = triad::sensor::$module::Config::default().sample_rate_hz();
                         return Some(Self::$driver($module::model(source(rate_hz))));
                     }
                 )+
@@ -61,18 +49,21 @@ macro_rules! define_emulated_chip {
                 }
             }
 
-            /// The model's time to its next data-ready (one new sample), ns.
-            pub fn next_sample_ns(&self) -> u64 {
+            /// The model's time to its next data-ready (one new sample), ns;
+            /// `None` while its sensors are off.
+            pub fn next_sample_ns(&self) -> Option<u64> {
                 match self {
-                    $(Self::$driver(model) => $module::next_sample_ns(model),)+
+                    $(Self::$driver(model) => model.ns_to_next_sample(),)+
                 }
             }
 
-            /// Runs the model's clock to its next data-ready (one new sample).
+            /// Runs the model's clock to its next data-ready (one new
+            /// sample); nothing while its sensors are off.
             pub fn advance_one_sample(&mut self) {
-                let ns = self.next_sample_ns();
-                match self {
-                    $(Self::$driver(model) => model.advance(ns),)+
+                if let Some(ns) = self.next_sample_ns() {
+                    match self {
+                        $(Self::$driver(model) => model.advance(ns),)+
+                    }
                 }
             }
 

@@ -5,7 +5,6 @@
 //! firmware read.
 
 use crate::icm42688_model::Icm42688Model;
-use triad::sensor::icm42688::Config;
 
 /// The chip model behind the bus, at I²C address 0x68 (AP_AD0 low).
 pub type Model = Icm42688Model<super::source::Source>;
@@ -14,9 +13,4 @@ pub type Model = Icm42688Model<super::source::Source>;
 /// the driver's default configuration: 1 kHz, one data-ready per ms).
 pub fn model(source: super::source::Source) -> Model {
     Icm42688Model::new(source)
-}
-
-/// The chip's time from one data-ready to the next, ns (a whole number at 1 kHz).
-pub fn next_sample_ns(_model: &Model) -> u64 {
-    u64::from(Config::default().odr.period_ns())
 }
