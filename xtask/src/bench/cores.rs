@@ -237,13 +237,14 @@ fn check_digests(core: Core, lines: &[Line]) -> Result<()> {
 fn symbol_size(elf: &[u8], name: &str) -> Result<Option<u64>> {
     use object::{Object, ObjectSymbol};
     let file = object::File::parse(elf).context("parsing the benchmark ELF")?;
-    // Legacy mangling: _ZN5triad5bench<len><module><len><name>17h<hash>E.
+    // Legacy mangling of triad_bench::<module>::<name>:
+    // _ZN11triad_bench<len><module><len><name>17h<hash>E.
     let needle = format!("{}{}17h", name.len(), name);
     Ok(file
         .symbols()
         .filter(|s| {
             s.name()
-                .is_ok_and(|n| n.starts_with("_ZN5triad5bench") && n.contains(&needle))
+                .is_ok_and(|n| n.starts_with("_ZN11triad_bench") && n.contains(&needle))
         })
         .map(|s| s.size())
         .max())
