@@ -39,7 +39,8 @@ use super::chi2;
 use super::covariance::{OctaveCovariance, MAX_POINTS};
 use super::nnls::{self, Solution};
 use super::noise_terms::{
-    check_points, first_guess, model, CurvePoint, FitError, NoiseFit, Term, TermEstimate, TERMS,
+    check_points, first_guess, model_avar, CurvePoint, FitError, NoiseFit, Term, TermEstimate,
+    TERMS,
 };
 
 /// Fewest points a fit takes: one per term and one degree of freedom to judge it.
@@ -79,7 +80,7 @@ impl Whitened {
         let v = &mut self.v[..p * p];
         cov.matrix(c, v);
         for (i, pt) in points.iter().enumerate() {
-            let m = model(c, pt.tau).max(pt.avar);
+            let m = model_avar(c, pt.tau).max(pt.avar);
             // The model error, and a floor that keeps V positive definite
             // when the model is a bare ramp (deterministic: V = 0).
             v[i * p + i] += (MODEL_ERROR * m) * (MODEL_ERROR * m) + (1e-9 * m) * (1e-9 * m);
@@ -227,7 +228,7 @@ fn finish(points: &[CurvePoint], w: &Whitened, s: &Solution) -> NoiseFit {
 /// Term k's τ range and largest share of the fitted σ²(τ) (see the module comment).
 fn decided_by(points: &[CurvePoint], c: &[f64; TERMS], k: usize) -> ((f64, f64), f64) {
     let share = |pt: &CurvePoint, j: usize| {
-        let m = model(c, pt.tau);
+        let m = model_avar(c, pt.tau);
         if m > 0.0 {
             c[j] * Term::ALL[j].basis(pt.tau) / m
         } else {
