@@ -36,6 +36,7 @@
 //! where it is the largest part of the fitted σ²(τ).
 
 use super::chi2;
+use super::cholesky::{cholesky, forward_subst};
 use super::covariance::{OctaveCovariance, MAX_POINTS};
 use super::nnls::{self, Solution};
 use super::noise_terms::{
@@ -69,7 +70,6 @@ struct Whitened {
 impl Whitened {
     /// V for the coefficients `c`, its Cholesky factor, and the design and
     /// estimates whitened by it.
-    #[allow(clippy::needless_range_loop)]
     fn build(
         &mut self,
         points: &[CurvePoint],
@@ -85,43 +85,22 @@ impl Whitened {
             // when the model is a bare ramp (deterministic: V = 0).
             v[i * p + i] += (MODEL_ERROR * m) * (MODEL_ERROR * m) + (1e-9 * m) * (1e-9 * m);
         }
-        // Cholesky in place (lower triangle).
-        for i in 0..p {
-            for j in 0..=i {
-                let mut s = v[i * p + j];
-                for k in 0..j {
-                    s -= v[i * p + k] * v[j * p + k];
-                }
-                if i == j {
-                    if !(s > 0.0 && s.is_finite()) {
-                        return Err(FitError::Covariance);
-                    }
-                    v[i * p + i] = libm::sqrt(s);
-                } else {
-                    v[i * p + j] = s / v[j * p + j];
-                }
+        cholesky(v, p, p, 0.0).map_err(|_| FitError::Covariance)?;
+        // rows = L⁻¹A, data = L⁻¹s, a column at a time.
+        let mut column = [0.0; MAX_POINTS];
+        for (k, t) in Term::ALL.iter().enumerate() {
+            for (x, pt) in column.iter_mut().zip(points) {
+                *x = t.basis(pt.tau);
+            }
+            forward_subst(v, p, &mut column[..p]);
+            for (row, &x) in self.rows.iter_mut().zip(&column[..p]) {
+                row[k] = x;
             }
         }
-        // rows = L⁻¹A, data = L⁻¹s by forward substitution.
-        for i in 0..p {
-            let mut row = [0.0; TERMS];
-            for (k, t) in Term::ALL.iter().enumerate() {
-                row[k] = t.basis(points[i].tau);
-            }
-            let mut d = points[i].avar;
-            for j in 0..i {
-                let l = v[i * p + j];
-                for k in 0..TERMS {
-                    row[k] -= l * self.rows[j][k];
-                }
-                d -= l * self.data[j];
-            }
-            let l = v[i * p + i];
-            for k in 0..TERMS {
-                self.rows[i][k] = row[k] / l;
-            }
-            self.data[i] = d / l;
+        for (d, pt) in self.data.iter_mut().zip(points) {
+            *d = pt.avar;
         }
+        forward_subst(v, p, &mut self.data[..p]);
         Ok(())
     }
 }
