@@ -5,7 +5,7 @@
 #![allow(dead_code)]
 
 use triad_lab::allan::accumulate::OctaveAccumulator;
-use triad_lab::allan::edf::{self, NoiseType};
+use triad_lab::allan::edf;
 use triad_lab::allan::noise_terms::CurvePoint;
 use triad_sim::motion::Motion;
 use triad_sim::scene::Scene;
@@ -22,18 +22,14 @@ pub fn octave_points(y: &[f64], rate: f64) -> Vec<CurvePoint> {
         acc.push(v);
     }
     let n = acc.samples();
-    let r: Vec<_> = acc.results().collect();
-    (0..r.len())
-        .map(|i| {
-            let (a, b) = (i.saturating_sub(1), (i + 1).min(r.len() - 1));
-            let mu = (r[b].overlapping / r[a].overlapping).ln()
-                / ((r[b].m as f64) / (r[a].m as f64)).ln();
-            let nu = edf::edf_conservative(NoiseType::from_slope(mu), n, r[i].m);
-            CurvePoint {
-                tau: r[i].m as f64 / rate,
-                avar: r[i].overlapping,
-                edf: nu,
-            }
+    let m: Vec<u64> = acc.results().map(|r| r.m).collect();
+    let avars: Vec<f64> = acc.results().map(|r| r.overlapping).collect();
+    let taus: Vec<f64> = m.iter().map(|&m| m as f64 / rate).collect();
+    (0..m.len())
+        .map(|i| CurvePoint {
+            tau: taus[i],
+            avar: avars[i],
+            edf: edf::local_edf(&taus, &avars, i, m[i], n).1,
         })
         .collect()
 }
