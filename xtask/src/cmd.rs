@@ -47,9 +47,20 @@ pub fn check(mut command: Command, what: &str) -> Result<()> {
         .status()
         .with_context(|| format!("starting {what}"))?;
     if !status.success() {
-        bail!("{what} failed ({status})");
+        bail!("{what} failed ({status}); its output above says why");
     }
     Ok(())
+}
+
+/// True when `program --version` starts and succeeds: the program is on
+/// PATH and runs. Its output is dropped.
+pub fn runs(program: &str) -> bool {
+    Command::new(program)
+        .arg("--version")
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success())
 }
 
 /// Builds the `triad` host tool (release) and returns its path.
@@ -184,7 +195,7 @@ fn build(firmware: Firmware, calibration: &Path, scene: Option<&Path>) -> Result
 /// Flashes and runs the firmware on a NUCLEO-F401RE with probe-rs (which also
 /// prints the defmt log) and decodes the stream from the virtual COM port.
 pub fn run_on_hardware(elf: &Path, triad: &Path, port: &str, seconds: f64) -> Result<()> {
-    if Command::new("probe-rs").arg("--version").output().is_err() {
+    if !runs("probe-rs") {
         bail!(
             "probe-rs not found: install it with `cargo install probe-rs-tools --locked` \
              and connect the board's ST-LINK"
