@@ -6,7 +6,7 @@
 //! correlation of the overlapping estimates, but a bootstrap simulates the
 //! fitted model a few hundred times at the record's length (for a 36 h
 //! record at 100 Hz, 10⁹–10¹⁰ samples per column), while the covariance is
-//! computed once per record from lag sums (0.14 s in release for 2^19
+//! computed once per record from lag sums (0.04 s in release for 2^19
 //! samples, 19 octaves), and checked against simulation in
 //! lab/tests/allan_covariance.rs (within 4 % of the measured one).
 //! Each iteration below then costs one Cholesky of a points × points
