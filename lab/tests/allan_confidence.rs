@@ -89,6 +89,41 @@ fn noise_type_follows_the_local_slope() {
 }
 
 #[test]
+fn a_curve_point_takes_the_noise_type_of_its_neighbours_slope() {
+    // Every τ from 1 to 8 s: white noise (σ² ∝ 1/τ) up to 4 s, a random
+    // walk (σ² ∝ τ) from there. At τ = 3 the slope runs from the point
+    // nearest 1.5 (1 or 2: 2, nearer on a log scale) to the one nearest 6.
+    let taus: Vec<f64> = (1..=8).map(f64::from).collect();
+    let avars: Vec<f64> = taus
+        .iter()
+        .map(|&t| if t <= 4.0 { 1.0 / t } else { t / 16.0 })
+        .collect();
+    let at = |i: usize| edf::local_edf(&taus, &avars, i, i as u64 + 1, 1000);
+    // τ = 1: one-sided, 1 → 2, white FM.
+    assert_eq!(at(0).0, NoiseType::WhiteFm);
+    assert_eq!(at(0).1, edf::edf_conservative(NoiseType::WhiteFm, 1000, 1));
+    // τ = 2: 1 → 4, still white FM.
+    assert_eq!(at(1).0, NoiseType::WhiteFm);
+    // τ = 3: 2 → 6, σ² from 1/2 to 3/8: slope ln(3/4)/ln 3 ≈ −0.26, flicker.
+    assert_eq!(at(2).0, NoiseType::FlickerFm);
+    // τ = 8: one-sided, 4 → 8, random walk.
+    assert_eq!(at(7).0, NoiseType::RandomWalkFm);
+    assert_eq!(
+        at(7).1,
+        edf::edf_conservative(NoiseType::RandomWalkFm, 1000, 8)
+    );
+    // A single point or a zero variance: the slope cannot be told, white FM.
+    assert_eq!(
+        edf::local_edf(&[1.0], &[0.5], 0, 1, 1000).0,
+        NoiseType::WhiteFm
+    );
+    assert_eq!(
+        edf::local_edf(&taus[..2], &[0.0, 1.0], 0, 1, 1000).0,
+        NoiseType::WhiteFm
+    );
+}
+
+#[test]
 fn interval_brackets_the_estimate_and_narrows_with_edf() {
     let (lo, hi) = edf::deviation_interval(4.0, 10.0, ONE_SIGMA);
     assert!(lo < 2.0 && 2.0 < hi);

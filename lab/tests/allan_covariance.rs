@@ -11,6 +11,7 @@
 
 use triad_lab::allan::accumulate::OctaveAccumulator;
 use triad_lab::allan::covariance::OctaveCovariance;
+use triad_lab::allan::noise_terms::model_avar;
 use triad_sim::bias_instability::{BiasInstability, BiasInstabilityParams};
 use triad_sim::rng::Rng;
 
@@ -53,17 +54,7 @@ fn compare(name: &str, c: [f64; 5], mut draw: impl FnMut(&mut Rng, &mut [f64])) 
             .sum::<f64>()
             / (RECORDS - 1) as f64
     };
-    let model = |i: usize| {
-        let tau = m[i] as f64 * PERIOD;
-        let f = [
-            3.0 / (tau * tau),
-            1.0 / tau,
-            2.0 * std::f64::consts::LN_2 / std::f64::consts::PI,
-            tau / 3.0,
-            tau * tau / 2.0,
-        ];
-        (0..5).map(|k| c[k] * f[k]).sum::<f64>()
-    };
+    let model = |i: usize| model_avar(&c, m[i] as f64 * PERIOD);
     let kept: Vec<usize> = (0..p)
         .filter(|&i| (mean[i] / model(i) - 1.0).abs() < 0.05)
         .collect();

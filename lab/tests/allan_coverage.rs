@@ -13,10 +13,8 @@ mod common;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
-use common::{axes, factors, octave_points, static_scene};
+use common::{axes, static_scene, OctaveFitter};
 use triad::units;
-use triad_lab::allan::covariance::OctaveCovariance;
-use triad_lab::allan::gls;
 use triad_lab::allan::noise_terms::{Term, TERMS};
 use triad_sim::bias_instability::BiasInstabilityParams;
 use triad_sim::grade::{AccelGrade, GyroGrade};
@@ -69,15 +67,10 @@ impl Tally {
 
 fn run(s: &Scenario, runs: u64) -> Tally {
     let mut t = Tally::default();
-    let mut cov: Option<OctaveCovariance> = None;
+    let mut fitter = OctaveFitter::default();
     for seed in 0..runs {
         for y in (s.make)(1000 + seed) {
-            let points = octave_points(&y, s.rate);
-            let cov = cov.get_or_insert_with(|| {
-                OctaveCovariance::new(y.len() as u64, 1.0 / s.rate, &factors(&points, s.rate))
-                    .unwrap()
-            });
-            let fit = gls::fit(&points, cov).unwrap();
+            let fit = fitter.fit(&y, s.rate);
             t.records += 1;
             for (k, truth) in s.truth.iter().enumerate() {
                 let e = &fit.terms[k];

@@ -10,33 +10,25 @@
 
 mod common;
 
-use common::{factors, octave_points};
+use common::{axes, static_scene, OctaveFitter};
 use triad::units;
-use triad_lab::allan::covariance::OctaveCovariance;
-use triad_lab::allan::gls;
 use triad_lab::allan::grade::{classify_accel, classify_gyro};
 use triad_lab::allan::noise_terms::{NoiseFit, Term};
 use triad_sim::bias_instability::BiasInstabilityParams;
 use triad_sim::grade::{AccelGrade, GyroGrade};
-use triad_sim::motion::Motion;
-use triad_sim::scene::{Scene, TriadEffects};
-use triad_sim::simulator::Simulator;
+use triad_sim::scene::TriadEffects;
 
-/// The GLS fit of a series' octave curve.
+/// The GLS fit of one series' octave curve.
 fn fitted(y: &[f64], rate: f64) -> NoiseFit {
-    let points = octave_points(y, rate);
-    let cov = OctaveCovariance::new(y.len() as u64, 1.0 / rate, &factors(&points, rate)).unwrap();
-    gls::fit(&points, &cov).unwrap()
+    OctaveFitter::default().fit(y, rate)
 }
 
 /// Simulates `samples` of a static scene with `gyro` effects and returns gx.
 fn gyro_x(gyro: TriadEffects, rate: f64, samples: usize, seed: u64) -> Vec<f64> {
-    let mut scene = Scene::new(rate, Motion::Static { attitude: [0.0; 3] });
+    let mut scene = static_scene(rate);
     scene.gyro = gyro;
-    let mut sim = Simulator::new(&scene, seed).unwrap();
-    (0..samples)
-        .map(|_| sim.step().measured.angular_rate[0])
-        .collect()
+    let [x, _, _] = axes(&scene, true, samples, seed);
+    x
 }
 
 fn assert_within(est: f64, sigma: f64, truth: f64, extra: f64, what: &str) {
@@ -121,19 +113,12 @@ fn each_gyro_preset_is_classified_into_its_own_grade() {
     // 2^19 samples at 4 Hz (36 h): the flat floor (default band 1 … 10⁴ s)
     // is seen above the white noise for every preset.
     let rate = 4.0;
+    let mut fitter = OctaveFitter::default();
     for g in GyroGrade::ALL {
-        let mut scene = Scene::new(rate, Motion::Static { attitude: [0.0; 3] });
+        let mut scene = static_scene(rate);
         scene.gyro = g.effects();
-        let mut sim = Simulator::new(&scene, 7).unwrap();
-        let mut axes: [Vec<f64>; 3] = Default::default();
-        for _ in 0..(1 << 19) {
-            let s = sim.step().measured.angular_rate;
-            for (a, v) in axes.iter_mut().zip(s) {
-                a.push(v);
-            }
-        }
-        for (i, y) in axes.into_iter().enumerate() {
-            let f = fitted(&y, rate);
+        for (i, y) in axes(&scene, true, 1 << 19, 7).into_iter().enumerate() {
+            let f = fitter.fit(&y, rate);
             let arw = units::arw_si_to_deg_per_sqrt_h(f.term(Term::WhiteNoise).value);
             let bi = units::rad_per_s_to_deg_per_h(f.term(Term::BiasInstability).value);
             let c = classify_gyro(arw, bi);
@@ -151,19 +136,12 @@ fn each_gyro_preset_is_classified_into_its_own_grade() {
 fn each_accel_preset_is_classified_into_its_own_grade() {
     // z carries 1 g: the large-mean path of the accumulator as well.
     let rate = 4.0;
+    let mut fitter = OctaveFitter::default();
     for g in AccelGrade::ALL {
-        let mut scene = Scene::new(rate, Motion::Static { attitude: [0.0; 3] });
+        let mut scene = static_scene(rate);
         scene.accel = g.effects();
-        let mut sim = Simulator::new(&scene, 8).unwrap();
-        let mut axes: [Vec<f64>; 3] = Default::default();
-        for _ in 0..(1 << 19) {
-            let s = sim.step().measured.specific_force;
-            for (a, v) in axes.iter_mut().zip(s) {
-                a.push(v);
-            }
-        }
-        for (i, y) in axes.into_iter().enumerate() {
-            let f = fitted(&y, rate);
+        for (i, y) in axes(&scene, false, 1 << 19, 8).into_iter().enumerate() {
+            let f = fitter.fit(&y, rate);
             let noise = units::si_to_ug_per_sqrt_hz(f.term(Term::WhiteNoise).value);
             let bi = units::mps2_to_ug(f.term(Term::BiasInstability).value);
             let c = classify_accel(noise, bi);

@@ -47,9 +47,20 @@ pub fn check(mut command: Command, what: &str) -> Result<()> {
         .status()
         .with_context(|| format!("starting {what}"))?;
     if !status.success() {
-        bail!("{what} failed ({status})");
+        bail!("{what} failed ({status}); its output above says why");
     }
     Ok(())
+}
+
+/// True when `program --version` starts and succeeds: the program is on
+/// PATH and runs. Its output is dropped.
+pub fn runs(program: &str) -> bool {
+    Command::new(program)
+        .arg("--version")
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success())
 }
 
 /// Builds the `triad` host tool (release) and returns its path.
@@ -123,32 +134,51 @@ pub fn pack_scene(triad: &Path, name: &str, seed: u64) -> Result<PathBuf> {
     Ok(blob)
 }
 
-fn build(firmware: Firmware, calibration: &Path, scene: Option<&Path>) -> Result<PathBuf> {
-    let board = firmware.board;
-    if scene.is_some() && board != Board::Qemu {
-        bail!("--scene feeds the emulated board's chip model: use it with --board qemu");
-    }
-    // One target dir per board: each board's build keeps its artefacts, and
-    // the chip model and bus rebuild only the firmware and board crates.
-    let target_dir = root().join("target/firmware").join(board.name());
+/// `cargo SUBCOMMAND --quiet -p triad-firmware` for `firmware`: its board's
+/// target and target dir, its board, chip and bus as features, the
+/// calibration blob it embeds and, with `scene`, the scene blob its chip
+/// model measures (feature `sim-scene`). The build and clippy both run it.
+pub fn firmware_cargo(
+    subcommand: &str,
+    firmware: Firmware,
+    calibration: &Path,
+    scene: Option<&Path>,
+) -> Command {
     let mut command = cargo();
     command
-        .args(["build", "--quiet", "--release", "-p", "triad-firmware"])
-        .args(["--target", board.target(), "--features"])
+        .args([subcommand, "--quiet", "-p", "triad-firmware"])
+        .args(["--target", firmware.board.target(), "--features"])
         .arg(match scene {
             Some(_) => format!("{},sim-scene", firmware.features()),
             None => firmware.features(),
         })
         .envs(firmware.build_env())
         .env("TRIAD_CALIBRATION", calibration)
-        .env("CARGO_TARGET_DIR", &target_dir);
+        .env("CARGO_TARGET_DIR", firmware_target_dir(firmware.board));
     if let Some(blob) = scene {
         command.env("TRIAD_SCENE", blob);
     }
+    command
+}
+
+/// One target dir per board: each board's build keeps its artefacts, and
+/// the chip model and bus rebuild only the firmware and board crates.
+fn firmware_target_dir(board: Board) -> PathBuf {
+    root().join("target/firmware").join(board.name())
+}
+
+fn build(firmware: Firmware, calibration: &Path, scene: Option<&Path>) -> Result<PathBuf> {
+    let board = firmware.board;
+    if scene.is_some() && board != Board::Qemu {
+        bail!("--scene feeds the emulated board's chip model: use it with --board qemu");
+    }
+    let mut command = firmware_cargo("build", firmware, calibration, scene);
+    command.arg("--release");
     check(
         command,
         &format!("building the firmware for {}", firmware.label()),
     )?;
+    let target_dir = firmware_target_dir(board);
     let built = target_dir
         .join(board.target())
         .join("release/triad-firmware");
@@ -165,7 +195,7 @@ fn build(firmware: Firmware, calibration: &Path, scene: Option<&Path>) -> Result
 /// Flashes and runs the firmware on a NUCLEO-F401RE with probe-rs (which also
 /// prints the defmt log) and decodes the stream from the virtual COM port.
 pub fn run_on_hardware(elf: &Path, triad: &Path, port: &str, seconds: f64) -> Result<()> {
-    if Command::new("probe-rs").arg("--version").output().is_err() {
+    if !runs("probe-rs") {
         bail!(
             "probe-rs not found: install it with `cargo install probe-rs-tools --locked` \
              and connect the board's ST-LINK"
@@ -190,4 +220,44 @@ pub fn run_on_hardware(elf: &Path, triad: &Path, port: &str, seconds: f64) -> Re
         bail!("triad decode on {port} exited with {status}");
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::ffi::OsStr;
+
+    #[test]
+    fn the_firmware_cargo_command_carries_the_features_and_both_blobs() {
+        let firmware = Firmware::default_emulated();
+        let command = firmware_cargo(
+            "clippy",
+            firmware,
+            Path::new("cal.bin"),
+            Some(Path::new("scene.bin")),
+        );
+        let args: Vec<&OsStr> = command.get_args().collect();
+        assert_eq!(args[0], "clippy");
+        let features = format!("{},sim-scene", firmware.features());
+        assert!(args
+            .windows(2)
+            .any(|w| w[0] == "--features" && w[1] == features.as_str()));
+        assert!(args
+            .windows(2)
+            .any(|w| w[0] == "--target" && w[1] == "thumbv7em-none-eabihf"));
+        let env = |key: &str| {
+            command
+                .get_envs()
+                .find(|(k, _)| *k == key)
+                .and_then(|(_, v)| v)
+        };
+        assert_eq!(env("TRIAD_CALIBRATION"), Some(OsStr::new("cal.bin")));
+        assert_eq!(env("TRIAD_SCENE"), Some(OsStr::new("scene.bin")));
+        assert_eq!(
+            env("CARGO_TARGET_DIR"),
+            Some(root().join("target/firmware/qemu").as_os_str())
+        );
+        let chip = firmware.build_env()[0];
+        assert_eq!(env(chip.0), Some(OsStr::new(chip.1)));
+    }
 }

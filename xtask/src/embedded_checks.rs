@@ -3,8 +3,9 @@
 //! on the benchmark firmware for both cores and on the example of a user's
 //! own firmware, whose dependency tree must hold only the core.
 
+use crate::bench::{bench_cargo, Core};
 use crate::board::Firmware;
-use crate::cmd::{cargo, check, root};
+use crate::cmd::{cargo, check, firmware_cargo, root};
 use anyhow::{bail, Context, Result};
 use std::path::Path;
 
@@ -22,50 +23,37 @@ const NOT_IN_EXAMPLE: [&str; 7] = [
     "triad-board-nucleo-f401re",
 ];
 
-/// `cargo clippy -- -D warnings` on `firmware` (its board's target dir, as the build).
-pub fn clippy_firmware(firmware: Firmware, scene_blob: Option<&Path>) -> Result<()> {
-    let mut features = firmware.features();
-    if scene_blob.is_some() {
-        features.push_str(",sim-scene");
-    }
-    let mut command = cargo();
-    command
-        .args(["clippy", "--quiet", "-p", "triad-firmware"])
-        .args(["--target", firmware.board.target(), "--features", &features])
-        .args(["--", "-D", "warnings"])
-        .envs(firmware.build_env())
-        .env(
-            "CARGO_TARGET_DIR",
-            root().join("target/firmware").join(firmware.board.name()),
-        );
-    if let Some(blob) = scene_blob {
-        command.env("TRIAD_SCENE", blob);
-    }
+/// `cargo clippy -- -D warnings` on `firmware`, as it is built (its board's
+/// target dir, the calibration blob, the scene blob).
+pub fn clippy_firmware(
+    firmware: Firmware,
+    calibration: &Path,
+    scene_blob: Option<&Path>,
+) -> Result<()> {
+    let mut command = firmware_cargo("clippy", firmware, calibration, scene_blob);
+    command.args(["--", "-D", "warnings"]);
     check(
         command,
-        &format!("cargo clippy on the firmware for {features}"),
+        &format!(
+            "cargo clippy on the firmware for {}{}",
+            firmware.label(),
+            if scene_blob.is_some() {
+                " with a scene"
+            } else {
+                ""
+            }
+        ),
     )
 }
 
 /// Clippy on the benchmark firmware for both emulated cores.
 pub fn clippy_bench_firmware() -> Result<()> {
-    for target in ["thumbv7em-none-eabihf", "thumbv6m-none-eabi"] {
-        let mut command = cargo();
-        command
-            .args([
-                "clippy",
-                "--quiet",
-                "-p",
-                "triad-bench",
-                "--bin",
-                "triad-bench",
-            ])
-            .args(["--features", "firmware", "--target", target])
-            .args(["--", "-D", "warnings"])
-            .env("CARGO_TARGET_DIR", root().join("target/bench"));
+    for core in Core::ALL {
+        let mut command = bench_cargo("clippy", core);
+        command.args(["--", "-D", "warnings"]);
         check(
             command,
-            &format!("cargo clippy on the benchmark firmware ({target})"),
+            &format!("cargo clippy on the benchmark firmware ({})", core.name()),
         )?;
     }
     Ok(())

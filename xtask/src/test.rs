@@ -66,7 +66,7 @@ pub fn run(scope: Scope) -> Result<()> {
             "xtask: clippy and build of the firmware for {}",
             firmware.label()
         );
-        embedded_checks::clippy_firmware(firmware, None)?;
+        embedded_checks::clippy_firmware(firmware, &calibration, None)?;
         let elf = cmd::build_firmware(firmware, &calibration)?;
         // What `cargo xtask run --board nucleo-f401re` reads to open the port.
         let baud = crate::elf_facts::link_baud(&elf)?;
@@ -95,7 +95,7 @@ pub fn run(scope: Scope) -> Result<()> {
         "xtask: building the firmware for {} with scene {E2E_SCENE}",
         firmware.label()
     );
-    embedded_checks::clippy_firmware(firmware, Some(&blob))?;
+    embedded_checks::clippy_firmware(firmware, &calibration, Some(&blob))?;
     let elf = cmd::build_firmware_with_scene(firmware, &calibration, &blob)?;
     end_to_end(firmware, &elf, &triad, &calibration, Some(&blob))?;
     eprintln!("xtask: all tests passed");

@@ -75,6 +75,41 @@ pub fn edf_conservative(noise: NoiseType, samples: u64, m: u64) -> f64 {
     table5(noise, samples, m).min(table5(NoiseType::WhiteFm, samples, m))
 }
 
+/// The noise type at point `i` of a curve (τ ascending in `taus`, Allan
+/// variances in `avars`) and the point's EDF: the type is the one the
+/// local log-log slope of σ² names, taken from the points nearest τ/2 and
+/// 2τ (one-sided at the ends; white FM where it cannot be told: a single
+/// point or a zero variance), and the EDF is [`edf_conservative`] of it at
+/// averaging factor `m` over `samples` rate samples.
+pub fn local_edf(taus: &[f64], avars: &[f64], i: usize, m: u64, samples: u64) -> (NoiseType, f64) {
+    let tau = taus[i];
+    let a = nearest(taus, tau / 2.0).min(i);
+    let b = nearest(taus, tau * 2.0).max(i);
+    let slope = if a != b && avars[a] > 0.0 && avars[b] > 0.0 {
+        libm::log(avars[b] / avars[a]) / libm::log(taus[b] / taus[a])
+    } else {
+        -1.0
+    };
+    let noise = NoiseType::from_slope(slope);
+    (noise, edf_conservative(noise, samples, m))
+}
+
+/// The index of the τ in `taus` (ascending, not empty) nearest `target`
+/// on a log scale.
+fn nearest(taus: &[f64], target: f64) -> usize {
+    let i = taus.partition_point(|&t| t < target);
+    if i == 0 {
+        0
+    } else if i >= taus.len() {
+        taus.len() - 1
+    } else if libm::fabs(libm::log(taus[i] / target)) < libm::fabs(libm::log(target / taus[i - 1]))
+    {
+        i
+    } else {
+        i - 1
+    }
+}
+
 fn table5(noise: NoiseType, samples: u64, m: u64) -> f64 {
     let n = samples as f64 + 1.0;
     let m = m as f64;
@@ -115,4 +150,18 @@ pub fn variance_interval(variance: f64, edf: f64, level: f64) -> (f64, f64) {
 pub fn deviation_interval(variance: f64, edf: f64, level: f64) -> (f64, f64) {
     let (lo, hi) = variance_interval(variance, edf, level);
     (libm::sqrt(lo), libm::sqrt(hi))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nearest_is_taken_on_a_log_scale() {
+        let taus = [1.0, 2.0, 4.0, 8.0];
+        assert_eq!(nearest(&taus, 0.1), 0);
+        assert_eq!(nearest(&taus, 100.0), 3);
+        assert_eq!(nearest(&taus, 2.7), 1); // ln(4/2.7) > ln(2.7/2)
+        assert_eq!(nearest(&taus, 3.0), 2); // ln(4/3) < ln(3/2)
+    }
 }

@@ -6,7 +6,7 @@
 //! correlation of the overlapping estimates, but a bootstrap simulates the
 //! fitted model a few hundred times at the record's length (for a 36 h
 //! record at 100 Hz, 10⁹–10¹⁰ samples per column), while the covariance is
-//! computed once per record from lag sums (0.14 s in release for 2^19
+//! computed once per record from lag sums (0.04 s in release for 2^19
 //! samples, 19 octaves), and checked against simulation in
 //! lab/tests/allan_covariance.rs (within 4 % of the measured one).
 //! Each iteration below then costs one Cholesky of a points × points
@@ -36,10 +36,12 @@
 //! where it is the largest part of the fitted σ²(τ).
 
 use super::chi2;
+use super::cholesky::{cholesky, forward_subst};
 use super::covariance::{OctaveCovariance, MAX_POINTS};
 use super::nnls::{self, Solution};
 use super::noise_terms::{
-    check_points, first_guess, model, CurvePoint, FitError, NoiseFit, Term, TermEstimate, TERMS,
+    check_points, first_guess, model_avar, CurvePoint, FitError, NoiseFit, Term, TermEstimate,
+    TERMS,
 };
 
 /// Fewest points a fit takes: one per term and one degree of freedom to judge it.
@@ -68,7 +70,6 @@ struct Whitened {
 impl Whitened {
     /// V for the coefficients `c`, its Cholesky factor, and the design and
     /// estimates whitened by it.
-    #[allow(clippy::needless_range_loop)]
     fn build(
         &mut self,
         points: &[CurvePoint],
@@ -79,48 +80,27 @@ impl Whitened {
         let v = &mut self.v[..p * p];
         cov.matrix(c, v);
         for (i, pt) in points.iter().enumerate() {
-            let m = model(c, pt.tau).max(pt.avar);
+            let m = model_avar(c, pt.tau).max(pt.avar);
             // The model error, and a floor that keeps V positive definite
             // when the model is a bare ramp (deterministic: V = 0).
             v[i * p + i] += (MODEL_ERROR * m) * (MODEL_ERROR * m) + (1e-9 * m) * (1e-9 * m);
         }
-        // Cholesky in place (lower triangle).
-        for i in 0..p {
-            for j in 0..=i {
-                let mut s = v[i * p + j];
-                for k in 0..j {
-                    s -= v[i * p + k] * v[j * p + k];
-                }
-                if i == j {
-                    if !(s > 0.0 && s.is_finite()) {
-                        return Err(FitError::Covariance);
-                    }
-                    v[i * p + i] = libm::sqrt(s);
-                } else {
-                    v[i * p + j] = s / v[j * p + j];
-                }
+        cholesky(v, p, p, 0.0).map_err(|_| FitError::Covariance)?;
+        // rows = L⁻¹A, data = L⁻¹s, a column at a time.
+        let mut column = [0.0; MAX_POINTS];
+        for (k, t) in Term::ALL.iter().enumerate() {
+            for (x, pt) in column.iter_mut().zip(points) {
+                *x = t.basis(pt.tau);
+            }
+            forward_subst(v, p, &mut column[..p]);
+            for (row, &x) in self.rows.iter_mut().zip(&column[..p]) {
+                row[k] = x;
             }
         }
-        // rows = L⁻¹A, data = L⁻¹s by forward substitution.
-        for i in 0..p {
-            let mut row = [0.0; TERMS];
-            for (k, t) in Term::ALL.iter().enumerate() {
-                row[k] = t.basis(points[i].tau);
-            }
-            let mut d = points[i].avar;
-            for j in 0..i {
-                let l = v[i * p + j];
-                for k in 0..TERMS {
-                    row[k] -= l * self.rows[j][k];
-                }
-                d -= l * self.data[j];
-            }
-            let l = v[i * p + i];
-            for k in 0..TERMS {
-                self.rows[i][k] = row[k] / l;
-            }
-            self.data[i] = d / l;
+        for (d, pt) in self.data.iter_mut().zip(points) {
+            *d = pt.avar;
         }
+        forward_subst(v, p, &mut self.data[..p]);
         Ok(())
     }
 }
@@ -227,7 +207,7 @@ fn finish(points: &[CurvePoint], w: &Whitened, s: &Solution) -> NoiseFit {
 /// Term k's τ range and largest share of the fitted σ²(τ) (see the module comment).
 fn decided_by(points: &[CurvePoint], c: &[f64; TERMS], k: usize) -> ((f64, f64), f64) {
     let share = |pt: &CurvePoint, j: usize| {
-        let m = model(c, pt.tau);
+        let m = model_avar(c, pt.tau);
         if m > 0.0 {
             c[j] * Term::ALL[j].basis(pt.tau) / m
         } else {

@@ -20,6 +20,7 @@
 
 pub mod accumulate;
 pub mod chi2;
+mod cholesky;
 pub mod covariance;
 pub mod direct;
 pub mod edf;

@@ -8,6 +8,7 @@
 //! whitened (correlated points: the rows of L⁻¹A, V = LLᵀ), so the residual
 //! is a plain sum of squares.
 
+use super::cholesky::{cholesky, forward_subst};
 use super::noise_terms::TERMS;
 
 /// A TERMS × TERMS matrix.
@@ -49,48 +50,18 @@ fn normal_equations(
     (g, r)
 }
 
-/// Cholesky factor (lower) of the n×n leading block; None when not positive definite.
-// Indices as in the textbook formula: checkable at a glance.
-#[allow(clippy::needless_range_loop)]
-fn cholesky(g: &Matrix, n: usize) -> Option<Matrix> {
-    let mut l = [[0.0; TERMS]; TERMS];
-    for i in 0..n {
-        for j in 0..=i {
-            let mut s = g[i][j];
-            for k in 0..j {
-                s -= l[i][k] * l[j][k];
-            }
-            if i == j {
-                let positive = s > 1e-13 * g[i][i].abs() && s.is_finite();
-                if !positive {
-                    return None;
-                }
-                l[i][i] = libm::sqrt(s);
-            } else {
-                l[i][j] = s / l[j][j];
-            }
-        }
-    }
-    Some(l)
-}
-
-#[allow(clippy::needless_range_loop)]
+/// Solves (LLᵀ)·x = b on the leading n terms (L from [`cholesky`]).
 fn cholesky_solve(l: &Matrix, n: usize, b: &[f64; TERMS]) -> [f64; TERMS] {
-    let mut y = [0.0; TERMS];
-    for i in 0..n {
-        let mut s = b[i];
-        for k in 0..i {
-            s -= l[i][k] * y[k];
-        }
-        y[i] = s / l[i][i];
-    }
+    let l = l.as_flattened();
+    let mut y = *b;
+    forward_subst(l, TERMS, &mut y[..n]);
     let mut x = [0.0; TERMS];
     for i in (0..n).rev() {
         let mut s = y[i];
         for k in i + 1..n {
-            s -= l[k][i] * x[k];
+            s -= l[k * TERMS + i] * x[k];
         }
-        x[i] = s / l[i][i];
+        x[i] = s / l[i * TERMS + i];
     }
     x
 }
@@ -136,7 +107,8 @@ pub(crate) fn solve_support(
             gs[i][j] = g[i][j] * scale[i] * scale[j];
         }
     }
-    let l = cholesky(&gs, n)?;
+    let mut l = gs;
+    cholesky(l.as_flattened_mut(), n, TERMS, 1e-13).ok()?;
     let xs = cholesky_solve(&l, n, &rs);
     let mut coef = [0.0; TERMS];
     let mut cov = [[0.0; TERMS]; TERMS];

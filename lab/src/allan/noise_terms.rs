@@ -170,10 +170,7 @@ impl NoiseFit {
 
     /// The model's Allan variance at τ.
     pub fn avar(&self, tau: f64) -> f64 {
-        Term::ALL
-            .iter()
-            .map(|&t| self.terms[t as usize].squared * t.basis(tau))
-            .sum()
+        model_avar(&self.terms.map(|t| t.squared), tau)
     }
 }
 
@@ -255,8 +252,9 @@ pub(crate) fn check_points(points: &[CurvePoint]) -> Result<(), FitError> {
     Ok(())
 }
 
-/// The model's Allan variance at τ for squared coefficients `c`.
-pub(crate) fn model(c: &[f64; TERMS], tau: f64) -> f64 {
+/// The model's Allan variance at τ for the squared coefficients `c`
+/// (Q², N², B², K², R², in [`Term::ALL`] order).
+pub fn model_avar(c: &[f64; TERMS], tau: f64) -> f64 {
     Term::ALL
         .iter()
         .map(|&t| c[t as usize] * t.basis(tau))
@@ -291,7 +289,7 @@ pub(crate) fn first_guess(
     let mut c = nnls::solve(rows, data).coef;
     for _ in 1..ITERATIONS {
         for (i, p) in points.iter().enumerate() {
-            weigh(rows, data, i, p, model(&c, p.tau));
+            weigh(rows, data, i, p, model_avar(&c, p.tau));
         }
         c = nnls::solve(rows, data).coef;
     }

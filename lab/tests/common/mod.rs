@@ -5,15 +5,18 @@
 #![allow(dead_code)]
 
 use triad_lab::allan::accumulate::OctaveAccumulator;
-use triad_lab::allan::edf::{self, NoiseType};
-use triad_lab::allan::noise_terms::CurvePoint;
+use triad_lab::allan::covariance::OctaveCovariance;
+use triad_lab::allan::edf;
+use triad_lab::allan::gls;
+use triad_lab::allan::noise_terms::{CurvePoint, NoiseFit};
 use triad_sim::motion::Motion;
 use triad_sim::scene::Scene;
 use triad_sim::simulator::Simulator;
 
 /// The octave curve of one series: the mean of its first 4096 samples
-/// subtracted (as `triad allan` does), the EDF from the local slope.
-pub fn octave_points(y: &[f64], rate: f64) -> Vec<CurvePoint> {
+/// subtracted (as `triad allan` does), the EDF from the local slope; and
+/// each point's averaging factor m.
+pub fn octave_points(y: &[f64], rate: f64) -> (Vec<CurvePoint>, Vec<u64>) {
     let first = &y[..y.len().min(4096)];
     let offset = first.iter().sum::<f64>() / first.len().max(1) as f64;
     let ring = (y.len() / 2).next_power_of_two().max(2) * 2;
@@ -22,28 +25,39 @@ pub fn octave_points(y: &[f64], rate: f64) -> Vec<CurvePoint> {
         acc.push(v);
     }
     let n = acc.samples();
-    let r: Vec<_> = acc.results().collect();
-    (0..r.len())
-        .map(|i| {
-            let (a, b) = (i.saturating_sub(1), (i + 1).min(r.len() - 1));
-            let mu = (r[b].overlapping / r[a].overlapping).ln()
-                / ((r[b].m as f64) / (r[a].m as f64)).ln();
-            let nu = edf::edf_conservative(NoiseType::from_slope(mu), n, r[i].m);
-            CurvePoint {
-                tau: r[i].m as f64 / rate,
-                avar: r[i].overlapping,
-                edf: nu,
-            }
+    let m: Vec<u64> = acc.results().map(|r| r.m).collect();
+    let avars: Vec<f64> = acc.results().map(|r| r.overlapping).collect();
+    let taus: Vec<f64> = m.iter().map(|&m| m as f64 / rate).collect();
+    let points = (0..m.len())
+        .map(|i| CurvePoint {
+            tau: taus[i],
+            avar: avars[i],
+            edf: edf::local_edf(&taus, &avars, i, m[i], n).1,
         })
-        .collect()
+        .collect();
+    (points, m)
 }
 
-/// The averaging factors of an octave curve at `rate`.
-pub fn factors(points: &[CurvePoint], rate: f64) -> Vec<u64> {
-    points
-        .iter()
-        .map(|p| (p.tau * rate).round() as u64)
-        .collect()
+/// The GLS fits of series' octave curves. The covariance of the octave
+/// estimates depends on the record's length and rate, not on its values:
+/// it is computed once per (length, rate) and kept for the next series.
+#[derive(Default)]
+pub struct OctaveFitter {
+    covariance: Option<((usize, f64), OctaveCovariance)>,
+}
+
+impl OctaveFitter {
+    /// The GLS fit of the octave curve of `y`, sampled at `rate`.
+    pub fn fit(&mut self, y: &[f64], rate: f64) -> NoiseFit {
+        let (points, m) = octave_points(y, rate);
+        let key = (y.len(), rate);
+        if self.covariance.as_ref().is_none_or(|(k, _)| *k != key) {
+            let cov = OctaveCovariance::new(y.len() as u64, 1.0 / rate, &m).unwrap();
+            self.covariance = Some((key, cov));
+        }
+        let (_, cov) = self.covariance.as_ref().unwrap();
+        gls::fit(&points, cov).unwrap()
+    }
 }
 
 /// `samples` of a static `scene`, gyro (or accel) axes as three series.

@@ -4,7 +4,7 @@
 
 use anyhow::{bail, Context, Result};
 use std::path::{Path, PathBuf};
-use std::process::Stdio;
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 use triad_bench::kernels::NoMeter;
 use triad_bench::{Bench, Variant, BATCH, BATCHES};
@@ -119,19 +119,33 @@ pub fn check_firmware_outputs() -> Result<()> {
     Ok(())
 }
 
-fn build(core: Core) -> Result<PathBuf> {
-    let dir = root().join("target/bench");
+/// `cargo SUBCOMMAND --quiet -p triad-bench --bin triad-bench` of the
+/// benchmark firmware for `core` (its target, target/bench). The build and
+/// clippy both run it.
+pub fn bench_cargo(subcommand: &str, core: Core) -> Command {
     let mut command = cargo();
     command
-        .args(["build", "--quiet", "--release", "-p", "triad-bench"])
+        .args([subcommand, "--quiet", "-p", "triad-bench"])
         .args(["--bin", "triad-bench", "--features", "firmware"])
         .args(["--target", core.target()])
-        .env("CARGO_TARGET_DIR", &dir);
+        .env("CARGO_TARGET_DIR", bench_target_dir());
+    command
+}
+
+fn bench_target_dir() -> PathBuf {
+    root().join("target/bench")
+}
+
+fn build(core: Core) -> Result<PathBuf> {
+    let mut command = bench_cargo("build", core);
+    command.arg("--release");
     check(
         command,
         &format!("building the benchmark firmware for {}", core.name()),
     )?;
-    Ok(dir.join(core.target()).join("release/triad-bench"))
+    Ok(bench_target_dir()
+        .join(core.target())
+        .join("release/triad-bench"))
 }
 
 fn run(core: Core, elf: &Path) -> Result<Vec<Line>> {
@@ -237,13 +251,14 @@ fn check_digests(core: Core, lines: &[Line]) -> Result<()> {
 fn symbol_size(elf: &[u8], name: &str) -> Result<Option<u64>> {
     use object::{Object, ObjectSymbol};
     let file = object::File::parse(elf).context("parsing the benchmark ELF")?;
-    // Legacy mangling: _ZN5triad5bench<len><module><len><name>17h<hash>E.
+    // Legacy mangling of triad_bench::<module>::<name>:
+    // _ZN11triad_bench<len><module><len><name>17h<hash>E.
     let needle = format!("{}{}17h", name.len(), name);
     Ok(file
         .symbols()
         .filter(|s| {
             s.name()
-                .is_ok_and(|n| n.starts_with("_ZN5triad5bench") && n.contains(&needle))
+                .is_ok_and(|n| n.starts_with("_ZN11triad_bench") && n.contains(&needle))
         })
         .map(|s| s.size())
         .max())

@@ -6,7 +6,7 @@
 use anyhow::{Context, Result};
 use triad_bench::{Variant, BATCH, BATCHES};
 
-use crate::cmd::{cargo, check, root};
+use crate::cmd::{cargo, check, host_target_dir};
 
 /// Nanoseconds per 6-axis sample on the host, per variant (criterion's mean).
 pub fn measure() -> Result<Vec<(Variant, f64)>> {
@@ -24,14 +24,13 @@ pub fn measure() -> Result<Vec<(Variant, f64)>> {
         "--measurement-time",
         "2",
     ]);
-    // Criterion's progress to stderr: stdout carries the table or the JSON.
-    command.stdout(std::io::stderr());
+    // Criterion's progress goes to stderr (check): stdout carries the table or the JSON.
     check(command, "the host benchmark (criterion)")?;
     Variant::ALL
         .into_iter()
         .map(|variant| {
-            let path = root()
-                .join("target/criterion/model")
+            let path = host_target_dir()
+                .join("criterion/model")
                 .join(variant.name())
                 .join("new/estimates.json");
             let text = std::fs::read_to_string(&path)

@@ -9,7 +9,7 @@ mod host;
 mod plot;
 mod report;
 
-pub use cores::{check_firmware_outputs, Core};
+pub use cores::{bench_cargo, check_firmware_outputs, Core};
 
 use anyhow::Result;
 use triad_bench::Variant;

@@ -7,6 +7,7 @@
 //! can remove or downgrade either. apt-get's output goes to stderr.
 
 use super::privilege::{self, Privilege};
+use crate::cmd::{check, runs};
 use anyhow::{bail, Context, Result};
 use std::process::{Command, Stdio};
 
@@ -67,11 +68,7 @@ pub fn parse_simulation(text: &str) -> Plan {
 
 /// Installs `package` and what it depends on (not what it recommends).
 pub fn install(package: &str) -> Result<()> {
-    let quiet = Command::new("apt-get")
-        .arg("--version")
-        .stdout(Stdio::null())
-        .status();
-    if quiet.is_err() {
+    if !runs("apt-get") {
         bail!(
             "{package} is missing and apt-get is not on PATH: install {package} \
              (or your system's package of it) with your package manager, then run this again"
@@ -157,19 +154,13 @@ fn simulate(package: &str) -> Result<Plan> {
 
 /// `apt-get ARGS` as root, unattended, its output on stderr.
 fn run(privilege: Privilege, args: &[&str]) -> Result<()> {
-    let shown = format!("apt-get {}", args.join(" "));
-    let status = privilege
-        .command("apt-get")
+    let mut command = privilege.command("apt-get");
+    command
         .args(args)
         .env("DEBIAN_FRONTEND", "noninteractive")
-        .stdin(Stdio::null())
-        .stdout(std::io::stderr())
-        .status()
-        .with_context(|| format!("starting {shown}"))?;
-    if !status.success() {
-        bail!("`{shown}` failed ({status}); nothing was removed. Run it yourself to see why");
-    }
-    Ok(())
+        .stdin(Stdio::null());
+    check(command, &format!("`apt-get {}`", args.join(" ")))
+        .context("apt-get stopped, and nothing was removed")
 }
 
 #[cfg(test)]

@@ -10,6 +10,7 @@ mod apt;
 mod privilege;
 
 use crate::board::Board;
+use crate::cmd::{check, runs};
 use anyhow::{bail, Result};
 use std::process::{Command, Stdio};
 
@@ -71,29 +72,13 @@ fn ensure_targets() -> Result<()> {
             .collect::<Vec<_>>()
             .join(" and ")
     );
-    let status = Command::new("rustup")
-        .args(["target", "add"])
-        .args(&names)
-        .stdout(std::io::stderr())
-        .status()?;
-    if !status.success() {
-        bail!("`{command}` failed ({status}); run it yourself to see why");
-    }
-    Ok(())
-}
-
-/// True when `qemu-system-arm --version` runs.
-fn qemu_runs() -> bool {
-    Command::new(QEMU)
-        .arg("--version")
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .status()
-        .is_ok_and(|s| s.success())
+    let mut add = Command::new("rustup");
+    add.args(["target", "add"]).args(&names);
+    check(add, &format!("`{command}`"))
 }
 
 fn ensure_qemu() -> Result<()> {
-    if qemu_runs() {
+    if runs(QEMU) {
         return Ok(());
     }
     eprintln!(
@@ -102,7 +87,7 @@ fn ensure_qemu() -> Result<()> {
          packages; nothing installed is removed or downgraded)"
     );
     apt::install(QEMU_PACKAGE)?;
-    if !qemu_runs() {
+    if !runs(QEMU) {
         bail!(
             "apt-get installed {QEMU_PACKAGE} but `{QEMU} --version` still does not run: \
              put QEMU 7.2 or later on PATH"
