@@ -707,6 +707,59 @@ fn gyro_static_bias_is_the_mean_with_its_standard_error() {
 }
 
 #[test]
+fn a_shipped_calibration_is_a_base_and_a_bad_base_fails_before_the_records_are_read() {
+    let d = dir("fit_base_shipped");
+    let raw = d.join("still.csv");
+    let run = triad(&[
+        "sim",
+        "--scene",
+        "static-bench",
+        "--seconds",
+        "5",
+        "--out",
+        s(&raw),
+    ]);
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    let cal = d.join("cal.toml");
+    let fit = |record: &Path, base: &str| {
+        triad(&[
+            "calib",
+            "fit",
+            "gyro",
+            "--static",
+            s(record),
+            "--base",
+            base,
+            "--out",
+            s(&cal),
+        ])
+    };
+    // `default` is the calibration built into triad, as `calib check` takes it.
+    let out = fit(&raw, "default");
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let doc = read_toml(&cal);
+    let shipped =
+        read_toml(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../calibrations/default.toml"));
+    assert_eq!(doc["accel"], shipped["accel"], "the other triad is kept");
+    assert_eq!(
+        doc["gyro"]["scale_misalignment"],
+        shipped["gyro"]["scale_misalignment"]
+    );
+    assert!(triad(&["calib", "check", s(&cal)]).status.success());
+    // A base that is no file and no shipped name is refused before the
+    // (missing) record is opened.
+    std::fs::remove_file(&cal).unwrap();
+    let out = fit(&d.join("missing.csv"), "nope");
+    let stderr = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("calibration `nope`: no such file"),
+        "{stderr}"
+    );
+    assert!(!cal.exists());
+}
+
+#[test]
 fn gyro_rate_table_segments_of_one_record_give_the_same_fit() {
     // Four runs (±30 °/s about z, +30 °/s about x and y: the minimum, 4 rate
     // vectors not in one plane) back to back in one file, with --segments.

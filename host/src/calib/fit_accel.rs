@@ -12,7 +12,7 @@ use triad_lab::calib_fit::accel_fit::AccelFit;
 use triad_lab::calib_fit::gyro_fit::LinearFit;
 use triad_lab::calib_fit::{accel_cube, accel_fit, FitError};
 
-use super::fit::{file_list, inputs, names, write_calibration, Output};
+use super::fit::{file_list, inputs, names, write_calibration, Base, Output};
 use super::fit_csv;
 use super::report::{fit_report, method_table};
 use super::segments::{self, Stat};
@@ -48,7 +48,8 @@ pub struct AccelArgs {
 /// Runs `triad calib fit accel`.
 pub fn run(args: AccelArgs) -> anyhow::Result<ExitCode> {
     check(&args)?;
-    args.output
+    let base = args
+        .output
         .prepare(&inputs("--positions", &args.positions))?;
     let records = fit_csv::read_all(&args.positions, fit_csv::ACCEL)?;
     let stats = segments::given_or(&records, args.segments.as_deref(), "--positions", || {
@@ -56,9 +57,9 @@ pub fn run(args: AccelArgs) -> anyhow::Result<ExitCode> {
     })?;
     let means: Vec<[f64; 3]> = stats.iter().map(|s| s.mean).collect();
     if args.axis_aligned {
-        cube(&args, &stats, &means)
+        cube(&args, base, &stats, &means)
     } else {
-        ellipsoid(&args, &stats, &means)
+        ellipsoid(&args, base, &stats, &means)
     }
 }
 
@@ -79,7 +80,12 @@ fn check(args: &AccelArgs) -> anyhow::Result<()> {
 }
 
 /// The ellipsoid fit: orientations unknown, |(I+Σ)⁻¹(f̂ − b)| = g.
-fn ellipsoid(args: &AccelArgs, stats: &[Stat], means: &[[f64; 3]]) -> anyhow::Result<ExitCode> {
+fn ellipsoid(
+    args: &AccelArgs,
+    base: Base,
+    stats: &[Stat],
+    means: &[[f64; 3]],
+) -> anyhow::Result<ExitCode> {
     let files = names(&args.positions);
     let fit = accel_fit::fit(means, args.gravity).map_err(|e| match e {
         FitError::TooFewOrientations { .. } => anyhow!(
@@ -119,6 +125,7 @@ fn ellipsoid(args: &AccelArgs, stats: &[Stat], means: &[[f64; 3]]) -> anyhow::Re
     );
     write_calibration(
         &args.output,
+        base,
         Triad::Accel,
         report.triad(),
         &header,
@@ -167,7 +174,12 @@ fn print_ellipsoid(out: &mut String, args: &AccelArgs, stats: &[Stat], fit: &Acc
 }
 
 /// `--axis-aligned`: the cube fit, f̂ = (I+Σ)·(±g e_k) + b.
-fn cube(args: &AccelArgs, stats: &[Stat], means: &[[f64; 3]]) -> anyhow::Result<ExitCode> {
+fn cube(
+    args: &AccelArgs,
+    base: Base,
+    stats: &[Stat],
+    means: &[[f64; 3]],
+) -> anyhow::Result<ExitCode> {
     let g = args.gravity;
     let fit = accel_cube::fit(means, g).map_err(|e| anyhow!("{}: {e}", names(&args.positions)))?;
     let mut out = String::new();
@@ -195,6 +207,7 @@ fn cube(args: &AccelArgs, stats: &[Stat], means: &[[f64; 3]]) -> anyhow::Result<
     );
     write_calibration(
         &args.output,
+        base,
         Triad::Accel,
         report.triad(),
         &header,
