@@ -120,10 +120,10 @@ fn stdout_was_closed_by_caller() -> bool {
     on_null && read_write
 }
 
-/// Prints `text` on standard output, whole or with an error.
-pub fn print(text: &str) -> anyhow::Result<()> {
+/// Prints `text` (a string or bytes) on standard output, whole or with an error.
+pub fn print(text: impl AsRef<[u8]>) -> anyhow::Result<()> {
     let mut out = raw_stdout()?;
-    out.write_all(text.as_bytes()).map_err(stdout_error)
+    out.write_all(text.as_ref()).map_err(stdout_error)
 }
 
 /// Makes what was written to `out` durable when it is a regular file (a

@@ -65,11 +65,16 @@ fn triad(args: &[&str]) -> Output {
 
 /// Runs with `stdin` fed and stdout a pipe whose reader is gone before the
 /// command writes (as `| head -0` would; `| head -1` is tested on a long
-/// stream below).
+/// stream below). The command waits behind a shell's `read` for a line that
+/// is sent once the reader is gone: else a small output could fit in the
+/// pipe, and the command exit, before the reader leaves.
 fn reader_gone(args: &[&str], stdin: &[u8]) -> Output {
     let mut child = {
         let _one_at_a_time = SPAWN.lock().unwrap_or_else(|e| e.into_inner());
-        let mut child = Command::new(TRIAD)
+        let mut child = Command::new("sh")
+            .arg("-c")
+            .arg("read -r go && exec \"$0\" \"$@\"")
+            .arg(TRIAD)
             .args(args)
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
@@ -81,6 +86,7 @@ fn reader_gone(args: &[&str], stdin: &[u8]) -> Output {
         child
     };
     let mut input = child.stdin.take().unwrap();
+    input.write_all(b"go\n").unwrap();
     // A command that does not read stdin closes it: not the test's failure.
     let _ = input.write_all(stdin);
     drop(input);
@@ -234,6 +240,8 @@ fn printing_commands(i: &Inputs) -> Vec<(Vec<String>, Option<PathBuf>)> {
             ]),
             None,
         ),
+        (owned(&["completions", "bash"]), None),
+        (owned(&["man"]), None),
     ]
 }
 

@@ -130,7 +130,7 @@ pub fn run(args: AllanArgs) -> anyhow::Result<ExitCode> {
     if to_stdout.is_some() {
         note!("{}", text.trim_end());
     } else {
-        stdio::print(&text)?;
+        stdio::print(&*text)?;
     }
     Ok(ExitCode::SUCCESS)
 }
