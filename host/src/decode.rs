@@ -16,7 +16,7 @@ use anyhow::{bail, Context};
 use triad::stream::{DecodeError, Decoder, DecoderStats, Frame, TimestampUnwrapper};
 
 use crate::interrupt;
-use crate::number::readable;
+use crate::number::{positive, refused};
 use crate::progress::{Progress, Unit};
 use crate::row_writer::RowWriter;
 use crate::stdio::{self, note, ReaderGone};
@@ -102,13 +102,15 @@ impl Limits {
     fn from_args(args: &DecodeArgs) -> anyhow::Result<Limits> {
         let max_elapsed_us = match args.seconds {
             None => None,
-            Some(s) if s.is_finite() && s > 0.0 && s * 1e6 < u64::MAX as f64 => {
-                Some((s * 1e6).round() as u64)
+            Some(s) => {
+                let words = "must be a positive, finite number of seconds";
+                let us = positive("--seconds", s, words)? * 1e6;
+                // Beyond u64 µs (585 000 years) is no finite limit either.
+                if us >= u64::MAX as f64 {
+                    return Err(refused("--seconds", s, words));
+                }
+                Some(us.round() as u64)
             }
-            Some(s) => bail!(
-                "--seconds {}: must be a positive, finite number of seconds",
-                readable(s)
-            ),
         };
         if args.baud == 0 {
             bail!("--baud 0: the baud rate must be positive");

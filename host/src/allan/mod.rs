@@ -44,7 +44,7 @@ use anyhow::bail;
 use triad_lab::allan::edf::ONE_SIGMA;
 
 use crate::distinct::{self, named, Named};
-use crate::number::readable;
+use crate::number::{positive, readable, RATE_WORDS};
 use crate::outfile::{self, is_stdout};
 use crate::stdio::{self, note};
 
@@ -144,20 +144,10 @@ fn check(args: &AllanArgs) -> anyhow::Result<()> {
         );
     }
     if let Some(r) = args.rate {
-        if !(r.is_finite() && r > 0.0) {
-            bail!(
-                "--rate {}: the sample rate must be a positive number of Hz",
-                readable(r)
-            );
-        }
+        positive("--rate", r, RATE_WORDS)?;
     }
     if let Some(t) = args.max_tau {
-        if !(t.is_finite() && t > 0.0) {
-            bail!(
-                "--max-tau {}: must be a positive number of seconds",
-                readable(t)
-            );
-        }
+        positive("--max-tau", t, "must be a positive number of seconds")?;
     }
     Ok(())
 }

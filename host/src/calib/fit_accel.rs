@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use anyhow::{anyhow, bail};
+use anyhow::anyhow;
 use triad::model::Triad;
 use triad::units::STANDARD_GRAVITY;
 use triad_lab::calib_fit::accel_fit::AccelFit;
@@ -16,6 +16,7 @@ use super::fit::{file_list, inputs, names, write_calibration, Base, Output};
 use super::fit_csv;
 use super::report::{fit_report, method_table};
 use super::segments::{self, Stat};
+use crate::number::positive;
 use crate::stdio::outln;
 
 /// Arguments of `triad calib fit accel`.
@@ -64,18 +65,16 @@ pub fn run(args: AccelArgs) -> anyhow::Result<ExitCode> {
 }
 
 fn check(args: &AccelArgs) -> anyhow::Result<()> {
-    if !(args.gravity.is_finite() && args.gravity > 0.0) {
-        bail!(
-            "--gravity {}: must be a positive number of m/s²",
-            crate::number::readable(args.gravity)
-        );
-    }
-    if !(args.min_static.is_finite() && args.min_static > 0.0) {
-        bail!(
-            "--min-static {}: must be a positive number of seconds",
-            crate::number::readable(args.min_static)
-        );
-    }
+    positive(
+        "--gravity",
+        args.gravity,
+        "must be a positive number of m/s²",
+    )?;
+    positive(
+        "--min-static",
+        args.min_static,
+        "must be a positive number of seconds",
+    )?;
     Ok(())
 }
 

@@ -18,7 +18,7 @@ use super::segments::{self, stat, Stat};
 use super::stillness;
 use crate::calib_file::vector;
 use crate::input;
-use crate::number::readable;
+use crate::number::{positive, readable};
 use crate::stdio::outln;
 
 /// Arguments of `triad calib fit gyro`.
@@ -217,12 +217,11 @@ fn print_rate_table(out: &mut String, segments: &[RateSegment], fit: &LinearFit)
 /// `--static`: the bias alone, the mean of each axis (less the vertical
 /// Earth rate with `--latitude`), the scale kept from `--base`.
 fn gyro_static(args: &GyroArgs, base: Base, path: &Path) -> anyhow::Result<ExitCode> {
-    if !(args.max_bias.is_finite() && args.max_bias > 0.0) {
-        bail!(
-            "--max-bias {}: must be a positive number of °/s",
-            readable(args.max_bias)
-        );
-    }
+    positive(
+        "--max-bias",
+        args.max_bias,
+        "must be a positive number of °/s",
+    )?;
     if let Some(lat) = args.latitude {
         if !(lat.is_finite() && lat.abs() <= 90.0) {
             bail!(
