@@ -5,9 +5,8 @@
 //! CSV goes to stdout (columns and number formats: docs/PROTOCOL.md §11);
 //! rejected frames (with --verbose) and the final counters go to stderr.
 
-use std::fs::File;
 use std::io::{self, ErrorKind, Read, Write};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::atomic::AtomicBool;
 use std::time::Duration;
@@ -15,6 +14,7 @@ use std::time::Duration;
 use anyhow::{bail, Context};
 use triad::stream::{DecodeError, Decoder, DecoderStats, Frame, TimestampUnwrapper};
 
+use crate::input;
 use crate::interrupt;
 use crate::number::{positive, refused};
 use crate::progress::{Progress, Unit};
@@ -130,6 +130,7 @@ struct Source {
     size: u64,
 }
 
+/// The serial port of `--port`, else the file or standard input ([`input::open`]).
 fn open_source(args: &DecodeArgs) -> anyhow::Result<Source> {
     if let Some(port) = &args.port {
         let serial = serialport::new(port.as_str(), args.baud)
@@ -142,25 +143,14 @@ fn open_source(args: &DecodeArgs) -> anyhow::Result<Source> {
             size: 0,
         });
     }
-    let stdin = || Source {
-        bytes: Box::new(io::stdin()),
+    // No FILE is standard input, as `-` is.
+    let path = args.input.as_deref().unwrap_or(Path::new("-"));
+    let opened = input::open(path, 1 << 16)?;
+    Ok(Source {
+        bytes: Box::new(opened.reader),
         live: false,
-        size: 0,
-    };
-    match &args.input {
-        None => Ok(stdin()),
-        Some(path) if path.as_os_str() == "-" => Ok(stdin()),
-        Some(path) => {
-            let file =
-                File::open(path).with_context(|| format!("cannot open {}", path.display()))?;
-            let size = file.metadata().map(|m| m.len()).unwrap_or(0);
-            Ok(Source {
-                bytes: Box::new(file),
-                live: false,
-                size,
-            })
-        }
-    }
+        size: opened.size,
+    })
 }
 
 /// Why decoding stopped, and what the decoder counted.
