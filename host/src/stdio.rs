@@ -126,6 +126,18 @@ pub fn print(text: impl AsRef<[u8]>) -> anyhow::Result<()> {
     out.write_all(text.as_ref()).map_err(stdout_error)
 }
 
+/// Prints a command's report (a summary, a fit's figures): on standard
+/// output, or as a note on stderr when `stdout_taken` (an output of the
+/// command went to standard output).
+pub fn report(text: &str, stdout_taken: bool) -> anyhow::Result<()> {
+    if stdout_taken {
+        note!("{}", text.trim_end());
+        Ok(())
+    } else {
+        print(text)
+    }
+}
+
 /// Makes what was written to `out` durable when it is a regular file (a
 /// full or failing disk reports here what `write` accepted); pipes and
 /// terminals have nothing to sync.

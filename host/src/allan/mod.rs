@@ -46,7 +46,7 @@ use triad_lab::allan::edf::ONE_SIGMA;
 use crate::distinct::{self, named, Named};
 use crate::number::{positive, readable, RATE_WORDS};
 use crate::outfile::{self, is_stdout};
-use crate::stdio::{self, note};
+use crate::stdio;
 
 pub use compute::{analyse, Analysis, ColumnResult, MIN_SAMPLES, OFFSET_ROWS};
 pub use curve::Point;
@@ -126,12 +126,7 @@ pub fn run(args: AllanArgs) -> anyhow::Result<ExitCode> {
     } else {
         summary::write(&mut text, &args, &analysis)?;
     }
-    let text = String::from_utf8_lossy(&text);
-    if to_stdout.is_some() {
-        note!("{}", text.trim_end());
-    } else {
-        stdio::print(&*text)?;
-    }
+    stdio::report(&String::from_utf8_lossy(&text), to_stdout.is_some())?;
     Ok(ExitCode::SUCCESS)
 }
 

@@ -27,7 +27,7 @@ use super::{fit_accel, fit_gyro, Ranges};
 use crate::calib_file;
 use crate::distinct::{self, named, Named};
 use crate::outfile;
-use crate::stdio::{self, note};
+use crate::stdio;
 
 /// Arguments of `triad calib fit`.
 #[derive(clap::Args)]
@@ -181,14 +181,7 @@ pub fn write_calibration(
     report: &str,
 ) -> anyhow::Result<ExitCode> {
     let to_stdout = outfile::is_stdout(&output.out);
-    let show = |text: &str| -> anyhow::Result<()> {
-        if to_stdout {
-            note!("{}", text.trim_end());
-            Ok(())
-        } else {
-            stdio::print(text)
-        }
-    };
+    let show = |text: &str| stdio::report(text, to_stdout);
     let calibration = with_triad(base.calibration, triad, fitted);
     let (a, g) = output.ranges.full_scale_si();
     if let Err(e) = triad::model::Corrector::new_si(&calibration, a, g, base.orientation) {
