@@ -14,7 +14,7 @@
 //! costs O(N) per τ, O(N·m_max) in all, so its largest m defaults to 2^14
 //! (change it with `--max-tau`).
 //!
-//! Each sample has the mean of the first [`OFFSET_ROWS`] rows of its column
+//! Each sample has the mean of the first [`OFFSET_ROWS`](compute::OFFSET_ROWS) rows of its column
 //! subtracted before it is integrated, so a mean far above the noise (1 g on
 //! an accelerometer) costs no digits (see `triad_lab::allan::accumulate`).
 //!
@@ -47,11 +47,6 @@ use crate::distinct::{self, named, Named};
 use crate::number::{positive, readable, RATE_WORDS};
 use crate::outfile::{self, is_stdout};
 use crate::stdio;
-
-pub use compute::{analyse, Analysis, ColumnResult, MIN_SAMPLES, OFFSET_ROWS};
-pub use curve::Point;
-pub use fit::{datasheet, si_unit};
-pub use grade::grade_of;
 
 /// Arguments of `triad allan`.
 #[derive(clap::Args)]
@@ -108,7 +103,7 @@ pub fn run(args: AllanArgs) -> anyhow::Result<ExitCode> {
     for o in &outputs {
         outfile::probe(o.path)?;
     }
-    let analysis = analyse(&args)?;
+    let analysis = compute::analyse(&args)?;
     let mut files = Vec::new();
     if let Some(path) = &args.out {
         files.push(table::write(path, &analysis.columns)?);

@@ -26,6 +26,7 @@ use triad::model::{Calibration, Orientation, Triad, TriadCalibration};
 use super::{fit_accel, fit_gyro, Ranges};
 use crate::calib_file;
 use crate::distinct::{self, named, Named};
+use crate::input;
 use crate::outfile;
 use crate::stdio;
 
@@ -107,12 +108,12 @@ pub fn names(paths: &[PathBuf]) -> String {
     }
 }
 
-/// The input files as a TOML array of strings.
-pub fn file_list(paths: &[PathBuf]) -> toml::Value {
+/// The input files as a TOML array of strings (`stdin` for `-`).
+pub fn file_list<P: AsRef<Path>>(paths: &[P]) -> toml::Value {
     toml::Value::Array(
         paths
             .iter()
-            .map(|p| toml::Value::String(p.display().to_string()))
+            .map(|p| toml::Value::String(input::name(p.as_ref())))
             .collect(),
     )
 }
@@ -226,6 +227,7 @@ mod tests {
         let list = file_list(&paths[..2]);
         assert_eq!(list.as_array().map(Vec::len), Some(2));
         assert_eq!(list[1].as_str(), Some("b.csv"));
+        assert_eq!(file_list(&[Path::new("-")])[0].as_str(), Some("stdin"));
     }
 
     #[test]

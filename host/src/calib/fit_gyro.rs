@@ -295,14 +295,10 @@ fn gyro_static(args: &GyroArgs, base: Base, path: &Path) -> anyhow::Result<ExitC
 /// The `[fit.gyro]` table of a static bias.
 fn static_table(path: &Path, s: &Stat, earth_note: &str) -> toml::Table {
     let mut table = method_table("static record: bias = mean of each axis", None);
-    let text = |x: &str| toml::Value::String(x.into());
-    table.insert(
-        "records".into(),
-        toml::Value::Array(vec![text(&input::name(path))]),
-    );
+    table.insert("records".into(), file_list(&[path]));
     table.insert("samples".into(), toml::Value::Integer(s.count as i64));
     table.insert("sigma_bias".into(), vector(&s.standard_error));
-    table.insert("earth_rate".into(), text(earth_note));
+    table.insert("earth_rate".into(), toml::Value::String(earth_note.into()));
     table
 }
 
