@@ -6,7 +6,7 @@
 //! (`triad … | head -1`) becomes [`ReaderGone`], which `main` turns into a
 //! quiet exit with status [`READER_GONE_STATUS`]; any other failure
 //! (`> /dev/full`) is an error naming standard output. Messages to stderr
-//! ([`note!`]) ignore their own errors: there is nowhere left to report them.
+//! (`note!`) ignore their own errors: there is nowhere left to report them.
 
 use std::fs::File;
 use std::io::{self, Write};
