@@ -428,27 +428,7 @@ fn summary(outcome: &Outcome) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use triad::stream::{encode, Flags, MAX_ENCODED_LEN};
-
-    /// Frames 0..n, 10 ms apart, as the firmware sends them.
-    fn stream(n: u32) -> Vec<u8> {
-        let mut bytes = Vec::new();
-        let mut out = [0u8; MAX_ENCODED_LEN];
-        for i in 0..n {
-            let frame = Frame {
-                sequence: i,
-                timestamp_us: 1_000_000 + 10_000 * i,
-                flags: Flags::from_bits_retain(0),
-                accel: [0.5, -1.0, 9.75],
-                gyro: [0.0, 0.125, -2.0],
-                temperature: 25.5,
-                ..Frame::default()
-            };
-            let len = encode(&frame, &mut out);
-            bytes.extend_from_slice(&out[..len]);
-        }
-        bytes
-    }
+    use crate::fixtures::stream;
 
     fn decode(bytes: Vec<u8>, max_frames: Option<u64>, seconds: Option<f64>) -> (Outcome, String) {
         let limits = Limits {

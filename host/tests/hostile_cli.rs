@@ -3,40 +3,19 @@
 //! over inputs, failing runs beside good files, unbounded work, odd input.
 //! Each case checks the exit status, what is said, and what is on disk.
 
+mod common;
+
 use std::fs;
 use std::io::{BufRead, BufReader, Write};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::sync::Mutex;
 
-use triad::stream::{encode, Frame, MAX_ENCODED_LEN};
-
-const TRIAD: &str = env!("CARGO_BIN_EXE_triad");
+use common::fixtures::{entries, stream};
+use common::{calibration, dir, s, text, TRIAD};
 
 /// What `main` returns when the reader of stdout went away (128 + SIGPIPE).
 const READER_GONE: i32 = 141;
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
-
-/// A fresh directory for one test.
-fn dir(name: &str) -> PathBuf {
-    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("hostile-{name}"));
-    let _ = fs::remove_dir_all(&d);
-    fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn calibration(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../calibrations")
-        .join(name)
-}
 
 /// Spawning is serialised in this file: a child forked by another test's
 /// thread would inherit a copy of a pipe's read end until it execs, and a
@@ -59,6 +38,7 @@ fn output(cmd: &mut Command) -> Output {
     .unwrap()
 }
 
+/// `triad ARGS` run to its end, spawned under [`SPAWN`].
 fn triad(args: &[&str]) -> Output {
     output(Command::new(TRIAD).args(args))
 }
@@ -135,25 +115,6 @@ fn simulate(scene: &str, seconds: &str, out: &Path) {
         s(out),
     ]);
     assert!(run.status.success(), "{}", text(&run.stderr));
-}
-
-/// A stream of `n` frames as the firmware sends them.
-fn stream(n: u32) -> Vec<u8> {
-    let mut bytes = Vec::new();
-    let mut out = [0u8; MAX_ENCODED_LEN];
-    for i in 0..n {
-        let frame = Frame {
-            sequence: i,
-            timestamp_us: 1_000_000 + 10_000 * i,
-            accel: [0.5, -1.0, 9.75],
-            gyro: [0.0, 0.125, -2.0],
-            temperature: 25.5,
-            ..Frame::default()
-        };
-        let len = encode(&frame, &mut out);
-        bytes.extend_from_slice(&out[..len]);
-    }
-    bytes
 }
 
 fn no_panic(out: &Output, what: &str) {
@@ -386,16 +347,6 @@ fn correct_piped_to_head_stops_quietly() {
         text(&out.stderr)
     );
     assert!(out.stderr.is_empty(), "{}", text(&out.stderr));
-}
-
-/// The files of `d`, sorted (to see that no temporary file is left).
-fn entries(d: &Path) -> Vec<String> {
-    let mut v: Vec<String> = fs::read_dir(d)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
 }
 
 #[test]
