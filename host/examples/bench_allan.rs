@@ -78,10 +78,7 @@ fn child(path: &str) -> std::io::Result<()> {
             let a = acc.get_or_insert_with(|| {
                 OctaveAccumulator::new(vec![0.0; 4096.min(ring_cap)], y).expect("valid ring")
             });
-            let len = a.ring_len();
-            if a.samples() + 1 == len as u64 && len < ring_cap {
-                let _ = a.grow(vec![0.0; 2 * len]);
-            }
+            let _ = a.grow_before_wrap(ring_cap, |n| vec![0.0; n]);
             a.push(y);
         }
     }

@@ -39,6 +39,10 @@ pub struct CalibFile {
     pub id_from_parameters: bool,
     /// The mounting orientation.
     pub orientation: Orientation,
+    /// The top-level `[fit]` table (the statistics earlier fits wrote),
+    /// empty when there is none: kept when another triad is fitted from
+    /// this file as `--base`.
+    pub fit: toml::Table,
 }
 
 #[derive(Deserialize)]
@@ -47,6 +51,8 @@ struct FileShape {
     orientation: Option<toml::Value>,
     accel: TriadShape,
     gyro: TriadShape,
+    /// Metadata: any value is allowed; only a table is kept.
+    fit: Option<toml::Value>,
 }
 
 /// A vector or matrix as written, with where it is: its length is
@@ -165,11 +171,16 @@ pub fn parse(text: &str, path: &Path) -> anyhow::Result<CalibFile> {
     };
     let id_from_parameters = shape.id.is_none();
     calibration.id = shape.id.unwrap_or_else(|| blob::parameter_id(&calibration));
+    let fit = match shape.fit {
+        Some(toml::Value::Table(t)) => t,
+        _ => toml::Table::new(),
+    };
     Ok(CalibFile {
         path: path.to_path_buf(),
         calibration,
         id_from_parameters,
         orientation,
+        fit,
     })
 }
 
@@ -272,19 +283,6 @@ pub fn render(
     Ok(text)
 }
 
-/// The top-level `fit` table of a file (the statistics earlier fits wrote),
-/// if any: kept when another triad is fitted from this file as `--base`.
-pub fn fit_metadata(path: &Path) -> anyhow::Result<Option<toml::Table>> {
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("{}: cannot read", path.display()))?;
-    let doc: toml::Table =
-        toml::from_str(&text).map_err(|e| anyhow!("{}:{}", path.display(), one_line(&e, &text)))?;
-    Ok(match doc.get("fit") {
-        Some(toml::Value::Table(t)) => Some(t.clone()),
-        _ => None,
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -384,5 +382,20 @@ mod tests {
         );
         assert_eq!(back.orientation, yaw);
         assert_eq!(back.calibration.accel.scale_misalignment, IDENTITY);
+    }
+
+    #[test]
+    fn the_fit_table_is_kept_from_the_same_parse() {
+        assert!(parsed(MINIMAL).unwrap().fit.is_empty());
+        let f = parsed(&format!(
+            "\u{feff}{MINIMAL}[fit.gyro]\nmethod = \"static\"\n"
+        ))
+        .unwrap();
+        assert_eq!(f.fit["gyro"]["method"].as_str(), Some("static"));
+        // Metadata that is not a table is not a calibration error.
+        assert!(parsed(&format!("fit = 3\n{MINIMAL}"))
+            .unwrap()
+            .fit
+            .is_empty());
     }
 }

@@ -2,11 +2,13 @@
 //! pages generated from the very argument definitions the binary parses
 //! (`clap_complete`, `clap_mangen`), so they cannot drift from it.
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::Context;
+
+use crate::outfile;
+use crate::stdio::{self, note};
 
 /// Arguments of `triad completions`.
 #[derive(clap::Args)]
@@ -30,7 +32,8 @@ pub fn completions(args: CompletionsArgs, mut cli: clap::Command) -> anyhow::Res
     let mut script = Vec::new();
     let name = cli.get_name().to_string();
     clap_complete::generate(args.shell, &mut cli, name, &mut script);
-    write_stdout(&script)
+    stdio::print(script)?;
+    Ok(ExitCode::SUCCESS)
 }
 
 /// Prints `cli`'s man page, or writes every page into `--out-dir`.
@@ -39,15 +42,15 @@ pub fn man(args: ManArgs, cli: clap::Command) -> anyhow::Result<ExitCode> {
         None => {
             let mut page = Vec::new();
             clap_mangen::Man::new(cli).render(&mut page)?;
-            write_stdout(&page)
+            stdio::print(page)?;
         }
         Some(dir) => {
             for path in write_pages(cli, &dir)? {
-                eprintln!("{}", path.display());
+                note!("{}", path.display());
             }
-            Ok(ExitCode::SUCCESS)
         }
     }
+    Ok(ExitCode::SUCCESS)
 }
 
 /// The man pages of `cli`: (file name, roff text), the command's first and
@@ -74,29 +77,14 @@ pub fn pages(cli: clap::Command) -> anyhow::Result<Vec<(String, Vec<u8>)>> {
 }
 
 /// Writes the pages of `cli` into `dir` (made if missing), each whole or not
-/// at all (written beside, then renamed); returns their paths.
+/// at all ([`outfile::write_whole`]); returns their paths.
 pub fn write_pages(cli: clap::Command, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
     std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create", dir.display()))?;
     let mut written = Vec::new();
     for (name, text) in pages(cli)? {
         let path = dir.join(&name);
-        let partial = dir.join(format!(".{name}.partial"));
-        let result =
-            std::fs::write(&partial, &text).and_then(|()| std::fs::rename(&partial, &path));
-        if let Err(error) = result {
-            let _ = std::fs::remove_file(&partial);
-            return Err(error).with_context(|| format!("{}: cannot write", path.display()));
-        }
+        outfile::write_whole(&path, &text)?;
         written.push(path);
     }
     Ok(written)
-}
-
-fn write_stdout(bytes: &[u8]) -> anyhow::Result<ExitCode> {
-    let mut stdout = std::io::stdout().lock();
-    stdout
-        .write_all(bytes)
-        .and_then(|()| stdout.flush())
-        .context("writing to stdout")?;
-    Ok(ExitCode::SUCCESS)
 }

@@ -68,6 +68,8 @@ struct Header {
     names: Vec<String>,
     /// Cell index of each of [`COLUMNS`] (`temp` optional).
     index: [Option<usize>; 8],
+    /// For each cell, which of the six values (0 = ax … 5 = gz) it holds.
+    value_of_cell: Vec<Option<usize>>,
 }
 
 impl Header {
@@ -99,7 +101,17 @@ impl Header {
                 names.join(",")
             ));
         }
-        Ok(Header { names, index })
+        let mut value_of_cell = vec![None; names.len()];
+        for (k, cell) in index[1..7].iter().enumerate() {
+            if let Some(cell) = cell {
+                value_of_cell[*cell] = Some(k);
+            }
+        }
+        Ok(Header {
+            names,
+            index,
+            value_of_cell,
+        })
     }
 
     /// The cell index of column `k` of [`COLUMNS`] (`t` and the six values are always there).
@@ -136,24 +148,37 @@ impl Place<'_> {
         }
     }
 
+    /// The six measured values (ax … gz) as f64.
+    fn f64_values(self, fields: &[&str], header: &Header) -> anyhow::Result<[f64; 6]> {
+        let mut v = [0.0f64; 6];
+        for (i, x) in v.iter_mut().enumerate() {
+            *x = self.number(fields, header.cell(i + 1), COLUMNS[i + 1])?;
+        }
+        Ok(v)
+    }
+
     /// The six measured values straight to f32 (one correct rounding, as a
     /// device reading the same decimal would), not via f64.
     fn f32_values(self, fields: &[&str], header: &Header) -> anyhow::Result<[f32; 6]> {
-        let Place { name, number } = self;
         let mut f = [0.0f32; 6];
         for (i, x) in f.iter_mut().enumerate() {
-            let cell = header.cell(i + 1);
-            *x = fields[cell].parse().unwrap_or(f32::NAN);
-            if !x.is_finite() {
-                bail!(
-                    "{name} line {number}, column {} ({}): `{}` is beyond the f32 range",
-                    cell + 1,
-                    COLUMNS[i + 1],
-                    fields[cell]
-                );
-            }
+            *x = fields[header.cell(i + 1)].parse().unwrap_or(f32::NAN);
         }
-        Ok(f)
+        let Some(i) = f.iter().position(|x| !x.is_finite()) else {
+            return Ok(f);
+        };
+        // A bad cell is worded as --exact words it (not a number, not
+        // finite: the first such cell); only a number that is finite as
+        // an f64 is beyond the f32 range.
+        self.f64_values(fields, header)?;
+        let cell = header.cell(i + 1);
+        let Place { name, number } = self;
+        bail!(
+            "{name} line {number}, column {} ({}): `{}` is beyond the f32 range",
+            cell + 1,
+            COLUMNS[i + 1],
+            fields[cell]
+        )
     }
 }
 
@@ -262,17 +287,14 @@ fn correct_row(
     temperature: Option<f64>,
     exact: bool,
 ) -> anyhow::Result<()> {
-    let mut v = [0.0f64; 6];
-    for (i, x) in v.iter_mut().enumerate() {
-        *x = at.number(fields, header.cell(i + 1), COLUMNS[i + 1])?;
-    }
-    let corrected: [String; 6] = if exact {
+    let written = if exact {
+        let v = at.f64_values(fields, header)?;
         let m = corrector.reference_si(
             [v[0], v[1], v[2]],
             [v[3], v[4], v[5]],
             temperature.unwrap_or(0.0),
         );
-        six(m.accel, m.gyro)
+        write_row(out, fields, header, six(m.accel, m.gyro))
     } else {
         let f = at.f32_values(fields, header)?;
         let m = corrector.correct_si(
@@ -280,34 +302,34 @@ fn correct_row(
             [f[3], f[4], f[5]],
             temperature.unwrap_or(0.0) as f32,
         );
-        six(m.accel, m.gyro)
+        write_row(out, fields, header, six(m.accel, m.gyro))
     };
-    write_row(out, fields, header, &corrected).map_err(stdio::stdout_error)
+    written.map_err(stdio::stdout_error)
 }
 
-/// The six corrected values in the shortest form that reads back to the
-/// same number.
-fn six<T: std::fmt::Display>(accel: [T; 3], gyro: [T; 3]) -> [String; 6] {
+/// The six corrected values in the order of [`COLUMNS`].
+fn six<T>(accel: [T; 3], gyro: [T; 3]) -> [T; 6] {
     let [ax, ay, az] = accel;
     let [gx, gy, gz] = gyro;
-    [ax, ay, az, gx, gy, gz].map(|x| x.to_string())
+    [ax, ay, az, gx, gy, gz]
 }
 
-/// One output row: the input's cells, the six values replaced by `corrected`.
-fn write_row(
+/// One output row: the input's cells, the six values replaced by
+/// `corrected`, each in the shortest form that reads back to the same number.
+fn write_row<T: std::fmt::Display>(
     out: &mut impl Write,
     fields: &[&str],
     header: &Header,
-    corrected: &[String; 6],
+    corrected: [T; 6],
 ) -> io::Result<()> {
     for (cell, raw) in fields.iter().enumerate() {
         if cell > 0 {
             out.write_all(b",")?;
         }
-        let value = (1..7)
-            .find(|&k| header.cell(k) == cell)
-            .map_or(*raw, |k| corrected[k - 1].as_str());
-        out.write_all(value.as_bytes())?;
+        match header.value_of_cell[cell] {
+            Some(k) => write!(out, "{}", corrected[k])?,
+            None => out.write_all(raw.as_bytes())?,
+        }
     }
     out.write_all(b"\n")
 }
@@ -387,5 +409,8 @@ mod tests {
             e,
             "in.csv line 2, column 2 (ax): `1e39` is beyond the f32 range"
         );
+        // A cell that is no number is named before one beyond f32, as --exact names it.
+        let e = err("t,ax,ay,az,gx,gy,gz\n1,1e39,x,0,0,0,0\n");
+        assert_eq!(e, "in.csv line 2, column 3 (ay): `x` is not a number");
     }
 }

@@ -5,9 +5,8 @@
 //! CSV goes to stdout (columns and number formats: docs/PROTOCOL.md §11);
 //! rejected frames (with --verbose) and the final counters go to stderr.
 
-use std::fs::File;
 use std::io::{self, ErrorKind, Read, Write};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::atomic::AtomicBool;
 use std::time::Duration;
@@ -15,8 +14,9 @@ use std::time::Duration;
 use anyhow::{bail, Context};
 use triad::stream::{DecodeError, Decoder, DecoderStats, Frame, TimestampUnwrapper};
 
+use crate::input;
 use crate::interrupt;
-use crate::number::readable;
+use crate::number::{positive, refused};
 use crate::progress::{Progress, Unit};
 use crate::row_writer::RowWriter;
 use crate::stdio::{self, note, ReaderGone};
@@ -102,13 +102,15 @@ impl Limits {
     fn from_args(args: &DecodeArgs) -> anyhow::Result<Limits> {
         let max_elapsed_us = match args.seconds {
             None => None,
-            Some(s) if s.is_finite() && s > 0.0 && s * 1e6 < u64::MAX as f64 => {
-                Some((s * 1e6).round() as u64)
+            Some(s) => {
+                let words = "must be a positive, finite number of seconds";
+                let us = positive("--seconds", s, words)? * 1e6;
+                // Beyond u64 µs (585 000 years) is no finite limit either.
+                if us >= u64::MAX as f64 {
+                    return Err(refused("--seconds", s, words));
+                }
+                Some(us.round() as u64)
             }
-            Some(s) => bail!(
-                "--seconds {}: must be a positive, finite number of seconds",
-                readable(s)
-            ),
         };
         if args.baud == 0 {
             bail!("--baud 0: the baud rate must be positive");
@@ -128,6 +130,7 @@ struct Source {
     size: u64,
 }
 
+/// The serial port of `--port`, else the file or standard input ([`input::open`]).
 fn open_source(args: &DecodeArgs) -> anyhow::Result<Source> {
     if let Some(port) = &args.port {
         let serial = serialport::new(port.as_str(), args.baud)
@@ -140,25 +143,14 @@ fn open_source(args: &DecodeArgs) -> anyhow::Result<Source> {
             size: 0,
         });
     }
-    let stdin = || Source {
-        bytes: Box::new(io::stdin()),
+    // No FILE is standard input, as `-` is.
+    let path = args.input.as_deref().unwrap_or(Path::new("-"));
+    let opened = input::open(path, 1 << 16)?;
+    Ok(Source {
+        bytes: Box::new(opened.reader),
         live: false,
-        size: 0,
-    };
-    match &args.input {
-        None => Ok(stdin()),
-        Some(path) if path.as_os_str() == "-" => Ok(stdin()),
-        Some(path) => {
-            let file =
-                File::open(path).with_context(|| format!("cannot open {}", path.display()))?;
-            let size = file.metadata().map(|m| m.len()).unwrap_or(0);
-            Ok(Source {
-                bytes: Box::new(file),
-                live: false,
-                size,
-            })
-        }
-    }
+        size: opened.size,
+    })
 }
 
 /// Why decoding stopped, and what the decoder counted.
@@ -436,27 +428,7 @@ fn summary(outcome: &Outcome) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use triad::stream::{encode, Flags, MAX_ENCODED_LEN};
-
-    /// Frames 0..n, 10 ms apart, as the firmware sends them.
-    fn stream(n: u32) -> Vec<u8> {
-        let mut bytes = Vec::new();
-        let mut out = [0u8; MAX_ENCODED_LEN];
-        for i in 0..n {
-            let frame = Frame {
-                sequence: i,
-                timestamp_us: 1_000_000 + 10_000 * i,
-                flags: Flags::from_bits_retain(0),
-                accel: [0.5, -1.0, 9.75],
-                gyro: [0.0, 0.125, -2.0],
-                temperature: 25.5,
-                ..Frame::default()
-            };
-            let len = encode(&frame, &mut out);
-            bytes.extend_from_slice(&out[..len]);
-        }
-        bytes
-    }
+    use crate::fixtures::stream;
 
     fn decode(bytes: Vec<u8>, max_frames: Option<u64>, seconds: Option<f64>) -> (Outcome, String) {
         let limits = Limits {

@@ -37,3 +37,9 @@ pub mod shipped;
 pub mod sim;
 pub mod stdio;
 pub mod version;
+
+/// The fixtures the integration tests share (`tests/common/fixtures.rs`),
+/// for the unit tests too.
+#[cfg(test)]
+#[path = "../tests/common/fixtures.rs"]
+mod fixtures;

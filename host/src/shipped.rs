@@ -118,7 +118,9 @@ pub fn listing() -> String {
         "  accel: {}\n",
         names(AccelGrade::ALL.iter().map(|g| g.name()).collect())
     ));
-    out.push_str("Calibrations (triad correct --calib NAME, triad calib check|pack NAME):\n");
+    out.push_str(
+        "Calibrations (triad correct --calib NAME, triad calib check|pack NAME, calib fit --base NAME):\n",
+    );
     for (name, _) in CALIBRATIONS {
         out.push_str(&format!(
             "  {name:width$}  calibrations/{name}.toml of the source, built in\n"

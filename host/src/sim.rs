@@ -13,7 +13,7 @@ use triad_sim::source::TrueSample;
 
 use crate::distinct::{self, named};
 use crate::interrupt;
-use crate::number::readable;
+use crate::number::{positive, readable, RATE_WORDS};
 use crate::outfile::{self, OutFile};
 use crate::progress::{Progress, Unit};
 use crate::scene_file::{self, LoadedScene};
@@ -88,13 +88,7 @@ pub fn run(args: SimArgs) -> anyhow::Result<ExitCode> {
     distinct::check(&[named("--scene", &loaded.path)], &outputs)?;
     let mut scene = loaded.scene;
     if let Some(rate) = args.rate {
-        if !(rate.is_finite() && rate > 0.0) {
-            bail!(
-                "--rate {}: the sample rate must be a positive number of Hz",
-                readable(rate)
-            );
-        }
-        scene.rate_hz = rate;
+        scene.rate_hz = positive("--rate", rate, RATE_WORDS)?;
     }
     if let Some(path) = &args.pack {
         return pack(&scene, args.seed, path, &loaded.path);

@@ -6,7 +6,7 @@
 //! (`triad … | head -1`) becomes [`ReaderGone`], which `main` turns into a
 //! quiet exit with status [`READER_GONE_STATUS`]; any other failure
 //! (`> /dev/full`) is an error naming standard output. Messages to stderr
-//! ([`note!`]) ignore their own errors: there is nowhere left to report them.
+//! (`note!`) ignore their own errors: there is nowhere left to report them.
 
 use std::fs::File;
 use std::io::{self, Write};
@@ -120,10 +120,22 @@ fn stdout_was_closed_by_caller() -> bool {
     on_null && read_write
 }
 
-/// Prints `text` on standard output, whole or with an error.
-pub fn print(text: &str) -> anyhow::Result<()> {
+/// Prints `text` (a string or bytes) on standard output, whole or with an error.
+pub fn print(text: impl AsRef<[u8]>) -> anyhow::Result<()> {
     let mut out = raw_stdout()?;
-    out.write_all(text.as_bytes()).map_err(stdout_error)
+    out.write_all(text.as_ref()).map_err(stdout_error)
+}
+
+/// Prints a command's report (a summary, a fit's figures): on standard
+/// output, or as a note on stderr when `stdout_taken` (an output of the
+/// command went to standard output).
+pub fn report(text: &str, stdout_taken: bool) -> anyhow::Result<()> {
+    if stdout_taken {
+        note!("{}", text.trim_end());
+        Ok(())
+    } else {
+        print(text)
+    }
 }
 
 /// Makes what was written to `out` durable when it is a regular file (a

@@ -1,17 +1,15 @@
 //! `triad allan` end to end: the table's columns and values, the JSON report,
 //! the SVG plot, the every-τ mode, and one-line errors for bad input.
 
+mod common;
+
 use std::path::PathBuf;
-use std::process::{Command, Output};
+use std::process::Command;
+
+use common::{allan, tmp};
 
 fn triad() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_triad"))
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("triad-allan-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
+    Command::new(common::TRIAD)
 }
 
 /// A simulated static tactical IMU (`static-bench`), `seconds` at 10 Hz;
@@ -40,10 +38,6 @@ fn simulated(name: &str, seconds: &str) -> PathBuf {
         assert!(ok);
     }
     out
-}
-
-fn run(args: &[&str], input: &PathBuf) -> Output {
-    triad().arg("allan").arg(input).args(args).output().unwrap()
 }
 
 /// The column `name` of a CSV file.
@@ -100,9 +94,9 @@ fn table(path: &PathBuf) -> (String, Vec<Row>) {
 fn table_has_the_documented_columns_and_the_definition_values() {
     let input = simulated("bench-2000.csv", "2000");
     let out = tmp("table.csv");
-    let o = run(
-        &["--columns", "gx,az", "--out", out.to_str().unwrap()],
+    let o = allan(
         &input,
+        &["--columns", "gx,az", "--out", out.to_str().unwrap()],
     );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let (header, rows) = table(&out);
@@ -138,7 +132,7 @@ fn table_has_the_documented_columns_and_the_definition_values() {
 #[test]
 fn json_reports_terms_in_datasheet_units_and_the_grade() {
     let input = simulated("bench-20000.csv", "20000");
-    let o = run(&["--json", "--columns", "gx,ax"], &input);
+    let o = allan(&input, &["--json", "--columns", "gx,ax"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["samples"], 200_000);
@@ -171,7 +165,7 @@ fn json_reports_terms_in_datasheet_units_and_the_grade() {
 #[test]
 fn summary_names_terms_and_grade() {
     let input = simulated("bench-2000.csv", "2000");
-    let o = run(&["--columns", "gy"], &input);
+    let o = allan(&input, &["--columns", "gy"]);
     assert!(o.status.success());
     let s = String::from_utf8_lossy(&o.stdout);
     for needle in [
@@ -225,9 +219,9 @@ fn assert_well_formed_svg(text: &str) {
 fn plot_is_a_well_formed_svg_with_bars_and_term_lines() {
     let input = simulated("bench-2000.csv", "2000");
     let plot = tmp("allan.svg");
-    let o = run(
-        &["--columns", "gx,gy", "--plot", plot.to_str().unwrap()],
+    let o = allan(
         &input,
+        &["--columns", "gx,gy", "--plot", plot.to_str().unwrap()],
     );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let svg = std::fs::read_to_string(&plot).unwrap();
@@ -242,7 +236,8 @@ fn plot_is_a_well_formed_svg_with_bars_and_term_lines() {
 fn every_tau_mode_has_every_m_and_agrees_with_the_octaves() {
     let input = simulated("bench-200.csv", "200");
     let (all, oct) = (tmp("all.csv"), tmp("oct.csv"));
-    let o = run(
+    let o = allan(
+        &input,
         &[
             "--columns",
             "gz",
@@ -250,10 +245,9 @@ fn every_tau_mode_has_every_m_and_agrees_with_the_octaves() {
             "--out",
             all.to_str().unwrap(),
         ],
-        &input,
     );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let o = run(&["--columns", "gz", "--out", oct.to_str().unwrap()], &input);
+    let o = allan(&input, &["--columns", "gz", "--out", oct.to_str().unwrap()]);
     assert!(o.status.success());
     let (_, every) = table(&all);
     let (_, octave) = table(&oct);
@@ -270,7 +264,8 @@ fn every_tau_mode_has_every_m_and_agrees_with_the_octaves() {
 fn rate_option_overrides_the_t_column() {
     let input = simulated("bench-200.csv", "200");
     let out = tmp("rate.csv");
-    let o = run(
+    let o = allan(
+        &input,
         &[
             "--columns",
             "gx",
@@ -279,7 +274,6 @@ fn rate_option_overrides_the_t_column() {
             "--out",
             out.to_str().unwrap(),
         ],
-        &input,
     );
     assert!(o.status.success());
     let (_, rows) = table(&out);
@@ -289,7 +283,7 @@ fn rate_option_overrides_the_t_column() {
 fn fails_with(input_text: &str, name: &str, args: &[&str], expected: &[&str]) {
     let path = tmp(name);
     std::fs::write(&path, input_text).unwrap();
-    let o = run(args, &path);
+    let o = allan(&path, args);
     assert!(!o.status.success(), "{name} should fail");
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
@@ -410,7 +404,7 @@ fn missing_t_without_rate_is_an_error() {
                 .collect::<String>(),
     )
     .unwrap();
-    assert!(run(&["--rate", "100"], &path).status.success());
+    assert!(allan(&path, &["--rate", "100"]).status.success());
 }
 
 #[test]
@@ -448,7 +442,8 @@ fn errors_past_the_first_block_keep_their_line_numbers() {
 fn max_tau_bounds_the_grid() {
     let input = simulated("bench-2000.csv", "2000");
     let out = tmp("maxtau.csv");
-    let o = run(
+    let o = allan(
+        &input,
         &[
             "--columns",
             "gx",
@@ -457,7 +452,6 @@ fn max_tau_bounds_the_grid() {
             "--out",
             out.to_str().unwrap(),
         ],
-        &input,
     );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let (_, rows) = table(&out);

@@ -2,14 +2,11 @@
 //! or constant channel, a τ grid too short for the fit, a value whose
 //! square overflows.
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
+mod common;
 
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("triad-allan-refusals-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
+use std::path::PathBuf;
+
+use common::{allan, tmp};
 
 /// A CSV `t,gx,gy,gz` at 100 Hz: gx all zero, gy constant 0.1, gz noise
 /// (a fixed pseudo-random sequence), `big` written into gz at row `big_row`.
@@ -30,15 +27,6 @@ fn record(name: &str, rows: usize, big: Option<(usize, &str)>) -> PathBuf {
     let path = tmp(name);
     std::fs::write(&path, text).unwrap();
     path
-}
-
-fn allan(input: &PathBuf, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_triad"))
-        .arg("allan")
-        .arg(input)
-        .args(args)
-        .output()
-        .unwrap()
 }
 
 #[test]

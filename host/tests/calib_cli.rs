@@ -1,29 +1,17 @@
 //! `triad calib check` and `triad calib pack` on the example files in
 //! calibrations/: exit codes, one-line reasons, and the packed blob.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
+use std::path::PathBuf;
+
+use common::{calibration, text, triad};
 use triad::model::{blob, Orientation, Triad};
-
-const TRIAD: &str = env!("CARGO_BIN_EXE_triad");
-
-fn calibrations() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../calibrations")
-}
-
-fn triad(args: &[&str]) -> Output {
-    Command::new(TRIAD).args(args).output().expect("run triad")
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
 
 #[test]
 fn check_accepts_the_examples_and_prints_conditioning_and_coefficients() {
     for name in ["default.toml", "lab-example.toml"] {
-        let path = calibrations().join(name);
+        let path = calibration(name);
         let out = triad(&["calib", "check", path.to_str().unwrap()]);
         let stdout = text(&out.stdout);
         assert!(out.status.success(), "{name}: {}", text(&out.stderr));
@@ -42,7 +30,7 @@ fn check_accepts_the_examples_and_prints_conditioning_and_coefficients() {
     let out = triad(&[
         "calib",
         "check",
-        calibrations().join("lab-example.toml").to_str().unwrap(),
+        calibration("lab-example.toml").to_str().unwrap(),
     ]);
     let stdout = text(&out.stdout);
     assert!(stdout.contains("calibration id: 0x0135290"), "{stdout}"); // id = 20261122
@@ -73,7 +61,7 @@ fn check_rejects_each_bad_file_with_one_line_naming_the_problem() {
         ("misspelt-key.toml", "unknown field `temprature`"),
         ("bad-orientation.toml", "orientation: `ROTATION_YAW_45` is not one of the 24"),
     ];
-    let dir = calibrations().join("bad");
+    let dir = calibration("bad");
     for (name, reason) in cases {
         let path = dir.join(name);
         let out = triad(&["calib", "check", path.to_str().unwrap()]);
@@ -99,7 +87,7 @@ fn check_rejects_each_bad_file_with_one_line_naming_the_problem() {
 fn ranges_given_on_the_command_line_bound_the_bias() {
     // default.toml's accel bias 0.1 m/s² is within ±16 g but a gyro bias of
     // 0.002 rad/s is beyond a ±0.1 °/s range (0.00175 rad/s).
-    let path = calibrations().join("default.toml");
+    let path = calibration("default.toml");
     let p = path.to_str().unwrap();
     assert!(triad(&[
         "calib",
@@ -128,7 +116,7 @@ fn pack_writes_the_blob_and_the_checked_in_default_matches_its_toml() {
     let out = triad(&[
         "calib",
         "pack",
-        calibrations().join("default.toml").to_str().unwrap(),
+        calibration("default.toml").to_str().unwrap(),
         "-o",
         out_path.to_str().unwrap(),
     ]);
@@ -143,7 +131,7 @@ fn pack_writes_the_blob_and_the_checked_in_default_matches_its_toml() {
     assert_eq!(cal.id, blob::parameter_id(&cal));
     assert!(text(&out.stderr).contains(&format!("{:#010x}", cal.id)));
     // The firmware embeds calibrations/default.bin: it must be this file's pack.
-    let checked_in = std::fs::read(calibrations().join("default.bin")).unwrap();
+    let checked_in = std::fs::read(calibration("default.bin")).unwrap();
     assert!(checked_in == packed, "calibrations/default.bin is stale: run `triad calib pack calibrations/default.toml -o calibrations/default.bin`");
 
     // A bad file is not packed.
@@ -152,7 +140,7 @@ fn pack_writes_the_blob_and_the_checked_in_default_matches_its_toml() {
     let out = triad(&[
         "calib",
         "pack",
-        calibrations().join("bad/singular.toml").to_str().unwrap(),
+        calibration("bad/singular.toml").to_str().unwrap(),
         "-o",
         bad_path.to_str().unwrap(),
     ]);
@@ -167,7 +155,7 @@ fn lab_example_loads_with_temperature_terms_and_orientation() {
     let out = triad(&[
         "calib",
         "pack",
-        calibrations().join("lab-example.toml").to_str().unwrap(),
+        calibration("lab-example.toml").to_str().unwrap(),
         "-o",
         out_path.to_str().unwrap(),
     ]);

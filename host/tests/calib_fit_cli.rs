@@ -4,33 +4,16 @@
 //! gyro output to the table rate within the noise. And each refusal.
 #![allow(clippy::needless_range_loop)] // index form reads as the matrix formulas
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
+use std::path::{Path, PathBuf};
+use std::process::Output;
+
+use common::{calibration, dir, s, text, triad};
 use triad::model::matrix;
 use triad_lab::calib_fit::small3::{cholesky_upper, gram};
 
-const TRIAD: &str = env!("CARGO_BIN_EXE_triad");
 const G: f64 = 9.80665;
-
-fn triad(args: &[&str]) -> Output {
-    Command::new(TRIAD).args(args).output().expect("run triad")
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
-
-fn dir(name: &str) -> PathBuf {
-    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
 
 /// The accelerometer errors of tumble-6 (a consumer MEMS part): truth below.
 const ACCEL_ERRORS: &str = r#"
@@ -332,7 +315,7 @@ fn accel_fit_keeps_the_base_gyro_and_orientation() {
     // coordinate planes the x–y coupling is undetermined (κ ≈ 2e4, refused).
     let attitudes: Vec<(f64, f64)> = SPREAD[..6].iter().chain(&SPREAD[12..18]).copied().collect();
     let records = static_records(&d, &attitudes);
-    let base = Path::new(env!("CARGO_MANIFEST_DIR")).join("../calibrations/lab-example.toml");
+    let base = calibration("lab-example.toml");
     let cal = d.join("cal.toml");
     let mut args = vec![
         "calib",
@@ -704,6 +687,58 @@ fn gyro_static_bias_is_the_mean_with_its_standard_error() {
         );
     }
     assert!(triad(&["calib", "check", s(&cal)]).status.success());
+}
+
+#[test]
+fn a_shipped_calibration_is_a_base_and_a_bad_base_fails_before_the_records_are_read() {
+    let d = dir("fit_base_shipped");
+    let raw = d.join("still.csv");
+    let run = triad(&[
+        "sim",
+        "--scene",
+        "static-bench",
+        "--seconds",
+        "5",
+        "--out",
+        s(&raw),
+    ]);
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    let cal = d.join("cal.toml");
+    let fit = |record: &Path, base: &str| {
+        triad(&[
+            "calib",
+            "fit",
+            "gyro",
+            "--static",
+            s(record),
+            "--base",
+            base,
+            "--out",
+            s(&cal),
+        ])
+    };
+    // `default` is the calibration built into triad, as `calib check` takes it.
+    let out = fit(&raw, "default");
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let doc = read_toml(&cal);
+    let shipped = read_toml(&calibration("default.toml"));
+    assert_eq!(doc["accel"], shipped["accel"], "the other triad is kept");
+    assert_eq!(
+        doc["gyro"]["scale_misalignment"],
+        shipped["gyro"]["scale_misalignment"]
+    );
+    assert!(triad(&["calib", "check", s(&cal)]).status.success());
+    // A base that is no file and no shipped name is refused before the
+    // (missing) record is opened.
+    std::fs::remove_file(&cal).unwrap();
+    let out = fit(&d.join("missing.csv"), "nope");
+    let stderr = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("calibration `nope`: no such file"),
+        "{stderr}"
+    );
+    assert!(!cal.exists());
 }
 
 #[test]

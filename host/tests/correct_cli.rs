@@ -1,22 +1,15 @@
 //! `triad correct` against the library: the same f32 kernel bit for bit, the
 //! f64 reference with `--exact`, and malformed CSV named by line and column.
 
+mod common;
+
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::{Command, Output, Stdio};
 
+use common::{calibration, text, TRIAD};
 use triad::model::{blob, Calibration, Corrector, Orientation};
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
-
-const TRIAD: &str = env!("CARGO_BIN_EXE_triad");
-
-fn calibrations() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../calibrations")
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
 
 /// Runs `triad correct` with `csv` on stdin.
 fn correct(calib: &str, csv: &str, extra: &[&str]) -> Output {
@@ -24,7 +17,7 @@ fn correct(calib: &str, csv: &str, extra: &[&str]) -> Output {
         .args([
             "correct",
             "--calib",
-            calibrations().join(calib).to_str().unwrap(),
+            calibration(calib).to_str().unwrap(),
             "-",
         ])
         .args(extra)
@@ -48,7 +41,7 @@ fn library_calibration(name: &str) -> Calibration {
         .args([
             "calib",
             "pack",
-            calibrations().join(name).to_str().unwrap(),
+            calibration(name).to_str().unwrap(),
             "-o",
             out_path.to_str().unwrap(),
         ])

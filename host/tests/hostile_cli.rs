@@ -3,40 +3,19 @@
 //! over inputs, failing runs beside good files, unbounded work, odd input.
 //! Each case checks the exit status, what is said, and what is on disk.
 
+mod common;
+
 use std::fs;
 use std::io::{BufRead, BufReader, Write};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::sync::Mutex;
 
-use triad::stream::{encode, Frame, MAX_ENCODED_LEN};
-
-const TRIAD: &str = env!("CARGO_BIN_EXE_triad");
+use common::fixtures::{entries, stream};
+use common::{calibration, dir, s, text, TRIAD};
 
 /// What `main` returns when the reader of stdout went away (128 + SIGPIPE).
 const READER_GONE: i32 = 141;
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
-
-/// A fresh directory for one test.
-fn dir(name: &str) -> PathBuf {
-    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("hostile-{name}"));
-    let _ = fs::remove_dir_all(&d);
-    fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn calibration(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../calibrations")
-        .join(name)
-}
 
 /// Spawning is serialised in this file: a child forked by another test's
 /// thread would inherit a copy of a pipe's read end until it execs, and a
@@ -59,17 +38,23 @@ fn output(cmd: &mut Command) -> Output {
     .unwrap()
 }
 
+/// `triad ARGS` run to its end, spawned under [`SPAWN`].
 fn triad(args: &[&str]) -> Output {
     output(Command::new(TRIAD).args(args))
 }
 
 /// Runs with `stdin` fed and stdout a pipe whose reader is gone before the
 /// command writes (as `| head -0` would; `| head -1` is tested on a long
-/// stream below).
+/// stream below). The command waits behind a shell's `read` for a line that
+/// is sent once the reader is gone: else a small output could fit in the
+/// pipe, and the command exit, before the reader leaves.
 fn reader_gone(args: &[&str], stdin: &[u8]) -> Output {
     let mut child = {
         let _one_at_a_time = SPAWN.lock().unwrap_or_else(|e| e.into_inner());
-        let mut child = Command::new(TRIAD)
+        let mut child = Command::new("sh")
+            .arg("-c")
+            .arg("read -r go && exec \"$0\" \"$@\"")
+            .arg(TRIAD)
             .args(args)
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
@@ -81,6 +66,7 @@ fn reader_gone(args: &[&str], stdin: &[u8]) -> Output {
         child
     };
     let mut input = child.stdin.take().unwrap();
+    input.write_all(b"go\n").unwrap();
     // A command that does not read stdin closes it: not the test's failure.
     let _ = input.write_all(stdin);
     drop(input);
@@ -129,25 +115,6 @@ fn simulate(scene: &str, seconds: &str, out: &Path) {
         s(out),
     ]);
     assert!(run.status.success(), "{}", text(&run.stderr));
-}
-
-/// A stream of `n` frames as the firmware sends them.
-fn stream(n: u32) -> Vec<u8> {
-    let mut bytes = Vec::new();
-    let mut out = [0u8; MAX_ENCODED_LEN];
-    for i in 0..n {
-        let frame = Frame {
-            sequence: i,
-            timestamp_us: 1_000_000 + 10_000 * i,
-            accel: [0.5, -1.0, 9.75],
-            gyro: [0.0, 0.125, -2.0],
-            temperature: 25.5,
-            ..Frame::default()
-        };
-        let len = encode(&frame, &mut out);
-        bytes.extend_from_slice(&out[..len]);
-    }
-    bytes
 }
 
 fn no_panic(out: &Output, what: &str) {
@@ -234,6 +201,8 @@ fn printing_commands(i: &Inputs) -> Vec<(Vec<String>, Option<PathBuf>)> {
             ]),
             None,
         ),
+        (owned(&["completions", "bash"]), None),
+        (owned(&["man"]), None),
     ]
 }
 
@@ -378,16 +347,6 @@ fn correct_piped_to_head_stops_quietly() {
         text(&out.stderr)
     );
     assert!(out.stderr.is_empty(), "{}", text(&out.stderr));
-}
-
-/// The files of `d`, sorted (to see that no temporary file is left).
-fn entries(d: &Path) -> Vec<String> {
-    let mut v: Vec<String> = fs::read_dir(d)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
 }
 
 #[test]

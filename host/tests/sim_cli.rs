@@ -2,9 +2,13 @@
 //! documented columns and length, the same seed gives the same bytes, a scene
 //! without effects gives the truth, and bad scenes fail with a file position.
 
+mod common;
+
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::Command;
+
+use common::tmp;
 
 fn triad() -> Command {
     Command::new(env!("CARGO_BIN_EXE_triad"))
@@ -14,12 +18,6 @@ fn scenes_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("..")
         .join("scenes")
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("triad-sim-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
 }
 
 fn rate_of(scene: &Path) -> f64 {

@@ -70,11 +70,8 @@ struct ColumnState {
 impl ColumnState {
     /// Pushes one sample, growing the ring (before it wraps) up to its cap.
     fn push(&mut self, v: f64) {
-        let len = self.acc.ring_len();
-        if self.acc.samples() + 1 == len as u64 && len < self.ring_cap {
-            // Cannot fail: a longer power of two, before the ring wraps.
-            let _ = self.acc.grow(vec![0.0; 2 * len]);
-        }
+        // Cannot fail: the ring is of the length asked for.
+        let _ = self.acc.grow_before_wrap(self.ring_cap, |n| vec![0.0; n]);
         self.acc.push(v);
         if let Some(all) = self.all.as_mut() {
             all.push(v);

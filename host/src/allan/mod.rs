@@ -14,7 +14,7 @@
 //! costs O(N) per τ, O(N·m_max) in all, so its largest m defaults to 2^14
 //! (change it with `--max-tau`).
 //!
-//! Each sample has the mean of the first [`OFFSET_ROWS`] rows of its column
+//! Each sample has the mean of the first [`OFFSET_ROWS`](compute::OFFSET_ROWS) rows of its column
 //! subtracted before it is integrated, so a mean far above the noise (1 g on
 //! an accelerometer) costs no digits (see `triad_lab::allan::accumulate`).
 //!
@@ -44,14 +44,9 @@ use anyhow::bail;
 use triad_lab::allan::edf::ONE_SIGMA;
 
 use crate::distinct::{self, named, Named};
-use crate::number::readable;
+use crate::number::{positive, readable, RATE_WORDS};
 use crate::outfile::{self, is_stdout};
-use crate::stdio::{self, note};
-
-pub use compute::{analyse, Analysis, ColumnResult, MIN_SAMPLES, OFFSET_ROWS};
-pub use curve::Point;
-pub use fit::{datasheet, si_unit};
-pub use grade::grade_of;
+use crate::stdio;
 
 /// Arguments of `triad allan`.
 #[derive(clap::Args)]
@@ -108,7 +103,7 @@ pub fn run(args: AllanArgs) -> anyhow::Result<ExitCode> {
     for o in &outputs {
         outfile::probe(o.path)?;
     }
-    let analysis = analyse(&args)?;
+    let analysis = compute::analyse(&args)?;
     let mut files = Vec::new();
     if let Some(path) = &args.out {
         files.push(table::write(path, &analysis.columns)?);
@@ -126,12 +121,7 @@ pub fn run(args: AllanArgs) -> anyhow::Result<ExitCode> {
     } else {
         summary::write(&mut text, &args, &analysis)?;
     }
-    let text = String::from_utf8_lossy(&text);
-    if to_stdout.is_some() {
-        note!("{}", text.trim_end());
-    } else {
-        stdio::print(&text)?;
-    }
+    stdio::report(&String::from_utf8_lossy(&text), to_stdout.is_some())?;
     Ok(ExitCode::SUCCESS)
 }
 
@@ -144,20 +134,10 @@ fn check(args: &AllanArgs) -> anyhow::Result<()> {
         );
     }
     if let Some(r) = args.rate {
-        if !(r.is_finite() && r > 0.0) {
-            bail!(
-                "--rate {}: the sample rate must be a positive number of Hz",
-                readable(r)
-            );
-        }
+        positive("--rate", r, RATE_WORDS)?;
     }
     if let Some(t) = args.max_tau {
-        if !(t.is_finite() && t > 0.0) {
-            bail!(
-                "--max-tau {}: must be a positive number of seconds",
-                readable(t)
-            );
-        }
+        positive("--max-tau", t, "must be a positive number of seconds")?;
     }
     Ok(())
 }

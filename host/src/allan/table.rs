@@ -66,7 +66,7 @@ fn decides(col: &ColumnResult, tau: f64) -> String {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
-    use crate::allan::Point;
+    use crate::allan::curve::Point;
     use triad::model::Triad;
     use triad_lab::allan::edf::NoiseType;
 

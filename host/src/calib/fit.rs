@@ -18,7 +18,7 @@
 //! `id`: its identity is the CRC-32C of the parameters. The written file is
 //! validated as `triad calib check` does before it is written.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use triad::model::{Calibration, Orientation, Triad, TriadCalibration};
@@ -26,8 +26,9 @@ use triad::model::{Calibration, Orientation, Triad, TriadCalibration};
 use super::{fit_accel, fit_gyro, Ranges};
 use crate::calib_file;
 use crate::distinct::{self, named, Named};
+use crate::input;
 use crate::outfile;
-use crate::stdio::{self, note};
+use crate::stdio;
 
 /// Arguments of `triad calib fit`.
 #[derive(clap::Args)]
@@ -61,15 +62,17 @@ pub struct Output {
 
 impl Output {
     /// Before any work: the ranges in range, `--out` none of the `inputs`
-    /// (nor `--base`), and its directory there to write in.
-    pub fn prepare(&self, inputs: &[Named]) -> anyhow::Result<()> {
+    /// (nor `--base`), its directory there to write in, and the base read
+    /// (once: a file, or a shipped calibration such as `default`).
+    pub fn prepare(&self, inputs: &[Named]) -> anyhow::Result<Base> {
         self.ranges.check()?;
         let mut all = inputs.to_vec();
         if let Some(base) = &self.base {
             all.push(named("--base", base));
         }
         distinct::check(&all, &[named("--out", &self.out)])?;
-        outfile::probe(&self.out)
+        outfile::probe(&self.out)?;
+        Base::of(self.base.as_deref())
     }
 }
 
@@ -105,29 +108,32 @@ pub fn names(paths: &[PathBuf]) -> String {
     }
 }
 
-/// The input files as a TOML array of strings.
-pub fn file_list(paths: &[PathBuf]) -> toml::Value {
+/// The input files as a TOML array of strings (`stdin` for `-`).
+pub fn file_list<P: AsRef<Path>>(paths: &[P]) -> toml::Value {
     toml::Value::Array(
         paths
             .iter()
-            .map(|p| toml::Value::String(p.display().to_string()))
+            .map(|p| toml::Value::String(input::name(p.as_ref())))
             .collect(),
     )
 }
 
 /// What a fit starts from: the calibration, the orientation, the earlier
 /// fits' statistics, and a sentence saying where they came from.
-struct Base {
-    calibration: Calibration,
-    orientation: Orientation,
+pub struct Base {
+    /// The base calibration (the identity without `--base`).
+    pub calibration: Calibration,
+    /// Its mounting orientation.
+    pub orientation: Orientation,
+    /// Its `[fit]` table.
     fit_meta: toml::Table,
     note: String,
 }
 
 impl Base {
-    /// `--base`, or the identity.
-    fn of(output: &Output) -> anyhow::Result<Base> {
-        let Some(path) = &output.base else {
+    /// The calibration read from `path` (`--base`), or the identity.
+    fn of(path: Option<&Path>) -> anyhow::Result<Base> {
+        let Some(path) = path else {
             return Ok(Base {
                 calibration: Calibration::identity(0),
                 orientation: Orientation::RotationNone,
@@ -139,7 +145,7 @@ impl Base {
         Ok(Base {
             calibration: file.calibration,
             orientation: file.orientation,
-            fit_meta: calib_file::fit_metadata(path)?.unwrap_or_default(),
+            fit_meta: file.fit,
             note: format!(
                 "The other triad and the orientation are those of {}.",
                 path.display()
@@ -161,13 +167,14 @@ pub fn with_triad(
     calibration
 }
 
-/// Puts `fitted` into the base (or identity) calibration as its `triad`,
+/// Puts `fitted` into `base` (from [`Output::prepare`]) as its `triad`,
 /// validates it like `triad calib check`, and writes it with the fit's
 /// statistics (`fit_table`, as `[fit.accel]` or `[fit.gyro]`) under
 /// `header`; then prints the fit's `report` (on stderr when the file goes
 /// to stdout). A rejected fit prints the report and writes nothing.
 pub fn write_calibration(
     output: &Output,
+    mut base: Base,
     triad: Triad,
     fitted: TriadCalibration,
     header: &str,
@@ -175,15 +182,7 @@ pub fn write_calibration(
     report: &str,
 ) -> anyhow::Result<ExitCode> {
     let to_stdout = outfile::is_stdout(&output.out);
-    let show = |text: &str| -> anyhow::Result<()> {
-        if to_stdout {
-            note!("{}", text.trim_end());
-            Ok(())
-        } else {
-            stdio::print(text)
-        }
-    };
-    let mut base = Base::of(output)?;
+    let show = |text: &str| stdio::report(text, to_stdout);
     let calibration = with_triad(base.calibration, triad, fitted);
     let (a, g) = output.ranges.full_scale_si();
     if let Err(e) = triad::model::Corrector::new_si(&calibration, a, g, base.orientation) {
@@ -228,6 +227,7 @@ mod tests {
         let list = file_list(&paths[..2]);
         assert_eq!(list.as_array().map(Vec::len), Some(2));
         assert_eq!(list[1].as_str(), Some("b.csv"));
+        assert_eq!(file_list(&[Path::new("-")])[0].as_str(), Some("stdin"));
     }
 
     #[test]

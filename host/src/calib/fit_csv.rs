@@ -108,7 +108,7 @@ pub fn parse(text: &str, path: &Path, columns: [&str; 3]) -> anyhow::Result<Reco
     };
     for (i, line) in lines {
         let at = Line {
-            path,
+            name: &name,
             number: i + 1,
         };
         let v = at.values(line, width, &index, wanted)?;
@@ -150,8 +150,10 @@ fn header_indices(header: &str, wanted: [&str; 4]) -> anyhow::Result<(usize, [us
 }
 
 /// A line of a record, for messages: "FILE line N".
+#[derive(Clone, Copy)]
 struct Line<'a> {
-    path: &'a Path,
+    /// The record's name in messages ([`input::name`], made once per file).
+    name: &'a str,
     number: usize,
 }
 
@@ -164,7 +166,7 @@ impl Line<'_> {
         index: &[usize; 4],
         wanted: [&str; 4],
     ) -> anyhow::Result<[f64; 4]> {
-        let (name, number) = (input::name(self.path), self.number);
+        let Line { name, number } = *self;
         let fields: Vec<&str> = line.split(',').map(str::trim).collect();
         if fields.len() != width {
             bail!(

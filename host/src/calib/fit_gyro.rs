@@ -11,14 +11,14 @@ use triad::units::{deg_to_rad, rad_to_deg, EARTH_RATE};
 use triad_lab::calib_fit::gyro_fit::{self, LinearFit, RateSegment};
 use triad_lab::calib_fit::static_segments;
 
-use super::fit::{file_list, inputs, names, write_calibration, Output};
+use super::fit::{file_list, inputs, names, write_calibration, Base, Output};
 use super::fit_csv;
 use super::report::{fit_report, method_table, print_vector};
 use super::segments::{self, stat, Stat};
 use super::stillness;
-use crate::calib_file::{self, vector};
+use crate::calib_file::vector;
 use crate::input;
-use crate::number::readable;
+use crate::number::{positive, readable};
 use crate::stdio::outln;
 
 /// Arguments of `triad calib fit gyro`.
@@ -59,10 +59,10 @@ pub fn run(args: GyroArgs) -> anyhow::Result<ExitCode> {
     let statics: Vec<PathBuf> = args.static_record.iter().cloned().collect();
     let mut given = inputs("--rate-table", &args.rate_table);
     given.extend(inputs("--static", &statics));
-    args.output.prepare(&given)?;
+    let base = args.output.prepare(&given)?;
     match &args.static_record {
-        Some(path) => gyro_static(&args, path),
-        None => rate_table(&args),
+        Some(path) => gyro_static(&args, base, path),
+        None => rate_table(&args, base),
     }
 }
 
@@ -105,7 +105,7 @@ fn parse_rate(item: &str) -> anyhow::Result<[f64; 3]> {
 }
 
 /// The rate-table fit: ω̂ = (I+Σ)ω + b over one segment per known rate.
-fn rate_table(args: &GyroArgs) -> anyhow::Result<ExitCode> {
+fn rate_table(args: &GyroArgs, base: Base) -> anyhow::Result<ExitCode> {
     let Some(rates_text) = &args.rates else {
         bail!("--rate-table needs --rates: the true rate of each run, e.g. \"z:+30,z:-30,x:+30,y:+30\" (°/s)");
     };
@@ -145,6 +145,7 @@ fn rate_table(args: &GyroArgs) -> anyhow::Result<ExitCode> {
     );
     write_calibration(
         &args.output,
+        base,
         Triad::Gyro,
         report.triad(),
         &header,
@@ -215,13 +216,12 @@ fn print_rate_table(out: &mut String, segments: &[RateSegment], fit: &LinearFit)
 
 /// `--static`: the bias alone, the mean of each axis (less the vertical
 /// Earth rate with `--latitude`), the scale kept from `--base`.
-fn gyro_static(args: &GyroArgs, path: &Path) -> anyhow::Result<ExitCode> {
-    if !(args.max_bias.is_finite() && args.max_bias > 0.0) {
-        bail!(
-            "--max-bias {}: must be a positive number of °/s",
-            readable(args.max_bias)
-        );
-    }
+fn gyro_static(args: &GyroArgs, base: Base, path: &Path) -> anyhow::Result<ExitCode> {
+    positive(
+        "--max-bias",
+        args.max_bias,
+        "must be a positive number of °/s",
+    )?;
     if let Some(lat) = args.latitude {
         if !(lat.is_finite() && lat.abs() <= 90.0) {
             bail!(
@@ -250,12 +250,12 @@ fn gyro_static(args: &GyroArgs, path: &Path) -> anyhow::Result<ExitCode> {
         &s.mean,
         args.max_bias,
     )?;
-    let (base_matrix, base_note) = match &args.output.base {
-        Some(p) => (
-            calib_file::load(p)?.calibration.gyro.scale_misalignment,
-            "from --base",
-        ),
-        None => (triad::model::calibration::IDENTITY, "identity"),
+    // Without --base the base is the identity.
+    let base_matrix = base.calibration.gyro.scale_misalignment;
+    let base_note = if args.output.base.is_some() {
+        "from --base"
+    } else {
+        "identity"
     };
     let (bias, earth_note) = match args.latitude {
         Some(lat) => without_earth_rate(path, accel.as_ref(), s.mean, lat, &base_matrix)?,
@@ -289,20 +289,16 @@ fn gyro_static(args: &GyroArgs, path: &Path) -> anyhow::Result<ExitCode> {
         bias,
         temperature: None,
     };
-    write_calibration(&args.output, Triad::Gyro, triad, &header, table, &out)
+    write_calibration(&args.output, base, Triad::Gyro, triad, &header, table, &out)
 }
 
 /// The `[fit.gyro]` table of a static bias.
 fn static_table(path: &Path, s: &Stat, earth_note: &str) -> toml::Table {
     let mut table = method_table("static record: bias = mean of each axis", None);
-    let text = |x: &str| toml::Value::String(x.into());
-    table.insert(
-        "records".into(),
-        toml::Value::Array(vec![text(&input::name(path))]),
-    );
+    table.insert("records".into(), file_list(&[path]));
     table.insert("samples".into(), toml::Value::Integer(s.count as i64));
     table.insert("sigma_bias".into(), vector(&s.standard_error));
-    table.insert("earth_rate".into(), text(earth_note));
+    table.insert("earth_rate".into(), toml::Value::String(earth_note.into()));
     table
 }
 

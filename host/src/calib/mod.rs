@@ -14,14 +14,14 @@ pub mod stillness;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use anyhow::{anyhow, bail};
+use anyhow::anyhow;
 use triad::model::{blob, Corrector};
 use triad::sensor::{ImuScale, TriadScale};
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
 
 use crate::calib_file::{self, CalibFile};
 use crate::distinct::{self, named};
-use crate::number::readable;
+use crate::number::positive;
 use crate::outfile;
 use crate::stdio::note;
 
@@ -75,12 +75,8 @@ impl Ranges {
             ("--accel-range-g", self.accel_range_g, "g"),
             ("--gyro-range-dps", self.gyro_range_dps, "°/s"),
         ] {
-            if !(value.is_finite() && value > 0.0) {
-                bail!(
-                    "{option} {}: the full scale must be a positive number of {unit}",
-                    readable(value)
-                );
-            }
+            let words = format!("the full scale must be a positive number of {unit}");
+            positive(option, value, &words)?;
         }
         Ok(())
     }

@@ -61,20 +61,27 @@ pub fn steadiness(samples: &[[f64; 3]], floor: f64) -> Option<Steadiness> {
     if per_block < 2 {
         return None;
     }
-    let blocks: Vec<&[[f64; 3]]> = samples.chunks_exact(per_block).take(BLOCKS).collect();
+    // Each block's mean and standard deviation, all three axes at once.
+    let (block_means, block_sds): (Vec<[f64; 3]>, Vec<[f64; 3]>) = samples
+        .chunks_exact(per_block)
+        .take(BLOCKS)
+        .map(|b| {
+            (
+                static_segments::mean(b),
+                static_segments::standard_deviation(b),
+            )
+        })
+        .unzip();
     let mean = static_segments::mean(&samples[..per_block * BLOCKS]);
     // The block farthest from the mean relative to its limit.
     let mut worst: Option<(f64, Steadiness)> = None;
     for (axis, &axis_mean) in mean.iter().enumerate() {
-        let mut sd: Vec<f64> = blocks
-            .iter()
-            .map(|b| static_segments::standard_deviation(b)[axis])
-            .collect();
+        let mut sd: Vec<f64> = block_sds.iter().map(|s| s[axis]).collect();
         sd.sort_by(f64::total_cmp);
         let se = sd[BLOCKS / 2] / (per_block as f64).sqrt();
         let limit = (SIGMAS * se).max(floor);
-        for (block, b) in blocks.iter().enumerate() {
-            let stray = (static_segments::mean(b)[axis] - axis_mean).abs();
+        for (block, block_mean) in block_means.iter().enumerate() {
+            let stray = (block_mean[axis] - axis_mean).abs();
             let ratio = stray / limit;
             if worst.as_ref().is_none_or(|(r, _)| ratio > *r) {
                 let s = Steadiness {

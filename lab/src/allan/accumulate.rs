@@ -171,6 +171,24 @@ impl<R: AsMut<[f64]> + AsRef<[f64]>> OctaveAccumulator<R> {
         Ok(core::mem::replace(&mut self.ring, bigger))
     }
 
+    /// The growth rule of a caller that does not know the record's length,
+    /// to call before every push: when the next sample would wrap the ring
+    /// and it is shorter than `cap` slots, moves the sums into
+    /// `ring_of(2 · ring_len())` and returns the old ring. The ring so
+    /// doubles up to the first power of two ≥ `cap`, and never too late.
+    /// An error only when `ring_of` gives a ring of another length.
+    pub fn grow_before_wrap(
+        &mut self,
+        cap: usize,
+        ring_of: impl FnOnce(usize) -> R,
+    ) -> Result<Option<R>, AccumulatorError> {
+        let len = self.ring_len();
+        if self.count + 1 != len as u64 || len >= cap {
+            return Ok(None);
+        }
+        self.grow(ring_of(2 * len)).map(Some)
+    }
+
     /// Samples pushed so far.
     pub fn samples(&self) -> u64 {
         self.count
@@ -249,5 +267,44 @@ impl<R: AsMut<[f64]> + AsRef<[f64]>> OctaveAccumulator<R> {
     /// Every octave that has at least one term, shortest τ first.
     pub fn results(&self) -> impl Iterator<Item = OctaveResult> + '_ {
         (0..self.octaves).map_while(move |o| self.result(o))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+    use super::*;
+    use std::vec;
+    use std::vec::Vec;
+
+    #[test]
+    fn a_ring_grown_before_it_wraps_gives_what_a_full_ring_gives() {
+        let y: Vec<f64> = (0..1000u32)
+            .map(|i| f64::from(i.wrapping_mul(2_654_435_761) % 1000) * 1e-3)
+            .collect();
+        let mut grown = OctaveAccumulator::new(vec![0.0; 4], 0.5).unwrap();
+        let mut full = OctaveAccumulator::new(vec![0.0; 64], 0.5).unwrap();
+        let mut lengths = Vec::new();
+        for &v in &y {
+            grown.grow_before_wrap(64, |n| vec![0.0; n]).unwrap();
+            if lengths.last() != Some(&grown.ring_len()) {
+                lengths.push(grown.ring_len());
+            }
+            grown.push(v);
+            full.push(v);
+        }
+        assert_eq!(
+            lengths,
+            [4, 8, 16, 32, 64],
+            "doubled up to the cap, no further"
+        );
+        assert!(
+            grown.results().eq(full.results()),
+            "the same sums, bit for bit"
+        );
+        // A ring of another length than asked is the caller's error, not a panic.
+        let mut acc = OctaveAccumulator::new(vec![0.0; 2], 0.0).unwrap();
+        acc.push(1.0);
+        assert!(acc.grow_before_wrap(8, |_| vec![0.0; 3]).is_err());
     }
 }
