@@ -38,8 +38,5 @@ pub mod sim;
 pub mod stdio;
 pub mod version;
 
-/// The fixtures the integration tests share (`tests/common/fixtures.rs`),
-/// for the unit tests too.
-#[cfg(test)]
-#[path = "../tests/common/fixtures.rs"]
-mod fixtures;
+#[doc(hidden)]
+pub mod fixtures;

@@ -11,8 +11,8 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::sync::Mutex;
 
-use common::fixtures::{entries, stream};
 use common::{calibration, dir, s, text, TRIAD};
+use triad_host::fixtures::{entries, stream};
 
 /// What `main` returns when the reader of stdout went away (128 + SIGPIPE).
 const READER_GONE: i32 = 141;

@@ -85,32 +85,16 @@ pub fn every_tau(y: &[f64], offset: f64, rate: f64, max_m: u64) -> Vec<RawPoint>
     points
 }
 
-/// The index of the τ in `taus` (ascending) nearest `target` on a log scale.
-fn nearest(taus: &[f64], target: f64) -> usize {
-    let i = taus.partition_point(|&t| t < target);
-    if i == 0 {
-        0
-    } else if i >= taus.len() {
-        taus.len() - 1
-    } else if (taus[i] / target).ln().abs() < (target / taus[i - 1]).ln().abs() {
-        i
-    } else {
-        i - 1
-    }
-}
-
 /// The local log-log slope of σ² at each point (from the points nearest τ/2
 /// and 2τ, one-sided at the ends), the noise type it names, the EDF (capped
 /// at white FM's, see `edf_conservative`) and the interval at `level`.
 pub fn with_intervals(raw: &[RawPoint], samples: u64, level: f64) -> Vec<Point> {
     let taus: Vec<f64> = raw.iter().map(|p| p.tau).collect();
+    let avars: Vec<f64> = raw.iter().map(|p| p.avar).collect();
     raw.iter()
         .enumerate()
         .map(|(i, p)| {
-            let a = nearest(&taus, p.tau / 2.0).min(i);
-            let b = nearest(&taus, p.tau * 2.0).max(i);
-            let noise = NoiseType::from_slope(slope(raw, a, b));
-            let nu = edf::edf_conservative(noise, samples, p.m);
+            let (noise, nu) = edf::local_edf(&taus, &avars, i, p.m, samples);
             Point {
                 m: p.m,
                 tau: p.tau,
@@ -125,17 +109,6 @@ pub fn with_intervals(raw: &[RawPoint], samples: u64, level: f64) -> Vec<Point> 
         .collect()
 }
 
-/// The log-log slope of σ² from point `a` to point `b`; −1 (white noise)
-/// when it cannot be told.
-fn slope(raw: &[RawPoint], a: usize, b: usize) -> f64 {
-    let (pa, pb) = (&raw[a], &raw[b]);
-    if a != b && pa.avar > 0.0 && pb.avar > 0.0 {
-        (pb.avar / pa.avar).ln() / (pb.tau / pa.tau).ln()
-    } else {
-        -1.0
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -148,15 +121,6 @@ mod tests {
             avar_non_overlapping: f64::NAN,
             terms: 100,
         }
-    }
-
-    #[test]
-    fn nearest_is_taken_on_a_log_scale() {
-        let taus = [1.0, 2.0, 4.0, 8.0];
-        assert_eq!(nearest(&taus, 0.1), 0);
-        assert_eq!(nearest(&taus, 100.0), 3);
-        assert_eq!(nearest(&taus, 2.7), 1); // ln(4/2.7) > ln(2.7/2)
-        assert_eq!(nearest(&taus, 3.0), 2); // ln(4/3) < ln(3/2)
     }
 
     #[test]

@@ -1,9 +1,7 @@
 //! What the `triad` command's test binaries share: running it, naming its
-//! files, and the [`fixtures`] the unit tests use too. Each binary uses a
-//! part of it.
+//! files (the fixtures that need no binary are `triad_host::fixtures`). Each
+//! binary uses a part of it.
 #![allow(dead_code)]
-
-pub mod fixtures;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

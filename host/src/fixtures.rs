@@ -1,6 +1,7 @@
-//! Fixtures that need no `triad` binary, shared by the integration tests
-//! (`tests/common`) and the library's unit tests (`src/lib.rs` includes
-//! this file).
+//! Test fixtures that need no `triad` binary, shared by the library's unit
+//! tests and the integration tests (`tests/common` re-exports them). Not
+//! part of the command: a library module only so that both kinds of test
+//! reach one copy without a `#[path]` include.
 
 use std::path::Path;
 
