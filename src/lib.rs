@@ -29,6 +29,7 @@
 
 pub mod crc32c;
 pub mod device;
+pub mod link;
 pub mod model;
 pub mod sensor;
 pub mod stream;

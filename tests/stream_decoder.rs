@@ -71,6 +71,7 @@ fn clean_stream_decodes_every_frame_with_nothing_counted() {
         DecoderStats {
             bytes: 100 * L as u64,
             frames: 100,
+            packet_bytes: 100 * L as u64,
             ..Default::default()
         }
     );
@@ -294,7 +295,7 @@ fn extra_delimiters_are_skipped_bytes_not_errors() {
 #[test]
 fn unknown_version_with_good_crc_is_malformed() {
     let mut raw = frame(9).to_bytes();
-    raw[0] = 2;
+    raw[0] = 3;
     let crc = triad::stream::crc32c(&raw[..47]);
     raw[47..].copy_from_slice(&crc.to_le_bytes());
     let mut wire = vec![0u8; 60];
@@ -306,7 +307,7 @@ fn unknown_version_with_good_crc_is_malformed() {
     bytes.extend(encoded(&frame(10)));
     let (frames, errors, s, _) = decode(&bytes);
     assert_eq!(sequences(&frames), vec![8, 10]);
-    assert_eq!(errors, vec![DecodeError::Version { version: 2 }]);
+    assert_eq!(errors, vec![DecodeError::Version { version: 3 }]);
     assert_eq!((s.malformed, s.crc_errors, s.frames_lost), (1, 0, 1));
 }
 

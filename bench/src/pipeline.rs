@@ -8,7 +8,7 @@ use core::convert::Infallible;
 
 use embedded_hal::spi::{ErrorType, Operation, SpiDevice};
 
-use triad::device::{Sampler, StepOutcome};
+use triad::device::{Outgoing, Sampler, StepOutcome};
 use triad::model::Corrector;
 use triad::sensor::icm42688::Icm42688;
 use triad::sensor::interface::SpiInterface;
@@ -101,7 +101,10 @@ impl PipelineBench {
     pub fn step(&mut self, raw: &RawSample, out: &mut EncodedFrame) {
         self.sensor.bus_mut().load(raw);
         self.now_us = self.now_us.wrapping_add(PERIOD_US);
-        if let StepOutcome::Frame(frame) = self.sampler.step(&mut self.sensor, self.now_us) {
+        // The pipeline streams in calibrated mode: every frame is a data frame.
+        if let StepOutcome::Frame(Outgoing::Data(frame)) =
+            self.sampler.step(&mut self.sensor, self.now_us)
+        {
             encode(&frame, &mut out.0);
         }
     }

@@ -30,9 +30,9 @@ mod app {
     use crate::{board, CALIBRATION_BLOB, QUEUE_LEN};
     use heapless::spsc::{Consumer, Producer, Queue};
     use triad::device::board::LinkTx;
-    use triad::device::{on_data_ready, start_calibration, Sampler, Stepped};
+    use triad::device::{on_data_ready, start_calibration, Outgoing, Sampler, Stepped};
+    use triad::link::MAX_WIRE_LEN;
     use triad::sensor::Imu;
-    use triad::stream::{encode, Frame, MAX_ENCODED_LEN};
 
     #[shared]
     struct Shared {}
@@ -44,11 +44,11 @@ mod app {
         serial: board::Serial,
         sensor: board::Sensor,
         sampler: Sampler,
-        frames_in: Producer<'static, Frame>,
-        frames_out: Consumer<'static, Frame>,
+        frames_in: Producer<'static, Outgoing>,
+        frames_out: Consumer<'static, Outgoing>,
     }
 
-    #[init(local = [queue: Queue<Frame, QUEUE_LEN> = Queue::new()])]
+    #[init(local = [queue: Queue<Outgoing, QUEUE_LEN> = Queue::new()])]
     fn init(cx: init::Context) -> (Shared, Local) {
         let b = board::init(cx.device);
         let mut sensor = match board::find_sensor(b.sensor_bus) {
@@ -150,10 +150,10 @@ mod app {
     }
 
     /// Sends queued frames; runs below the sampling task, which preempts it.
-    #[task(priority = 1, local = [serial, frames_out, buffer: [u8; MAX_ENCODED_LEN] = [0; MAX_ENCODED_LEN]])]
+    #[task(priority = 1, local = [serial, frames_out, buffer: [u8; MAX_WIRE_LEN] = [0; MAX_WIRE_LEN]])]
     async fn send(cx: send::Context) {
         while let Some(frame) = cx.local.frames_out.dequeue() {
-            let len = encode(&frame, cx.local.buffer);
+            let len = frame.to_wire(cx.local.buffer);
             cx.local.serial.write_all(&cx.local.buffer[..len]);
         }
     }

@@ -23,7 +23,7 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
 
-use triad::device::{sample_period_us, start_calibration, Sampler, StepOutcome};
+use triad::device::{sample_period_us, start_calibration, Outgoing, Sampler, StepOutcome};
 use triad::model::Corrector;
 use triad::sensor::interface::{I2cInterface, SpiInterface};
 use triad::sensor::{AnyChip, Imu, ImuScale, RawSample, CHIP_NAMES};
@@ -219,7 +219,7 @@ fn host_frames(count: usize, timestamps: &[u32]) -> (Vec<Frame>, Vec<RawSample>,
         // The same step as the firmware's (the second read returns the same
         // latest registers: the model only changes on advance).
         match sampler.step(&mut sensor, now) {
-            StepOutcome::Frame(frame) => frames.push(frame),
+            StepOutcome::Frame(Outgoing::Data(frame)) => frames.push(frame),
             other => panic!("decimation 1 frames every step, got {other:?}"),
         }
     }

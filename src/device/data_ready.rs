@@ -4,9 +4,9 @@
 //! notice when the step overran into the next one.
 
 use super::board::{DataReadyLine, MicrosecondClock};
+use super::framer::Outgoing;
 use super::{Sampler, StepOutcome};
 use crate::sensor::Imu;
-use crate::stream::Frame;
 
 /// What one data-ready step did, for the caller to log or to wake the sender.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -31,7 +31,7 @@ pub fn on_data_ready<L, C, I>(
     imu: &mut I,
     sampler: &mut Sampler,
     edge: impl FnOnce(&mut I),
-    enqueue: impl FnOnce(Frame) -> Result<(), Frame>,
+    enqueue: impl FnOnce(Outgoing) -> Result<(), Outgoing>,
 ) -> Stepped<I::Error>
 where
     L: DataReadyLine,

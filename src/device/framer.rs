@@ -1,8 +1,38 @@
 //! Turning corrected samples into stream frames, with the counters and flags
 //! of everything that went wrong since the previous frame.
 
+use crate::link::{RawFrame, RawScale, MAX_WIRE_LEN};
 use crate::model::Sample;
-use crate::stream::{Flags, Frame};
+use crate::stream::{encode, Flags, Frame, MAX_ENCODED_LEN};
+
+/// A frame for the link: corrected (calibrated mode) or raw.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Outgoing {
+    /// A data frame (version-1 layout).
+    Data(Frame),
+    /// A raw frame (version 2).
+    Raw(RawFrame),
+}
+
+impl Outgoing {
+    /// The frame on the wire (stuffed, delimited) into `out`; returns its
+    /// length (53 bytes for a data frame, 64 for a raw one).
+    pub fn to_wire(&self, out: &mut [u8; MAX_WIRE_LEN]) -> usize {
+        match self {
+            Outgoing::Data(frame) => {
+                let mut wire = [0u8; MAX_ENCODED_LEN];
+                let n = encode(frame, &mut wire);
+                out[..n].copy_from_slice(&wire[..n]);
+                n
+            }
+            Outgoing::Raw(frame) => match frame.to_packet() {
+                Ok(packet) => packet.to_wire(out),
+                Err(_) => 0,
+            },
+        }
+    }
+}
 
 /// Numbers the frames and carries the pending events into the next frame.
 ///
@@ -35,6 +65,13 @@ impl Framer {
         }
     }
 
+    /// From the next frame on, frames carry `calibration_id`, and
+    /// `calibrated` false flags them UNCALIBRATED.
+    pub fn set_calibration(&mut self, calibration_id: u32, calibrated: bool) {
+        self.calibration_id = calibration_id;
+        self.calibrated = calibrated;
+    }
+
     /// `count` sample steps were late or produced no sample (the previous
     /// step overran, or the read failed): the next frame's `overruns`.
     pub fn steps_lost(&mut self, count: u32) {
@@ -50,22 +87,21 @@ impl Framer {
     /// `frame` (returned by [`Framer::frame`]) could not be queued: it is
     /// counted as dropped, and the events it carried move to the next frame
     /// so that no count is lost with it.
-    pub fn frame_dropped(&mut self, frame: &Frame) {
-        self.sequence = frame.sequence;
-        self.dropped = self.dropped.saturating_add(frame.dropped).saturating_add(1);
-        self.overruns = self.overruns.saturating_add(frame.overruns);
-        self.fifo_overflow |= frame.flags.contains(Flags::FIFO_OVERFLOW);
+    pub fn frame_dropped(&mut self, frame: &Outgoing) {
+        let (sequence, dropped, overruns, flags) = match frame {
+            Outgoing::Data(f) => (f.sequence, f.dropped, f.overruns, f.flags),
+            Outgoing::Raw(f) => (f.sequence, f.dropped, f.overruns, f.flags),
+        };
+        self.sequence = sequence;
+        self.dropped = self.dropped.saturating_add(dropped).saturating_add(1);
+        self.overruns = self.overruns.saturating_add(overruns);
+        self.fifo_overflow |= flags.contains(Flags::FIFO_OVERFLOW);
     }
 
     /// The next frame: `sample` at `timestamp_us`, with the events pending
     /// since the previous frame, which are then cleared.
     pub fn frame(&mut self, sample: &Sample, timestamp_us: u32) -> Frame {
-        let mut flags = Flags::empty();
-        flags.set(Flags::ACCEL_CLIPPED, sample.clip.accel);
-        flags.set(Flags::GYRO_CLIPPED, sample.clip.gyro);
-        flags.set(Flags::OVERRUN, self.overruns > 0);
-        flags.set(Flags::DROPPED, self.dropped > 0);
-        flags.set(Flags::FIFO_OVERFLOW, self.fifo_overflow);
+        let mut flags = self.pending_flags(sample);
         flags.set(Flags::UNCALIBRATED, !self.calibrated);
         let frame = Frame {
             sequence: self.sequence,
@@ -78,10 +114,46 @@ impl Framer {
             gyro: sample.gyro,
             temperature: sample.temperature,
         };
+        self.next();
+        frame
+    }
+
+    /// The next frame in raw mode: `counts` (the chip's counts as `f32`,
+    /// averaged) at `timestamp_us`, with the chip's `scale` and the events
+    /// pending since the previous frame, which are then cleared.
+    pub fn raw_frame(&mut self, counts: &Sample, timestamp_us: u32, scale: RawScale) -> RawFrame {
+        let flags = self.pending_flags(counts) | Flags::RAW | Flags::UNCALIBRATED;
+        let frame = RawFrame {
+            sequence: self.sequence,
+            timestamp_us,
+            flags,
+            overruns: self.overruns,
+            dropped: self.dropped,
+            accel: counts.accel,
+            gyro: counts.gyro,
+            temperature: counts.temperature,
+            scale,
+        };
+        self.next();
+        frame
+    }
+
+    /// The flags of the sample and of the events pending.
+    fn pending_flags(&self, sample: &Sample) -> Flags {
+        let mut flags = Flags::empty();
+        flags.set(Flags::ACCEL_CLIPPED, sample.clip.accel);
+        flags.set(Flags::GYRO_CLIPPED, sample.clip.gyro);
+        flags.set(Flags::OVERRUN, self.overruns > 0);
+        flags.set(Flags::DROPPED, self.dropped > 0);
+        flags.set(Flags::FIFO_OVERFLOW, self.fifo_overflow);
+        flags
+    }
+
+    /// Numbers the next frame and clears the events carried.
+    fn next(&mut self) {
         self.sequence = self.sequence.wrapping_add(1);
         self.overruns = 0;
         self.dropped = 0;
         self.fifo_overflow = false;
-        frame
     }
 }

@@ -8,6 +8,9 @@
 //! ([`CalibrationStore`]). The RTIC application only wires them.
 
 pub mod board;
+pub mod commands;
+pub mod control;
+pub mod counters;
 pub mod data_ready;
 pub mod decimator;
 pub mod framer;
@@ -16,9 +19,12 @@ pub mod startup;
 pub mod step_monitor;
 pub mod storage;
 
+pub use commands::{ActiveCalibration, CommandHandler, DeviceFacts, Handled};
+pub use control::Control;
+pub use counters::{SamplerTotals, SharedCounters};
 pub use data_ready::{on_data_ready, Stepped};
 pub use decimator::Decimator;
-pub use framer::Framer;
+pub use framer::{Framer, Outgoing};
 pub use sampler::{sample_period_us, Sampler, StepOutcome};
 pub use startup::{start_calibration, CalibrationSource, StartUp};
 pub use step_monitor::StepMonitor;

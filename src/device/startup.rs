@@ -7,20 +7,9 @@
 //! firmware under the same test, else the identity with every frame flagged
 //! UNCALIBRATED. A calibration that fails is reported, never applied.
 
+pub use crate::link::CalibrationSource;
 use crate::model::{blob, BlobError, Calibration, CalibrationError, Corrector, Orientation};
 use crate::sensor::ImuScale;
-
-/// Where the active calibration came from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum CalibrationSource {
-    /// Stored on the device (flash).
-    Stored,
-    /// Built into the firmware image.
-    BuiltIn,
-    /// None: the identity, and the stream flags every frame UNCALIBRATED.
-    None,
-}
 
 /// Why a calibration offered at start-up was not applied.
 #[derive(Clone, Copy, Debug, PartialEq)]

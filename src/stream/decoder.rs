@@ -3,7 +3,8 @@
 use super::cobs::Unstuffer;
 use super::encoder::DELIMITER;
 use super::error::DecodeError;
-use super::frame::{Frame, FRAME_LEN};
+use super::frame::Frame;
+use crate::link::{Packet, MAX_PACKET_LEN};
 
 /// What a [`Decoder`] has seen so far. Counters saturate, never wrap.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -11,8 +12,15 @@ use super::frame::{Frame, FRAME_LEN};
 pub struct DecoderStats {
     /// Bytes received.
     pub bytes: u64,
-    /// Frames decoded (CRC good, version known).
+    /// Data frames decoded (CRC good, version known).
     pub frames: u64,
+    /// Raw frames decoded (protocol version 2, raw mode).
+    pub raw_frames: u64,
+    /// Replies and commands decoded (protocol version 2).
+    pub messages: u64,
+    /// Bytes on the wire of the good packets of every kind, delimiters
+    /// included.
+    pub packet_bytes: u64,
     /// Delimited frames of the right length whose CRC did not match.
     pub crc_errors: u64,
     /// Delimited frames rejected for broken stuffing, wrong length or an
@@ -35,19 +43,24 @@ pub struct DecoderStats {
     pub device_dropped: u64,
 }
 
-/// Decodes a byte stream into frames, one byte at a time, with a fixed
-/// [`FRAME_LEN`]-byte buffer: no allocation, no panic on any input.
+/// Decodes a byte stream into packets (data frames of version 1, and the
+/// raw frames, replies and commands of version 2), one byte at a time, with
+/// a fixed [`MAX_PACKET_LEN`]-byte buffer: no allocation, no panic on any
+/// input.
 ///
 /// Until the first delimiter the decoder does not know where it joined the
 /// stream: if those bytes do not form a good frame they are counted as
 /// skipped, not as an error. After that every rejected frame is reported.
 #[derive(Clone, Debug)]
 pub struct Decoder {
-    raw: [u8; FRAME_LEN],
-    /// Unstuffed bytes of the current frame (may exceed FRAME_LEN; saturates).
+    raw: [u8; MAX_PACKET_LEN],
+    /// Unstuffed bytes of the current frame (may exceed MAX_PACKET_LEN; saturates).
     len: usize,
     /// Stuffed bytes received since the last delimiter.
     pending: u64,
+    /// Unstuffed bytes of the packet last completed (kept up to
+    /// MAX_PACKET_LEN).
+    finished: usize,
     unstuffer: Unstuffer,
     synced: bool,
     last_sequence: Option<u32>,
@@ -64,15 +77,19 @@ impl Decoder {
     /// A decoder that has seen nothing.
     pub const fn new() -> Decoder {
         Decoder {
-            raw: [0; FRAME_LEN],
+            raw: [0; MAX_PACKET_LEN],
             len: 0,
             pending: 0,
+            finished: 0,
             unstuffer: Unstuffer::new(),
             synced: false,
             last_sequence: None,
             stats: DecoderStats {
                 bytes: 0,
                 frames: 0,
+                raw_frames: 0,
+                messages: 0,
+                packet_bytes: 0,
                 crc_errors: 0,
                 malformed: 0,
                 sequence_gaps: 0,
@@ -95,14 +112,22 @@ impl Decoder {
         self.last_sequence
     }
 
+    /// The unstuffed bytes of the packet the last delimiter completed, as
+    /// received (at most [`MAX_PACKET_LEN`]; broken stuffing may have left
+    /// them short): a device reads a rejected command's sequence number
+    /// from them. Valid until the next byte is pushed.
+    pub fn last_packet_bytes(&self) -> &[u8] {
+        &self.raw[..self.finished]
+    }
+
     /// Bytes received since the last delimiter (a frame in progress).
     pub const fn pending_bytes(&self) -> u64 {
         self.pending
     }
 
-    /// Takes one byte. At a delimiter that ends a frame, returns the frame
+    /// Takes one byte. At a delimiter that ends a packet, returns the packet
     /// or why it was rejected; otherwise `None`.
-    pub fn push(&mut self, byte: u8) -> Option<Result<Frame, DecodeError>> {
+    pub fn push(&mut self, byte: u8) -> Option<Result<Packet, DecodeError>> {
         self.stats.bytes = self.stats.bytes.saturating_add(1);
         if byte != DELIMITER {
             self.pending = self.pending.saturating_add(1);
@@ -119,9 +144,9 @@ impl Decoder {
         let empty = self.pending == 0;
         let result = self.finish_frame();
         match result {
-            Ok(frame) => {
-                self.accept(&frame);
-                Some(Ok(frame))
+            Ok(packet) => {
+                self.accept(&packet, frame_bytes);
+                Some(Ok(packet))
             }
             Err(error) => {
                 self.skip(frame_bytes);
@@ -139,38 +164,67 @@ impl Decoder {
         }
     }
 
-    /// Feeds a slice; the iterator yields each frame or error as its
+    /// Feeds a slice; the iterator yields each packet or error as its
     /// delimiter is reached. Bytes after the last delimiter stay pending for
     /// the next call. The bytes are consumed as the iterator advances: drop
     /// it early and the bytes it had not reached are not decoded.
-    pub fn feed<'a>(&'a mut self, bytes: &'a [u8]) -> Feed<'a> {
+    pub fn feed_packets<'a>(&'a mut self, bytes: &'a [u8]) -> Feed<'a> {
         Feed {
             decoder: self,
             bytes: bytes.iter(),
         }
     }
 
-    /// Ends the bytes since the last delimiter and resets for the next frame.
-    fn finish_frame(&mut self) -> Result<Frame, DecodeError> {
-        let len = core::mem::take(&mut self.len);
-        self.pending = 0;
-        self.unstuffer.finish().map_err(|_| DecodeError::Stuffing)?;
-        if len != FRAME_LEN {
-            return Err(DecodeError::Length { len });
-        }
-        Frame::from_bytes(&self.raw)
+    /// As [`Decoder::feed_packets`], yielding the data frames and the errors
+    /// only (other packets are decoded, counted and passed over): what a
+    /// reader of corrected samples wants.
+    pub fn feed<'a>(
+        &'a mut self,
+        bytes: &'a [u8],
+    ) -> impl Iterator<Item = Result<Frame, DecodeError>> + 'a {
+        self.feed_packets(bytes).filter_map(|item| match item {
+            Ok(Packet::Data(frame)) => Some(Ok(frame)),
+            Ok(_) => None,
+            Err(error) => Some(Err(error)),
+        })
     }
 
-    fn accept(&mut self, frame: &Frame) {
+    /// Ends the bytes since the last delimiter and resets for the next frame.
+    fn finish_frame(&mut self) -> Result<Packet, DecodeError> {
+        let len = core::mem::take(&mut self.len);
+        self.finished = len.min(MAX_PACKET_LEN);
+        self.pending = 0;
+        self.unstuffer.finish().map_err(|_| DecodeError::Stuffing)?;
+        match self.raw.get(..len) {
+            Some(bytes) => Packet::parse(bytes),
+            None => Err(DecodeError::Length { len }),
+        }
+    }
+
+    fn accept(&mut self, packet: &Packet, wire_bytes: u64) {
         let s = &mut self.stats;
-        s.frames = s.frames.saturating_add(1);
-        s.device_overruns = s.device_overruns.saturating_add(u64::from(frame.overruns));
-        s.device_dropped = s.device_dropped.saturating_add(u64::from(frame.dropped));
+        s.packet_bytes = s.packet_bytes.saturating_add(wire_bytes);
+        let (sequence, overruns, dropped) = match packet {
+            Packet::Data(frame) => {
+                s.frames = s.frames.saturating_add(1);
+                (frame.sequence, frame.overruns, frame.dropped)
+            }
+            Packet::Raw(raw) => {
+                s.raw_frames = s.raw_frames.saturating_add(1);
+                (raw.sequence, raw.overruns, raw.dropped)
+            }
+            Packet::Reply(_) | Packet::Command(_) => {
+                s.messages = s.messages.saturating_add(1);
+                return;
+            }
+        };
+        s.device_overruns = s.device_overruns.saturating_add(u64::from(overruns));
+        s.device_dropped = s.device_dropped.saturating_add(u64::from(dropped));
         if let Some(last) = self.last_sequence {
             // Forward distance modulo 2³²: 0 is the expected next frame;
             // below 2³¹ is a jump over lost frames (wrap-around included);
             // the upper half means the sequence went back (a restart).
-            let missing = frame.sequence.wrapping_sub(last.wrapping_add(1));
+            let missing = sequence.wrapping_sub(last.wrapping_add(1));
             if missing == 0 {
                 // In order.
             } else if missing < 1 << 31 {
@@ -180,7 +234,7 @@ impl Decoder {
                 s.sequence_restarts = s.sequence_restarts.saturating_add(1);
             }
         }
-        self.last_sequence = Some(frame.sequence);
+        self.last_sequence = Some(sequence);
     }
 
     fn skip(&mut self, bytes: u64) {
@@ -188,15 +242,15 @@ impl Decoder {
     }
 }
 
-/// Iterator over the frames and errors completed by a slice of bytes; see
-/// [`Decoder::feed`].
+/// Iterator over the packets and errors completed by a slice of bytes; see
+/// [`Decoder::feed_packets`].
 pub struct Feed<'a> {
     decoder: &'a mut Decoder,
     bytes: core::slice::Iter<'a, u8>,
 }
 
 impl Iterator for Feed<'_> {
-    type Item = Result<Frame, DecodeError>;
+    type Item = Result<Packet, DecodeError>;
 
     fn next(&mut self) -> Option<Self::Item> {
         for &byte in self.bytes.by_ref() {

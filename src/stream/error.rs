@@ -29,6 +29,20 @@ pub enum DecodeError {
         /// Version byte received.
         version: u8,
     },
+    /// The CRC and version are good but the packet type (byte 1 of a
+    /// version-2 packet) is not one this decoder knows.
+    Type {
+        /// Type byte received.
+        kind: u8,
+    },
+    /// The CRC, version and type are good but the body's length does not
+    /// fit the type (or a field holds an undefined code).
+    Body {
+        /// Type byte received.
+        kind: u8,
+        /// Body length received.
+        len: usize,
+    },
 }
 
 impl DecodeError {
@@ -44,8 +58,11 @@ impl fmt::Display for DecodeError {
             DecodeError::Stuffing => write!(f, "frame ends inside a COBS block (bytes lost)"),
             DecodeError::Length { len } => write!(
                 f,
-                "frame is {len} bytes after unstuffing, expected {}",
-                super::FRAME_LEN
+                "frame is {len} bytes after unstuffing: a version-1 data frame is {} bytes, \
+                 a version-2 packet {} to {}",
+                super::FRAME_LEN,
+                crate::link::packet::MIN_PACKET_LEN,
+                crate::link::MAX_PACKET_LEN
             ),
             DecodeError::Crc { received, computed } => write!(
                 f,
@@ -53,8 +70,14 @@ impl fmt::Display for DecodeError {
             ),
             DecodeError::Version { version } => write!(
                 f,
-                "unsupported frame version {version} (this decoder reads version {})",
-                super::VERSION
+                "unsupported frame version {version} (this decoder reads versions 1 and 2)"
+            ),
+            DecodeError::Type { kind } => {
+                write!(f, "unknown version-2 packet type {kind:#04x}")
+            }
+            DecodeError::Body { kind, len } => write!(
+                f,
+                "version-2 packet of type {kind:#04x} has a {len}-byte body that does not fit its type"
             ),
         }
     }

@@ -30,8 +30,11 @@ impl Flags {
     /// Bit 5: no valid calibration is applied; the values are the chip's
     /// readings scaled to SI units only, and `calibration_id` means nothing.
     pub const UNCALIBRATED: Flags = Flags(1 << 5);
+    /// Bit 6: a raw frame: the values are the chip's counts (scaled to SI
+    /// with its nominal sensitivity by `triad decode`), not corrected.
+    pub const RAW: Flags = Flags(1 << 6);
     /// Every bit this version of the protocol defines.
-    pub const KNOWN: Flags = Flags(0x003F);
+    pub const KNOWN: Flags = Flags(0x007F);
 
     /// No flag set.
     pub const fn empty() -> Flags {

@@ -1,0 +1,232 @@
+//! The reply to `identify`: who the device is, what it streams, where its
+//! calibration came from, and its counters.
+
+use super::byte_enum::byte_enum;
+use super::bytes::{Reader, Writer};
+use super::command::Mode;
+use super::payload::Payload;
+use super::raw_frame::RawScale;
+
+/// Longest name a [`Text`] holds.
+pub const TEXT_LEN: usize = 24;
+
+/// A short name, held inline.
+#[derive(Clone, Copy, PartialEq, Eq, Default)]
+pub struct Text {
+    bytes: [u8; TEXT_LEN],
+    len: u8,
+}
+
+impl Text {
+    /// `s`, cut at [`TEXT_LEN`] bytes on a character boundary.
+    pub fn new(s: &str) -> Text {
+        let mut n = s.len().min(TEXT_LEN);
+        while !s.is_char_boundary(n) {
+            n -= 1;
+        }
+        let mut bytes = [0; TEXT_LEN];
+        bytes[..n].copy_from_slice(&s.as_bytes()[..n]);
+        Text {
+            bytes,
+            len: n as u8,
+        }
+    }
+
+    /// The text.
+    pub fn as_str(&self) -> &str {
+        core::str::from_utf8(&self.bytes[..usize::from(self.len)]).unwrap_or("?")
+    }
+}
+
+impl core::fmt::Debug for Text {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "{:?}", self.as_str())
+    }
+}
+
+impl core::fmt::Display for Text {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+byte_enum! {
+    /// Where the active calibration came from.
+    pub enum CalibrationSource {
+        /// None: the identity, and every frame is flagged UNCALIBRATED.
+        None = 0 => "none",
+        /// Built into the firmware image.
+        BuiltIn = 1 => "built in",
+        /// Stored on the device (flash).
+        Stored = 2 => "stored",
+        /// Uploaded over the link since start-up and not saved (lost at restart).
+        Uploaded = 3 => "uploaded",
+    }
+}
+
+byte_enum! {
+    /// What the device's flash holds.
+    pub enum StoredState {
+        /// This device has no calibration storage.
+        NoStorage = 0 => "no storage",
+        /// Nothing stored.
+        Empty = 1 => "empty",
+        /// A valid calibration is stored.
+        Valid = 2 => "valid",
+        /// A record is stored but was rejected at start-up (CRC, version or
+        /// validation), and ignored.
+        Rejected = 3 => "rejected",
+        /// The flash could not be read.
+        Failed = 4 => "unreadable",
+    }
+}
+
+/// The device's counters since start (or the last reset).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Counters {
+    /// Frames handed to the link.
+    pub frames_sent: u32,
+    /// Frames dropped because the link's queue was full.
+    pub frames_dropped: u32,
+    /// Sample steps lost (late or overrun).
+    pub overruns: u32,
+    /// Sensor reads that failed.
+    pub read_failures: u32,
+    /// Commands handled (retries answered from the last reply included).
+    pub commands: u32,
+    /// Commands answered with an error.
+    pub command_errors: u32,
+    /// Received bytes lost because the receive queue was full.
+    pub rx_overflows: u32,
+}
+
+/// The reply to `identify`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DeviceInfo {
+    /// The link protocol version the device speaks.
+    pub protocol: u8,
+    /// Firmware version.
+    pub firmware: Text,
+    /// Board name.
+    pub board: Text,
+    /// Chip name.
+    pub chip: Text,
+    /// Sensor bus ("spi" or "i2c").
+    pub bus: Text,
+    /// The chip's sample rate.
+    pub sample_rate_hz: f32,
+    /// Samples averaged per streamed frame.
+    pub decimation: u16,
+    /// What is streamed.
+    pub mode: Mode,
+    /// The link's baud rate.
+    pub baud: u32,
+    /// The active calibration's identity.
+    pub calibration_id: u32,
+    /// Where it came from.
+    pub calibration_source: CalibrationSource,
+    /// What the flash holds.
+    pub stored: StoredState,
+    /// Milliseconds since start, wrapping every 2³² ms (49.7 days).
+    pub uptime_ms: u32,
+    /// The counters.
+    pub counters: Counters,
+    /// The chip's nominal scale (what raw frames carry).
+    pub scale: RawScale,
+}
+
+impl DeviceInfo {
+    /// The reply payload.
+    pub fn to_payload(&self) -> Payload {
+        let mut p = Payload::EMPTY;
+        let mut w = Writer::new(p.buffer());
+        w.u8(self.protocol)
+            .str(self.firmware.as_str())
+            .str(self.board.as_str())
+            .str(self.chip.as_str())
+            .str(self.bus.as_str())
+            .f32(self.sample_rate_hz)
+            .u16(self.decimation)
+            .u8(self.mode as u8)
+            .u32(self.baud)
+            .u32(self.calibration_id)
+            .u8(self.calibration_source as u8)
+            .u8(self.stored as u8)
+            .u32(self.uptime_ms);
+        let c = &self.counters;
+        for v in [
+            c.frames_sent,
+            c.frames_dropped,
+            c.overruns,
+            c.read_failures,
+            c.commands,
+            c.command_errors,
+            c.rx_overflows,
+        ] {
+            w.u32(v);
+        }
+        let s = &self.scale;
+        w.f32(s.accel_si_per_lsb)
+            .f32(s.gyro_si_per_lsb)
+            .f32(s.temperature_per_lsb)
+            .f32(s.temperature_offset);
+        let len = w.len();
+        p.set_len(len);
+        p
+    }
+
+    /// Reads an identify payload; `None` when it is short or a code is
+    /// undefined.
+    pub fn parse(payload: &[u8]) -> Option<DeviceInfo> {
+        let mut r = Reader::new(payload);
+        let protocol = r.u8();
+        let firmware = Text::new(r.str());
+        let board = Text::new(r.str());
+        let chip = Text::new(r.str());
+        let bus = Text::new(r.str());
+        let sample_rate_hz = r.f32();
+        let decimation = r.u16();
+        let mode = Mode::from_byte(r.u8())?;
+        let baud = r.u32();
+        let calibration_id = r.u32();
+        let calibration_source = CalibrationSource::from_byte(r.u8())?;
+        let stored = StoredState::from_byte(r.u8())?;
+        let uptime_ms = r.u32();
+        let counters = Counters {
+            frames_sent: r.u32(),
+            frames_dropped: r.u32(),
+            overruns: r.u32(),
+            read_failures: r.u32(),
+            commands: r.u32(),
+            command_errors: r.u32(),
+            rx_overflows: r.u32(),
+        };
+        let scale = RawScale {
+            accel_si_per_lsb: r.f32(),
+            gyro_si_per_lsb: r.f32(),
+            temperature_per_lsb: r.f32(),
+            temperature_offset: r.f32(),
+        };
+        if r.ran_short() {
+            return None;
+        }
+        Some(DeviceInfo {
+            protocol,
+            firmware,
+            board,
+            chip,
+            bus,
+            sample_rate_hz,
+            decimation,
+            mode,
+            baud,
+            calibration_id,
+            calibration_source,
+            stored,
+            uptime_ms,
+            counters,
+            scale,
+        })
+    }
+}
