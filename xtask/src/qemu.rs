@@ -6,7 +6,7 @@
 //! and idle time is skipped, so runs are deterministic and faster than real
 //! time (DESIGN.md, "The emulated board").
 
-use crate::{defmt_log, setup::QEMU};
+use crate::{defmt_log, setup};
 use anyhow::{bail, Context, Result};
 use std::fs::File;
 use std::io::{Read, Write};
@@ -117,7 +117,7 @@ pub fn stream_to_decoder(elf: &Path, triad: &Path, stop: Stop, sink: Sink) -> Re
 /// monitor, one instruction per virtual nanosecond, idle time skipped,
 /// semihosting on (the firmware's log and exit status).
 pub fn command(machine: &str, elf: &Path) -> Command {
-    let mut command = Command::new(QEMU);
+    let mut command = Command::new(setup::qemu());
     command
         .args(["-machine", machine, "-display", "none", "-monitor", "none"])
         .args(["-icount", "shift=0,sleep=off"])
@@ -129,7 +129,8 @@ pub fn command(machine: &str, elf: &Path) -> Command {
 }
 
 fn spawn_qemu(elf: &Path, socket: &Path) -> Result<Child> {
-    command("netduinoplus2", elf)
+    let mut command = command("netduinoplus2", elf);
+    command
         .arg("-chardev")
         .arg(format!(
             "socket,id=stream,path={},server=on,wait=on",
@@ -138,7 +139,7 @@ fn spawn_qemu(elf: &Path, socket: &Path) -> Result<Child> {
         .args(["-serial", "chardev:stream"])
         .stdout(Stdio::piped())
         .spawn()
-        .with_context(|| format!("starting {QEMU}"))
+        .with_context(|| format!("starting {}", command.get_program().to_string_lossy()))
 }
 
 fn connect(socket: &Path, qemu: &mut Child) -> Result<UnixStream> {
