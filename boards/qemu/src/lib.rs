@@ -28,8 +28,13 @@ pub struct Board {
     pub clock: MicrosecondClock,
     /// The stream's transmitter.
     pub serial: Serial,
+    /// The commands' receiver (USART1's interrupt).
+    pub serial_rx: SerialRx,
     /// The IMU's (software) SPI or I²C bus, for [`find_sensor`].
     pub sensor_bus: SensorBus,
+    /// The calibration flash: a host file by semihosting, when QEMU's
+    /// command line names one.
+    pub flash: Result<Flash, StorageUnavailable>,
 }
 
 /// Brings up the peripherals. No clock tree set-up: QEMU's RCC is a stub.
@@ -41,13 +46,23 @@ pub fn init(dp: pac::Peripherals) -> Board {
     });
     dp.RCC.apb2enr().modify(|_, w| w.usart1en().set_bit());
     let sensor_bus = emulated_chip();
+    let serial = Serial::new(dp.USART1, USART_DIV_X16);
+    // SAFETY: the receiver only sets CR1's RE and RXNEIE and reads SR/DR;
+    // the transmitter owns the rest of USART1.
+    let serial_rx = SerialRx::new(unsafe { pac::USART1::steal() });
     Board {
         sample_line: SampleLine::new(dp.TIM2, &dp.TIM4, sensor_bus.sample_rate_hz()),
         clock: MicrosecondClock::new(dp.TIM5, TIMER_CLOCK_HZ),
-        serial: Serial::new(dp.USART1, USART_DIV_X16),
+        serial,
+        serial_rx,
         sensor_bus,
+        flash: Flash::open(),
     }
 }
+
+/// Where the two calibration slots are in [`Flash`]: from 0, one 16 KiB
+/// erase unit each.
+pub const STORAGE_SLOTS: (u32, u32) = (0, 16 * 1024);
 
 /// The data-ready line: TIM2's update interrupt pends EXTI0 (the line's
 /// interrupt on real boards) once per sample, so the application's
@@ -115,10 +130,18 @@ fn TIM2() {
 mod microsecond_clock;
 pub use microsecond_clock::MicrosecondClock;
 
+mod semihosting_flash;
+mod serial_rx;
 mod serial_tx;
 
-/// The stream's link: USART1, transmit only, 8N1.
+/// The stream's link: USART1's transmitter, 8N1.
 pub type Serial = serial_tx::SerialTx<pac::USART1>;
+/// The commands' link: USART1's receiver (interrupt USART1).
+pub type SerialRx = serial_rx::SerialRx<pac::USART1>;
+/// The calibration flash.
+pub type Flash = semihosting_flash::SemihostingFlash;
+/// Why the board has no calibration flash.
+pub use semihosting_flash::Unavailable as StorageUnavailable;
 
 // RM0090 §30.3.4: USARTDIV = f_APB2 / (16 · baud), mantissa.fraction in BRR.
 // 84 MHz / 921600 rounds to 91 (0x5B): 0.0 % error; fits BRR's 16 bits.
