@@ -167,14 +167,13 @@ impl<F: NorFlash> CommandHandler<F> {
 
     /// Handles one decoded packet (or decoding error); `bytes` are its
     /// unstuffed bytes as received (for the sequence number of a packet that
-    /// failed its checks). `submit` queues a change for the data-ready task
+    /// failed its checks), `counters` what identify reports. `submit` queues a change for the data-ready task
     /// and gives it back when the queue is full.
     pub fn on_packet(
         &mut self,
         decoded: &Result<Packet, DecodeError>,
         bytes: &[u8],
         counters: &SharedCounters,
-        now_ms: u32,
         submit: &mut dyn FnMut(Control) -> Result<(), Control>,
     ) -> Handled {
         let packet = match decoded {
@@ -198,7 +197,7 @@ impl<F: NorFlash> CommandHandler<F> {
                     sequence: packet.sequence,
                 };
             }
-            Ok(command) => self.run(command, counters, now_ms, submit),
+            Ok(command) => self.run(command, counters, submit),
             Err(error) => Err(fail(
                 match error {
                     crate::link::CommandError::Unknown { .. } => Status::UnknownCommand,
@@ -280,7 +279,6 @@ impl<F: NorFlash> CommandHandler<F> {
         &mut self,
         command: Command,
         counters: &SharedCounters,
-        now_ms: u32,
         submit: &mut dyn FnMut(Control) -> Result<(), Control>,
     ) -> Outcome {
         let busy = |_| {
@@ -290,7 +288,7 @@ impl<F: NorFlash> CommandHandler<F> {
             )
         };
         match command {
-            Command::Identify => Ok(self.info(counters, now_ms).to_payload()),
+            Command::Identify => Ok(self.info(counters).to_payload()),
             Command::SetMode(mode) => {
                 submit(Control::SetMode(mode)).map_err(busy)?;
                 self.mode = mode;
@@ -321,7 +319,7 @@ impl<F: NorFlash> CommandHandler<F> {
     }
 
     /// The identify reply.
-    pub fn info(&self, counters: &SharedCounters, now_ms: u32) -> DeviceInfo {
+    pub fn info(&self, counters: &SharedCounters) -> DeviceInfo {
         let now = counters.snapshot();
         let b = &self.baseline;
         let mut c = now;
@@ -346,7 +344,7 @@ impl<F: NorFlash> CommandHandler<F> {
             calibration_id: self.active.id,
             calibration_source: self.active.source,
             stored: self.stored,
-            uptime_ms: now_ms,
+            uptime_ms: counters.uptime_ms(),
             counters: c,
             scale: RawScale::of(&self.facts.scale),
         }

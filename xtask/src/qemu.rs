@@ -1,4 +1,4 @@
-//! The emulated board: QEMU's netduinoplus2 running the firmware, its USART1
+//! The emulated board: QEMU's netduinoplus2 running the firmware, its USART2
 //! stream piped into `triad decode`, its defmt log (semihosting, on QEMU's
 //! stdout) decoded onto stderr.
 //!
@@ -21,7 +21,7 @@ pub enum Sink {
     Inherit,
     /// The raw stream bytes and the decoded CSV into files (end-to-end tests).
     Files {
-        /// The bytes as they left USART1.
+        /// The bytes as they left USART2.
         raw: PathBuf,
         /// What `triad decode` printed.
         csv: PathBuf,
@@ -136,7 +136,8 @@ fn spawn_qemu(elf: &Path, socket: &Path) -> Result<Child> {
             "socket,id=stream,path={},server=on,wait=on",
             socket.display()
         ))
-        .args(["-serial", "chardev:stream"])
+        // The first -serial is USART1 (unused), the second USART2: the link.
+        .args(["-serial", "null", "-serial", "chardev:stream"])
         .stdout(Stdio::piped())
         .spawn()
         .with_context(|| format!("starting {}", command.get_program().to_string_lossy()))

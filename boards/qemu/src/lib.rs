@@ -1,7 +1,7 @@
 //! The emulated board: QEMU's `netduinoplus2` (STM32F405, Cortex-M4F).
 #![no_std]
 //!
-//! QEMU models USART1, the timers, SysTick and the FPU; RCC and GPIO are
+//! QEMU models the USARTs, the timers, SysTick and the FPU; RCC and GPIO are
 //! stubs, so nothing here waits on a clock-ready bit. QEMU's STM32 timers
 //! count at 1 GHz of virtual time (not at the APB clock), so prescalers and
 //! reloads are computed for that. The sensor is a register-level chip model
@@ -17,8 +17,8 @@ pub use stm32f4::stm32f405 as pac;
 
 /// What QEMU's STM32 timers count at (virtual time), Hz.
 const TIMER_CLOCK_HZ: u32 = 1_000_000_000;
-/// The APB2 clock that the baud-rate divider assumes (168 MHz core / 2).
-const APB2_HZ: u32 = 84_000_000;
+/// The APB1 clock that the baud-rate divider assumes (168 MHz core / 4).
+const APB1_HZ: u32 = 42_000_000;
 
 /// The peripherals the application uses.
 pub struct Board {
@@ -28,7 +28,7 @@ pub struct Board {
     pub clock: MicrosecondClock,
     /// The stream's transmitter.
     pub serial: Serial,
-    /// The commands' receiver (USART1's interrupt).
+    /// The commands' receiver (USART2's interrupt).
     pub serial_rx: SerialRx,
     /// The IMU's (software) SPI or I²C bus, for [`find_sensor`].
     pub sensor_bus: SensorBus,
@@ -44,12 +44,12 @@ pub fn init(dp: pac::Peripherals) -> Board {
         w.tim4en().set_bit();
         w.tim5en().set_bit()
     });
-    dp.RCC.apb2enr().modify(|_, w| w.usart1en().set_bit());
+    dp.RCC.apb1enr().modify(|_, w| w.usart2en().set_bit());
     let sensor_bus = emulated_chip();
-    let serial = Serial::new(dp.USART1, USART_DIV_X16);
+    let serial = Serial::new(dp.USART2, USART_DIV_X16);
     // SAFETY: the receiver only sets CR1's RE and RXNEIE and reads SR/DR;
-    // the transmitter owns the rest of USART1.
-    let serial_rx = SerialRx::new(unsafe { pac::USART1::steal() });
+    // the transmitter owns the rest of USART2.
+    let serial_rx = SerialRx::new(unsafe { pac::USART2::steal() });
     Board {
         sample_line: SampleLine::new(dp.TIM2, &dp.TIM4, sensor_bus.sample_rate_hz()),
         clock: MicrosecondClock::new(dp.TIM5, TIMER_CLOCK_HZ),
@@ -134,18 +134,22 @@ mod semihosting_flash;
 mod serial_rx;
 mod serial_tx;
 
-/// The stream's link: USART1's transmitter, 8N1.
-pub type Serial = serial_tx::SerialTx<pac::USART1>;
-/// The commands' link: USART1's receiver (interrupt USART1).
-pub type SerialRx = serial_rx::SerialRx<pac::USART1>;
+/// The stream's link: USART2's transmitter, 8N1. USART2, as on the
+/// NUCLEO (its ST-LINK virtual COM port), so that both boards' firmware
+/// binds the same receive interrupt; QEMU connects its second `-serial`
+/// to it.
+pub type Serial = serial_tx::SerialTx<pac::USART2>;
+/// The commands' link: USART2's receiver (interrupt USART2).
+pub type SerialRx = serial_rx::SerialRx<pac::USART2>;
 /// The calibration flash.
 pub type Flash = semihosting_flash::SemihostingFlash;
 /// Why the board has no calibration flash.
 pub use semihosting_flash::Unavailable as StorageUnavailable;
 
-// RM0090 §30.3.4: USARTDIV = f_APB2 / (16 · baud), mantissa.fraction in BRR.
-// 84 MHz / 921600 rounds to 91 (0x5B): 0.0 % error; fits BRR's 16 bits.
-const USART_DIV_X16: u16 = ((APB2_HZ + DESCRIPTION.baud / 2) / DESCRIPTION.baud) as u16;
+// RM0090 §30.3.4: USARTDIV = f_APB1 / (16 · baud), mantissa.fraction in BRR.
+// 42 MHz / 921600 rounds to 46 (0x2E): −0.9 %; fits BRR's 16 bits. (QEMU
+// sends at once whatever BRR says.)
+const USART_DIV_X16: u16 = ((APB1_HZ + DESCRIPTION.baud / 2) / DESCRIPTION.baud) as u16;
 
 /// Ends the emulation with a status QEMU returns to its caller.
 pub fn exit(success: bool) -> ! {

@@ -1,4 +1,4 @@
-//! USART1's receiver: the host's commands, one byte per interrupt.
+//! The link USART's receiver: the host's commands, one byte per interrupt.
 
 use super::pac;
 use core::ops::Deref;
