@@ -62,7 +62,11 @@ mod app {
         on_data_ready, CommandHandler, Control, Handled, Outgoing, Sampler, Stepped,
     };
     use triad::link::MAX_WIRE_LEN;
+    use triad::sensor::{SelfTestError, SelfTestReport};
     use triad::stream::Decoder;
+
+    /// A self-test's outcome, with the sequence number of its command.
+    type SelfTestDone = (u16, Result<SelfTestReport, SelfTestError<board::SensorBusError>>);
 
     /// The interrupt that runs the `link` task.
     const LINK_TASK: board::pac::Interrupt = board::pac::Interrupt::EXTI1;
@@ -86,12 +90,19 @@ mod app {
         controls_out: Consumer<'static, Control>,
         handler: CommandHandler<board::Flash>,
         decoder: Decoder,
+        self_test_delay: board::SelfTestDelay,
+        self_tests_in: Producer<'static, u16>,
+        self_tests_out: Consumer<'static, u16>,
+        self_tests_done_in: Producer<'static, SelfTestDone>,
+        self_tests_done_out: Consumer<'static, SelfTestDone>,
     }
 
     #[init(local = [
         frames: Queue<Outgoing, QUEUE_LEN> = Queue::new(),
         rx: Queue<u8, RX_QUEUE_LEN> = Queue::new(),
         controls: Queue<Control, 2> = Queue::new(),
+        self_tests: Queue<u16, 2> = Queue::new(),
+        self_tests_done: Queue<SelfTestDone, 2> = Queue::new(),
     ])]
     fn init(cx: init::Context) -> (Shared, Local) {
         let b = board::init(cx.device);
@@ -99,6 +110,8 @@ mod app {
         let (frames_in, frames_out) = cx.local.frames.split();
         let (rx_in, rx_out) = cx.local.rx.split();
         let (controls_in, controls_out) = cx.local.controls.split();
+        let (self_tests_in, self_tests_out) = cx.local.self_tests.split();
+        let (self_tests_done_in, self_tests_done_out) = cx.local.self_tests_done.split();
         (
             Shared {},
             Local {
@@ -116,6 +129,11 @@ mod app {
                 controls_out,
                 handler: started.handler,
                 decoder: Decoder::new(),
+                self_test_delay: b.self_test_delay,
+                self_tests_in,
+                self_tests_out,
+                self_tests_done_in,
+                self_tests_done_out,
             },
         )
     }
@@ -129,12 +147,26 @@ mod app {
 
     /// The data-ready step: the IMU's data-ready line is EXTI0 on every board
     /// (on the emulated board a timer pends it).
-    #[task(binds = EXTI0, priority = 2, local = [sample_line, clock, sensor, sampler, frames_in, controls_out])]
+    #[task(binds = EXTI0, priority = 2, local = [sample_line, clock, sensor, sampler, frames_in, controls_out, self_test_delay, self_tests_out, self_tests_done_in])]
     fn data_ready(cx: data_ready::Context) {
         let l = cx.local;
         // The handler's changes take effect here, between two samples.
         while let Some(control) = l.controls_out.dequeue() {
             l.sampler.apply(control);
+        }
+        // A self-test runs here, in place of sampling: the steps it takes
+        // are counted lost (OVERRUN) in the next frame.
+        if let Some(sequence) = l.self_tests_out.dequeue() {
+            let result = l.sensor.self_test(l.self_test_delay);
+            if let Err(SelfTestError { chip: triad::sensor::ChipLeft::NeedsInit, .. }) = result {
+                if l.sensor.start(&mut board::Delay).is_err() {
+                    defmt::error!("the chip did not restart after its self-test");
+                }
+            }
+            // The link task takes one self-test at a time: there is room.
+            let _ = l.self_tests_done_in.enqueue((sequence, result));
+            cortex_m::peripheral::NVIC::pend(LINK_TASK);
+            return;
         }
         let frames_in = l.frames_in;
         let stepped = on_data_ready(
@@ -172,11 +204,24 @@ mod app {
     /// Answers commands and sends frames, below the sampling task. Each
     /// pass handles every byte received, then sends one frame, so neither
     /// starves the other.
-    #[task(binds = EXTI1, priority = 1, local = [serial, frames_out, rx_out, handler, decoder, controls_in, buffer: [u8; MAX_WIRE_LEN] = [0; MAX_WIRE_LEN]])]
+    #[task(binds = EXTI1, priority = 1, local = [serial, frames_out, rx_out, handler, decoder, controls_in, self_tests_in, self_tests_done_out, self_test_running: bool = false, buffer: [u8; MAX_WIRE_LEN] = [0; MAX_WIRE_LEN]])]
     fn link(cx: link::Context) {
         let l = cx.local;
         loop {
-            while let Some(byte) = l.rx_out.dequeue() {
+            if let Some((sequence, result)) = l.self_tests_done_out.dequeue() {
+                *l.self_test_running = false;
+                let reply = l.handler.self_test_reply(sequence, &result);
+                if let Ok(packet) = reply.to_packet() {
+                    let n = packet.to_wire(l.buffer);
+                    l.serial.write_all(&l.buffer[..n]);
+                }
+            }
+            // While a self-test runs, commands wait in the queue: the host
+            // waits for its reply anyway.
+            while !*l.self_test_running {
+                let Some(byte) = l.rx_out.dequeue() else {
+                    break;
+                };
                 let Some(decoded) = l.decoder.push(byte) else {
                     continue;
                 };
@@ -185,7 +230,7 @@ mod app {
                     &decoded,
                     l.decoder.last_packet_bytes(),
                     &COUNTERS,
-                    &mut |control| controls_in.enqueue(control),
+                    &mut |control| controls_in.enqueue(control).is_ok(),
                 );
                 match handled {
                     Handled::Reply(reply) => {
@@ -195,17 +240,7 @@ mod app {
                         }
                     }
                     Handled::SelfTest { sequence } => {
-                        let reply = l.handler.self_test_reply(
-                            sequence,
-                            Err((
-                                triad::link::Status::NotSupported,
-                                triad::link::Payload::truncated(b"self-test is not wired in this firmware yet"),
-                            )),
-                        );
-                        if let Ok(packet) = reply.to_packet() {
-                            let n = packet.to_wire(l.buffer);
-                            l.serial.write_all(&l.buffer[..n]);
-                        }
+                        *l.self_test_running = l.self_tests_in.enqueue(sequence).is_ok();
                     }
                     Handled::Nothing => {}
                 }

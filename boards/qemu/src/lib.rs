@@ -35,6 +35,9 @@ pub struct Board {
     /// The calibration flash: a host file by semihosting, when QEMU's
     /// command line names one.
     pub flash: Result<Flash, StorageUnavailable>,
+    /// The delay the chip's self-test waits with: it lets the chip model's
+    /// time pass as it waits (on hardware the chip samples on its own).
+    pub self_test_delay: SelfTestDelay,
 }
 
 /// Brings up the peripherals. No clock tree set-up: QEMU's RCC is a stub.
@@ -45,18 +48,20 @@ pub fn init(dp: pac::Peripherals) -> Board {
         w.tim5en().set_bit()
     });
     dp.RCC.apb1enr().modify(|_, w| w.usart2en().set_bit());
-    let sensor_bus = emulated_chip();
+    let chip = emulated_chip();
+    let sensor_bus = SensorBus(SharedBus(chip));
     let serial = Serial::new(dp.USART2, USART_DIV_X16);
     // SAFETY: the receiver only sets CR1's RE and RXNEIE and reads SR/DR;
     // the transmitter owns the rest of USART2.
     let serial_rx = SerialRx::new(unsafe { pac::USART2::steal() });
     Board {
-        sample_line: SampleLine::new(dp.TIM2, &dp.TIM4, sensor_bus.sample_rate_hz()),
+        sample_line: SampleLine::new(dp.TIM2, &dp.TIM4, chip.borrow().sample_rate_hz()),
         clock: MicrosecondClock::new(dp.TIM5, TIMER_CLOCK_HZ),
         serial,
         serial_rx,
         sensor_bus,
         flash: Flash::open(),
+        self_test_delay: SelfTestDelay(ModelDelay::new(chip)),
     }
 }
 
@@ -168,12 +173,53 @@ pub fn exit(success: bool) -> ! {
 const EMULATED_CHIP: &str = env!("TRIAD_EMULATED_CHIP");
 
 /// What the chip model measures: the demo motion or an embedded scene.
+use core::cell::RefCell;
 use triad_sim::emulated_board::{source, EmulatedChip};
+use triad_sim::model_clock::{ModelDelay, SharedBus};
 
 pub use triad_sim::emulated_board::DESCRIPTION;
 
-/// The bus the chip model answers on: SPI (or I²C with `bus-i2c`).
-pub type SensorBus = EmulatedChip;
+/// The bus the chip model answers on: SPI (or I²C with `bus-i2c`), the
+/// model shared with the [`SelfTestDelay`].
+pub struct SensorBus(SharedBus<'static, EmulatedChip>);
+
+// SAFETY: the chip model's cell is reached only through the sensor's bus and
+// the self-test delay, and the firmware hands both to the one data-ready
+// task: the cell is never used from two contexts.
+unsafe impl Send for SensorBus {}
+// SAFETY: as for `SensorBus`.
+unsafe impl Send for SelfTestDelay {}
+
+impl SensorBus {
+    /// The chip model.
+    fn chip(&self) -> core::cell::RefMut<'_, EmulatedChip> {
+        self.0 .0.borrow_mut()
+    }
+}
+
+impl spi::ErrorType for SensorBus {
+    type Error = <EmulatedChip as spi::ErrorType>::Error;
+}
+
+impl spi::SpiDevice for SensorBus {
+    fn transaction(&mut self, operations: &mut [spi::Operation<'_, u8>]) -> Result<(), Self::Error> {
+        self.0.transaction(operations)
+    }
+}
+
+impl i2c::ErrorType for SensorBus {
+    type Error = <EmulatedChip as i2c::ErrorType>::Error;
+}
+
+impl i2c::I2c for SensorBus {
+    fn transaction(
+        &mut self,
+        address: u8,
+        operations: &mut [i2c::Operation<'_>],
+    ) -> Result<(), Self::Error> {
+        self.0.transaction(address, operations)
+    }
+}
 
 /// The sensor: the driver of the chip found on the bus.
 #[cfg(not(feature = "bus-i2c"))]
@@ -181,6 +227,13 @@ pub type Sensor = AnyChip<SpiInterface<SensorBus>>;
 /// The sensor: the driver of the chip found on the bus.
 #[cfg(feature = "bus-i2c")]
 pub type Sensor = AnyChip<I2cInterface<SensorBus>>;
+
+/// The sensor bus's error, as the drivers report it.
+#[cfg(not(feature = "bus-i2c"))]
+pub type SensorBusError = spi::ErrorKind;
+/// The sensor bus's error, as the drivers report it.
+#[cfg(feature = "bus-i2c")]
+pub type SensorBusError = i2c::ErrorKind;
 
 /// Finds the chip on the SPI bus by its identity.
 #[cfg(not(feature = "bus-i2c"))]
@@ -195,9 +248,11 @@ pub fn find_sensor(bus: SensorBus) -> Result<Sensor, DetectError<i2c::ErrorKind>
 }
 
 /// The chip model serving `model_source()` at the chip's rate (build.rs
-/// admitted only listed names; any other stops the board).
-fn emulated_chip() -> EmulatedChip {
-    EmulatedChip::named(EMULATED_CHIP, model_source).unwrap_or_else(|| exit(false))
+/// admitted only listed names; any other stops the board), in a static
+/// cell the driver's bus and the self-test's delay share.
+fn emulated_chip() -> &'static RefCell<EmulatedChip> {
+    let chip = EmulatedChip::named(EMULATED_CHIP, model_source).unwrap_or_else(|| exit(false));
+    cortex_m::singleton!(: RefCell<EmulatedChip> = RefCell::new(chip)).unwrap_or_else(|| exit(false))
 }
 
 /// The scene embedded at build (TRIAD_SCENE, see build.rs), simulated at the
@@ -224,7 +279,19 @@ fn model_source(rate_hz: f64) -> source::Source {
 /// The data-ready line: on this board the timer interrupt stands in for it,
 /// and the chip model's clock advances to its next sample.
 pub fn data_ready(sensor: &mut Sensor) {
-    sensor.bus_mut().advance_one_sample();
+    sensor.bus_mut().chip().advance_one_sample();
+}
+
+/// The self-test's delay: each wait lets the chip model's time pass by as
+/// long, and busy-waits as long too, so the board's own time (the stream's
+/// timestamps, the steps lost while sampling paused) is what hardware shows.
+pub struct SelfTestDelay(ModelDelay<'static, EmulatedChip>);
+
+impl embedded_hal::delay::DelayNs for SelfTestDelay {
+    fn delay_ns(&mut self, ns: u32) {
+        self.0.delay_ns(ns);
+        Delay.delay_ns(ns);
+    }
 }
 
 /// A busy-wait delay for the driver's start-up waits (the core runs at 168
@@ -237,10 +304,7 @@ impl embedded_hal::delay::DelayNs for Delay {
     }
 }
 
-#[cfg(feature = "bus-i2c")]
-use embedded_hal::i2c;
-#[cfg(not(feature = "bus-i2c"))]
-use embedded_hal::spi;
+use embedded_hal::{i2c, spi};
 use triad::device::board::DataReadyLine;
 #[cfg(feature = "bus-i2c")]
 use triad::sensor::interface::I2cInterface;
