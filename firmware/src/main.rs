@@ -66,7 +66,10 @@ mod app {
     use triad::stream::Decoder;
 
     /// A self-test's outcome, with the sequence number of its command.
-    type SelfTestDone = (u16, Result<SelfTestReport, SelfTestError<board::SensorBusError>>);
+    type SelfTestDone = (
+        u16,
+        Result<SelfTestReport, SelfTestError<board::SensorBusError>>,
+    );
 
     /// The interrupt that runs the `link` task.
     const LINK_TASK: board::pac::Interrupt = board::pac::Interrupt::EXTI1;
@@ -158,7 +161,11 @@ mod app {
         // are counted lost (OVERRUN) in the next frame.
         if let Some(sequence) = l.self_tests_out.dequeue() {
             let result = l.sensor.self_test(l.self_test_delay);
-            if let Err(SelfTestError { chip: triad::sensor::ChipLeft::NeedsInit, .. }) = result {
+            if let Err(SelfTestError {
+                chip: triad::sensor::ChipLeft::NeedsInit,
+                ..
+            }) = result
+            {
                 if l.sensor.start(&mut board::Delay).is_err() {
                     defmt::error!("the chip did not restart after its self-test");
                 }

@@ -54,7 +54,10 @@ pub fn start(
         Ok(flash) => match CalibrationStore::new(flash, base, slot_len) {
             Ok(store) => Some(store),
             Err(error) => {
-                defmt::error!("calibration storage unusable: {}", defmt::Debug2Format(&error));
+                defmt::error!(
+                    "calibration storage unusable: {}",
+                    defmt::Debug2Format(&error)
+                );
                 None
             }
         },
@@ -113,7 +116,12 @@ pub fn start(
         startup.stored_state(loaded),
     );
     let calibrated = startup.calibrated();
-    let sampler = Sampler::at_rate(startup.corrector, calibrated, description.decimation, rate_hz);
+    let sampler = Sampler::at_rate(
+        startup.corrector,
+        calibrated,
+        description.decimation,
+        rate_hz,
+    );
     Started {
         sensor,
         sampler,

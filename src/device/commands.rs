@@ -29,9 +29,8 @@ use super::{CalibrationStore, Control, SharedCounters, StorageError};
 use crate::crc32c::crc32c;
 use crate::link::bytes::Writer;
 use crate::link::{
-    SelfTestResult,
     CalibrationSource, Command, DeviceInfo, Mode, Packet, PacketType, Payload, RawScale, Reply,
-    Status, StoredState, Text, CHUNK_LEN,
+    SelfTestResult, Status, StoredState, Text, CHUNK_LEN,
 };
 use crate::model::blob::{self, BlobError, BLOB_LEN};
 use crate::model::{Corrector, Orientation};
@@ -298,7 +297,6 @@ impl<F: NorFlash> CommandHandler<F> {
         counters: &SharedCounters,
         submit: &mut dyn FnMut(Control) -> bool,
     ) -> Outcome {
-
         match command {
             Command::Identify => Ok(self.info(counters).to_payload()),
             Command::SetMode(mode) => {
@@ -388,12 +386,7 @@ impl<F: NorFlash> CommandHandler<F> {
         Ok(Payload::EMPTY)
     }
 
-    fn commit(
-        &mut self,
-        len: u16,
-        crc: u32,
-        submit: &mut dyn FnMut(Control) -> bool,
-    ) -> Outcome {
+    fn commit(&mut self, len: u16, crc: u32, submit: &mut dyn FnMut(Control) -> bool) -> Outcome {
         let uploaded = core::mem::take(&mut self.upload_len);
         if usize::from(len) != uploaded {
             return Err(fail(

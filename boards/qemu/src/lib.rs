@@ -202,7 +202,10 @@ impl spi::ErrorType for SensorBus {
 }
 
 impl spi::SpiDevice for SensorBus {
-    fn transaction(&mut self, operations: &mut [spi::Operation<'_, u8>]) -> Result<(), Self::Error> {
+    fn transaction(
+        &mut self,
+        operations: &mut [spi::Operation<'_, u8>],
+    ) -> Result<(), Self::Error> {
         self.0.transaction(operations)
     }
 }
@@ -252,7 +255,8 @@ pub fn find_sensor(bus: SensorBus) -> Result<Sensor, DetectError<i2c::ErrorKind>
 /// cell the driver's bus and the self-test's delay share.
 fn emulated_chip() -> &'static RefCell<EmulatedChip> {
     let chip = EmulatedChip::named(EMULATED_CHIP, model_source).unwrap_or_else(|| exit(false));
-    cortex_m::singleton!(: RefCell<EmulatedChip> = RefCell::new(chip)).unwrap_or_else(|| exit(false))
+    cortex_m::singleton!(: RefCell<EmulatedChip> = RefCell::new(chip))
+        .unwrap_or_else(|| exit(false))
 }
 
 /// The scene embedded at build (TRIAD_SCENE, see build.rs), simulated at the

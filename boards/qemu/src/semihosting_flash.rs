@@ -67,7 +67,8 @@ fn command_line(buf: &mut [u8; 256]) -> Option<&str> {
     // SYS_GET_CMDLINE takes a block {buffer, length} and writes the length back.
     let mut block = [buf.as_mut_ptr() as usize, buf.len()];
     // SAFETY: the block points at `buf`, which outlives the call.
-    let failed = unsafe { syscall!(GET_CMDLINE, block.as_mut_ptr()) };
+    let failed =
+        unsafe { cortex_m_semihosting::syscall1(nr::GET_CMDLINE, block.as_mut_ptr() as usize) };
     if failed != 0 {
         return None;
     }
@@ -96,9 +97,7 @@ impl SemihostingFlash {
         let mut zpath = [0u8; 257];
         zpath[..path.len()].copy_from_slice(path.as_bytes());
         // SAFETY: a NUL-terminated path in a live buffer; mode "r+b".
-        let handle = unsafe {
-            syscall!(OPEN, zpath.as_ptr(), nr::open::RW_BINARY, path.len())
-        };
+        let handle = unsafe { syscall!(OPEN, zpath.as_ptr(), nr::open::RW_BINARY, path.len()) };
         if handle == usize::MAX {
             return Err(Unavailable::Open);
         }

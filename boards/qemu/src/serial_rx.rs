@@ -11,7 +11,9 @@ impl<U: Deref<Target = pac::usart1::RegisterBlock>> SerialRx<U> {
     /// Enables the receiver and its interrupt (RXNE, and overrun with it).
     /// Call after the transmitter is set up: it only adds bits to CR1.
     pub fn new(usart: U) -> Self {
-        usart.cr1().modify(|_, w| w.re().set_bit().rxneie().set_bit());
+        usart
+            .cr1()
+            .modify(|_, w| w.re().set_bit().rxneie().set_bit());
         Self(usart)
     }
 }
