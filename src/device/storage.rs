@@ -133,6 +133,11 @@ impl<F: NorFlash> CalibrationStore<F> {
         })
     }
 
+    /// The flash (to inspect it, or arm a fault in a test's flash).
+    pub fn flash_mut(&mut self) -> &mut F {
+        &mut self.flash
+    }
+
     /// Gives the flash back.
     pub fn release(self) -> F {
         self.flash

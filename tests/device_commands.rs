@@ -1,0 +1,685 @@
+//! The device's command handler (`triad::device::CommandHandler`), fed the
+//! bytes a host sends through the same decoder the firmware runs: exactly
+//! one reply for every command, good or malformed; a retry answered without
+//! applying twice; an upload checked as `triad calib check` checks it and
+//! applied whole or not at all; save and erase through the flash store,
+//! with a power cut at every operation of a save.
+
+mod model_support;
+mod ram_flash;
+
+use model_support::*;
+use ram_flash::*;
+use triad::device::startup::load_stored;
+use triad::device::{
+    start_calibration, ActiveCalibration, CalibrationStore, CommandHandler, Control, DeviceFacts,
+    Handled, SharedCounters,
+};
+use triad::link::{
+    CalibrationSource, Command, DeviceInfo, Mode, Payload, Reply, Status, StoredState, CHUNK_LEN,
+};
+use triad::model::blob::{self, BLOB_LEN};
+use triad::model::{Calibration, Corrector, FixedCorrector, Orientation, TemperatureTerms};
+use triad::stream::cobs::stuff;
+use triad::stream::{crc32c, Decoder};
+
+/// The device under test: its handler, what it queued for the sampling
+/// task, and its flash.
+struct Device {
+    handler: CommandHandler<RamFlash>,
+    counters: SharedCounters,
+    decoder: Decoder,
+    controls: Vec<Control>,
+    /// Room in the control queue (the data-ready task empties it).
+    room: usize,
+}
+
+const BUILT_IN_ID: u32 = 0x0B11_7100;
+
+fn facts() -> DeviceFacts {
+    DeviceFacts {
+        firmware: "0.1.0",
+        board: "test-board",
+        chip: "icm42688",
+        bus: "spi",
+        sample_rate_hz: 1000.0,
+        baud: 921_600,
+        scale: widest_scale(),
+        orientation: Orientation::RotationNone,
+    }
+}
+
+fn valid_calibration(seed: u64, id: u32) -> Calibration {
+    let mut cal = random_calibration(&mut rng(seed), &widest_scale());
+    cal.id = id;
+    cal
+}
+
+impl Device {
+    /// A device running a built-in calibration, with a store over `flash`
+    /// (`None`: no storage).
+    fn new(flash: Option<RamFlash>) -> Device {
+        let built_in = blob::encode(&valid_calibration(7, BUILT_IN_ID));
+        let store = flash.map(|f| CalibrationStore::new(f, BASE, SLOT_LEN).unwrap());
+        let stored = if store.is_some() {
+            StoredState::Empty
+        } else {
+            StoredState::NoStorage
+        };
+        let active = ActiveCalibration {
+            blob: Some(built_in),
+            id: BUILT_IN_ID,
+            source: CalibrationSource::BuiltIn,
+        };
+        Device {
+            handler: CommandHandler::new(facts(), active, 1, store, stored),
+            counters: SharedCounters::new(),
+            decoder: Decoder::new(),
+            controls: Vec::new(),
+            room: 2,
+        }
+    }
+
+    /// Feeds wire bytes; returns what the handler did with each packet.
+    fn wire(&mut self, bytes: &[u8]) -> Vec<Handled> {
+        let mut out = Vec::new();
+        for &b in bytes {
+            if let Some(decoded) = self.decoder.push(b) {
+                let controls = &mut self.controls;
+                let room = &mut self.room;
+                let handled = self.handler.on_packet(
+                    &decoded,
+                    self.decoder.last_packet_bytes(),
+                    &self.counters,
+                    &mut |c| {
+                        if *room == 0 {
+                            return false;
+                        }
+                        *room -= 1;
+                        controls.push(c);
+                        true
+                    },
+                );
+                out.push(handled);
+            }
+        }
+        out
+    }
+
+    /// Sends one packet's unstuffed bytes (a leading 0x00 puts the decoder
+    /// in step); the one reply it must get.
+    fn packet(&mut self, bytes: &[u8]) -> Reply {
+        let handled = self.wire(&on_wire(bytes));
+        match handled.as_slice() {
+            [Handled::Reply(reply)] => *reply,
+            other => panic!("one reply expected, got {other:?}"),
+        }
+    }
+
+    fn send(&mut self, command: Command, sequence: u16) -> Reply {
+        let packet = command.to_packet(sequence).unwrap();
+        let reply = self.packet(packet.as_bytes());
+        assert_eq!(reply.sequence, sequence);
+        assert_eq!(reply.command, command.code());
+        reply
+    }
+
+    fn ok(&mut self, command: Command, sequence: u16) -> Payload {
+        let reply = self.send(command, sequence);
+        assert_eq!(
+            reply.status,
+            Status::Ok,
+            "{}: {}",
+            command.name(),
+            reply.reason()
+        );
+        reply.payload
+    }
+
+    fn info(&mut self, sequence: u16) -> DeviceInfo {
+        DeviceInfo::parse(self.ok(Command::Identify, sequence).as_slice()).unwrap()
+    }
+
+    /// Uploads `bytes` in chunks and commits them; the commit's reply.
+    fn upload(&mut self, bytes: &[u8], first_sequence: u16) -> Reply {
+        let mut seq = first_sequence;
+        for (i, chunk) in bytes.chunks(CHUNK_LEN).enumerate() {
+            let data = Payload::new(chunk).unwrap();
+            let offset = (i * CHUNK_LEN) as u16;
+            self.ok(Command::UploadChunk { offset, data }, seq);
+            seq += 1;
+        }
+        self.send(
+            Command::UploadCommit {
+                len: bytes.len() as u16,
+                crc: crc32c(bytes),
+            },
+            seq,
+        )
+    }
+
+    /// Empties the control queue as the data-ready task would.
+    fn take_controls(&mut self) -> Vec<Control> {
+        self.room = 2;
+        std::mem::take(&mut self.controls)
+    }
+
+    /// The store's flash, armed to lose power at its `cut`-th operation.
+    fn cut_power_after(&mut self, cut: usize) {
+        let flash = self.handler.store_mut().expect("a store").flash_mut();
+        flash.cut_after = Some(cut);
+        flash.noise = 0x1234_5678 ^ cut as u32;
+    }
+
+    /// The flash, as a restart finds it.
+    fn release_flash(self) -> RamFlash {
+        let mut flash = self.handler.into_store().expect("a store").release();
+        flash.power_up();
+        flash
+    }
+}
+
+/// `bytes` stuffed, between two delimiters.
+fn on_wire(bytes: &[u8]) -> Vec<u8> {
+    let mut wire = vec![0u8; bytes.len() + bytes.len() / 254 + 2];
+    let n = stuff(bytes, &mut wire).unwrap();
+    wire.truncate(n);
+    let mut out = vec![0];
+    out.extend(wire);
+    out.push(0);
+    out
+}
+
+/// A version-2 packet of `kind` with `body` and a good CRC, built by hand.
+fn sealed(version: u8, kind: u8, body: &[u8]) -> Vec<u8> {
+    let mut bytes = vec![version, kind];
+    bytes.extend_from_slice(body);
+    let crc = crc32c(&bytes);
+    bytes.extend_from_slice(&crc.to_le_bytes());
+    bytes
+}
+
+#[test]
+fn identify_reports_the_facts_the_calibration_and_the_counters() {
+    let mut device = Device::new(Some(RamFlash::new()));
+    let info = device.info(1);
+    assert_eq!(info.protocol, 2);
+    assert_eq!(info.firmware.as_str(), "0.1.0");
+    assert_eq!(info.board.as_str(), "test-board");
+    assert_eq!(info.chip.as_str(), "icm42688");
+    assert_eq!(info.bus.as_str(), "spi");
+    assert_eq!(
+        (info.sample_rate_hz, info.decimation, info.baud),
+        (1000.0, 1, 921_600)
+    );
+    assert_eq!(info.mode, Mode::Calibrated);
+    assert_eq!(info.calibration_id, BUILT_IN_ID);
+    assert_eq!(info.calibration_source, CalibrationSource::BuiltIn);
+    assert_eq!(info.stored, StoredState::Empty);
+    assert_eq!(info.counters.commands, 1, "identify counts itself");
+    assert_eq!(
+        info.scale.accel_si_per_lsb,
+        widest_scale().accel.si_per_lsb as f32
+    );
+    // Counters the tasks publish, and reset by a baseline.
+    device.counters.publish(
+        &triad::device::SamplerTotals {
+            frames_sent: 10,
+            frames_dropped: 2,
+            overruns: 3,
+            read_failures: 1,
+        },
+        1234,
+    );
+    device.counters.rx_overflowed();
+    let info = device.info(2);
+    assert_eq!(
+        (
+            info.counters.frames_sent,
+            info.counters.frames_dropped,
+            info.counters.overruns,
+            info.counters.read_failures,
+            info.counters.rx_overflows,
+            info.counters.commands,
+            info.uptime_ms
+        ),
+        (10, 2, 3, 1, 1, 2, 1234)
+    );
+    device.ok(Command::ResetCounters, 3);
+    let info = device.info(4);
+    assert_eq!(
+        (
+            info.counters.frames_sent,
+            info.counters.rx_overflows,
+            info.counters.commands
+        ),
+        (0, 0, 2)
+    );
+}
+
+#[test]
+fn mode_and_decimation_are_queued_for_the_sampling_task_or_refused_busy() {
+    let mut device = Device::new(None);
+    device.ok(Command::SetMode(Mode::Raw), 1);
+    device.ok(Command::SetDecimation(8), 2);
+    let controls = device.take_controls();
+    assert!(matches!(
+        controls[..],
+        [Control::SetMode(Mode::Raw), Control::SetDecimation(8)]
+    ));
+    let info = device.info(3);
+    assert_eq!((info.mode, info.decimation), (Mode::Raw, 8));
+    // The sampling task has not emptied the queue: busy, and nothing changes.
+    device.room = 0;
+    let reply = device.send(Command::SetMode(Mode::Calibrated), 4);
+    assert_eq!(reply.status, Status::Busy);
+    assert!(device.controls.is_empty());
+    device.room = 2;
+    assert_eq!(device.info(5).mode, Mode::Raw);
+    // Decimation 0 and an undefined mode are bad arguments.
+    let zero = sealed(2, 0x10, &[6, 0, 0x03, 0, 0]);
+    let reply = device.packet(&zero);
+    assert_eq!((reply.sequence, reply.status), (6, Status::BadArgument));
+    assert!(
+        reply.reason().contains("decimation must be at least 1"),
+        "{}",
+        reply.reason()
+    );
+    let reply = device.packet(&sealed(2, 0x10, &[7, 0, 0x02, 9]));
+    assert_eq!(reply.status, Status::BadArgument);
+    assert!(device.controls.is_empty());
+}
+
+#[test]
+fn an_upload_takes_effect_whole_and_reads_back_byte_for_byte() {
+    let mut device = Device::new(None);
+    let cal = valid_calibration(11, 0xCA11_0001);
+    let bytes = blob::encode(&cal);
+    let reply = device.upload(&bytes, 1);
+    assert_eq!(reply.status, Status::Ok, "{}", reply.reason());
+    assert_eq!(reply.payload.as_slice(), 0xCA11_0001u32.to_le_bytes());
+    let controls = device.take_controls();
+    let [Control::Calibrate(corrector)] = &controls[..] else {
+        panic!("one calibration control expected: {controls:?}");
+    };
+    let expected = Corrector::new(&cal, &widest_scale(), Orientation::RotationNone).unwrap();
+    assert_eq!(corrector.calibration(), expected.calibration());
+    let info = device.info(10);
+    assert_eq!(info.calibration_id, 0xCA11_0001);
+    assert_eq!(info.calibration_source, CalibrationSource::Uploaded);
+    // Read back chunk by chunk.
+    let mut read = Vec::new();
+    let mut seq = 11;
+    while read.len() < BLOB_LEN {
+        let payload = device.ok(
+            Command::ReadCalibration {
+                offset: read.len() as u16,
+            },
+            seq,
+        );
+        let p = payload.as_slice();
+        assert_eq!(u16::from_le_bytes([p[0], p[1]]), BLOB_LEN as u16);
+        assert!(p.len() - 2 <= CHUNK_LEN && p.len() > 2);
+        read.extend_from_slice(&p[2..]);
+        seq += 1;
+    }
+    assert_eq!(read, bytes);
+    let reply = device.send(Command::ReadCalibration { offset: 513 }, seq);
+    assert_eq!(reply.status, Status::BadArgument);
+}
+
+/// Calibrations that decode but fail the checks of `triad calib check`, one
+/// per reason a file can give.
+fn invalid_calibrations() -> Vec<(&'static str, Calibration)> {
+    let mut out = Vec::new();
+    let base = || valid_calibration(3, 0xBAD0_0000);
+    let mut c = base();
+    c.accel.scale_misalignment[0][0] = f64::NAN;
+    out.push(("non-finite", c));
+    let mut c = base();
+    c.accel.scale_misalignment = [[0.0; 3]; 3];
+    out.push(("singular", c));
+    let mut c = base();
+    c.gyro.scale_misalignment = [[1.0, 0.0, 0.0], [0.0, 1e-6, 0.0], [0.0, 0.0, 1.0]];
+    out.push(("badly conditioned", c));
+    let mut c = base();
+    c.accel.scale_misalignment = [[1.6, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    out.push(("scale out of range", c));
+    let mut c = base();
+    c.gyro.scale_misalignment = [[1.0, 0.2, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    out.push(("misalignment", c));
+    let mut c = base();
+    c.accel.bias = [1e6, 0.0, 0.0];
+    out.push(("bias beyond full scale", c));
+    let terms = TemperatureTerms {
+        reference_c: 200.0,
+        bias_coefficients: [[0.0; 3]; 3],
+        scale_misalignment_per_c: [[0.0; 3]; 3],
+    };
+    let mut c = base();
+    c.gyro.temperature = Some(terms);
+    out.push(("reference temperature", c));
+    let mut c = base();
+    let mut t = terms;
+    t.reference_c = 25.0;
+    t.scale_misalignment_per_c[1][0] = 0.05;
+    c.gyro.temperature = Some(t);
+    out.push(("absurd temperature term", c));
+    out
+}
+
+#[test]
+fn an_invalid_upload_is_refused_with_calib_checks_reason_and_changes_nothing() {
+    let mut device = Device::new(None);
+    let mut seq = 1;
+    for (what, cal) in invalid_calibrations() {
+        let expected = Corrector::new(&cal, &widest_scale(), Orientation::RotationNone)
+            .and_then(|c| FixedCorrector::new(&c).map(|_| ()))
+            .expect_err(what);
+        let reply = device.upload(&blob::encode(&cal), seq);
+        seq += 10;
+        assert_eq!(
+            reply.status,
+            Status::InvalidCalibration,
+            "{what}: {}",
+            reply.reason()
+        );
+        assert_eq!(reply.reason(), expected.to_string(), "{what}");
+        assert!(device.take_controls().is_empty(), "{what}: nothing applied");
+        let info = device.info(seq);
+        seq += 1;
+        assert_eq!(
+            (info.calibration_id, info.calibration_source),
+            (BUILT_IN_ID, CalibrationSource::BuiltIn),
+            "{what}"
+        );
+    }
+}
+
+#[test]
+fn an_upload_with_bad_bytes_is_refused_with_the_status_that_names_why() {
+    let mut device = Device::new(None);
+    let good = blob::encode(&valid_calibration(5, 5));
+    // The commit's CRC does not match what arrived.
+    for (i, chunk) in good.chunks(CHUNK_LEN).enumerate() {
+        let data = Payload::new(chunk).unwrap();
+        device.ok(
+            Command::UploadChunk {
+                offset: (i * CHUNK_LEN) as u16,
+                data,
+            },
+            i as u16 + 1,
+        );
+    }
+    let reply = device.send(
+        Command::UploadCommit {
+            len: BLOB_LEN as u16,
+            crc: 1,
+        },
+        9,
+    );
+    assert_eq!(reply.status, Status::BadCrc);
+    // The blob's own CRC fails.
+    let mut corrupt = good;
+    corrupt[100] ^= 1;
+    assert_eq!(device.upload(&corrupt, 20).status, Status::BadCrc);
+    // A blob version the device does not read (CRC recomputed).
+    let mut future = good;
+    future[4] = 99;
+    let crc = crc32c(&future[..BLOB_LEN - 4]);
+    future[BLOB_LEN - 4..].copy_from_slice(&crc.to_le_bytes());
+    let reply = device.upload(&future, 30);
+    assert_eq!(reply.status, Status::WrongVersion, "{}", reply.reason());
+    // Not a blob at all (wrong length).
+    let reply = device.upload(&good[..100], 40);
+    assert_eq!(
+        reply.status,
+        Status::InvalidCalibration,
+        "{}",
+        reply.reason()
+    );
+    // The commit's length is not what was uploaded.
+    let data = Payload::new(&good[..CHUNK_LEN]).unwrap();
+    device.ok(Command::UploadChunk { offset: 0, data }, 50);
+    let reply = device.send(Command::UploadCommit { len: 512, crc: 0 }, 51);
+    assert_eq!(reply.status, Status::BadArgument);
+    assert!(
+        reply.reason().contains("512") && reply.reason().contains("128"),
+        "{}",
+        reply.reason()
+    );
+    // Chunks out of order, and past the blob's end.
+    let data = Payload::new(&good[..CHUNK_LEN]).unwrap();
+    device.ok(Command::UploadChunk { offset: 0, data }, 60);
+    let reply = device.send(Command::UploadChunk { offset: 256, data }, 61);
+    assert_eq!(reply.status, Status::BadArgument);
+    assert!(
+        reply.reason().contains("expected 128"),
+        "{}",
+        reply.reason()
+    );
+    for (i, seq) in (1..4).zip(62..) {
+        let data = Payload::new(&good[i * CHUNK_LEN..(i + 1) * CHUNK_LEN]).unwrap();
+        device.ok(
+            Command::UploadChunk {
+                offset: (i * CHUNK_LEN) as u16,
+                data,
+            },
+            seq,
+        );
+    }
+    let reply = device.send(Command::UploadChunk { offset: 512, data }, 70);
+    assert_eq!(reply.status, Status::BadArgument);
+    assert!(
+        reply.reason().contains("past the 512-byte blob"),
+        "{}",
+        reply.reason()
+    );
+    assert!(device.take_controls().is_empty());
+    assert_eq!(device.info(80).calibration_id, BUILT_IN_ID);
+}
+
+#[test]
+fn every_malformed_packet_gets_one_reply_naming_its_sequence_number() {
+    let mut device = Device::new(None);
+    let identify = Command::Identify.to_packet(0x1234).unwrap();
+    let good = identify.as_bytes().to_vec();
+
+    // Bad CRC.
+    let mut bad = good.clone();
+    bad[5] ^= 0x01; // inside the CRC
+    let reply = device.packet(&bad);
+    assert_eq!(
+        (reply.sequence, reply.command, reply.status),
+        (0x1234, 0x01, Status::BadCrc)
+    );
+    // Truncated: the CRC no longer closes it.
+    let reply = device.packet(&good[..good.len() - 2]);
+    assert_eq!(reply.sequence, 0x1234);
+    assert!(
+        matches!(reply.status, Status::BadCrc | Status::Malformed),
+        "{:?}",
+        reply.status
+    );
+    // Too short to be a command at all.
+    let reply = device.packet(&sealed(2, 0x10, &[0x34]));
+    assert_eq!(reply.status, Status::Malformed);
+    // Unknown packet type, good CRC.
+    let reply = device.packet(&sealed(2, 0x55, &[0x34, 0x12, 0x01]));
+    assert_eq!(
+        (reply.sequence, reply.status),
+        (0x1234, Status::UnknownCommand)
+    );
+    // Wrong version, good CRC.
+    let reply = device.packet(&sealed(3, 0x10, &[0x34, 0x12, 0x01]));
+    assert_eq!(
+        (reply.sequence, reply.status),
+        (0x1234, Status::WrongVersion)
+    );
+    assert!(reply.reason().contains("version 3"), "{}", reply.reason());
+    // Unknown command code.
+    let reply = device.packet(&sealed(2, 0x10, &[0x35, 0x12, 0x7F]));
+    assert_eq!(
+        (reply.sequence, reply.command, reply.status),
+        (0x1235, 0x7F, Status::UnknownCommand)
+    );
+    // Arguments of the wrong length.
+    let reply = device.packet(&sealed(2, 0x10, &[0x36, 0x12, 0x01, 0xAA]));
+    assert_eq!((reply.sequence, reply.status), (0x1236, Status::Malformed));
+    assert!(
+        reply.reason().contains("takes 0 argument bytes, got 1"),
+        "{}",
+        reply.reason()
+    );
+    // Oversize: longer than any packet; still one reply.
+    let mut huge = vec![2, 0x10, 0x37, 0x12, 0x04];
+    huge.resize(400, 0xAB);
+    let reply = device.packet(&huge);
+    assert_eq!((reply.sequence, reply.status), (0x1237, Status::Malformed));
+    assert!(reply.reason().contains("400 bytes"), "{}", reply.reason());
+    // A device ignores what devices send (a looped-back line): no reply.
+    let data = triad::link::RawFrame::default().to_packet().unwrap();
+    assert_eq!(
+        device.wire(&on_wire(data.as_bytes())),
+        vec![Handled::Nothing]
+    );
+    // Nothing of the above was applied; every error was counted.
+    assert!(device.controls.is_empty());
+    let info = device.info(1);
+    assert_eq!(info.counters.command_errors, 8);
+    assert_eq!(info.counters.commands, 9);
+}
+
+#[test]
+fn a_retry_gets_the_same_reply_and_is_not_applied_twice() {
+    let mut device = Device::new(Some(RamFlash::new()));
+    let cal = blob::encode(&valid_calibration(21, 21));
+    let reply = device.upload(&cal, 100);
+    assert_eq!(reply.status, Status::Ok);
+    let commit = Command::UploadCommit {
+        len: BLOB_LEN as u16,
+        crc: crc32c(&cal),
+    }
+    .to_packet(104)
+    .unwrap();
+    // The reply was lost; the host sends the commit again, same number.
+    assert_eq!(device.packet(commit.as_bytes()), reply);
+    assert_eq!(device.take_controls().len(), 1, "applied once");
+    // The same for a save: one generation, not two.
+    let save = Command::Save.to_packet(105).unwrap();
+    let first = device.packet(save.as_bytes());
+    assert_eq!(first.status, Status::Ok);
+    assert_eq!(device.packet(save.as_bytes()), first);
+    assert_eq!(first.payload.as_slice()[..4], 1u32.to_le_bytes());
+    let again = device.ok(Command::Save, 106);
+    assert_eq!(
+        again.as_slice()[..4],
+        2u32.to_le_bytes(),
+        "a new number is a new save"
+    );
+    // The same number with other bytes is a new command, and applied.
+    let reply = device.send(Command::SetDecimation(4), 106);
+    assert_eq!(reply.status, Status::Ok);
+    assert_eq!(device.take_controls().len(), 1);
+}
+
+#[test]
+fn save_and_erase_go_through_the_store_and_are_refused_without_one() {
+    let mut device = Device::new(Some(RamFlash::new()));
+    device.ok(Command::Save, 1);
+    let info = device.info(2);
+    assert_eq!(
+        (info.stored, info.calibration_source),
+        (StoredState::Valid, CalibrationSource::Stored)
+    );
+    device.ok(Command::Erase, 3);
+    assert_eq!(device.info(4).stored, StoredState::Empty);
+
+    let mut none = Device::new(None);
+    let reply = none.send(Command::Save, 1);
+    assert_eq!(reply.status, Status::NotSupported);
+    assert_eq!(none.send(Command::Erase, 2).status, Status::NotSupported);
+
+    // A failing flash is a storage failure; the active calibration stays.
+    let mut flash = RamFlash::new();
+    flash.cut_after = Some(0);
+    let mut broken = Device::new(Some(flash));
+    let reply = broken.send(Command::Save, 1);
+    assert_eq!(reply.status, Status::StorageFailure, "{}", reply.reason());
+    assert_eq!(
+        broken.info(2).calibration_source,
+        CalibrationSource::BuiltIn
+    );
+}
+
+#[test]
+fn a_power_cut_at_every_operation_of_a_save_starts_the_old_or_the_new_calibration() {
+    let old = valid_calibration(31, 0x0000_0A1D);
+    let new = valid_calibration(32, 0x0000_0AE7);
+    let built_in = blob::encode(&valid_calibration(7, BUILT_IN_ID));
+    for cut in 0..200 {
+        // A device with `old` saved, then `new` uploaded and saved with the
+        // power cut at operation `cut` of that save.
+        let mut device = Device::new(Some(RamFlash::new()));
+        assert_eq!(device.upload(&blob::encode(&old), 1).status, Status::Ok);
+        device.ok(Command::Save, 10);
+        assert_eq!(device.upload(&blob::encode(&new), 20).status, Status::Ok);
+        device.cut_power_after(cut);
+        let reply = device.send(Command::Save, 30);
+        let completed = reply.status == Status::Ok;
+        // Restart: load, then choose as the firmware does.
+        let flash = device.release_flash();
+        let mut store = CalibrationStore::new(flash, BASE, SLOT_LEN).unwrap();
+        let (stored, state) = load_stored(&mut store);
+        let startup = start_calibration(
+            stored.as_ref().map(|b| &b[..]),
+            &built_in,
+            &widest_scale(),
+            Orientation::RotationNone,
+        )
+        .unwrap();
+        assert_eq!(
+            startup.source,
+            CalibrationSource::Stored,
+            "cut {cut}: {state:?}"
+        );
+        assert!(startup.stored_rejected.is_none(), "cut {cut}");
+        let id = startup.corrector.calibration_id();
+        assert!(id == old.id || id == new.id, "cut {cut}: id {id:#x}");
+        if completed {
+            assert_eq!(id, new.id, "cut {cut}: a completed save is the new one");
+            // Past the last operation: every cut point was tried, before
+            // the save's first operation and inside each of its 133 (one
+            // erase, 128 + 4 writes of 4 bytes).
+            assert_eq!(cut, 1 + 1 + (BLOB_LEN + 16) / WRITE_SIZE);
+            return;
+        }
+        // Until the header's last unit is written, the old one stands.
+        assert_eq!(id, old.id, "cut {cut}");
+        assert_eq!(reply.status, Status::StorageFailure, "cut {cut}");
+    }
+    panic!("a save took more than 200 operations");
+}
+
+#[test]
+fn a_self_test_is_handed_to_the_firmware_and_its_outcome_replied() {
+    let mut device = Device::new(None);
+    let packet = Command::SelfTest.to_packet(9).unwrap();
+    let handled = device.wire(&on_wire(packet.as_bytes()));
+    assert_eq!(handled, vec![Handled::SelfTest { sequence: 9 }]);
+    let error: Result<triad::sensor::SelfTestReport, _> = Err(triad::sensor::SelfTestError {
+        error: triad::sensor::Error::<()>::NoNewData { status: 0 },
+        chip: triad::sensor::ChipLeft::AsConfigured,
+    });
+    let reply = device.handler.self_test_reply(9, &error);
+    assert_eq!(
+        (reply.sequence, reply.command, reply.status),
+        (9, 0x0A, Status::SensorError)
+    );
+    assert!(
+        reply.reason().contains("configured as before"),
+        "{}",
+        reply.reason()
+    );
+    assert_eq!(device.info(10).counters.commands, 2);
+}
