@@ -8,8 +8,10 @@
 //! folder's README.md): SPI1 SCK PA5 (D13), MISO PA6 (D12), MOSI PA7 (D11),
 //! chip select PB6 (D10); or I²C1 SCL PB8 (D15), SDA PB9 (D14), with PB6
 //! holding the chip's CS high; the IMU's INT1 → PB0 (A3) on EXTI0, rising
-//! edge; the stream on USART2 TX PA2 (RX PA3 configured, unused), the
-//! ST-LINK's virtual COM port; timestamps from TIM5 (32-bit) at 1 MHz.
+//! edge; the link on USART2, the ST-LINK's virtual COM port: the stream
+//! out on TX PA2 (blocking), the commands in on RX PA3 by DMA (DMA1 stream 5
+//! into a ring, woken by the IDLE-line interrupt); timestamps from TIM5
+//! (32-bit) at 1 MHz; the calibration in flash sectors 6 and 7.
 //!
 //! Nothing here has run on silicon yet (see README.md).
 
@@ -18,7 +20,14 @@
 use defmt_rtt as _;
 pub use stm32f4xx_hal::pac;
 
+mod dma_ring;
+mod flash;
+mod serial_rx;
+pub use flash::{Flash, FlashError, StorageUnavailable, STORAGE_SLOTS};
+pub use serial_rx::SerialRx;
+
 use embedded_hal_nb::serial::Write as _;
+use stm32f4xx_hal::dma::StreamsTuple;
 use stm32f4xx_hal::gpio::{self, Edge, ExtiPin as _, GpioExt as _, Input, PinState};
 use stm32f4xx_hal::rcc::{self, Rcc, RccExt as _};
 use stm32f4xx_hal::serial::{self, SerialExt as _};
@@ -61,8 +70,12 @@ pub struct Board {
     pub clock: MicrosecondClock,
     /// The stream's transmitter (USART2).
     pub serial: Serial,
+    /// The commands' receiver (USART2 by DMA; interrupt USART2).
+    pub serial_rx: SerialRx,
     /// The IMU's bus, SPI1 or I²C1, for [`find_sensor`].
     pub sensor_bus: SensorBus,
+    /// The calibration flash (sectors 6 and 7): always there on this board.
+    pub flash: Result<Flash, StorageUnavailable>,
 }
 
 /// Brings up clocks and peripherals.
@@ -82,11 +95,15 @@ pub fn init(dp: pac::Peripherals) -> Board {
         let _cs = cs;
         i2c_bus(dp.I2C1, (gpiob.pb8, gpiob.pb9), &mut rcc)
     };
+    let (tx, rx) = usart2(dp.USART2, gpioa.pa2, gpioa.pa3, &mut rcc);
+    let dma1 = StreamsTuple::new(dp.DMA1, &mut rcc);
     Board {
         sample_line: SampleLine::new(gpiob.pb0, &mut syscfg, &mut exti),
         clock: MicrosecondClock::new(dp.TIM5, &mut rcc),
-        serial: Serial::new(dp.USART2, gpioa.pa2, gpioa.pa3, &mut rcc),
+        serial: Serial(tx),
+        serial_rx: SerialRx::new(rx, dma1.5),
         sensor_bus,
+        flash: Ok(Flash::new(dp.FLASH)),
     }
 }
 
@@ -290,25 +307,31 @@ impl triad::device::board::MicrosecondClock for MicrosecondClock {
     }
 }
 
-/// The stream's link: USART2 8N1 at `DESCRIPTION.baud`, TX on PA2 (AF7) to
-/// the ST-LINK's virtual COM port; RX on PA3 is configured and unused.
-pub struct Serial(serial::Serial<pac::USART2>);
-
-impl Serial {
-    /// 921600 baud from 42 MHz: the HAL writes BRR = 46 (16× oversampling,
-    /// 2 + 14/16), 913 kbaud, −0.9 %.
-    fn new(usart: pac::USART2, tx: gpio::PA2, rx: gpio::PA3, rcc: &mut Rcc) -> Self {
-        let config = serial::Config::default().baudrate(Bps(DESCRIPTION.baud));
-        match usart.serial((tx, rx), config, rcc) {
-            Ok(serial) => Self(serial),
-            // Only a baud rate above PCLK1 / 8 is refused.
-            Err(serial::config::InvalidConfig) => {
-                defmt::error!("USART2 cannot run at {} baud", DESCRIPTION.baud);
-                exit(false)
-            }
+/// USART2 8N1 at `DESCRIPTION.baud`, TX on PA2 and RX on PA3 (AF7), both to
+/// the ST-LINK's virtual COM port, the receiver's requests going to the DMA
+/// (CR3's DMAR). 921600 baud from 42 MHz: the HAL writes BRR = 46 (16×
+/// oversampling, 2 + 14/16), 913 kbaud, −0.9 %.
+fn usart2(
+    usart: pac::USART2,
+    tx: gpio::PA2,
+    rx: gpio::PA3,
+    rcc: &mut Rcc,
+) -> (serial::Tx<pac::USART2>, serial::Rx<pac::USART2>) {
+    let config = serial::Config::default()
+        .baudrate(Bps(DESCRIPTION.baud))
+        .dma(serial::config::DmaConfig::Rx);
+    match usart.serial((tx, rx), config, rcc) {
+        Ok(serial) => serial.split(),
+        // Only a baud rate above PCLK1 / 8 is refused.
+        Err(serial::config::InvalidConfig) => {
+            defmt::error!("USART2 cannot run at {} baud", DESCRIPTION.baud);
+            exit(false)
         }
     }
 }
+
+/// The stream's link: USART2's transmitter (PA2), blocking.
+pub struct Serial(serial::Tx<pac::USART2>);
 
 impl LinkTx for Serial {
     fn write_all(&mut self, bytes: &[u8]) {
