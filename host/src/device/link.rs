@@ -241,9 +241,9 @@ impl<P: Read + Write> Link<P> {
         let mut wire = [0u8; MAX_WIRE_LEN];
         let n = packet.to_wire(&mut wire);
         let mut bytes = Vec::with_capacity(n + 1);
-        // One delimiter first, once: whatever the device's decoder holds
-        // (noise, a command cut by an earlier program) ends there, so the
-        // command is read from its first byte.
+        // A delimiter before the first command (and its retries): whatever
+        // the device's decoder holds (noise, a command cut by an earlier
+        // program) ends there, so the command is read from its first byte.
         if !self.in_step {
             bytes.push(DELIMITER);
         }
