@@ -1,10 +1,21 @@
 //! The triad firmware: an RTIC 2 application that is wiring only. Every
 //! decision lives in the core (`triad::device`: which calibration starts, the
-//! data-ready step), where host tests call it; the board crate (chosen by a
-//! cargo feature) owns the peripherals and the sensor's bus (SPI, or I²C with
-//! the `bus-i2c` feature). The chip is found on that bus by its identity
-//! (`triad::sensor::AnyChip`), so nothing here names a chip and one build
-//! serves every chip triad drives.
+//! data-ready step, the command handler), where host tests call it; the board
+//! crate (chosen by a cargo feature) owns the peripherals, the sensor's bus
+//! (SPI, or I²C with the `bus-i2c` feature) and the calibration flash. The
+//! chip is found on that bus by its identity (`triad::sensor::AnyChip`), so
+//! nothing here names a chip and one build serves every chip triad drives.
+//!
+//! Tasks, highest priority first:
+//! - `link_rx` (USART2's interrupt, priority 3): moves received bytes into
+//!   a queue; never waits.
+//! - `data_ready` (EXTI0, priority 2): applies the command handler's pending
+//!   changes, then reads, corrects, averages and frames one sample; queues
+//!   the frame (dropping and counting it when the queue is full).
+//! - `link` (EXTI1, priority 1): decodes received commands and answers each
+//!   through the core's `CommandHandler`, and sends queued frames. It runs
+//!   below `data_ready`, which preempts it: the sampling task never waits on
+//!   a command, a save or the transmitter.
 #![no_std]
 #![no_main]
 
@@ -12,6 +23,8 @@
 use triad_board_nucleo_f401re as board;
 #[cfg(feature = "board-qemu")]
 use triad_board_qemu as board;
+
+use triad::device::SharedCounters;
 
 /// The calibration chosen at build time (`TRIAD_CALIBRATION`, see build.rs).
 static CALIBRATION_BLOB: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/calibration.bin"));
@@ -24,15 +37,42 @@ static TRIAD_LINK_BAUD: u32 = board::DESCRIPTION.baud;
 
 /// Frames waiting for the link; when full, new frames are dropped and counted.
 const QUEUE_LEN: usize = 32;
+/// Received bytes waiting for the command decoder: two longest packets.
+const RX_QUEUE_LEN: usize = 512;
 
-#[rtic::app(device = crate::board::pac, dispatchers = [EXTI3, EXTI4])]
+/// The sensor bus's name, as `identify` reports it.
+#[cfg(feature = "bus-i2c")]
+const BUS: &str = "i2c";
+/// The sensor bus's name, as `identify` reports it.
+#[cfg(not(feature = "bus-i2c"))]
+const BUS: &str = "spi";
+
+/// The device's counters, written by the tasks that count and read by the
+/// command handler.
+static COUNTERS: SharedCounters = SharedCounters::new();
+
+mod start;
+
+#[rtic::app(device = crate::board::pac, dispatchers = [EXTI3])]
 mod app {
-    use crate::{board, CALIBRATION_BLOB, QUEUE_LEN};
+    use crate::{board, COUNTERS, QUEUE_LEN, RX_QUEUE_LEN};
     use heapless::spsc::{Consumer, Producer, Queue};
-    use triad::device::board::LinkTx;
-    use triad::device::{on_data_ready, start_calibration, Outgoing, Sampler, Stepped};
+    use triad::device::board::{LinkRx, LinkTx};
+    use triad::device::{
+        on_data_ready, CommandHandler, Control, Handled, Outgoing, Sampler, Stepped,
+    };
     use triad::link::MAX_WIRE_LEN;
-    use triad::sensor::Imu;
+    use triad::sensor::{SelfTestError, SelfTestReport};
+    use triad::stream::Decoder;
+
+    /// A self-test's outcome, with the sequence number of its command.
+    type SelfTestDone = (
+        u16,
+        Result<SelfTestReport, SelfTestError<board::SensorBusError>>,
+    );
+
+    /// The interrupt that runs the `link` task.
+    const LINK_TASK: board::pac::Interrupt = board::pac::Interrupt::EXTI1;
 
     #[shared]
     struct Shared {}
@@ -42,76 +82,61 @@ mod app {
         sample_line: board::SampleLine,
         clock: board::MicrosecondClock,
         serial: board::Serial,
+        serial_rx: board::SerialRx,
         sensor: board::Sensor,
         sampler: Sampler,
         frames_in: Producer<'static, Outgoing>,
         frames_out: Consumer<'static, Outgoing>,
+        rx_in: Producer<'static, u8>,
+        rx_out: Consumer<'static, u8>,
+        controls_in: Producer<'static, Control>,
+        controls_out: Consumer<'static, Control>,
+        handler: CommandHandler<board::Flash>,
+        decoder: Decoder,
+        self_test_delay: board::SelfTestDelay,
+        self_tests_in: Producer<'static, u16>,
+        self_tests_out: Consumer<'static, u16>,
+        self_tests_done_in: Producer<'static, SelfTestDone>,
+        self_tests_done_out: Consumer<'static, SelfTestDone>,
     }
 
-    #[init(local = [queue: Queue<Outgoing, QUEUE_LEN> = Queue::new()])]
+    #[init(local = [
+        frames: Queue<Outgoing, QUEUE_LEN> = Queue::new(),
+        rx: Queue<u8, RX_QUEUE_LEN> = Queue::new(),
+        controls: Queue<Control, 2> = Queue::new(),
+        self_tests: Queue<u16, 2> = Queue::new(),
+        self_tests_done: Queue<SelfTestDone, 2> = Queue::new(),
+    ])]
     fn init(cx: init::Context) -> (Shared, Local) {
         let b = board::init(cx.device);
-        let mut sensor = match board::find_sensor(b.sensor_bus) {
-            Ok(sensor) => sensor,
-            Err(error) => {
-                defmt::error!("no known IMU on the bus: {}", defmt::Debug2Format(&error));
-                board::exit(false)
-            }
-        };
-        if let Err(error) = sensor.start(&mut board::Delay) {
-            defmt::error!(
-                "{} initialisation failed: {}",
-                sensor.name(),
-                defmt::Debug2Format(&error)
-            );
-            board::exit(false);
-        }
-        let rate_hz = sensor.sample_rate_hz();
-        let description = board::DESCRIPTION;
-        defmt::info!(
-            "triad firmware: {} at {} Hz, decimation {}",
-            sensor.name(),
-            rate_hz as u32,
-            description.decimation
-        );
-        let startup = match start_calibration(
-            None,
-            CALIBRATION_BLOB,
-            &sensor.scale(),
-            description.orientation,
-        ) {
-            Ok(startup) => startup,
-            Err(error) => {
-                defmt::error!("the chip's scale is invalid: {}; stopping", error);
-                board::exit(false)
-            }
-        };
-        if let Some(rejection) = startup.rejected {
-            defmt::error!("built-in calibration rejected: {}", rejection);
-        }
-        defmt::info!(
-            "calibration {=u32:#010x} ({})",
-            startup.corrector.calibration_id(),
-            startup.source
-        );
-        let calibrated = startup.calibrated();
-        let sampler = Sampler::at_rate(
-            startup.corrector,
-            calibrated,
-            description.decimation,
-            rate_hz,
-        );
-        let (frames_in, frames_out) = cx.local.queue.split();
+        let started = crate::start::start(b.sensor_bus, b.flash);
+        let (frames_in, frames_out) = cx.local.frames.split();
+        let (rx_in, rx_out) = cx.local.rx.split();
+        let (controls_in, controls_out) = cx.local.controls.split();
+        let (self_tests_in, self_tests_out) = cx.local.self_tests.split();
+        let (self_tests_done_in, self_tests_done_out) = cx.local.self_tests_done.split();
         (
             Shared {},
             Local {
                 sample_line: b.sample_line,
                 clock: b.clock,
                 serial: b.serial,
-                sensor,
-                sampler,
+                serial_rx: b.serial_rx,
+                sensor: started.sensor,
+                sampler: started.sampler,
                 frames_in,
                 frames_out,
+                rx_in,
+                rx_out,
+                controls_in,
+                controls_out,
+                handler: started.handler,
+                decoder: Decoder::new(),
+                self_test_delay: b.self_test_delay,
+                self_tests_in,
+                self_tests_out,
+                self_tests_done_in,
+                self_tests_done_out,
             },
         )
     }
@@ -125,9 +150,31 @@ mod app {
 
     /// The data-ready step: the IMU's data-ready line is EXTI0 on every board
     /// (on the emulated board a timer pends it).
-    #[task(binds = EXTI0, priority = 2, local = [sample_line, clock, sensor, sampler, frames_in])]
+    #[task(binds = EXTI0, priority = 2, local = [sample_line, clock, sensor, sampler, frames_in, controls_out, self_test_delay, self_tests_out, self_tests_done_in])]
     fn data_ready(cx: data_ready::Context) {
         let l = cx.local;
+        // The handler's changes take effect here, between two samples.
+        while let Some(control) = l.controls_out.dequeue() {
+            l.sampler.apply(control);
+        }
+        // A self-test runs here, in place of sampling: the steps it takes
+        // are counted lost (OVERRUN) in the next frame.
+        if let Some(sequence) = l.self_tests_out.dequeue() {
+            let result = l.sensor.self_test(l.self_test_delay);
+            if let Err(SelfTestError {
+                chip: triad::sensor::ChipLeft::NeedsInit,
+                ..
+            }) = result
+            {
+                if l.sensor.start(&mut board::Delay).is_err() {
+                    defmt::error!("the chip did not restart after its self-test");
+                }
+            }
+            // The link task takes one self-test at a time: there is room.
+            let _ = l.self_tests_done_in.enqueue((sequence, result));
+            cortex_m::peripheral::NVIC::pend(LINK_TASK);
+            return;
+        }
         let frames_in = l.frames_in;
         let stepped = on_data_ready(
             l.sample_line,
@@ -137,11 +184,9 @@ mod app {
             board::data_ready,
             |frame| frames_in.enqueue(frame),
         );
+        COUNTERS.publish(l.sampler.totals(), l.sampler.uptime_ms());
         match stepped {
-            // Already running: it drains the queue, including this frame.
-            Stepped::Queued => {
-                let _ = send::spawn();
-            }
+            Stepped::Queued => cortex_m::peripheral::NVIC::pend(LINK_TASK),
             Stepped::Dropped | Stepped::Averaging => {}
             Stepped::ReadFailed(error) => {
                 defmt::warn!("sensor read failed: {}", defmt::Debug2Format(&error))
@@ -149,12 +194,69 @@ mod app {
         }
     }
 
-    /// Sends queued frames; runs below the sampling task, which preempts it.
-    #[task(priority = 1, local = [serial, frames_out, buffer: [u8; MAX_WIRE_LEN] = [0; MAX_WIRE_LEN]])]
-    async fn send(cx: send::Context) {
-        while let Some(frame) = cx.local.frames_out.dequeue() {
-            let len = frame.to_wire(cx.local.buffer);
-            cx.local.serial.write_all(&cx.local.buffer[..len]);
+    /// The link's receiver: USART2 on both boards (the NUCLEO's ST-LINK
+    /// virtual COM port; QEMU's second serial port).
+    #[task(binds = USART2, priority = 3, local = [serial_rx, rx_in])]
+    fn link_rx(cx: link_rx::Context) {
+        let (serial_rx, rx_in) = (cx.local.serial_rx, cx.local.rx_in);
+        while let Some(byte) = serial_rx.read() {
+            match byte {
+                Ok(byte) if rx_in.enqueue(byte).is_ok() => {}
+                _ => COUNTERS.rx_overflowed(),
+            }
+        }
+        cortex_m::peripheral::NVIC::pend(LINK_TASK);
+    }
+
+    /// Answers commands and sends frames, below the sampling task. Each
+    /// pass handles every byte received, then sends one frame, so neither
+    /// starves the other.
+    #[task(binds = EXTI1, priority = 1, local = [serial, frames_out, rx_out, handler, decoder, controls_in, self_tests_in, self_tests_done_out, self_test_running: bool = false, buffer: [u8; MAX_WIRE_LEN] = [0; MAX_WIRE_LEN]])]
+    fn link(cx: link::Context) {
+        let l = cx.local;
+        loop {
+            if let Some((sequence, result)) = l.self_tests_done_out.dequeue() {
+                *l.self_test_running = false;
+                let reply = l.handler.self_test_reply(sequence, &result);
+                if let Ok(packet) = reply.to_packet() {
+                    let n = packet.to_wire(l.buffer);
+                    l.serial.write_all(&l.buffer[..n]);
+                }
+            }
+            // While a self-test runs, commands wait in the queue: the host
+            // waits for its reply anyway.
+            while !*l.self_test_running {
+                let Some(byte) = l.rx_out.dequeue() else {
+                    break;
+                };
+                let Some(decoded) = l.decoder.push(byte) else {
+                    continue;
+                };
+                let controls_in = &mut *l.controls_in;
+                let handled = l.handler.on_packet(
+                    &decoded,
+                    l.decoder.last_packet_bytes(),
+                    &COUNTERS,
+                    &mut |control| controls_in.enqueue(control).is_ok(),
+                );
+                match handled {
+                    Handled::Reply(reply) => {
+                        if let Ok(packet) = reply.to_packet() {
+                            let n = packet.to_wire(l.buffer);
+                            l.serial.write_all(&l.buffer[..n]);
+                        }
+                    }
+                    Handled::SelfTest { sequence } => {
+                        *l.self_test_running = l.self_tests_in.enqueue(sequence).is_ok();
+                    }
+                    Handled::Nothing => {}
+                }
+            }
+            let Some(frame) = l.frames_out.dequeue() else {
+                break;
+            };
+            let n = frame.to_wire(l.buffer);
+            l.serial.write_all(&l.buffer[..n]);
         }
     }
 }

@@ -1,6 +1,9 @@
 //! Faults a chip model can be told to show, to test that drivers and
 //! firmware notice each one and recover where recovery is possible.
 
+use triad::model::Triad;
+use triad::sensor::Axis;
+
 /// A fault injected into a chip model.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Fault {
@@ -19,5 +22,14 @@ pub enum Fault {
     FifoOverflow {
         /// Samples lost beyond a full FIFO.
         lost: u16,
+    },
+    /// One axis's self-test excitation moves nothing (a broken actuator or a
+    /// stuck proof mass): self-test on, that axis's output does not change
+    /// (until cleared). Normal measurement is unaffected.
+    DeadSelfTest {
+        /// The accelerometer or the gyroscope.
+        triad: Triad,
+        /// The axis.
+        axis: Axis,
     },
 }

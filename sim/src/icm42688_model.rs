@@ -6,8 +6,10 @@
 //! full-scale ranges and output data rates (GYRO_CONFIG0, ACCEL_CONFIG0)
 //! changing sensitivity, saturation and sample timing, temperature output,
 //! INT_STATUS with clear-on-read, the FIFO (packet 3, 16 bytes; bypass,
-//! stream and stop-on-full modes; watermark; lost-packet count; flush), and
-//! injected faults. Not modelled: banks 1–4 (read as 0, writes ignored),
+//! stream and stop-on-full modes; watermark; lost-packet count; flush), the
+//! self-test (SELF_TEST_CONFIG adds the unit's [`SelfTestResponse`] to the
+//! enabled axes at once; the factory codes read in banks 1 and 2), and
+//! injected faults. Not modelled: the rest of banks 1–4 (read as 0, writes ignored),
 //! filters and their group delay, noise (that is the source's business),
 //! packets other than 3, the 20-bit mode, timestamps beyond a µs counter.
 //!
@@ -18,8 +20,11 @@ use embedded_hal::i2c::{self, I2c};
 use embedded_hal::spi::{self, SpiDevice};
 
 use super::fault::Fault;
+use super::icm42688_factory_trim::FactoryTrim;
+use super::model_clock::Clocked;
 use super::packet_fifo::PacketFifo;
 use super::register_bus::{quantise, BusPort, RegisterFile};
+use super::self_test_response::{DeadAxes, SelfTestResponse};
 use super::source::{SampleSource, TrueSample};
 use crate::icm42688_registers as reg;
 use triad::units::{rad_to_deg, STANDARD_GRAVITY};
@@ -58,7 +63,14 @@ struct Chip<S> {
     clipped: bool,
     who_am_i_override: Option<u8>,
     stuck: bool,
+    self_test: SelfTestResponse,
+    factory_trim: FactoryTrim,
+    dead_self_test: DeadAxes,
 }
+
+/// The default unit's self-test response relative to its factory trim: 4 %
+/// stronger than at the factory (well inside the 0.5–1.5 ratio window).
+const UNIT_SELF_TEST_DRIFT: f64 = 1.04;
 
 /// A simulated ICM-42688-P on a bus, fed by `S`.
 pub struct Icm42688Model<S> {
@@ -129,12 +141,29 @@ impl<S: SampleSource> Icm42688Model<S> {
             clipped: false,
             who_am_i_override: None,
             stuck: false,
+            self_test: FactoryTrim::TYPICAL.response().scaled(UNIT_SELF_TEST_DRIFT),
+            factory_trim: FactoryTrim::TYPICAL,
+            dead_self_test: DeadAxes::default(),
         };
         chip.reset();
         Self {
             chip,
             port: BusPort::new(reg::I2C_ADDRESS_AD0_LOW),
         }
+    }
+
+    /// The same chip with factory self-test codes `trim` and a self-test
+    /// response `response` (by default [`FactoryTrim::TYPICAL`] and its
+    /// response × 1.04).
+    pub fn with_self_test(mut self, trim: FactoryTrim, response: SelfTestResponse) -> Self {
+        self.chip.factory_trim = trim;
+        self.chip.self_test = response;
+        self
+    }
+
+    /// What the self-test adds to each axis when enabled, SI.
+    pub fn self_test_response(&self) -> SelfTestResponse {
+        self.chip.self_test
     }
 
     /// The same chip with its AP_AD0 pin high (I²C address 0x69) or low (0x68).
@@ -166,13 +195,16 @@ impl<S: SampleSource> Icm42688Model<S> {
             Fault::WrongWhoAmI(value) => self.chip.who_am_i_override = Some(value),
             Fault::StuckOutput => self.chip.stuck = true,
             Fault::FifoOverflow { lost } => self.chip.overflow_fifo(lost),
+            Fault::DeadSelfTest { triad, axis } => self.chip.dead_self_test.kill(triad, axis),
         }
     }
 
-    /// Clears every persistent fault (wrong identity, stuck output, pending bus errors).
+    /// Clears every persistent fault (wrong identity, stuck output, dead
+    /// self-test axes, pending bus errors).
     pub fn clear_faults(&mut self) {
         self.chip.who_am_i_override = None;
         self.chip.stuck = false;
+        self.chip.dead_self_test = DeadAxes::default();
         self.port.fail_next(0);
     }
 
@@ -299,10 +331,26 @@ impl<S: SampleSource> Chip<S> {
         }
     }
 
+    /// The self-test excitation SELF_TEST_CONFIG enables (positive on every
+    /// enabled axis; the accelerometer's needs ACCEL_ST_POWER too).
+    fn self_test_excitation(&self) -> SelfTestResponse {
+        let config = self.reg(reg::SELF_TEST_CONFIG);
+        let powered = config & reg::ACCEL_ST_POWER != 0;
+        let on = |first: u8, i: u8| i8::from(config & (first << i) != 0);
+        let accel = [0, 1, 2].map(|i| on(reg::EN_AX_ST, i) * i8::from(powered));
+        let gyro = [0, 1, 2].map(|i| on(reg::EN_GX_ST, i));
+        self.dead_self_test.excitation(&self.self_test, accel, gyro)
+    }
+
     /// Takes one sample from the source into the data registers and the FIFO.
     fn produce_sample(&mut self) {
-        let truth: TrueSample = self.source.next_sample();
+        let mut truth: TrueSample = self.source.next_sample();
         self.samples += 1;
+        let excitation = self.self_test_excitation();
+        for axis in 0..3 {
+            truth.specific_force[axis] += excitation.accel[axis];
+            truth.angular_rate[axis] += excitation.gyro[axis];
+        }
         let power = self.reg(reg::PWR_MGMT0);
         let accel_on = power & 0b11 != 0;
         let gyro_on = power & (0b11 << 2) == reg::GYRO_MODE_LOW_NOISE;
@@ -408,8 +456,15 @@ impl<S: SampleSource> RegisterFile for Chip<S> {
         if address == reg::REG_BANK_SEL {
             return self.bank;
         }
-        if self.bank != 0 {
-            return 0;
+        let codes = |first: u8, trim: [u8; 3]| {
+            let i = usize::from(address.wrapping_sub(first));
+            trim.get(i).copied().unwrap_or(0)
+        };
+        match self.bank {
+            0 => {}
+            1 => return codes(reg::XG_ST_DATA_BANK1, self.factory_trim.gyro),
+            2 => return codes(reg::XA_ST_DATA_BANK2, self.factory_trim.accel),
+            _ => return 0,
         }
         match address {
             reg::WHO_AM_I => self.who_am_i_override.unwrap_or(reg::WHO_AM_I_VALUE),
@@ -473,6 +528,12 @@ impl<S: SampleSource> RegisterFile for Chip<S> {
         } else {
             address.wrapping_add(1) & 0x7F
         }
+    }
+}
+
+impl<S: SampleSource> Clocked for Icm42688Model<S> {
+    fn advance(&mut self, ns: u64) {
+        self.chip.advance(ns);
     }
 }
 

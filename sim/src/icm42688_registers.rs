@@ -44,8 +44,15 @@ pub const INT_CONFIG1: u8 = 0x64;
 pub const INT_SOURCE0: u8 = 0x65;
 /// §14 FIFO_LOST_PKT0: lost-packet count, low byte; FIFO_LOST_PKT1 (high) follows at 0x6D.
 pub const FIFO_LOST_PKT0: u8 = 0x6C;
+/// §14 SELF_TEST_CONFIG: ACCEL_ST_POWER (bit 6), EN_AZ/AY/AX_ST (bits
+/// 5:3), EN_GZ/GY/GX_ST (bits 2:0).
+pub const SELF_TEST_CONFIG: u8 = 0x70;
 /// §14 WHO_AM_I.
 pub const WHO_AM_I: u8 = 0x75;
+/// §13 user bank 1: XG_ST_DATA, YG_ST_DATA, ZG_ST_DATA (gyro factory self-test codes).
+pub const XG_ST_DATA_BANK1: u8 = 0x5F;
+/// §13 user bank 2: XA_ST_DATA, YA_ST_DATA, ZA_ST_DATA (accel factory self-test codes).
+pub const XA_ST_DATA_BANK2: u8 = 0x3B;
 
 /// §14 WHO_AM_I: the ICM-42688-P identity.
 pub const WHO_AM_I_VALUE: u8 = 0x47;
@@ -87,6 +94,13 @@ pub const ODR_MASK: u8 = 0x0F;
 pub const FIFO_GYRO_EN: u8 = 1 << 1;
 /// FIFO_CONFIG1 bit 0: accel in FIFO packets.
 pub const FIFO_ACCEL_EN: u8 = 1 << 0;
+
+/// SELF_TEST_CONFIG bit 6: ACCEL_ST_POWER (the accel self-test needs it with EN_A*_ST).
+pub const ACCEL_ST_POWER: u8 = 1 << 6;
+/// SELF_TEST_CONFIG bit 3: EN_AX_ST (EN_AY_ST, EN_AZ_ST follow).
+pub const EN_AX_ST: u8 = 1 << 3;
+/// SELF_TEST_CONFIG bit 0: EN_GX_ST (EN_GY_ST, EN_GZ_ST follow).
+pub const EN_GX_ST: u8 = 1 << 0;
 
 /// INT_CONFIG1 bit 4: INT_ASYNC_RESET, set at reset.
 pub const INT_ASYNC_RESET: u8 = 1 << 4;

@@ -7,8 +7,9 @@
 //! changing sensitivity, saturation and sample timing, temperature output,
 //! STATUS_REG data-ready bits cleared by reading the outputs, and the tagged
 //! FIFO (gyro and accel words per sample; bypass, FIFO and continuous modes;
-//! watermark; overrun flags; reading FIFO_DATA_OUT_Z_H pops a word), plus
-//! injected faults. Not modelled: batch rates different from the ODR,
+//! watermark; overrun flags; reading FIFO_DATA_OUT_Z_H pops a word), the
+//! self-test (CTRL5_C ST_XL / ST_G add the unit's [`SelfTestResponse`],
+//! positive or negative, at once), plus injected faults. Not modelled: batch rates different from the ODR,
 //! temperature and timestamp batching, the 52 Hz temperature rate (the
 //! temperature updates with every sample), low-power modes, filters, the
 //! embedded functions, BDU timing (time never moves during a transaction).
@@ -21,8 +22,10 @@ use embedded_hal::i2c::{self, I2c};
 use embedded_hal::spi::{self, SpiDevice};
 
 use super::fault::Fault;
+use super::model_clock::Clocked;
 use super::packet_fifo::PacketFifo;
 use super::register_bus::{quantise, BusPort, RegisterFile};
+use super::self_test_response::{DeadAxes, SelfTestResponse};
 use super::source::SampleSource;
 use crate::lsm6dsox_registers as reg;
 use triad::units::{rad_to_deg, STANDARD_GRAVITY};
@@ -55,7 +58,16 @@ struct Chip<S> {
     clipped: bool,
     who_am_i_override: Option<u8>,
     stuck: bool,
+    self_test: SelfTestResponse,
+    dead_self_test: DeadAxes,
 }
+
+/// The default unit's positive self-test response, mg and °/s: inside
+/// DS12814's limits (50–1700 mg, 150–700 °/s), a different value per axis so
+/// a mixed-up axis shows.
+const UNIT_SELF_TEST_MG: [f64; 3] = [490.0, 510.0, 530.0];
+/// See [`UNIT_SELF_TEST_MG`].
+const UNIT_SELF_TEST_DPS: [f64; 3] = [290.0, 300.0, 310.0];
 
 /// A simulated LSM6DSOX on a bus, fed by `S`.
 pub struct Lsm6dsoxModel<S> {
@@ -121,12 +133,29 @@ impl<S: SampleSource> Lsm6dsoxModel<S> {
             clipped: false,
             who_am_i_override: None,
             stuck: false,
+            self_test: SelfTestResponse::from_data_sheet_units(
+                UNIT_SELF_TEST_MG,
+                UNIT_SELF_TEST_DPS,
+            ),
+            dead_self_test: DeadAxes::default(),
         };
         chip.reset();
         Self {
             chip,
             port: BusPort::new(reg::I2C_ADDRESS_SA0_LOW),
         }
+    }
+
+    /// The same chip with positive self-test response `response` (by
+    /// default 490/510/530 mg and 290/300/310 °/s on x/y/z).
+    pub fn with_self_test(mut self, response: SelfTestResponse) -> Self {
+        self.chip.self_test = response;
+        self
+    }
+
+    /// What the positive self-test adds to each axis when enabled, SI.
+    pub fn self_test_response(&self) -> SelfTestResponse {
+        self.chip.self_test
     }
 
     /// The same chip with SA0 high (I²C address 0x6B) or low (0x6A).
@@ -162,13 +191,16 @@ impl<S: SampleSource> Lsm6dsoxModel<S> {
             Fault::WrongWhoAmI(value) => self.chip.who_am_i_override = Some(value),
             Fault::StuckOutput => self.chip.stuck = true,
             Fault::FifoOverflow { lost } => self.chip.overflow_fifo(lost),
+            Fault::DeadSelfTest { triad, axis } => self.chip.dead_self_test.kill(triad, axis),
         }
     }
 
-    /// Clears every persistent fault (wrong identity, stuck output, pending bus errors).
+    /// Clears every persistent fault (wrong identity, stuck output, dead
+    /// self-test axes, pending bus errors).
     pub fn clear_faults(&mut self) {
         self.chip.who_am_i_override = None;
         self.chip.stuck = false;
+        self.chip.dead_self_test = DeadAxes::default();
         self.port.fail_next(0);
     }
 
@@ -294,10 +326,34 @@ impl<S: SampleSource> Chip<S> {
         wm > 0 && self.fifo.len() >= wm
     }
 
+    /// The self-test excitation CTRL5_C enables: ST_XL 01 positive, 10
+    /// negative; ST_G 01 positive, 11 negative (the codes the data sheet
+    /// does not allow excite nothing here).
+    fn self_test_excitation(&self) -> SelfTestResponse {
+        let ctrl5 = self.reg(reg::CTRL5_C);
+        let accel: i8 = match ctrl5 & reg::ST_XL_MASK {
+            0b01 => 1,
+            0b10 => -1,
+            _ => 0,
+        };
+        let gyro: i8 = match (ctrl5 >> reg::ST_G_SHIFT) & 0b11 {
+            0b01 => 1,
+            0b11 => -1,
+            _ => 0,
+        };
+        self.dead_self_test
+            .excitation(&self.self_test, [accel; 3], [gyro; 3])
+    }
+
     /// Takes one sample from the source into the output registers and the FIFO.
     fn produce_sample(&mut self) {
-        let truth = self.source.next_sample();
+        let mut truth = self.source.next_sample();
         self.samples += 1;
+        let excitation = self.self_test_excitation();
+        for axis in 0..3 {
+            truth.specific_force[axis] += excitation.accel[axis];
+            truth.angular_rate[axis] += excitation.gyro[axis];
+        }
         let accel_on = self.accel_on();
         let gyro_on = self.gyro_on();
         let accel_lsb_per_si = 1.0
@@ -488,6 +544,12 @@ impl<S: SampleSource> RegisterFile for Chip<S> {
         } else {
             address.wrapping_add(1) & 0x7F
         }
+    }
+}
+
+impl<S: SampleSource> Clocked for Lsm6dsoxModel<S> {
+    fn advance(&mut self, ns: u64) {
+        self.chip.advance(ns);
     }
 }
 

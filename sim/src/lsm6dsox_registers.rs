@@ -23,6 +23,8 @@ pub const CTRL1_XL: u8 = 0x10;
 pub const CTRL2_G: u8 = 0x11;
 /// §9 CTRL3_C: BOOT, BDU, H_LACTIVE, PP_OD, SIM, IF_INC, SW_RESET.
 pub const CTRL3_C: u8 = 0x12;
+/// §9 CTRL5_C: ROUNDING, ST_G (bits 3:2), ST_XL (bits 1:0).
+pub const CTRL5_C: u8 = 0x14;
 /// §9 STATUS_REG: TDA (bit 2), GDA (bit 1), XLDA (bit 0).
 pub const STATUS_REG: u8 = 0x1E;
 /// §9 OUT_TEMP_L: first of the 14-byte block temperature, gyro x/y/z,
@@ -53,6 +55,11 @@ pub const IF_INC: u8 = 1 << 2;
 pub const SW_RESET: u8 = 1 << 0;
 /// CTRL3_C reset value (§8): only IF_INC set.
 pub const CTRL3_C_RESET: u8 = IF_INC;
+
+/// CTRL5_C ST_XL field (bits 1:0): 00 off, 01 positive, 10 negative, 11 not allowed.
+pub const ST_XL_MASK: u8 = 0b11;
+/// CTRL5_C ST_G field (bits 3:2): 00 off, 01 positive, 10 not allowed, 11 negative.
+pub const ST_G_SHIFT: u8 = 2;
 
 /// INT1_CTRL bit 3: FIFO watermark on INT1.
 pub const INT1_FIFO_TH: u8 = 1 << 3;

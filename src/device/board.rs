@@ -25,6 +25,23 @@ pub trait LinkTx {
     fn write_all(&mut self, bytes: &[u8]);
 }
 
+/// Why a received byte was lost.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum RxError {
+    /// A byte arrived before the previous one was read.
+    Overrun,
+    /// Framing error or noise on the line.
+    Line,
+}
+
+/// The link's receiver, read from its interrupt.
+pub trait LinkRx {
+    /// The next received byte, a reception error, or `None` when nothing
+    /// is waiting.
+    fn read(&mut self) -> Option<Result<u8, RxError>>;
+}
+
 /// The facts about a board that the stream depends on, in one place: the
 /// board crate's `DESCRIPTION` constant.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -30,10 +30,11 @@ use crate::crc32c::crc32c;
 use crate::link::bytes::Writer;
 use crate::link::{
     CalibrationSource, Command, DeviceInfo, Mode, Packet, PacketType, Payload, RawScale, Reply,
-    Status, StoredState, Text, CHUNK_LEN,
+    SelfTestResult, Status, StoredState, Text, CHUNK_LEN,
 };
 use crate::model::blob::{self, BlobError, BLOB_LEN};
 use crate::model::{Corrector, Orientation};
+use crate::sensor::self_test::{ChipLeft, SelfTestError, SelfTestReport};
 use crate::sensor::ImuScale;
 use crate::stream::DecodeError;
 
@@ -167,15 +168,14 @@ impl<F: NorFlash> CommandHandler<F> {
 
     /// Handles one decoded packet (or decoding error); `bytes` are its
     /// unstuffed bytes as received (for the sequence number of a packet that
-    /// failed its checks). `submit` queues a change for the data-ready task
-    /// and gives it back when the queue is full.
+    /// failed its checks), `counters` what identify reports. `submit` queues a change for the data-ready task
+    /// and says whether it had room.
     pub fn on_packet(
         &mut self,
         decoded: &Result<Packet, DecodeError>,
         bytes: &[u8],
         counters: &SharedCounters,
-        now_ms: u32,
-        submit: &mut dyn FnMut(Control) -> Result<(), Control>,
+        submit: &mut dyn FnMut(Control) -> bool,
     ) -> Handled {
         let packet = match decoded {
             Ok(Packet::Command(packet)) => packet,
@@ -198,7 +198,7 @@ impl<F: NorFlash> CommandHandler<F> {
                     sequence: packet.sequence,
                 };
             }
-            Ok(command) => self.run(command, counters, now_ms, submit),
+            Ok(command) => self.run(command, counters, submit),
             Err(error) => Err(fail(
                 match error {
                     crate::link::CommandError::Unknown { .. } => Status::UnknownCommand,
@@ -263,16 +263,31 @@ impl<F: NorFlash> CommandHandler<F> {
         }
     }
 
-    /// The reply to a self-test the firmware ran after
-    /// [`Handled::SelfTest`]: `payload` is its result ([`Status::Ok`]) or the
-    /// reason it could not run.
-    pub fn self_test_reply(
+    /// The reply to the self-test the firmware ran after
+    /// [`Handled::SelfTest`] (with sampling paused): the report, or why it
+    /// did not finish and what state it left the chip in.
+    pub fn self_test_reply<E: core::fmt::Debug>(
         &mut self,
         sequence: u16,
-        outcome: Result<Payload, (Status, Payload)>,
+        result: &Result<SelfTestReport, SelfTestError<E>>,
     ) -> Reply {
+        let outcome = match result {
+            Ok(report) => Ok(SelfTestResult::of(report).to_payload()),
+            Err(e) => Err(fail(
+                Status::SensorError,
+                format_args!(
+                    "the self-test did not finish: {:?}; the chip is {}",
+                    e.error,
+                    match e.chip {
+                        ChipLeft::AsConfigured => "configured as before",
+                        ChipLeft::NeedsInit => "being restarted",
+                    }
+                ),
+            )),
+        };
         let reply = self.reply(sequence, crate::link::command::code::SELF_TEST, outcome);
-        self.commands = self.commands.wrapping_sub(1); // counted when it arrived
+        // Counted once, when the command arrived.
+        self.commands = self.commands.wrapping_sub(1);
         reply
     }
 
@@ -280,24 +295,17 @@ impl<F: NorFlash> CommandHandler<F> {
         &mut self,
         command: Command,
         counters: &SharedCounters,
-        now_ms: u32,
-        submit: &mut dyn FnMut(Control) -> Result<(), Control>,
+        submit: &mut dyn FnMut(Control) -> bool,
     ) -> Outcome {
-        let busy = |_| {
-            fail(
-                Status::Busy,
-                format_args!("the sampling task has not taken the previous change yet"),
-            )
-        };
         match command {
-            Command::Identify => Ok(self.info(counters, now_ms).to_payload()),
+            Command::Identify => Ok(self.info(counters).to_payload()),
             Command::SetMode(mode) => {
-                submit(Control::SetMode(mode)).map_err(busy)?;
+                queue(submit, Control::SetMode(mode))?;
                 self.mode = mode;
                 Ok(Payload::EMPTY)
             }
             Command::SetDecimation(n) => {
-                submit(Control::SetDecimation(n)).map_err(busy)?;
+                queue(submit, Control::SetDecimation(n))?;
                 self.decimation = n;
                 Ok(Payload::EMPTY)
             }
@@ -321,7 +329,7 @@ impl<F: NorFlash> CommandHandler<F> {
     }
 
     /// The identify reply.
-    pub fn info(&self, counters: &SharedCounters, now_ms: u32) -> DeviceInfo {
+    pub fn info(&self, counters: &SharedCounters) -> DeviceInfo {
         let now = counters.snapshot();
         let b = &self.baseline;
         let mut c = now;
@@ -346,7 +354,7 @@ impl<F: NorFlash> CommandHandler<F> {
             calibration_id: self.active.id,
             calibration_source: self.active.source,
             stored: self.stored,
-            uptime_ms: now_ms,
+            uptime_ms: counters.uptime_ms(),
             counters: c,
             scale: RawScale::of(&self.facts.scale),
         }
@@ -378,12 +386,7 @@ impl<F: NorFlash> CommandHandler<F> {
         Ok(Payload::EMPTY)
     }
 
-    fn commit(
-        &mut self,
-        len: u16,
-        crc: u32,
-        submit: &mut dyn FnMut(Control) -> Result<(), Control>,
-    ) -> Outcome {
+    fn commit(&mut self, len: u16, crc: u32, submit: &mut dyn FnMut(Control) -> bool) -> Outcome {
         let uploaded = core::mem::take(&mut self.upload_len);
         if usize::from(len) != uploaded {
             return Err(fail(
@@ -406,12 +409,7 @@ impl<F: NorFlash> CommandHandler<F> {
         let corrector = Corrector::new(&cal, &self.facts.scale, self.facts.orientation)
             .map_err(|e| fail(Status::InvalidCalibration, format_args!("{e}")))?;
         let id = corrector.calibration_id();
-        submit(Control::Calibrate(corrector)).map_err(|_| {
-            fail(
-                Status::Busy,
-                format_args!("the sampling task has not taken the previous change yet"),
-            )
-        })?;
+        queue(submit, Control::Calibrate(corrector))?;
         let mut blob = [0u8; BLOB_LEN];
         blob.copy_from_slice(bytes);
         self.active = ActiveCalibration {
@@ -490,6 +488,21 @@ impl<F: NorFlash> CommandHandler<F> {
         store.erase().map_err(|e| storage_failure("erase", &e))?;
         self.stored = StoredState::Empty;
         Ok(Payload::EMPTY)
+    }
+}
+
+/// Offers `control` to the data-ready task; a full queue is a busy reply.
+fn queue(
+    submit: &mut dyn FnMut(Control) -> bool,
+    control: Control,
+) -> Result<(), (Status, Payload)> {
+    if submit(control) {
+        Ok(())
+    } else {
+        Err(fail(
+            Status::Busy,
+            format_args!("the sampling task has not taken the previous change yet"),
+        ))
     }
 }
 

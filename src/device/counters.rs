@@ -33,6 +33,7 @@ pub struct SharedCounters {
     overruns: AtomicU32,
     read_failures: AtomicU32,
     rx_overflows: AtomicU32,
+    uptime_ms: AtomicU32,
 }
 
 impl SharedCounters {
@@ -44,11 +45,14 @@ impl SharedCounters {
             overruns: AtomicU32::new(0),
             read_failures: AtomicU32::new(0),
             rx_overflows: AtomicU32::new(0),
+            uptime_ms: AtomicU32::new(0),
         }
     }
 
-    /// Publishes the sampling task's totals (its writer only).
-    pub fn publish(&self, totals: &SamplerTotals) {
+    /// Publishes the sampling task's totals and the time of its latest
+    /// step (its writer only).
+    pub fn publish(&self, totals: &SamplerTotals, uptime_ms: u32) {
+        self.uptime_ms.store(uptime_ms, Ordering::Relaxed);
         self.frames_sent
             .store(totals.frames_sent, Ordering::Relaxed);
         self.frames_dropped
@@ -63,6 +67,12 @@ impl SharedCounters {
         let n = self.rx_overflows.load(Ordering::Relaxed);
         self.rx_overflows
             .store(n.wrapping_add(1), Ordering::Relaxed);
+    }
+
+    /// Milliseconds since start at the latest sample step (wrapping every
+    /// 2³² ms, 49.7 days): the stream's clock.
+    pub fn uptime_ms(&self) -> u32 {
+        self.uptime_ms.load(Ordering::Relaxed)
     }
 
     /// The counters now (the command counters are the handler's own, 0 here).

@@ -9,6 +9,7 @@ use super::{Control, Decimator, Framer, StepMonitor};
 use crate::link::{Mode, RawScale};
 use crate::model::{ClipFlags, Corrector, Sample};
 use crate::sensor::{Imu, RawSample};
+use crate::stream::TimestampUnwrapper;
 
 /// Temperature terms change slower than this: re-folding ten times a second
 /// keeps the fold within 0.1 s of the die temperature.
@@ -44,6 +45,8 @@ pub struct Sampler {
     mode: Mode,
     raw_scale: RawScale,
     totals: SamplerTotals,
+    clock: TimestampUnwrapper,
+    uptime_us: u64,
 }
 
 impl Sampler {
@@ -70,6 +73,8 @@ impl Sampler {
             mode: Mode::Calibrated,
             raw_scale,
             totals: SamplerTotals::default(),
+            clock: TimestampUnwrapper::new(),
+            uptime_us: 0,
         }
     }
 
@@ -86,6 +91,7 @@ impl Sampler {
     /// frames.
     #[inline]
     pub fn step<I: Imu>(&mut self, imu: &mut I, now_us: u32) -> StepOutcome<I::Error> {
+        self.uptime_us = self.clock.unwrap(now_us);
         let missed = self.monitor.step_started(now_us);
         self.steps_lost(missed);
         let raw = match imu.read_sample() {
@@ -154,6 +160,12 @@ impl Sampler {
     /// Frames, drops, lost steps and read failures since start (wrapping).
     pub fn totals(&self) -> &SamplerTotals {
         &self.totals
+    }
+
+    /// Milliseconds since start at the latest step, by the step timestamps
+    /// extended past their 71.6-minute wrap (wrapping every 2³² ms).
+    pub fn uptime_ms(&self) -> u32 {
+        (self.uptime_us / 1000) as u32
     }
 
     fn steps_lost(&mut self, count: u32) {

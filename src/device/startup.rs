@@ -7,7 +7,13 @@
 //! firmware under the same test, else the identity with every frame flagged
 //! UNCALIBRATED. A calibration that fails is reported, never applied.
 
+use embedded_storage::nor_flash::NorFlash;
+
+use super::commands::ActiveCalibration;
+use super::storage::{CalibrationStore, Loaded};
 pub use crate::link::CalibrationSource;
+use crate::link::StoredState;
+use crate::model::blob::BLOB_LEN;
 use crate::model::{blob, BlobError, Calibration, CalibrationError, Corrector, Orientation};
 use crate::sensor::ImuScale;
 
@@ -102,4 +108,52 @@ pub fn start_calibration(
         stored_rejected,
         rejected,
     })
+}
+
+/// What the device's store holds at start-up: the newest valid record's
+/// blob (not yet validated for the chip: [`start_calibration`] does that),
+/// and its state for `identify`. Slots that hold a cut save or foreign data
+/// are ignored; when no valid record remains, the state is
+/// [`StoredState::Rejected`].
+pub fn load_stored<F: NorFlash>(
+    store: &mut CalibrationStore<F>,
+) -> (Option<[u8; BLOB_LEN]>, StoredState) {
+    let mut blob = [0u8; BLOB_LEN];
+    match store.load(&mut blob) {
+        Ok(Loaded {
+            record: Some(_), ..
+        }) => (Some(blob), StoredState::Valid),
+        Ok(Loaded {
+            record: None,
+            damaged_slots: 0,
+        }) => (None, StoredState::Empty),
+        Ok(Loaded { record: None, .. }) => (None, StoredState::Rejected),
+        Err(_) => (None, StoredState::Failed),
+    }
+}
+
+impl StartUp {
+    /// The calibration in force, for the command handler: the blob chosen
+    /// (`stored` or `built_in`, as [`StartUp::source`] says) and its id.
+    pub fn active(&self, stored: Option<&[u8; BLOB_LEN]>, built_in: &[u8]) -> ActiveCalibration {
+        let blob = match self.source {
+            CalibrationSource::Stored => stored.copied(),
+            CalibrationSource::BuiltIn => <[u8; BLOB_LEN]>::try_from(built_in).ok(),
+            CalibrationSource::None | CalibrationSource::Uploaded => None,
+        };
+        ActiveCalibration {
+            blob,
+            id: self.corrector.calibration_id(),
+            source: self.source,
+        }
+    }
+
+    /// What the store's state is once the stored blob has been tried:
+    /// `loaded`, or [`StoredState::Rejected`] when it failed validation.
+    pub fn stored_state(&self, loaded: StoredState) -> StoredState {
+        match self.stored_rejected {
+            Some(_) => StoredState::Rejected,
+            None => loaded,
+        }
+    }
 }

@@ -16,6 +16,7 @@ pub mod packet;
 pub mod payload;
 pub mod raw_frame;
 pub mod reply;
+pub mod self_test;
 
 pub use command::{Command, CommandError, CommandPacket, Mode, CHUNK_LEN};
 pub use device_info::{CalibrationSource, Counters, DeviceInfo, StoredState, Text};
@@ -23,3 +24,4 @@ pub use packet::{Packet, PacketBuf, PacketType, MAX_PACKET_LEN, MAX_WIRE_LEN};
 pub use payload::{Payload, MAX_PAYLOAD};
 pub use raw_frame::{RawFrame, RawScale};
 pub use reply::{Reply, Status};
+pub use self_test::{AxisResult, SelfTestResult};

@@ -45,6 +45,9 @@ byte_enum! {
         /// This device cannot do it (no storage on this board, a chip
         /// without a self-test).
         NotSupported = 9 => "not supported",
+        /// The sensor failed during the command (the self-test could not
+        /// finish: a bus error, or the chip produced no new sample).
+        SensorError = 10 => "sensor error",
     }
 }
 

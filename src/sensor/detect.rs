@@ -6,15 +6,17 @@
 //! module (e.g. [`super::icm42688`]) offers `NAME`, `IDENTITY`, `SPI_MAX_HZ`,
 //! `I2C_ADDRESSES`, `identify` (a read of the identity register that changes
 //! nothing on any listed chip), `Config: Default` with `sample_rate_hz`, and
-//! a driver with `new`, `init`, `config`, `interface_mut`, `bus`, `bus_mut`
-//! and [`Imu`]: adding a chip is that module, its chip model in the
-//! simulator, and one line in the list.
+//! a driver with `new`, `init`, `config`, `interface_mut`, `bus`, `bus_mut`,
+//! `self_test` (with `self_test_max_duration_ms` beside it) and [`Imu`]:
+//! adding a chip is that module, its chip model in the simulator, and one
+//! line in the list.
 
 use embedded_hal::delay::DelayNs;
 use embedded_hal::i2c::I2c;
 
 use super::error::Error;
 use super::interface::{I2cInterface, RegisterInterface};
+use super::self_test::{SelfTestError, SelfTestReport};
 use super::{icm42688, lsm6dsox, Imu, ImuScale, RawSample};
 
 /// Calls `$callback! { module::Driver, ... }` with every chip triad drives,
@@ -139,6 +141,28 @@ macro_rules! define_any_chip {
             pub fn sample_rate_hz(&self) -> f64 {
                 match self {
                     $(Self::$driver(chip) => chip.config().sample_rate_hz(),)+
+                }
+            }
+
+            /// Runs the chip's data-sheet self-test on both triads and
+            /// reports each axis's response, limits and verdict; the chip is
+            /// left configured as before (or the error says it is not). The
+            /// chip must be still and sampling paused: it takes about 1.4 s
+            /// on an ICM-42688-P, 0.64 s on an LSM6DSOX, at most
+            /// [`Self::self_test_max_duration_ms`]. See each driver's `self_test`.
+            pub fn self_test(
+                &mut self,
+                delay: &mut impl DelayNs,
+            ) -> Result<SelfTestReport, SelfTestError<I::BusError>> {
+                match self {
+                    $(Self::$driver(chip) => chip.self_test(delay),)+
+                }
+            }
+
+            /// The longest this chip's [`Self::self_test`] can take, ms (bus time excluded).
+            pub fn self_test_max_duration_ms(&self) -> u32 {
+                match self {
+                    $(Self::$driver(_) => $module::self_test_max_duration_ms(),)+
                 }
             }
 

@@ -4,6 +4,8 @@
 //!   run it (QEMU by default) and print the decoded, calibrated samples as CSV.
 //! - `cargo xtask test`: every host test, the first-run checks, every board's
 //!   firmware build, and the end-to-end tests on QEMU.
+//! - `cargo xtask serve`: the emulated board served like hardware, its link
+//!   on a pseudo-terminal for `triad device --port`.
 //! - `cargo xtask man DIR`: the `triad` man pages, from its argument definitions.
 //! - `cargo xtask bench`: the benchmark firmware on emulated cores; writes
 //!   docs/BENCHMARKS.md.
@@ -17,7 +19,9 @@ mod defmt_log;
 mod elf_facts;
 mod embedded_checks;
 mod first_run;
+mod pty;
 mod qemu;
+mod serve;
 mod setup;
 mod test;
 
@@ -49,6 +53,9 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Serve the emulated board like hardware: QEMU in real time, its link on
+    /// a pseudo-terminal whose path is the first line on stdout; runs until killed.
+    Serve(ServeArgs),
     /// Install what the project needs (rustup targets, QEMU) and exit.
     Setup,
     /// Write the man pages of `triad` (triad.1, triad-sim.1, ...) into DIR.
@@ -65,9 +72,9 @@ enum Command {
     },
 }
 
-/// Arguments of `cargo xtask run`.
+/// What firmware to build for the emulated board or a hardware one.
 #[derive(clap::Args)]
-pub struct RunArgs {
+pub struct FirmwareArgs {
     /// The board: `qemu` (emulated, the default) or `nucleo-f401re` (hardware via probe-rs).
     #[arg(long, default_value = "qemu")]
     board: board::Board,
@@ -78,9 +85,6 @@ pub struct RunArgs {
     /// The bus between the microcontroller and the chip (cargo feature `bus-*`).
     #[arg(long, default_value = "spi")]
     bus: board::Bus,
-    /// Stop after this many seconds of streamed (emulated) time.
-    #[arg(long, default_value_t = 2.0)]
-    seconds: f64,
     /// Calibration file (TOML) to embed; default calibrations/default.toml.
     #[arg(long)]
     calib: Option<std::path::PathBuf>,
@@ -91,15 +95,45 @@ pub struct RunArgs {
     /// Seed of the scene's random streams (with --scene).
     #[arg(long, default_value_t = 1, requires = "scene")]
     seed: u64,
+}
+
+/// Arguments of `cargo xtask run`.
+#[derive(clap::Args)]
+pub struct RunArgs {
+    #[command(flatten)]
+    firmware: FirmwareArgs,
+    /// Stop after this many seconds of streamed (emulated) time.
+    #[arg(long, default_value_t = 2.0)]
+    seconds: f64,
     /// Serial port of the hardware board's stream (nucleo-f401re only).
     #[arg(long, default_value = "/dev/ttyACM0")]
     port: String,
+}
+
+/// Arguments of `cargo xtask serve`.
+#[derive(clap::Args)]
+pub struct ServeArgs {
+    #[command(flatten)]
+    firmware: FirmwareArgs,
+    /// The emulated board's calibration flash: this file (created, erased,
+    /// when missing), so a saved calibration persists across runs. Without
+    /// it the board has no storage.
+    #[arg(long, value_name = "FILE")]
+    storage: Option<std::path::PathBuf>,
+    /// Serve this already built firmware ELF instead of building one (the
+    /// end-to-end tests; the firmware options are then ignored).
+    #[arg(long, hide = true)]
+    elf: Option<std::path::PathBuf>,
+    /// Power-cut test: end the run at this write or erase operation of the flash.
+    #[arg(long, hide = true, requires = "storage")]
+    storage_cut_after: Option<u32>,
 }
 
 fn main() -> std::process::ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Run(args) => run(args),
+        Command::Serve(args) => serve_command(args),
         Command::Test {
             e2e_only,
             first_run_only,
@@ -128,6 +162,45 @@ fn run(args: RunArgs) -> anyhow::Result<()> {
         "--seconds {}: must be a positive number of seconds",
         args.seconds
     );
+    let (elf, triad) = build(&args.firmware)?;
+    match args.firmware.board {
+        board::Board::Qemu => {
+            let stop = qemu::Stop::Seconds(args.seconds);
+            let status = qemu::stream_to_decoder(&elf, &triad, stop, qemu::Inherit)?;
+            anyhow::ensure!(status.success(), "triad decode exited with {status}");
+            Ok(())
+        }
+        board::Board::NucleoF401re => cmd::run_on_hardware(&elf, &triad, &args.port, args.seconds),
+    }
+}
+
+fn serve_command(args: ServeArgs) -> anyhow::Result<()> {
+    anyhow::ensure!(
+        args.firmware.board == board::Board::Qemu,
+        "--board {}: serve runs the emulated board; a hardware board is served by itself \
+         (talk to its port with triad device --port)",
+        args.firmware.board.name()
+    );
+    let storage = match &args.storage {
+        Some(path) => Some(serve::Storage {
+            path: serve::prepare_storage(path)?,
+            cut_after: args.storage_cut_after,
+        }),
+        None => None,
+    };
+    let elf = match args.elf {
+        Some(elf) => {
+            setup::ensure_for(board::Board::Qemu)?;
+            elf
+        }
+        None => build(&args.firmware)?.0,
+    };
+    serve::serve(&elf, storage.as_ref())
+}
+
+/// Sets up and builds the firmware `args` describe; returns the ELF and the
+/// host tool built with it.
+fn build(args: &FirmwareArgs) -> anyhow::Result<(std::path::PathBuf, std::path::PathBuf)> {
     setup::ensure_for(args.board)?;
     let triad = cmd::build_host_tool()?;
     let calibration = cmd::pack_calibration(&triad, args.calib.as_deref())?;
@@ -159,19 +232,9 @@ fn run(args: RunArgs) -> anyhow::Result<()> {
         }
         None => cmd::build_firmware(firmware, &calibration)?,
     };
-    match args.board {
-        board::Board::Qemu => {
-            let stop = qemu::Stop::Seconds(args.seconds);
-            let status = qemu::stream_to_decoder(&elf, &triad, stop, qemu::Inherit)?;
-            anyhow::ensure!(status.success(), "triad decode exited with {status}");
-            Ok(())
-        }
-        board::Board::NucleoF401re => cmd::run_on_hardware(&elf, &triad, &args.port, args.seconds),
-    }
+    Ok((elf, triad))
 }
 
-/// `triad man --out-dir DIR` of the freshly built host tool: the pages come
-/// from the argument definitions `triad` itself parses.
 fn man(dir: &std::path::Path) -> anyhow::Result<()> {
     let triad = cmd::build_host_tool()?;
     let mut command = std::process::Command::new(triad);

@@ -1,4 +1,4 @@
-//! The emulated board: QEMU's netduinoplus2 running the firmware, its USART1
+//! The emulated board: QEMU's netduinoplus2 running the firmware, its USART2
 //! stream piped into `triad decode`, its defmt log (semihosting, on QEMU's
 //! stdout) decoded onto stderr.
 //!
@@ -6,13 +6,14 @@
 //! and idle time is skipped, so runs are deterministic and faster than real
 //! time (DESIGN.md, "The emulated board").
 
-use crate::{defmt_log, setup::QEMU};
+use crate::{defmt_log, setup};
 use anyhow::{bail, Context, Result};
 use std::fs::File;
 use std::io::{Read, Write};
 use std::os::unix::net::UnixStream;
+use std::os::unix::process::CommandExt;
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, ExitStatus, Stdio};
+use std::process::{Child, ChildStdout, Command, ExitStatus, Stdio};
 use std::time::{Duration, Instant};
 
 /// Where the decoded CSV goes.
@@ -21,7 +22,7 @@ pub enum Sink {
     Inherit,
     /// The raw stream bytes and the decoded CSV into files (end-to-end tests).
     Files {
-        /// The bytes as they left USART1.
+        /// The bytes as they left USART2.
         raw: PathBuf,
         /// What `triad decode` printed.
         csv: PathBuf,
@@ -52,19 +53,70 @@ impl Stop {
 /// How long QEMU may take to open its serial socket.
 const SOCKET_TIMEOUT: Duration = Duration::from_secs(20);
 
+/// How QEMU's virtual time runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Clock {
+    /// `-icount shift=0,sleep=off`: one instruction per virtual nanosecond,
+    /// idle time skipped: deterministic, for tests and `run`.
+    Deterministic,
+    /// No `-icount`: virtual time is the host's clock, so the board samples
+    /// in real time (`serve`, which a person or a host tool talks to).
+    RealTime,
+}
+
+/// The emulated board running: QEMU, and its link USART's socket.
+pub struct Board {
+    qemu: QemuGuard,
+    /// The link: bytes the firmware sends, and bytes it receives.
+    pub link: UnixStream,
+}
+
+impl Board {
+    /// Starts QEMU's netduinoplus2 on `elf` with `clock`, the semihosting
+    /// command line `semihosting_args` (empty: none), and connects to the
+    /// link's socket.
+    pub fn start(elf: &Path, clock: Clock, semihosting_args: &[String]) -> Result<Board> {
+        let dir = elf.parent().context("firmware path has a parent")?;
+        let socket = dir.join(format!("serial-{}-{}.sock", std::process::id(), unique()));
+        let _ = std::fs::remove_file(&socket);
+        let mut qemu = QemuGuard(spawn_qemu(elf, &socket, clock, semihosting_args)?);
+        let link = connect(&socket, &mut qemu.0)?;
+        let _ = std::fs::remove_file(&socket);
+        Ok(Board { qemu, link })
+    }
+
+    /// QEMU's stdout: the firmware's defmt log (semihosting).
+    pub fn take_log(&mut self) -> Result<ChildStdout> {
+        self.qemu.0.stdout.take().context("QEMU stdout")
+    }
+
+    /// Waits for QEMU to exit (the firmware ended the run).
+    pub fn wait(&mut self) -> Result<ExitStatus> {
+        self.qemu.0.wait().context("waiting for QEMU")
+    }
+
+    /// Stops QEMU; returns its status if it had already exited by itself.
+    pub fn stop(&mut self) -> Option<ExitStatus> {
+        self.qemu.stop()
+    }
+}
+
+/// A number no other board started by this process has used.
+fn unique() -> u64 {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    static NEXT: AtomicU64 = AtomicU64::new(0);
+    NEXT.fetch_add(1, Ordering::Relaxed)
+}
+
 /// Runs `elf` on QEMU until `triad decode` stops at `stop`, then stops QEMU.
 /// Returns the decoder's exit status.
 pub fn stream_to_decoder(elf: &Path, triad: &Path, stop: Stop, sink: Sink) -> Result<ExitStatus> {
-    let dir = elf.parent().context("firmware path has a parent")?;
-    let socket = dir.join(format!("serial-{}.sock", std::process::id()));
-    let _ = std::fs::remove_file(&socket);
-    let mut qemu = QemuGuard(spawn_qemu(elf, &socket)?);
-
+    let mut board = Board::start(elf, Clock::Deterministic, &[])?;
     let elf_bytes = std::fs::read(elf).with_context(|| format!("reading {}", elf.display()))?;
-    let log = qemu.0.stdout.take().context("QEMU stdout")?;
+    let log = board.take_log()?;
     let log_thread = std::thread::spawn(move || defmt_log::print(&elf_bytes, log));
 
-    let mut serial = connect(&socket, &mut qemu.0)?;
+    let mut serial = board.link.try_clone().context("cloning the link socket")?;
     let (mut decoder_cmd, raw_file) = match &sink {
         Sink::Inherit => (Command::new(triad), None),
         Sink::Files { raw, csv } => {
@@ -100,7 +152,7 @@ pub fn stream_to_decoder(elf: &Path, triad: &Path, stop: Stop, sink: Sink) -> Re
         }
     });
     let status = decoder.wait().context("waiting for triad decode")?;
-    let qemu_status = qemu.stop();
+    let qemu_status = board.stop();
     let _ = pump.join();
     let _ = log_thread.join();
     if let Some(qemu_status) = qemu_status {
@@ -117,28 +169,60 @@ pub fn stream_to_decoder(elf: &Path, triad: &Path, stop: Stop, sink: Sink) -> Re
 /// monitor, one instruction per virtual nanosecond, idle time skipped,
 /// semihosting on (the firmware's log and exit status).
 pub fn command(machine: &str, elf: &Path) -> Command {
-    let mut command = Command::new(QEMU);
+    command_with(machine, elf, Clock::Deterministic, &[])
+}
+
+/// QEMU on `machine` running `elf` with `clock` and the semihosting command
+/// line `semihosting_args`.
+pub fn command_with(
+    machine: &str,
+    elf: &Path,
+    clock: Clock,
+    semihosting_args: &[String],
+) -> Command {
+    let mut command = Command::new(setup::qemu());
+    command.args(["-machine", machine, "-display", "none", "-monitor", "none"]);
+    if clock == Clock::Deterministic {
+        command.args(["-icount", "shift=0,sleep=off"]);
+    }
+    let mut semihosting = String::from("enable=on,target=native");
+    for arg in semihosting_args {
+        semihosting.push_str(",arg=");
+        semihosting.push_str(arg);
+    }
     command
-        .args(["-machine", machine, "-display", "none", "-monitor", "none"])
-        .args(["-icount", "shift=0,sleep=off"])
-        .args(["-semihosting-config", "enable=on,target=native"])
+        .args(["-semihosting-config", &semihosting])
         .arg("-kernel")
         .arg(elf)
         .stdin(Stdio::null());
     command
 }
 
-fn spawn_qemu(elf: &Path, socket: &Path) -> Result<Child> {
-    command("netduinoplus2", elf)
+fn spawn_qemu(
+    elf: &Path,
+    socket: &Path,
+    clock: Clock,
+    semihosting_args: &[String],
+) -> Result<Child> {
+    let mut command = command_with("netduinoplus2", elf, clock, semihosting_args);
+    command
         .arg("-chardev")
         .arg(format!(
             "socket,id=stream,path={},server=on,wait=on",
             socket.display()
         ))
-        .args(["-serial", "chardev:stream"])
-        .stdout(Stdio::piped())
-        .spawn()
-        .with_context(|| format!("starting {QEMU}"))
+        // The first -serial is USART1 (unused), the second USART2: the link.
+        .args(["-serial", "null", "-serial", "chardev:stream"])
+        .stdout(Stdio::piped());
+    // QEMU dies with xtask, even when xtask is killed outright.
+    // SAFETY: prctl is async-signal-safe; nothing else runs in the child.
+    unsafe {
+        command.pre_exec(|| {
+            nix::sys::prctl::set_pdeathsig(nix::sys::signal::Signal::SIGKILL)
+                .map_err(std::io::Error::from)
+        });
+    }
+    command.spawn().context("starting QEMU")
 }
 
 fn connect(socket: &Path, qemu: &mut Child) -> Result<UnixStream> {

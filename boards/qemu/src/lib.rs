@@ -1,7 +1,7 @@
 //! The emulated board: QEMU's `netduinoplus2` (STM32F405, Cortex-M4F).
 #![no_std]
 //!
-//! QEMU models USART1, the timers, SysTick and the FPU; RCC and GPIO are
+//! QEMU models the USARTs, the timers, SysTick and the FPU; RCC and GPIO are
 //! stubs, so nothing here waits on a clock-ready bit. QEMU's STM32 timers
 //! count at 1 GHz of virtual time (not at the APB clock), so prescalers and
 //! reloads are computed for that. The sensor is a register-level chip model
@@ -17,8 +17,8 @@ pub use stm32f4::stm32f405 as pac;
 
 /// What QEMU's STM32 timers count at (virtual time), Hz.
 const TIMER_CLOCK_HZ: u32 = 1_000_000_000;
-/// The APB2 clock that the baud-rate divider assumes (168 MHz core / 2).
-const APB2_HZ: u32 = 84_000_000;
+/// The APB1 clock that the baud-rate divider assumes (168 MHz core / 4).
+const APB1_HZ: u32 = 42_000_000;
 
 /// The peripherals the application uses.
 pub struct Board {
@@ -28,8 +28,16 @@ pub struct Board {
     pub clock: MicrosecondClock,
     /// The stream's transmitter.
     pub serial: Serial,
+    /// The commands' receiver (USART2's interrupt).
+    pub serial_rx: SerialRx,
     /// The IMU's (software) SPI or I²C bus, for [`find_sensor`].
     pub sensor_bus: SensorBus,
+    /// The calibration flash: a host file by semihosting, when QEMU's
+    /// command line names one.
+    pub flash: Result<Flash, StorageUnavailable>,
+    /// The delay the chip's self-test waits with: it lets the chip model's
+    /// time pass as it waits (on hardware the chip samples on its own).
+    pub self_test_delay: SelfTestDelay,
 }
 
 /// Brings up the peripherals. No clock tree set-up: QEMU's RCC is a stub.
@@ -39,15 +47,27 @@ pub fn init(dp: pac::Peripherals) -> Board {
         w.tim4en().set_bit();
         w.tim5en().set_bit()
     });
-    dp.RCC.apb2enr().modify(|_, w| w.usart1en().set_bit());
-    let sensor_bus = emulated_chip();
+    dp.RCC.apb1enr().modify(|_, w| w.usart2en().set_bit());
+    let chip = emulated_chip();
+    let sensor_bus = SensorBus(SharedBus(chip));
+    let serial = Serial::new(dp.USART2, USART_DIV_X16);
+    // SAFETY: the receiver only sets CR1's RE and RXNEIE and reads SR/DR;
+    // the transmitter owns the rest of USART2.
+    let serial_rx = SerialRx::new(unsafe { pac::USART2::steal() });
     Board {
-        sample_line: SampleLine::new(dp.TIM2, &dp.TIM4, sensor_bus.sample_rate_hz()),
+        sample_line: SampleLine::new(dp.TIM2, &dp.TIM4, chip.borrow().sample_rate_hz()),
         clock: MicrosecondClock::new(dp.TIM5, TIMER_CLOCK_HZ),
-        serial: Serial::new(dp.USART1, USART_DIV_X16),
+        serial,
+        serial_rx,
         sensor_bus,
+        flash: Flash::open(),
+        self_test_delay: SelfTestDelay(ModelDelay::new(chip)),
     }
 }
+
+/// Where the two calibration slots are in [`Flash`]: from 0, one 16 KiB
+/// erase unit each.
+pub const STORAGE_SLOTS: (u32, u32) = (0, 16 * 1024);
 
 /// The data-ready line: TIM2's update interrupt pends EXTI0 (the line's
 /// interrupt on real boards) once per sample, so the application's
@@ -115,14 +135,26 @@ fn TIM2() {
 mod microsecond_clock;
 pub use microsecond_clock::MicrosecondClock;
 
+mod semihosting_flash;
+mod serial_rx;
 mod serial_tx;
 
-/// The stream's link: USART1, transmit only, 8N1.
-pub type Serial = serial_tx::SerialTx<pac::USART1>;
+/// The stream's link: USART2's transmitter, 8N1. USART2, as on the
+/// NUCLEO (its ST-LINK virtual COM port), so that both boards' firmware
+/// binds the same receive interrupt; QEMU connects its second `-serial`
+/// to it.
+pub type Serial = serial_tx::SerialTx<pac::USART2>;
+/// The commands' link: USART2's receiver (interrupt USART2).
+pub type SerialRx = serial_rx::SerialRx<pac::USART2>;
+/// The calibration flash.
+pub type Flash = semihosting_flash::SemihostingFlash;
+/// Why the board has no calibration flash.
+pub use semihosting_flash::Unavailable as StorageUnavailable;
 
-// RM0090 §30.3.4: USARTDIV = f_APB2 / (16 · baud), mantissa.fraction in BRR.
-// 84 MHz / 921600 rounds to 91 (0x5B): 0.0 % error; fits BRR's 16 bits.
-const USART_DIV_X16: u16 = ((APB2_HZ + DESCRIPTION.baud / 2) / DESCRIPTION.baud) as u16;
+// RM0090 §30.3.4: USARTDIV = f_APB1 / (16 · baud), mantissa.fraction in BRR.
+// 42 MHz / 921600 rounds to 46 (0x2E): −0.9 %; fits BRR's 16 bits. (QEMU
+// sends at once whatever BRR says.)
+const USART_DIV_X16: u16 = ((APB1_HZ + DESCRIPTION.baud / 2) / DESCRIPTION.baud) as u16;
 
 /// Ends the emulation with a status QEMU returns to its caller.
 pub fn exit(success: bool) -> ! {
@@ -141,12 +173,56 @@ pub fn exit(success: bool) -> ! {
 const EMULATED_CHIP: &str = env!("TRIAD_EMULATED_CHIP");
 
 /// What the chip model measures: the demo motion or an embedded scene.
+use core::cell::RefCell;
 use triad_sim::emulated_board::{source, EmulatedChip};
+use triad_sim::model_clock::{ModelDelay, SharedBus};
 
 pub use triad_sim::emulated_board::DESCRIPTION;
 
-/// The bus the chip model answers on: SPI (or I²C with `bus-i2c`).
-pub type SensorBus = EmulatedChip;
+/// The bus the chip model answers on: SPI (or I²C with `bus-i2c`), the
+/// model shared with the [`SelfTestDelay`].
+pub struct SensorBus(SharedBus<'static, EmulatedChip>);
+
+// SAFETY: the chip model's cell is reached only through the sensor's bus and
+// the self-test delay, and the firmware hands both to the one data-ready
+// task: the cell is never used from two contexts.
+unsafe impl Send for SensorBus {}
+// SAFETY: as for `SensorBus`.
+unsafe impl Send for SelfTestDelay {}
+
+impl SensorBus {
+    /// The chip model.
+    fn chip(&self) -> core::cell::RefMut<'_, EmulatedChip> {
+        self.0 .0.borrow_mut()
+    }
+}
+
+impl spi::ErrorType for SensorBus {
+    type Error = <EmulatedChip as spi::ErrorType>::Error;
+}
+
+impl spi::SpiDevice for SensorBus {
+    fn transaction(
+        &mut self,
+        operations: &mut [spi::Operation<'_, u8>],
+    ) -> Result<(), Self::Error> {
+        self.0.transaction(operations)
+    }
+}
+
+impl i2c::ErrorType for SensorBus {
+    type Error = <EmulatedChip as i2c::ErrorType>::Error;
+}
+
+impl i2c::I2c for SensorBus {
+    fn transaction(
+        &mut self,
+        address: u8,
+        operations: &mut [i2c::Operation<'_>],
+    ) -> Result<(), Self::Error> {
+        self.0.transaction(address, operations)
+    }
+}
 
 /// The sensor: the driver of the chip found on the bus.
 #[cfg(not(feature = "bus-i2c"))]
@@ -154,6 +230,13 @@ pub type Sensor = AnyChip<SpiInterface<SensorBus>>;
 /// The sensor: the driver of the chip found on the bus.
 #[cfg(feature = "bus-i2c")]
 pub type Sensor = AnyChip<I2cInterface<SensorBus>>;
+
+/// The sensor bus's error, as the drivers report it.
+#[cfg(not(feature = "bus-i2c"))]
+pub type SensorBusError = spi::ErrorKind;
+/// The sensor bus's error, as the drivers report it.
+#[cfg(feature = "bus-i2c")]
+pub type SensorBusError = i2c::ErrorKind;
 
 /// Finds the chip on the SPI bus by its identity.
 #[cfg(not(feature = "bus-i2c"))]
@@ -168,9 +251,12 @@ pub fn find_sensor(bus: SensorBus) -> Result<Sensor, DetectError<i2c::ErrorKind>
 }
 
 /// The chip model serving `model_source()` at the chip's rate (build.rs
-/// admitted only listed names; any other stops the board).
-fn emulated_chip() -> EmulatedChip {
-    EmulatedChip::named(EMULATED_CHIP, model_source).unwrap_or_else(|| exit(false))
+/// admitted only listed names; any other stops the board), in a static
+/// cell the driver's bus and the self-test's delay share.
+fn emulated_chip() -> &'static RefCell<EmulatedChip> {
+    let chip = EmulatedChip::named(EMULATED_CHIP, model_source).unwrap_or_else(|| exit(false));
+    cortex_m::singleton!(: RefCell<EmulatedChip> = RefCell::new(chip))
+        .unwrap_or_else(|| exit(false))
 }
 
 /// The scene embedded at build (TRIAD_SCENE, see build.rs), simulated at the
@@ -197,7 +283,19 @@ fn model_source(rate_hz: f64) -> source::Source {
 /// The data-ready line: on this board the timer interrupt stands in for it,
 /// and the chip model's clock advances to its next sample.
 pub fn data_ready(sensor: &mut Sensor) {
-    sensor.bus_mut().advance_one_sample();
+    sensor.bus_mut().chip().advance_one_sample();
+}
+
+/// The self-test's delay: each wait lets the chip model's time pass by as
+/// long, and busy-waits as long too, so the board's own time (the stream's
+/// timestamps, the steps lost while sampling paused) is what hardware shows.
+pub struct SelfTestDelay(ModelDelay<'static, EmulatedChip>);
+
+impl embedded_hal::delay::DelayNs for SelfTestDelay {
+    fn delay_ns(&mut self, ns: u32) {
+        self.0.delay_ns(ns);
+        Delay.delay_ns(ns);
+    }
 }
 
 /// A busy-wait delay for the driver's start-up waits (the core runs at 168
@@ -210,10 +308,7 @@ impl embedded_hal::delay::DelayNs for Delay {
     }
 }
 
-#[cfg(feature = "bus-i2c")]
-use embedded_hal::i2c;
-#[cfg(not(feature = "bus-i2c"))]
-use embedded_hal::spi;
+use embedded_hal::{i2c, spi};
 use triad::device::board::DataReadyLine;
 #[cfg(feature = "bus-i2c")]
 use triad::sensor::interface::I2cInterface;

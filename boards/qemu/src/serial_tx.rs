@@ -1,4 +1,4 @@
-//! USART1 as a transmit-only 8N1 byte sink: the stream's link.
+//! The link USART's transmitter, 8N1: the stream and the replies.
 
 use super::pac;
 use core::ops::Deref;

@@ -6,6 +6,7 @@
 use embedded_hal::{i2c, spi};
 
 use super::source::Source;
+use crate::model_clock::Clocked;
 // The chip modules by the names the core's list gives them.
 use super::{icm42688, lsm6dsox};
 
@@ -71,6 +72,17 @@ macro_rules! define_emulated_chip {
             pub fn samples_produced(&self) -> u64 {
                 match self {
                     $(Self::$driver(model) => model.samples_produced(),)+
+                }
+            }
+        }
+
+        /// Time passes for the model as for the chip: a delay that
+        /// advances it (`model_clock::ModelDelay`) lets a procedure that
+        /// waits on the chip, such as the self-test, run on the emulated board.
+        impl Clocked for EmulatedChip {
+            fn advance(&mut self, ns: u64) {
+                match self {
+                    $(Self::$driver(model) => model.advance(ns),)+
                 }
             }
         }

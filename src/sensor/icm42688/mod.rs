@@ -6,6 +6,7 @@
 
 pub mod config;
 mod registers;
+mod self_test;
 
 use embedded_hal::delay::DelayNs;
 use embedded_hal::i2c::I2c;
@@ -19,6 +20,7 @@ use super::{Imu, ImuScale, RawSample};
 
 pub use self::config::{AccelRange, Config, FifoConfig, FifoMode, GyroRange, InterruptPin, Odr};
 pub use self::registers::{I2C_ADDRESS_AD0_HIGH, I2C_ADDRESS_AD0_LOW};
+pub use self::self_test::self_test_max_duration_ms;
 
 /// The chip's name, as the link and the log report it.
 pub const NAME: &str = "icm42688";

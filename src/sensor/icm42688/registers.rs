@@ -16,6 +16,10 @@ pub const FIFO_CONFIG: u8 = 0x16;
 /// §14 TEMP_DATA1: first byte of the 14-byte sample block (temperature,
 /// accel x/y/z, gyro x/y/z, each big-endian) that ends at GYRO_DATA_Z0 (0x2A).
 pub const TEMP_DATA1: u8 = 0x1D;
+/// §14 ACCEL_DATA_X1: first of the six accel output bytes (x, y, z big-endian).
+pub const ACCEL_DATA_X1: u8 = 0x1F;
+/// §14 GYRO_DATA_X1: first of the six gyro output bytes (x, y, z big-endian).
+pub const GYRO_DATA_X1: u8 = 0x25;
 /// §14 INT_STATUS: interrupt status, cleared on read.
 pub const INT_STATUS: u8 = 0x2D;
 /// §14 FIFO_DATA: the FIFO read port (the address does not auto-increment here).
@@ -30,6 +34,12 @@ pub const PWR_MGMT0: u8 = 0x4E;
 pub const GYRO_CONFIG0: u8 = 0x4F;
 /// §14 ACCEL_CONFIG0: bits 7:5 ACCEL_FS_SEL, bits 3:0 ACCEL_ODR.
 pub const ACCEL_CONFIG0: u8 = 0x50;
+/// §14 GYRO_CONFIG1: bits 3:2 GYRO_UI_FILT_ORD, bits 1:0 GYRO_DEC2_M2_ORD.
+pub const GYRO_CONFIG1: u8 = 0x51;
+/// §14 GYRO_ACCEL_CONFIG0: bits 7:4 ACCEL_UI_FILT_BW, bits 3:0 GYRO_UI_FILT_BW.
+pub const GYRO_ACCEL_CONFIG0: u8 = 0x52;
+/// §14 ACCEL_CONFIG1: bits 4:3 ACCEL_UI_FILT_ORD, bits 2:1 ACCEL_DEC2_M2_ORD.
+pub const ACCEL_CONFIG1: u8 = 0x53;
 /// §14 FIFO_CONFIG1: which sensors go into the FIFO.
 pub const FIFO_CONFIG1: u8 = 0x5F;
 /// §14 FIFO_CONFIG2: watermark bits 7:0.
@@ -42,8 +52,17 @@ pub const INT_CONFIG1: u8 = 0x64;
 pub const INT_SOURCE0: u8 = 0x65;
 /// §14 FIFO_LOST_PKT0: lost-packet count, low byte; FIFO_LOST_PKT1 (high) follows at 0x6D.
 pub const FIFO_LOST_PKT0: u8 = 0x6C;
+/// §14 SELF_TEST_CONFIG: ACCEL_ST_POWER (bit 6), EN_AZ/AY/AX_ST (bits
+/// 5:3), EN_GZ/GY/GX_ST (bits 2:0).
+pub const SELF_TEST_CONFIG: u8 = 0x70;
 /// §14 WHO_AM_I.
 pub const WHO_AM_I: u8 = 0x75;
+/// §13 (user bank 1) XG_ST_DATA: the gyro x factory self-test code; YG_ST_DATA
+/// and ZG_ST_DATA follow at 0x60, 0x61.
+pub const XG_ST_DATA_BANK1: u8 = 0x5F;
+/// §13 (user bank 2) XA_ST_DATA: the accel x factory self-test code; YA_ST_DATA
+/// and ZA_ST_DATA follow at 0x3C, 0x3D.
+pub const XA_ST_DATA_BANK2: u8 = 0x3B;
 
 /// §14 WHO_AM_I: the ICM-42688-P identity.
 pub const WHO_AM_I_VALUE: u8 = 0x47;
@@ -88,6 +107,35 @@ pub const GYRO_MODE_LOW_NOISE: u8 = 0b11 << 2;
 pub const ACCEL_MODE_LOW_NOISE: u8 = 0b11;
 /// §14 PWR_MGMT0: no register write for 200 µs after turning a sensor on.
 pub const POWER_ON_WAIT_US: u32 = 200;
+/// §14 DATA registers: -32768 marks an invalid sample (sensor not yet producing).
+pub const INVALID_SAMPLE: i16 = i16::MIN;
+
+/// PWR_MGMT0 bits 3:0: both sensors' modes (00: off).
+pub const SENSOR_MODES_MASK: u8 = 0x0F;
+
+/// GYRO_CONFIG1 GYRO_UI_FILT_ORD field (bits 3:2).
+pub const GYRO_UI_FILT_ORD_MASK: u8 = 0b11 << 2;
+/// GYRO_UI_FILT_ORD = 10: third-order UI filter.
+pub const GYRO_UI_FILT_ORD_3RD: u8 = 0b10 << 2;
+/// ACCEL_CONFIG1 ACCEL_UI_FILT_ORD field (bits 4:3).
+pub const ACCEL_UI_FILT_ORD_MASK: u8 = 0b11 << 3;
+/// ACCEL_UI_FILT_ORD = 10: third-order UI filter.
+pub const ACCEL_UI_FILT_ORD_3RD: u8 = 0b10 << 3;
+/// GYRO_ACCEL_CONFIG0 GYRO_UI_FILT_BW field (bits 3:0).
+pub const GYRO_UI_FILT_BW_MASK: u8 = 0x0F;
+/// GYRO_UI_FILT_BW = 4: bandwidth max(400 Hz, ODR)/10.
+pub const GYRO_UI_FILT_BW_ODR_10: u8 = 4;
+/// GYRO_ACCEL_CONFIG0 ACCEL_UI_FILT_BW field (bits 7:4).
+pub const ACCEL_UI_FILT_BW_MASK: u8 = 0xF0;
+/// ACCEL_UI_FILT_BW = 4: bandwidth max(400 Hz, ODR)/10.
+pub const ACCEL_UI_FILT_BW_ODR_10: u8 = 4 << 4;
+
+/// SELF_TEST_CONFIG bits 2:0: gyro self-test on x, y, z.
+pub const EN_G_ST: u8 = 0b111;
+/// SELF_TEST_CONFIG bits 5:3: accel self-test on x, y, z.
+pub const EN_A_ST: u8 = 0b111 << 3;
+/// SELF_TEST_CONFIG bit 6: power for the accel self-test (set with EN_A_ST).
+pub const ACCEL_ST_POWER: u8 = 1 << 6;
 
 /// GYRO_CONFIG0 / ACCEL_CONFIG0 full-scale field position (bits 7:5).
 pub const FS_SEL_SHIFT: u8 = 5;

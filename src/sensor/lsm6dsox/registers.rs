@@ -25,8 +25,17 @@ pub const CTRL1_XL: u8 = 0x10;
 pub const CTRL2_G: u8 = 0x11;
 /// §9 CTRL3_C: BOOT, BDU, H_LACTIVE, PP_OD, SIM, IF_INC, SW_RESET.
 pub const CTRL3_C: u8 = 0x12;
+/// §9 CTRL5_C: ROUNDING, ST_G (bits 3:2), ST_XL (bits 1:0): self-test.
+pub const CTRL5_C: u8 = 0x14;
+/// §9 CTRL10_C: the last of the ten control registers CTRL1_XL..=CTRL10_C
+/// (0x10..=0x19) the self-test procedure sets.
+pub const CTRL10_C: u8 = 0x19;
 /// §9 STATUS_REG: TDA (bit 2), GDA (bit 1), XLDA (bit 0).
 pub const STATUS_REG: u8 = 0x1E;
+/// §9 OUTX_L_G: first of the six gyro output bytes (x, y, z little-endian).
+pub const OUTX_L_G: u8 = 0x22;
+/// §9 OUTX_L_A: first of the six accel output bytes (x, y, z little-endian).
+pub const OUTX_L_A: u8 = 0x28;
 /// §9 OUT_TEMP_L: first of the 14-byte block temperature, gyro x/y/z,
 /// accel x/y/z (little-endian words) that ends at OUTZ_H_A (0x2D).
 pub const OUT_TEMP_L: u8 = 0x20;
@@ -39,6 +48,8 @@ pub const FIFO_DATA_OUT_TAG: u8 = 0x78;
 /// §9: the LSM6DSOX identity.
 pub const WHO_AM_I_VALUE: u8 = 0x6C;
 
+/// CTRL3_C bit 7: reboot memory content (a command: self-clearing).
+pub const BOOT: u8 = 1 << 7;
 /// CTRL3_C bit 6: block data update (output words never mix two samples).
 pub const BDU: u8 = 1 << 6;
 /// CTRL3_C bit 5: interrupt pins active low.
@@ -54,6 +65,11 @@ pub const SW_RESET: u8 = 1 << 0;
 /// ST's reference driver polls it. The driver waits this long, checks once,
 /// and reports `ResetNotDone` if the bit is still set.
 pub const SW_RESET_WAIT_US: u32 = 100;
+
+/// CTRL5_C ST_XL = 01: accelerometer positive self-test.
+pub const ST_XL_POSITIVE: u8 = 0b01;
+/// CTRL5_C ST_G = 01: gyroscope positive self-test.
+pub const ST_G_POSITIVE: u8 = 0b01 << 2;
 
 /// COUNTER_BDR_REG1 bit 7: data-ready pulsed (75 µs) instead of latched.
 pub const DATAREADY_PULSED: u8 = 1 << 7;

@@ -11,7 +11,6 @@ use triad_bench::{Bench, Variant, BATCH, BATCHES};
 
 use crate::cmd::{cargo, check, root};
 use crate::qemu;
-use crate::setup::QEMU;
 
 /// A core the benchmark runs on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -149,11 +148,12 @@ fn build(core: Core) -> Result<PathBuf> {
 }
 
 fn run(core: Core, elf: &Path) -> Result<Vec<Line>> {
-    let mut child = qemu::command(core.machine(), elf)
+    let mut command = qemu::command(core.machine(), elf);
+    let mut child = command
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
-        .with_context(|| format!("starting {QEMU}"))?;
+        .with_context(|| format!("starting {}", command.get_program().to_string_lossy()))?;
     let start = Instant::now();
     let status = loop {
         if let Some(status) = child.try_wait()? {

@@ -105,7 +105,7 @@ pub fn markdown(rows: &[Row], host: &[(Variant, f64)]) -> Result<String> {
         md,
         "Written by `cargo xtask bench` on {date}, with {} and {}. Do not edit: rerun.\n",
         version("rustc", "-V"),
-        version(crate::setup::QEMU, "--version")
+        version(&crate::setup::qemu().to_string_lossy(), "--version")
     )?;
     writeln!(md, "{}", METHOD)?;
     for core in Core::ALL {
@@ -191,7 +191,7 @@ pub fn markdown(rows: &[Row], host: &[(Variant, f64)]) -> Result<String> {
 }
 
 /// Where the instructions go, read from the disassembly
-/// (`llvm-objdump -d` of target/bench/<target>/release/triad-bench).
+/// (`llvm-objdump -d` of `target/bench/<target>/release/triad-bench`).
 const WHY: &str = "
 Why the targets are not all met:
 

@@ -1,4 +1,4 @@
-//! One Debian package installed with apt-get, never at the cost of another:
+//! Debian packages installed with apt-get, never at the cost of another:
 //! apt-get first simulates the install (`-s`, which needs no root), and a plan
 //! that removes or downgrades an installed package is refused with a message
 //! naming them and the command the user can run if they accept it. The real
@@ -6,9 +6,9 @@
 //! downgrades without `--allow-downgrades`, so nothing the simulation missed
 //! can remove or downgrade either. apt-get's output goes to stderr.
 
-use super::privilege::{self, Privilege};
+use super::privilege::{Privilege, Refusal};
 use crate::cmd::{check, runs};
-use anyhow::{bail, Context, Result};
+use anyhow::{anyhow, bail, Context, Result};
 use std::process::{Command, Stdio};
 
 /// What an `apt-get install -s` would do.
@@ -66,86 +66,109 @@ pub fn parse_simulation(text: &str) -> Plan {
     plan
 }
 
-/// Installs `package` and what it depends on (not what it recommends).
-pub fn install(package: &str) -> Result<()> {
+impl Plan {
+    /// True when the plan removes or downgrades an installed package.
+    pub fn harms(&self) -> bool {
+        !self.remove.is_empty() || !self.downgrade.is_empty()
+    }
+
+    /// What it would remove and downgrade: "remove qemu-utils".
+    pub fn harm(&self) -> String {
+        let mut harm = Vec::new();
+        if !self.remove.is_empty() {
+            harm.push(format!("remove {}", self.remove.join(", ")));
+        }
+        if !self.downgrade.is_empty() {
+            harm.push(format!("downgrade {}", self.downgrade.join(", ")));
+        }
+        harm.join(" and ")
+    }
+}
+
+/// Fails, saying what to do instead, when apt-get is not on PATH.
+pub fn require(what: &str) -> Result<()> {
     if !runs("apt-get") {
         bail!(
-            "{package} is missing and apt-get is not on PATH: install {package} \
+            "{what} is missing and apt-get is not on PATH: install {what} \
              (or your system's package of it) with your package manager, then run this again"
         );
     }
-    let update = "apt-get update".to_string();
-    let by_hand = format!("apt-get install --no-install-recommends --no-remove {package}");
-    let privilege = match privilege::detect() {
-        Ok(privilege) => privilege,
-        Err(refusal) => bail!(
-            "installing {package} needs root, and {}. Run\n    {}\nthen run this command again",
-            match refusal {
-                privilege::Refusal::SudoAsks => "sudo asks for a password",
-                privilege::Refusal::NoSudo => "there is no sudo",
-            },
-            refusal.instead(&[update, by_hand])
-        ),
-    };
-    run(privilege, &["update"])?;
+    Ok(())
+}
 
-    let plan = simulate(package)?;
-    if !plan.remove.is_empty() || !plan.downgrade.is_empty() {
-        bail!("{}", refusal_message(package, &plan, privilege));
+/// The error for installing `packages` without root: which commands to run
+/// as root instead (`apt-get update`, then the install), and why xtask
+/// cannot.
+pub fn needs_root(refusal: Refusal, packages: &[&str]) -> anyhow::Error {
+    let packages = packages.join(" ");
+    let commands = [
+        "apt-get update".to_string(),
+        format!("apt-get install --no-install-recommends --no-remove {packages}"),
+    ];
+    anyhow!(
+        "installing {packages} needs root, and {}. Run\n    {}\nthen run this command again",
+        match refusal {
+            Refusal::SudoAsks => "sudo asks for a password",
+            Refusal::NoSudo => "there is no sudo",
+        },
+        refusal.instead(&commands)
+    )
+}
+
+/// `apt-get update`: the package lists the plan is made from.
+pub fn update(privilege: Privilege) -> Result<()> {
+    run(privilege, &["update"])
+}
+
+/// Installs `packages` and what they depend on (not what they recommend)
+/// following `plan`, their simulation: a plan that removes or downgrades is
+/// refused with [`refusal_message`].
+pub fn install(privilege: Privilege, packages: &[&str], plan: &Plan) -> Result<()> {
+    if plan.harms() {
+        bail!("{}", refusal_message(packages, plan, privilege));
     }
     eprintln!(
         "xtask: apt-get installs {} package(s): {}",
         plan.install.len(),
         plan.install.join(" ")
     );
-    run(
-        privilege,
-        &[
-            "install",
-            "-y",
-            "--no-install-recommends",
-            "--no-remove",
-            package,
-        ],
-    )
+    let mut args = vec!["install", "-y", "--no-install-recommends", "--no-remove"];
+    args.extend(packages);
+    run(privilege, &args)
 }
 
 /// The message of a refused plan: what would go, and what to run instead.
-fn refusal_message(package: &str, plan: &Plan, privilege: Privilege) -> String {
-    let mut harm = Vec::new();
-    if !plan.remove.is_empty() {
-        harm.push(format!("remove {}", plan.remove.join(", ")));
-    }
-    if !plan.downgrade.is_empty() {
-        harm.push(format!("downgrade {}", plan.downgrade.join(", ")));
-    }
+fn refusal_message(packages: &[&str], plan: &Plan, privilege: Privilege) -> String {
     let sudo = match privilege {
         Privilege::Root => "",
         Privilege::Sudo => "sudo ",
     };
+    let packages = packages.join(" ");
     format!(
-        "installing {package} would {}, and xtask never removes or downgrades an installed \
+        "installing {packages} would {}, and xtask never removes or downgrades an installed \
          package. See what apt-get would do with\n    \
-         apt-get install -s --no-install-recommends {package}\n\
+         apt-get install -s --no-install-recommends {packages}\n\
          and if you accept it, run\n    \
-         {sudo}apt-get install --no-install-recommends {package}\n\
-         (or install {package} another way); then run this command again",
-        harm.join(" and ")
+         {sudo}apt-get install --no-install-recommends {packages}\n\
+         (or install {packages} another way); then run this command again",
+        plan.harm()
     )
 }
 
-/// apt-get's simulation of installing `package`.
-fn simulate(package: &str) -> Result<Plan> {
+/// apt-get's simulation of installing `packages` (no root needed).
+pub fn simulate(packages: &[&str]) -> Result<Plan> {
     let output = Command::new("apt-get")
-        .args(["install", "-s", "--no-install-recommends", package])
+        .args(["install", "-s", "--no-install-recommends"])
+        .args(packages)
         .env("LC_ALL", "C")
         .stderr(Stdio::inherit())
         .output()
         .context("running apt-get install -s")?;
+    let packages = packages.join(" ");
     if !output.status.success() {
         bail!(
-            "`apt-get install -s --no-install-recommends {package}` failed ({}): apt-get \
-             cannot install {package} here",
+            "`apt-get install -s --no-install-recommends {packages}` failed ({}): apt-get \
+             cannot install {packages} here",
             output.status
         );
     }
@@ -198,6 +221,19 @@ Conf qemu-system-data (1:7.2+dfsg-7+deb12u18 Debian:12.13/stable [all])
     }
 
     #[test]
+    fn a_removal_or_a_downgrade_harms_and_says_which() {
+        let plan = parse_simulation(REMOVES);
+        assert!(plan.harms());
+        assert_eq!(plan.harm(), "remove qemu-utils");
+        let both = Plan {
+            remove: vec!["a".into()],
+            downgrade: vec!["b".into(), "c".into()],
+            ..Plan::default()
+        };
+        assert_eq!(both.harm(), "remove a and downgrade b, c");
+    }
+
+    #[test]
     fn a_downgrade_is_read_from_its_list() {
         let text = "The following packages will be DOWNGRADED:\n  libfdt1 libslirp0\n\
                     0 upgraded, 0 newly installed, 2 downgraded, 0 to remove.\n\
@@ -213,13 +249,13 @@ Conf qemu-system-data (1:7.2+dfsg-7+deb12u18 Debian:12.13/stable [all])
                     Inst qemu-system-arm (1:7.2 Debian:12 [amd64])\n";
         let plan = parse_simulation(text);
         assert_eq!(plan.install, ["qemu-system-arm"]);
-        assert!(plan.remove.is_empty() && plan.downgrade.is_empty());
+        assert!(!plan.harms());
     }
 
     #[test]
     fn the_refusal_names_the_conflict_and_the_command() {
         let plan = parse_simulation(REMOVES);
-        let message = refusal_message("qemu-system-arm", &plan, Privilege::Sudo);
+        let message = refusal_message(&["qemu-system-arm"], &plan, Privilege::Sudo);
         assert!(message.starts_with("installing qemu-system-arm would remove qemu-utils,"));
         assert!(message
             .contains("\n    sudo apt-get install --no-install-recommends qemu-system-arm\n"));

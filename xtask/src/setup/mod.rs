@@ -1,5 +1,7 @@
 //! Installs what is missing: the rustup targets and, for the emulated board,
-//! qemu-system-arm (Debian's package, through [`apt`]).
+//! qemu-system-arm 7.2 or later: Debian's package through [`apt`], or, where
+//! installing it would remove or downgrade a package, that package unpacked
+//! into the workspace's `target/` ([`qemu_unpacked`]).
 //!
 //! Every step says what it installs and why before it starts, and sends the
 //! installers' output to stderr: `cargo xtask run`'s stdout is the CSV. An
@@ -7,11 +9,17 @@
 //! needs root it cannot get says the exact command to run instead.
 
 mod apt;
+mod apt_cache;
+mod depends;
 mod privilege;
+mod qemu_binary;
+mod qemu_unpacked;
 
 use crate::board::Board;
-use crate::cmd::{check, runs};
+use crate::cmd::check;
 use anyhow::{bail, Result};
+use apt::Plan;
+use qemu_binary::NAME as QEMU_PACKAGE;
 use std::process::{Command, Stdio};
 
 /// The Rust targets the project builds for, and what each is for.
@@ -20,11 +28,7 @@ const TARGETS: [(&str, &str); 2] = [
     ("thumbv6m-none-eabi", "the benchmark's Cortex-M0 core"),
 ];
 
-/// The QEMU binary the emulated board runs on.
-pub const QEMU: &str = "qemu-system-arm";
-
-/// The Debian package that has [`QEMU`].
-const QEMU_PACKAGE: &str = "qemu-system-arm";
+pub use qemu_binary::qemu;
 
 /// Everything: targets and QEMU.
 pub fn ensure_all() -> Result<()> {
@@ -77,21 +81,102 @@ fn ensure_targets() -> Result<()> {
     check(add, &format!("`{command}`"))
 }
 
+/// How QEMU gets onto this machine, from apt-get's plan for the package.
+#[derive(Debug, PartialEq, Eq)]
+enum Route {
+    /// `apt-get install` it: the plan harms nothing.
+    Install,
+    /// The plan would remove or downgrade: unpack the package instead.
+    Unpack,
+}
+
+impl Route {
+    fn from_plan(plan: &Plan) -> Route {
+        if plan.harms() {
+            Route::Unpack
+        } else {
+            Route::Install
+        }
+    }
+}
+
 fn ensure_qemu() -> Result<()> {
-    if runs(QEMU) {
+    if qemu_binary::find().is_some() {
         return Ok(());
     }
+    let (major, minor) = qemu_binary::MINIMUM;
     eprintln!(
-        "xtask: {QEMU} is not on PATH; the emulated board (QEMU's netduinoplus2) runs on it. \
-         Installing the Debian package {QEMU_PACKAGE} with apt-get (without recommended \
-         packages; nothing installed is removed or downgraded)"
+        "xtask: no QEMU {major}.{minor} or later: {QEMU_PACKAGE} is neither on PATH nor unpacked \
+         in {}; the emulated board (QEMU's netduinoplus2) runs on it. Asking apt-get how it would \
+         install the Debian package {QEMU_PACKAGE} (without recommended packages; nothing \
+         installed is removed or downgraded)",
+        qemu_binary::cache_dir().display()
     );
-    apt::install(QEMU_PACKAGE)?;
-    if !runs(QEMU) {
+    apt::require(QEMU_PACKAGE)?;
+    let privilege = privilege::detect();
+    if let Ok(privilege) = privilege {
+        apt::update(privilege)?;
+    }
+    let plan = match apt::simulate(&[QEMU_PACKAGE]) {
+        Ok(plan) => plan,
+        // Without root the package lists may be missing or stale: updating first may help.
+        Err(error) => match privilege {
+            Ok(_) => return Err(error),
+            Err(refusal) => return Err(apt::needs_root(refusal, &[QEMU_PACKAGE])),
+        },
+    };
+    match Route::from_plan(&plan) {
+        Route::Install => {
+            let privilege = privilege.map_err(|r| apt::needs_root(r, &[QEMU_PACKAGE]))?;
+            apt::install(privilege, &[QEMU_PACKAGE], &plan)?;
+        }
+        Route::Unpack => {
+            eprintln!(
+                "xtask: installing {QEMU_PACKAGE} would {}, and xtask never removes or \
+                 downgrades an installed package: it runs QEMU from Debian's package unpacked \
+                 into {} instead, in three steps",
+                plan.harm(),
+                qemu_binary::cache_dir().display()
+            );
+            qemu_unpacked::install(privilege)?;
+        }
+    }
+    if qemu_binary::find().is_none() {
         bail!(
-            "apt-get installed {QEMU_PACKAGE} but `{QEMU} --version` still does not run: \
-             put QEMU 7.2 or later on PATH"
+            "after installing, neither `{QEMU_PACKAGE} --version` on PATH nor {} reports QEMU \
+             {major}.{minor} or later: put QEMU {major}.{minor} or later on PATH",
+            qemu_binary::unpacked().display()
         );
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_plan_that_removes_or_downgrades_unpacks_instead() {
+        // apt-get 2.6 on Debian 12 with bookworm-backports' qemu-utils 10 installed.
+        let removes = apt::parse_simulation(
+            "The following packages will be REMOVED:\n  qemu-utils\n\
+             Remv qemu-utils [1:10.0.2+ds-2+deb13u1~bpo12+1]\n\
+             Inst qemu-system-arm (1:7.2+dfsg-7+deb12u18+b3 Debian:12.15/oldstable [amd64])\n",
+        );
+        assert_eq!(Route::from_plan(&removes), Route::Unpack);
+        let downgrades = apt::parse_simulation(
+            "The following packages will be DOWNGRADED:\n  libslirp0\n\
+             Inst qemu-system-arm (1:7.2+dfsg-7+deb12u18+b3 Debian:12 [amd64])\n",
+        );
+        assert_eq!(Route::from_plan(&downgrades), Route::Unpack);
+    }
+
+    #[test]
+    fn a_plan_that_only_adds_installs() {
+        let adds = apt::parse_simulation(
+            "The following NEW packages will be installed:\n  qemu-system-arm\n\
+             Inst qemu-system-arm (1:7.2+dfsg-7+deb12u18+b3 Debian:12 [amd64])\n",
+        );
+        assert_eq!(Route::from_plan(&adds), Route::Install);
+    }
 }

@@ -1,0 +1,130 @@
+//! Start-up, before the tasks run: find and start the sensor, open the
+//! calibration store, choose the calibration (the core's
+//! `start_calibration`: stored, else built in, else none), and build the
+//! sampler and the command handler on that choice. Every failure that
+//! leaves nothing to stream stops the board with the reason in the log.
+
+use crate::{board, BUS, CALIBRATION_BLOB};
+use triad::device::startup::load_stored;
+use triad::device::{start_calibration, CalibrationStore, CommandHandler, DeviceFacts, Sampler};
+use triad::link::StoredState;
+use triad::sensor::Imu;
+
+/// What the tasks start with.
+pub struct Started {
+    /// The sensor, sampling.
+    pub sensor: board::Sensor,
+    /// The per-sample pipeline with the chosen calibration.
+    pub sampler: Sampler,
+    /// The command handler, over the store.
+    pub handler: CommandHandler<board::Flash>,
+}
+
+/// Brings the sensor, the store and the calibration up.
+pub fn start(
+    bus: board::SensorBus,
+    flash: Result<board::Flash, board::StorageUnavailable>,
+) -> Started {
+    let mut sensor = match board::find_sensor(bus) {
+        Ok(sensor) => sensor,
+        Err(error) => {
+            defmt::error!("no known IMU on the bus: {}", defmt::Debug2Format(&error));
+            board::exit(false)
+        }
+    };
+    if let Err(error) = sensor.start(&mut board::Delay) {
+        defmt::error!(
+            "{} initialisation failed: {}",
+            sensor.name(),
+            defmt::Debug2Format(&error)
+        );
+        board::exit(false);
+    }
+    let rate_hz = sensor.sample_rate_hz();
+    let description = board::DESCRIPTION;
+    defmt::info!(
+        "triad firmware: {} at {} Hz, decimation {}",
+        sensor.name(),
+        rate_hz as u32,
+        description.decimation
+    );
+
+    let (base, slot_len) = board::STORAGE_SLOTS;
+    let mut store = match flash {
+        Ok(flash) => match CalibrationStore::new(flash, base, slot_len) {
+            Ok(store) => Some(store),
+            Err(error) => {
+                defmt::error!(
+                    "calibration storage unusable: {}",
+                    defmt::Debug2Format(&error)
+                );
+                None
+            }
+        },
+        Err(why) => {
+            defmt::info!("no calibration storage: {}", why);
+            None
+        }
+    };
+    let (stored, loaded) = match store.as_mut() {
+        Some(store) => load_stored(store),
+        None => (None, StoredState::NoStorage),
+    };
+    if loaded == StoredState::Rejected || loaded == StoredState::Failed {
+        defmt::error!("stored calibration: {}; ignored", loaded.name());
+    }
+
+    let scale = sensor.scale();
+    let startup = match start_calibration(
+        stored.as_ref().map(|b| &b[..]),
+        CALIBRATION_BLOB,
+        &scale,
+        description.orientation,
+    ) {
+        Ok(startup) => startup,
+        Err(error) => {
+            defmt::error!("the chip's scale is invalid: {}; stopping", error);
+            board::exit(false)
+        }
+    };
+    if let Some(rejection) = startup.stored_rejected {
+        defmt::error!("stored calibration rejected: {}", rejection);
+    }
+    if let Some(rejection) = startup.rejected {
+        defmt::error!("built-in calibration rejected: {}", rejection);
+    }
+    defmt::info!(
+        "calibration {=u32:#010x} ({})",
+        startup.corrector.calibration_id(),
+        startup.source
+    );
+    let facts = DeviceFacts {
+        firmware: env!("CARGO_PKG_VERSION"),
+        board: description.name,
+        chip: sensor.name(),
+        bus: BUS,
+        sample_rate_hz: rate_hz as f32,
+        baud: description.baud,
+        scale,
+        orientation: description.orientation,
+    };
+    let handler = CommandHandler::new(
+        facts,
+        startup.active(stored.as_ref(), CALIBRATION_BLOB),
+        description.decimation,
+        store,
+        startup.stored_state(loaded),
+    );
+    let calibrated = startup.calibrated();
+    let sampler = Sampler::at_rate(
+        startup.corrector,
+        calibrated,
+        description.decimation,
+        rate_hz,
+    );
+    Started {
+        sensor,
+        sampler,
+        handler,
+    }
+}

@@ -1,0 +1,133 @@
+//! `cargo xtask serve`: the emulated board served like hardware. QEMU runs
+//! the firmware paced to real time (no `-icount`: virtual time is the host's
+//! clock), its link USART on a socket that xtask pumps to and from a
+//! pseudo-terminal; the pty's path is the first line on stdout, so that
+//! `triad device --port PATH` and `triad decode --port PATH` work against it
+//! exactly as against a board. It runs until killed (Ctrl-C), or until the
+//! firmware stops.
+//!
+//! The calibration flash is the file `--storage FILE` names (created all
+//! 0xFF when missing, so it persists across runs); without it the board
+//! has no storage and `save` answers "not supported".
+
+use crate::pty::Pty;
+use crate::{defmt_log, qemu};
+use anyhow::{bail, Context, Result};
+use nix::poll::{poll, PollFd, PollFlags, PollTimeout};
+use std::io::{ErrorKind, Read, Write};
+use std::os::fd::AsFd;
+use std::path::{Path, PathBuf};
+
+/// Bytes of the emulated board's flash file (its `semihosting_flash::CAPACITY`).
+pub const STORAGE_BYTES: usize = 32 * 1024;
+
+/// How the emulated board's storage is set up.
+pub struct Storage {
+    /// The file (absolute).
+    pub path: PathBuf,
+    /// For the power-cut test: the run ends at this write or erase operation.
+    pub cut_after: Option<u32>,
+}
+
+/// Creates the storage file when missing (all 0xFF: erased flash); refuses
+/// one of the wrong size rather than touching it.
+pub fn prepare_storage(path: &Path) -> Result<PathBuf> {
+    match std::fs::metadata(path) {
+        Ok(meta) if meta.len() == STORAGE_BYTES as u64 => {}
+        Ok(meta) => bail!(
+            "--storage {}: {} bytes, but the emulated board's flash is {STORAGE_BYTES} bytes; \
+             not a triad storage file (remove it to start afresh)",
+            path.display(),
+            meta.len()
+        ),
+        Err(e) if e.kind() == ErrorKind::NotFound => {
+            std::fs::write(path, vec![0xFFu8; STORAGE_BYTES])
+                .with_context(|| format!("creating the storage file {}", path.display()))?;
+        }
+        Err(e) => return Err(e).with_context(|| format!("--storage {}", path.display())),
+    }
+    let path =
+        std::fs::canonicalize(path).with_context(|| format!("--storage {}", path.display()))?;
+    if path.to_str().is_none_or(|p| p.contains(',')) {
+        bail!(
+            "--storage {}: QEMU's semihosting options cannot carry this path (commas, or not UTF-8)",
+            path.display()
+        );
+    }
+    Ok(path)
+}
+
+/// The semihosting arguments that hand the storage file to the firmware.
+pub fn semihosting_args(storage: &Storage) -> Vec<String> {
+    let mut args = vec![
+        "triad".to_string(),
+        format!("storage={}", storage.path.display()),
+    ];
+    if let Some(n) = storage.cut_after {
+        args.push(format!("cut-after={n}"));
+    }
+    args
+}
+
+/// Serves `elf` until QEMU stops (the firmware ended the run, or it was
+/// killed); an early stop is an error.
+pub fn serve(elf: &Path, storage: Option<&Storage>) -> Result<()> {
+    let pty = Pty::open()?;
+    let args = storage.map(semihosting_args).unwrap_or_default();
+    let mut board = qemu::Board::start(elf, qemu::Clock::RealTime, &args)?;
+    let elf_bytes = std::fs::read(elf).with_context(|| format!("reading {}", elf.display()))?;
+    let log = board.take_log()?;
+    std::thread::spawn(move || defmt_log::print(&elf_bytes, log));
+
+    // The first stdout line is the port: scripts read it.
+    println!("{}", pty.path.display());
+    std::io::stdout().flush().context("stdout")?;
+    eprintln!(
+        "xtask: the emulated board's link is {} ({}); Ctrl-C stops it",
+        pty.path.display(),
+        match storage {
+            Some(s) => format!("storage {}", s.path.display()),
+            None => "no storage".to_string(),
+        }
+    );
+
+    let mut from_device = board.link.try_clone().context("cloning the link socket")?;
+    let mut to_device = board.link.try_clone().context("cloning the link socket")?;
+    let mut master_out = pty.master.try_clone().context("cloning the pty")?;
+    let mut master_in = pty.master.try_clone().context("cloning the pty")?;
+    // Device → host: what no client reads is dropped (the pty is full).
+    std::thread::spawn(move || -> std::io::Result<()> {
+        let mut buffer = [0u8; 4096];
+        loop {
+            let n = from_device.read(&mut buffer)?;
+            if n == 0 {
+                return Ok(());
+            }
+            match master_out.write(&buffer[..n]) {
+                Ok(_) => {}
+                Err(e) if e.kind() == ErrorKind::WouldBlock => {}
+                Err(e) => return Err(e),
+            }
+        }
+    });
+    // Host → device.
+    std::thread::spawn(move || -> Result<()> {
+        let mut buffer = [0u8; 4096];
+        loop {
+            poll(
+                &mut [PollFd::new(master_in.as_fd(), PollFlags::POLLIN)],
+                PollTimeout::NONE,
+            )?;
+            match master_in.read(&mut buffer) {
+                Ok(0) => return Ok(()),
+                Ok(n) => to_device.write_all(&buffer[..n])?,
+                Err(e) if e.kind() == ErrorKind::WouldBlock => {}
+                // EIO: no client has the slave open (cannot happen while
+                // xtask holds it, but never spin on it).
+                Err(e) => return Err(e.into()),
+            }
+        }
+    });
+    let status = board.wait()?;
+    bail!("the firmware stopped QEMU ({status})")
+}
