@@ -5,23 +5,26 @@
 //! onto any byte port that does not block its reads. It logs every frame
 //! with the raw sample it was made from, and every control applied.
 
+use std::cell::RefCell;
 use std::io::{ErrorKind, Read, Write};
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc;
 use std::sync::{Arc, Mutex};
 use std::thread::{self, JoinHandle};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use triad::device::{
     sample_period_us, start_calibration, ActiveCalibration, CommandHandler, Control, DeviceFacts,
     Handled, Outgoing, Sampler, SharedCounters, StepOutcome,
 };
-use triad::link::{CalibrationSource, Mode, Payload, Reply, Status, StoredState, MAX_WIRE_LEN};
+use triad::link::{CalibrationSource, Mode, Reply, StoredState, MAX_WIRE_LEN};
 use triad::model::blob::BLOB_LEN;
 use triad::model::Orientation;
 use triad::sensor::interface::SpiInterface;
 use triad::sensor::{AnyChip, Imu, ImuScale, RawSample};
 use triad::stream::Decoder;
 use triad_sim::emulated_board::{source, EmulatedChip};
+use triad_sim::model_clock::{ModelDelay, SharedBus};
 
 use super::ram_flash::RamFlash;
 
@@ -83,11 +86,13 @@ impl embedded_hal::delay::DelayNs for NoDelay {
     fn delay_ns(&mut self, _: u32) {}
 }
 
-type Sensor = AnyChip<SpiInterface<EmulatedChip>>;
+/// The chip model, shared by the driver and the self-test's delay (which
+/// lets the model's time pass), as the emulated board shares it.
+type Model<'m> = &'m RefCell<EmulatedChip>;
+type Sensor<'m> = AnyChip<SpiInterface<SharedBus<'m, EmulatedChip>>>;
 
-fn sensor() -> Sensor {
-    let model = EmulatedChip::named(CHIP, source::demo).expect("a chip of the emulated board");
-    let mut sensor = AnyChip::detect(SpiInterface::new(model)).expect("found on SPI");
+fn sensor(model: Model<'_>) -> Sensor<'_> {
+    let mut sensor = AnyChip::detect(SpiInterface::new(SharedBus(model))).expect("found on SPI");
     sensor.start(&mut NoDelay).expect("the chip model starts");
     sensor
 }
@@ -95,14 +100,19 @@ fn sensor() -> Sensor {
 impl FakeDevice {
     /// Starts the device on `port`.
     pub fn spawn(port: impl Port, options: Options) -> FakeDevice {
-        let sensor = sensor();
-        let scale = sensor.scale();
-        let rate_hz = sensor.sample_rate_hz();
         let stop = Arc::new(AtomicBool::new(false));
         let log = Arc::new(Mutex::new(Log::default()));
-        let device = Device::new(sensor, options, Arc::clone(&log));
-        let flag = Arc::clone(&stop);
-        let thread = thread::spawn(move || device.run(port, &flag));
+        let (flag, device_log) = (Arc::clone(&stop), Arc::clone(&log));
+        let (facts, chip) = mpsc::channel();
+        // The model lives on the device's thread, which the driver borrows.
+        let thread = thread::spawn(move || {
+            let model = EmulatedChip::named(CHIP, source::demo).expect("an emulated chip");
+            let model = RefCell::new(model);
+            let sensor = sensor(&model);
+            let _ = facts.send((sensor.scale(), sensor.sample_rate_hz()));
+            Device::new(sensor, &model, options, device_log).run(port, &flag)
+        });
+        let (scale, rate_hz) = chip.recv().expect("the fake device starts");
         FakeDevice {
             stop,
             thread: Some(thread),
@@ -139,8 +149,9 @@ impl Drop for FakeDevice {
 }
 
 /// The device's state, on its thread.
-struct Device {
-    sensor: Sensor,
+struct Device<'m> {
+    sensor: Sensor<'m>,
+    model: Model<'m>,
     sampler: Sampler,
     handler: CommandHandler<RamFlash>,
     counters: SharedCounters,
@@ -151,8 +162,8 @@ struct Device {
     log: Arc<Mutex<Log>>,
 }
 
-impl Device {
-    fn new(sensor: Sensor, options: Options, log: Arc<Mutex<Log>>) -> Device {
+impl<'m> Device<'m> {
+    fn new(sensor: Sensor<'m>, model: Model<'m>, options: Options, log: Arc<Mutex<Log>>) -> Self {
         let scale = sensor.scale();
         let rate = sensor.sample_rate_hz();
         let orientation = Orientation::RotationNone;
@@ -192,9 +203,10 @@ impl Device {
             orientation,
         };
         let handler = CommandHandler::new(facts, active, 1, store, stored);
-        Device {
+        Self {
             sampler: Sampler::at_rate(startup.corrector, calibrated, 1, rate),
             sensor,
+            model,
             handler,
             counters: SharedCounters::new(),
             decoder: Decoder::new(),
@@ -206,18 +218,16 @@ impl Device {
     }
 
     fn run(mut self, mut port: impl Port, stop: &AtomicBool) {
-        let started = Instant::now();
         let period_us = sample_period_us(self.sensor.sample_rate_hz());
         let mut step: u32 = 0;
         let mut buf = [0u8; 512];
         while !stop.load(Ordering::SeqCst) {
-            let now_ms = started.elapsed().as_millis() as u32;
             loop {
                 match port.read(&mut buf) {
                     Ok(0) => break,
                     Ok(n) => {
                         for &byte in &buf[..n] {
-                            self.received(byte, now_ms, &mut port, stop);
+                            self.received(byte, &mut port, stop);
                         }
                     }
                     Err(e) if e.kind() == ErrorKind::Interrupted => {}
@@ -240,31 +250,27 @@ impl Device {
     }
 
     /// One received byte; a completed command is answered.
-    fn received(&mut self, byte: u8, now_ms: u32, port: &mut impl Port, stop: &AtomicBool) {
+    fn received(&mut self, byte: u8, port: &mut impl Port, stop: &AtomicBool) {
         let Some(decoded) = self.decoder.push(byte) else {
             return;
         };
         let bytes = self.decoder.last_packet_bytes().to_vec();
         let controls = &mut self.controls;
-        // The handler's interface: a full queue gives the change back (this
-        // queue is never full); the change is a corrector, moved once.
-        #[allow(clippy::result_large_err)]
+        // This queue is never full.
         let mut submit = |c: Control| {
             controls.push(c);
-            Ok(())
+            true
         };
         let handled = self
             .handler
-            .on_packet(&decoded, &bytes, &self.counters, now_ms, &mut submit);
+            .on_packet(&decoded, &bytes, &self.counters, &mut submit);
         let reply = match handled {
             Handled::Reply(reply) => reply,
-            Handled::SelfTest { sequence } => self.handler.self_test_reply(
-                sequence,
-                Err((
-                    Status::NotSupported,
-                    Payload::new(b"the fake device's chip model has no self-test").unwrap(),
-                )),
-            ),
+            // The driver's procedure on the chip model, sampling paused.
+            Handled::SelfTest { sequence } => {
+                let result = self.sensor.self_test(&mut ModelDelay::new(self.model));
+                self.handler.self_test_reply(sequence, &result)
+            }
             Handled::Nothing => return,
         };
         let n = {
@@ -279,7 +285,7 @@ impl Device {
 
     /// One sample step: a frame when the decimation completes one.
     fn sample(&mut self, now_us: u32, port: &mut impl Port, stop: &AtomicBool) {
-        self.sensor.bus_mut().advance_one_sample();
+        self.model.borrow_mut().advance_one_sample();
         // The step reads the same registers again: the model only changes
         // when it advances.
         let raw = self.sensor.read_sample().expect("the model reads");
@@ -295,7 +301,8 @@ impl Device {
                 self.sampler.frame_dropped(&frame);
             }
         }
-        self.counters.publish(self.sampler.totals());
+        self.counters
+            .publish(self.sampler.totals(), self.sampler.uptime_ms());
     }
 }
 
