@@ -198,11 +198,6 @@ impl<P: Read + Write> Link<P> {
         self.next < self.end
     }
 
-    /// The port (for a test to look at what it carried).
-    pub fn port(&self) -> &P {
-        &self.port
-    }
-
     /// Sends `command` and returns its reply, which has status ok; a
     /// device that is busy is asked again (a new sequence number) up to the
     /// tries of the settings; any other status is [`LinkError::Refused`].
