@@ -3,7 +3,8 @@
 //! functions it is made of); `src/main.rs` only parses the command line and
 //! dispatches.
 //!
-//! - [`decode`]: the firmware's binary stream → CSV;
+//! - [`decode`]: the firmware's binary stream → CSV ([`stream_csv`]);
+//! - [`device`]: a board running triad firmware, driven over its serial port;
 //! - [`correct`]: a calibration applied to measured samples;
 //! - [`calib`]: check, pack and fit calibration files ([`calib_file`]);
 //! - [`sim`]: what a sensor measures in a scene ([`scene_file`]);
@@ -13,7 +14,7 @@
 //! What every command shares: [`input`] (a CSV file or stdin), [`outfile`]
 //! (outputs written whole or not at all), [`distinct`] (no output over an
 //! input), [`stdio`] (stdout and stderr without panics), [`progress`],
-//! [`interrupt`] (Ctrl-C) and [`number`] (readable numbers in messages).
+//! [`interrupt`] (Ctrl-C), [`serial`] (ports) and [`number`] (readable numbers in messages).
 //! [`shipped`] is what the binary carries (scenes, the default calibration);
 //! [`version`] what `triad --version` says.
 
@@ -25,6 +26,7 @@ pub mod calib_file;
 pub mod cli_docs;
 pub mod correct;
 pub mod decode;
+pub mod device;
 pub mod distinct;
 pub mod input;
 pub mod interrupt;
@@ -33,9 +35,11 @@ pub mod outfile;
 pub mod progress;
 pub mod row_writer;
 pub mod scene_file;
+pub mod serial;
 pub mod shipped;
 pub mod sim;
 pub mod stdio;
+pub mod stream_csv;
 pub mod version;
 
 #[doc(hidden)]

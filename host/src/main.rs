@@ -12,7 +12,7 @@ use std::process::ExitCode;
 use clap::CommandFactory;
 use clap::{Parser, Subcommand};
 use triad_host::stdio::{self, READER_GONE_STATUS};
-use triad_host::{allan, calib, cli_docs, correct, decode, progress, sim, version};
+use triad_host::{allan, calib, cli_docs, correct, decode, device, progress, sim, version};
 
 #[derive(Parser)]
 #[command(
@@ -32,6 +32,8 @@ struct Cli {
 enum Command {
     /// Decode the firmware's binary stream into CSV.
     Decode(decode::DecodeArgs),
+    /// Drive a board running triad firmware over its serial port.
+    Device(device::DeviceArgs),
     /// Apply a calibration to measured samples (the firmware's math).
     Correct(correct::CorrectArgs),
     /// Check, pack and fit calibration files.
@@ -53,6 +55,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     stdio::check_stdout_open()?;
     match cli.command {
         Command::Decode(args) => decode::run(args),
+        Command::Device(args) => device::run(args),
         Command::Correct(args) => correct::run(args),
         Command::Calib(args) => calib::run(args),
         Command::Sim(args) => sim::run(args),

@@ -7,13 +7,13 @@
 
 use std::sync::LazyLock;
 
-/// `0.1.0 (stream protocol v1, calibration blob v2, scene blob v1)`.
+/// `0.1.0 (stream protocol v2, calibration blob v2, scene blob v1)`.
 pub fn text() -> &'static str {
     static TEXT: LazyLock<String> = LazyLock::new(|| {
         format!(
             "{} (stream protocol v{}, calibration blob v{}, scene blob v{})",
             env!("CARGO_PKG_VERSION"),
-            triad::stream::VERSION,
+            triad::link::packet::VERSION,
             triad::model::blob::VERSION,
             triad_sim::scene_blob::VERSION,
         )
@@ -27,7 +27,8 @@ mod tests {
     fn the_version_names_each_format_version() {
         let text = super::text();
         assert!(text.starts_with(env!("CARGO_PKG_VERSION")), "{text}");
-        let stream = format!("stream protocol v{}", triad::stream::VERSION);
+        let stream = format!("stream protocol v{}", triad::link::packet::VERSION);
+        assert!(text.contains("stream protocol v2"), "{text}");
         assert!(text.contains(&stream), "{text}");
         assert!(text.contains("calibration blob v") && text.contains("scene blob v"));
     }

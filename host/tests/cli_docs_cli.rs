@@ -12,8 +12,9 @@ fn triad(args: &[&str]) -> (bool, String) {
 }
 
 /// The subcommands every completion and man page must know.
-const SUBCOMMANDS: [&str; 7] = [
+const SUBCOMMANDS: [&str; 8] = [
     "decode",
+    "device",
     "correct",
     "calib",
     "sim",
@@ -29,7 +30,7 @@ fn the_version_names_the_formats_it_speaks() {
     let expected = format!(
         "triad {} (stream protocol v{}, calibration blob v{}, scene blob v{})\n",
         env!("CARGO_PKG_VERSION"),
-        triad::stream::VERSION,
+        triad::link::packet::VERSION,
         triad::model::blob::VERSION,
         triad_sim::scene_blob::VERSION
     );

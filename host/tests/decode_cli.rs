@@ -251,3 +251,18 @@ fn bad_seconds_is_rejected_with_its_value() {
         assert!(stderr.contains(&format!("--seconds {bad}")), "{stderr}");
     }
 }
+
+#[test]
+fn the_help_says_what_a_raw_frame_becomes() {
+    let out = run(&["--help"], None);
+    assert!(out.status.success());
+    let help = text(&out.stdout).replace('\n', " ");
+    for words in [
+        "A raw frame",
+        "the chip's counts times the nominal scale the frame carries",
+        "RAW 0x40 and UNCALIBRATED 0x20",
+        "Replies and commands in the stream are counted",
+    ] {
+        assert!(help.contains(words), "{words:?} not in {help}");
+    }
+}
