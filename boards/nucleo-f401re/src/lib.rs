@@ -76,7 +76,12 @@ pub struct Board {
     pub sensor_bus: SensorBus,
     /// The calibration flash (sectors 6 and 7): always there on this board.
     pub flash: Result<Flash, StorageUnavailable>,
+    /// The delay the chip's self-test waits with (the chip samples on its own).
+    pub self_test_delay: SelfTestDelay,
 }
+
+/// The self-test's delay: the plain busy-wait.
+pub type SelfTestDelay = Delay;
 
 /// Brings up clocks and peripherals.
 pub fn init(dp: pac::Peripherals) -> Board {
@@ -104,6 +109,7 @@ pub fn init(dp: pac::Peripherals) -> Board {
         serial_rx: SerialRx::new(rx, dma1.5),
         sensor_bus,
         flash: Ok(Flash::new(dp.FLASH)),
+        self_test_delay: Delay,
     }
 }
 
@@ -168,6 +174,13 @@ pub type Sensor = AnyChip<SpiInterface<SensorBus>>;
 /// The sensor: the driver of the chip found on I²C1.
 #[cfg(feature = "bus-i2c")]
 pub type Sensor = AnyChip<I2cInterface<SensorBus>>;
+
+/// The sensor bus's error, as the drivers report it.
+#[cfg(not(feature = "bus-i2c"))]
+pub type SensorBusError = <SensorBus as embedded_hal::spi::ErrorType>::Error;
+/// The sensor bus's error, as the drivers report it.
+#[cfg(feature = "bus-i2c")]
+pub type SensorBusError = <SensorBus as embedded_hal::i2c::ErrorType>::Error;
 
 /// Why no chip was found on SPI1.
 #[cfg(not(feature = "bus-i2c"))]
