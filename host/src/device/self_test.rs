@@ -4,7 +4,6 @@
 use triad::link::{Reply, SelfTestResult, Status};
 use triad::units::{rad_to_deg, STANDARD_GRAVITY};
 
-use crate::number::readable;
 use crate::stdio::outln;
 
 /// The lines to print, and whether the self-test ran and every axis passed.
@@ -49,7 +48,7 @@ pub fn render(reply: &Reply) -> (String, bool) {
             let factory = if a.factory.is_nan() {
                 String::new()
             } else {
-                format!(", factory {} {unit}", readable(f64::from(a.factory)))
+                format!(", factory {:.1} {unit}", a.factory)
             };
             let verdict = match (a.response_ok, a.offset_ok) {
                 (true, true) => "ok",
@@ -59,12 +58,13 @@ pub fn render(reply: &Reply) -> (String, bool) {
             };
             outln!(
                 out,
-                "{triad} {axis}: response {} {unit} ({} {si_unit}), limits {}..{} {unit}{factory}; off {} {si_unit}: {verdict}",
-                readable(to_unit(a.response)),
-                readable(f64::from(a.response)),
-                readable(f64::from(a.min)),
-                readable(f64::from(a.max)),
-                readable(f64::from(a.off)),
+                // A person's precision: 0.1 mg or °/s is below the chips' noise.
+                "{triad} {axis}: response {:.1} {unit} ({:.4} {si_unit}), limits {:.1}..{:.1} {unit}{factory}; off {:.4} {si_unit}: {verdict}",
+                to_unit(a.response),
+                a.response,
+                a.min,
+                a.max,
+                a.off,
             );
         }
     }
@@ -127,14 +127,12 @@ mod tests {
         let lines: Vec<&str> = text.lines().collect();
         assert_eq!(lines.len(), 7, "{text}");
         assert_eq!(lines[0], "self-test: FAILED");
-        // 4.903325 m/s² is 500 mg (f32 rounding shows in the last digits).
-        assert!(
-            lines[1].starts_with("accel x: response 500.0000"),
-            "{}",
-            lines[1]
+        // 4.903325 m/s² is 500 mg.
+        assert_eq!(
+            lines[1],
+            "accel x: response 500.0 mg (4.9033 m/s²), limits 50.0..1700.0 mg; off 0.0100 m/s²: ok"
         );
-        assert!(lines[1].ends_with("limits 50..1700 mg; off 0.009999999776482582 m/s²: ok"));
-        assert!(lines[2].contains("mg, factory 480 mg; off"), "{}", lines[2]);
+        assert!(lines[2].contains("mg, factory 480.0 mg; off"), "{}", lines[2]);
         assert!(lines[2].ends_with(": FAILED: response out of limits"));
         assert!(
             lines[4].starts_with("gyro x: response 280.9"),
