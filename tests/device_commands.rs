@@ -46,6 +46,7 @@ fn facts() -> DeviceFacts {
         baud: 921_600,
         scale: widest_scale(),
         orientation: Orientation::RotationNone,
+        cycles_hz: 84_000_000,
     }
 }
 
@@ -255,6 +256,57 @@ fn identify_reports_the_facts_the_calibration_and_the_counters() {
         ),
         (0, 0, 2)
     );
+}
+
+#[test]
+fn identify_reports_each_tasks_share_of_the_last_second() {
+    use triad::device::{LoadWindow, Task};
+    let mut device = Device::new(None);
+    let hz = 84_000_000;
+    let mut window = LoadWindow::new();
+    assert_eq!(
+        window.tick(0, hz, &device.counters.load),
+        None,
+        "the window opens"
+    );
+    // Over one second: data-ready 8.4 M cycles (10 %), link 0.84 M (1 %),
+    // receive 84 k (0.1 %), the longest data-ready run 8400 cycles (100 µs).
+    for _ in 0..1000 {
+        device.counters.load.record(Task::DataReady, 8_400);
+        device.counters.load.record(Task::Link, 840);
+        device.counters.load.record(Task::Receive, 84);
+    }
+    assert_eq!(
+        window.tick(hz - 1, hz, &device.counters.load),
+        None,
+        "not a second yet"
+    );
+    assert_eq!(
+        window.tick(hz, hz, &device.counters.load),
+        Some([100, 10, 1, 0])
+    );
+    let load = device.info(1).load;
+    assert_eq!(load.busy_cycles, [8_400_000, 840_000, 84_000, 0]);
+    assert_eq!((load.window_cycles, load.cycles_hz), (hz, hz));
+    assert_eq!(load.share(0), 0.1);
+    assert!(
+        (load.idle_share() - 0.889).abs() < 1e-12,
+        "{}",
+        load.idle_share()
+    );
+    assert_eq!(load.max_run_us, [100, 10, 1, 0]);
+    // A window across the cycle counter's wrap, measured afresh.
+    let mut window = LoadWindow::new();
+    let start = u32::MAX - 1000;
+    window.tick(start, hz, &device.counters.load);
+    device.counters.load.record(Task::DataReady, 42_000_000);
+    let later = start.wrapping_add(hz);
+    assert!(later < start);
+    assert_eq!(
+        window.tick(later, hz, &device.counters.load),
+        Some([500, 0, 0, 0])
+    );
+    assert_eq!(device.info(2).load.max_run_us[0], 500_000);
 }
 
 #[test]

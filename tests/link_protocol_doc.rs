@@ -25,7 +25,12 @@ fn doc_hex(name: &str) -> Vec<u8> {
 fn hex_lines(bytes: &[u8]) -> String {
     bytes
         .chunks(16)
-        .map(|c| c.iter().map(|b| format!("{b:02x}")).collect::<Vec<_>>().join(" "))
+        .map(|c| {
+            c.iter()
+                .map(|b| format!("{b:02x}"))
+                .collect::<Vec<_>>()
+                .join(" ")
+        })
         .collect::<Vec<_>>()
         .join("\n")
 }
@@ -40,8 +45,16 @@ fn check(name: &str, packet: &triad::link::PacketBuf, expected: &Packet) {
         hex_lines(packet.as_bytes()),
         hex_lines(&wire[..n])
     );
-    assert_eq!(doc_hex(&format!("{name}-unstuffed")), packet.as_bytes(), "{name}: stale");
-    assert_eq!(doc_hex(&format!("{name}-wire")), &wire[..n], "{name}: stale");
+    assert_eq!(
+        doc_hex(&format!("{name}-unstuffed")),
+        packet.as_bytes(),
+        "{name}: stale"
+    );
+    assert_eq!(
+        doc_hex(&format!("{name}-wire")),
+        &wire[..n],
+        "{name}: stale"
+    );
     let mut decoder = Decoder::new();
     let mut bytes = vec![0u8];
     bytes.extend_from_slice(&wire[..n]);
@@ -73,5 +86,9 @@ fn command_and_reply_examples_match_the_code() {
         status: Status::BadArgument,
         payload: Payload::new(b"command 0x03: decimation must be at least 1").unwrap(),
     };
-    check("reply-error", &refused.to_packet().unwrap(), &Packet::Reply(refused));
+    check(
+        "reply-error",
+        &refused.to_packet().unwrap(),
+        &Packet::Reply(refused),
+    );
 }

@@ -51,6 +51,7 @@ const BUS: &str = "spi";
 /// command handler.
 static COUNTERS: SharedCounters = SharedCounters::new();
 
+mod run_time;
 mod start;
 
 #[rtic::app(device = crate::board::pac, dispatchers = [EXTI3])]
@@ -59,7 +60,8 @@ mod app {
     use heapless::spsc::{Consumer, Producer, Queue};
     use triad::device::board::{LinkRx, LinkTx};
     use triad::device::{
-        on_data_ready, CommandHandler, Control, Handled, Outgoing, Sampler, Stepped,
+        on_data_ready, CommandHandler, Control, Handled, LoadWindow, Outgoing, Sampler, Stepped,
+        Task,
     };
     use triad::link::MAX_WIRE_LEN;
     use triad::sensor::{SelfTestError, SelfTestReport};
@@ -70,6 +72,9 @@ mod app {
         u16,
         Result<SelfTestReport, SelfTestError<board::SensorBusError>>,
     );
+
+    /// The load goes to the log every this many seconds.
+    const LOG_LOAD_EVERY: u32 = 10;
 
     /// The interrupt that runs the `link` task.
     const LINK_TASK: board::pac::Interrupt = board::pac::Interrupt::EXTI1;
@@ -141,18 +146,44 @@ mod app {
         )
     }
 
+    /// Sleeps until the next interrupt: the time here is the load report's
+    /// idle share.
     #[idle]
     fn idle(_: idle::Context) -> ! {
         loop {
-            cortex_m::asm::nop();
+            cortex_m::asm::wfi();
         }
     }
 
     /// The data-ready step: the IMU's data-ready line is EXTI0 on every board
     /// (on the emulated board a timer pends it).
-    #[task(binds = EXTI0, priority = 2, local = [sample_line, clock, sensor, sampler, frames_in, controls_out, self_test_delay, self_tests_out, self_tests_done_in])]
+    #[task(binds = EXTI0, priority = 2, local = [sample_line, clock, sensor, sampler, frames_in, controls_out, self_test_delay, self_tests_out, self_tests_done_in, load_window: LoadWindow = LoadWindow::new(), windows: u32 = 0])]
     fn data_ready(cx: data_ready::Context) {
+        let run = crate::run_time::begin();
+        let model = board::model_cycles();
         let l = cx.local;
+        if let Some(shares) = l
+            .load_window
+            .tick(run.start(), board::CYCLES_HZ, &COUNTERS.load)
+        {
+            *l.windows += 1;
+            if *l.windows % LOG_LOAD_EVERY == 0 {
+                defmt::info!(
+                    "load ‰: data-ready {}, link {}, receive {}, chip model {}",
+                    shares[0],
+                    shares[1],
+                    shares[2],
+                    shares[3]
+                );
+            }
+        }
+        step(l);
+        let model = board::model_cycles().wrapping_sub(model);
+        crate::run_time::end_with_model(run, Task::DataReady, model);
+    }
+
+    /// The data-ready task's work.
+    fn step(l: data_ready::LocalResources<'_>) {
         // The handler's changes take effect here, between two samples.
         while let Some(control) = l.controls_out.dequeue() {
             l.sampler.apply(control);
@@ -198,6 +229,7 @@ mod app {
     /// virtual COM port; QEMU's second serial port).
     #[task(binds = USART2, priority = 3, local = [serial_rx, rx_in])]
     fn link_rx(cx: link_rx::Context) {
+        let run = crate::run_time::begin();
         let (serial_rx, rx_in) = (cx.local.serial_rx, cx.local.rx_in);
         while let Some(byte) = serial_rx.read() {
             match byte {
@@ -206,6 +238,7 @@ mod app {
             }
         }
         cortex_m::peripheral::NVIC::pend(LINK_TASK);
+        crate::run_time::end(run, Task::Receive);
     }
 
     /// Answers commands and sends frames, below the sampling task. Each
@@ -213,7 +246,13 @@ mod app {
     /// starves the other.
     #[task(binds = EXTI1, priority = 1, local = [serial, frames_out, rx_out, handler, decoder, controls_in, self_tests_in, self_tests_done_out, self_test_running: bool = false, buffer: [u8; MAX_WIRE_LEN] = [0; MAX_WIRE_LEN]])]
     fn link(cx: link::Context) {
-        let l = cx.local;
+        let run = crate::run_time::begin();
+        serve_link(cx.local);
+        crate::run_time::end(run, Task::Link);
+    }
+
+    /// The link task's work.
+    fn serve_link(l: link::LocalResources<'_>) {
         loop {
             if let Some((sequence, result)) = l.self_tests_done_out.dequeue() {
                 *l.self_test_running = false;

@@ -107,6 +107,7 @@ pub fn start(
         baud: description.baud,
         scale,
         orientation: description.orientation,
+        cycles_hz: board::CYCLES_HZ,
     };
     let handler = CommandHandler::new(
         facts,

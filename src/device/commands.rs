@@ -57,6 +57,8 @@ pub struct DeviceFacts {
     pub scale: ImuScale,
     /// How the chip is mounted.
     pub orientation: Orientation,
+    /// The rate of the board's cycle counter (the load measurement's clock).
+    pub cycles_hz: u32,
 }
 
 /// The calibration in force, as the handler knows it.
@@ -373,6 +375,7 @@ impl<F: NorFlash> CommandHandler<F> {
             uptime_ms: counters.uptime_ms(),
             counters: c,
             scale: RawScale::of(&self.facts.scale),
+            load: counters.load.load(self.facts.cycles_hz),
         }
     }
 

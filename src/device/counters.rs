@@ -9,6 +9,7 @@
 
 use core::sync::atomic::{AtomicU32, Ordering};
 
+use super::load::LoadCounters;
 use crate::link::Counters;
 
 /// Totals the sampling pipeline keeps (see [`super::Sampler::totals`]).
@@ -34,6 +35,8 @@ pub struct SharedCounters {
     read_failures: AtomicU32,
     rx_overflows: AtomicU32,
     uptime_ms: AtomicU32,
+    /// What each task costs.
+    pub load: LoadCounters,
 }
 
 impl SharedCounters {
@@ -46,6 +49,7 @@ impl SharedCounters {
             read_failures: AtomicU32::new(0),
             rx_overflows: AtomicU32::new(0),
             uptime_ms: AtomicU32::new(0),
+            load: LoadCounters::new(),
         }
     }
 

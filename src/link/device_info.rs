@@ -101,6 +101,43 @@ pub struct Counters {
     pub rx_overflows: u32,
 }
 
+impl Load {
+    /// Share of the core `task` (index as in `busy_cycles`) took, 0..=1.
+    pub fn share(&self, task: usize) -> f64 {
+        let busy = self.busy_cycles.get(task).copied().unwrap_or(0);
+        f64::from(busy) / f64::from(self.window_cycles.max(1))
+    }
+
+    /// The idle task's share: what the tasks left, 0..=1.
+    pub fn idle_share(&self) -> f64 {
+        let busy: u64 = self.busy_cycles.iter().map(|&c| u64::from(c)).sum();
+        let window = u64::from(self.window_cycles.max(1));
+        window.saturating_sub(busy) as f64 / window as f64
+    }
+}
+
+/// Tasks whose load `identify` reports: data-ready, link, receive, and the
+/// emulated board's chip model (0 on hardware).
+pub const TASKS: usize = 4;
+
+/// What the firmware's tasks cost (`src/device/load.rs` measures it): the
+/// shares of the last full second, and the longest runs since start.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Load {
+    /// Cycles each task took over the last full window (data-ready, link,
+    /// receive, chip model), its own time without preemptions.
+    pub busy_cycles: [u32; TASKS],
+    /// Cycles the window lasted (about one second's worth); what the tasks
+    /// left was the idle task's, asleep.
+    pub window_cycles: u32,
+    /// The rate of the cycle counter, Hz.
+    pub cycles_hz: u32,
+    /// Each task's longest single run since start, µs (`reset counters`
+    /// leaves it: only its task may write it).
+    pub max_run_us: [u32; TASKS],
+}
+
 /// The reply to `identify`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DeviceInfo {
@@ -134,6 +171,8 @@ pub struct DeviceInfo {
     pub counters: Counters,
     /// The chip's nominal scale (what raw frames carry).
     pub scale: RawScale,
+    /// What the firmware's tasks cost.
+    pub load: Load,
 }
 
 impl DeviceInfo {
@@ -171,6 +210,14 @@ impl DeviceInfo {
             .f32(s.gyro_si_per_lsb)
             .f32(s.temperature_per_lsb)
             .f32(s.temperature_offset);
+        let l = &self.load;
+        for c in l.busy_cycles {
+            w.u32(c);
+        }
+        w.u32(l.window_cycles).u32(l.cycles_hz);
+        for us in l.max_run_us {
+            w.u32(us);
+        }
         let len = w.len();
         p.set_len(len);
         p
@@ -208,6 +255,12 @@ impl DeviceInfo {
             temperature_per_lsb: r.f32(),
             temperature_offset: r.f32(),
         };
+        let load = Load {
+            busy_cycles: [r.u32(), r.u32(), r.u32(), r.u32()],
+            window_cycles: r.u32(),
+            cycles_hz: r.u32(),
+            max_run_us: [r.u32(), r.u32(), r.u32(), r.u32()],
+        };
         if r.ran_short() {
             return None;
         }
@@ -227,6 +280,7 @@ impl DeviceInfo {
             uptime_ms,
             counters,
             scale,
+            load,
         })
     }
 }

@@ -19,7 +19,7 @@ pub mod reply;
 pub mod self_test;
 
 pub use command::{Command, CommandError, CommandPacket, Mode, CHUNK_LEN};
-pub use device_info::{CalibrationSource, Counters, DeviceInfo, StoredState, Text};
+pub use device_info::{CalibrationSource, Counters, DeviceInfo, Load, StoredState, Text};
 pub use packet::{Packet, PacketBuf, PacketType, MAX_PACKET_LEN, MAX_WIRE_LEN};
 pub use payload::{Payload, MAX_PAYLOAD};
 pub use raw_frame::{RawFrame, RawScale};

@@ -85,6 +85,11 @@ pub type SelfTestDelay = Delay;
 
 /// Brings up clocks and peripherals.
 pub fn init(dp: pac::Peripherals) -> Board {
+    // SAFETY: init runs once, before any task; only the trace enable and
+    // the cycle counter's enable bit are written (RTIC uses neither).
+    let mut core = unsafe { cortex_m::Peripherals::steal() };
+    core.DCB.enable_trace();
+    core.DWT.enable_cycle_counter();
     let mut rcc = clocks(dp.RCC);
     let gpioa = dp.GPIOA.split(&mut rcc);
     let gpiob = dp.GPIOB.split(&mut rcc);
@@ -354,6 +359,20 @@ impl LinkTx for Serial {
             let _ = stm32f4xx_hal::block!(self.0.write(byte));
         }
     }
+}
+
+/// The load measurement's clock: the DWT cycle counter (the core clock,
+/// 84 MHz; [`init`] starts it).
+pub fn cycles() -> u32 {
+    cortex_m::peripheral::DWT::cycle_count()
+}
+
+/// The rate of [`cycles`].
+pub const CYCLES_HZ: u32 = SYSCLK_HZ;
+
+/// Cycles spent in an emulated chip model: none on hardware.
+pub fn model_cycles() -> u32 {
+    0
 }
 
 /// A busy-wait delay for the driver's start-up waits, counted in cycles of

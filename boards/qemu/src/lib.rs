@@ -156,6 +156,17 @@ pub use semihosting_flash::Unavailable as StorageUnavailable;
 // sends at once whatever BRR says.)
 const USART_DIV_X16: u16 = ((APB1_HZ + DESCRIPTION.baud / 2) / DESCRIPTION.baud) as u16;
 
+/// The load measurement's clock: TIM4, never written, counts QEMU's virtual
+/// nanoseconds since reset, which under `-icount shift=0` are instructions
+/// (and, served in real time, host nanoseconds).
+pub fn cycles() -> u32 {
+    // SAFETY: a read of a counter nothing writes after reset.
+    unsafe { &*pac::TIM4::ptr() }.cnt().read().bits()
+}
+
+/// The rate of [`cycles`].
+pub const CYCLES_HZ: u32 = TIMER_CLOCK_HZ;
+
 /// Ends the emulation with a status QEMU returns to its caller.
 pub fn exit(success: bool) -> ! {
     use cortex_m_semihosting::debug;
@@ -174,6 +185,7 @@ const EMULATED_CHIP: &str = env!("TRIAD_EMULATED_CHIP");
 
 /// What the chip model measures: the demo motion or an embedded scene.
 use core::cell::RefCell;
+use core::sync::atomic::{AtomicU32, Ordering};
 use triad_sim::emulated_board::{source, EmulatedChip};
 use triad_sim::model_clock::{ModelDelay, SharedBus};
 
@@ -220,8 +232,30 @@ impl i2c::I2c for SensorBus {
         address: u8,
         operations: &mut [i2c::Operation<'_>],
     ) -> Result<(), Self::Error> {
-        self.0.transaction(address, operations)
+        in_model(|| self.0.transaction(address, operations))
     }
+}
+
+/// Cycles spent in the chip model (its bus transactions and its clock),
+/// wrapping: the load report counts them apart from the firmware's own.
+static MODEL_CYCLES: AtomicU32 = AtomicU32::new(0);
+
+/// Runs `f`, counting its cycles as the chip model's (the data-ready task
+/// is the only caller: one writer).
+fn in_model<T>(f: impl FnOnce() -> T) -> T {
+    let start = cycles();
+    let out = f();
+    let spent = cycles().wrapping_sub(start);
+    MODEL_CYCLES.store(
+        MODEL_CYCLES.load(Ordering::Relaxed).wrapping_add(spent),
+        Ordering::Relaxed,
+    );
+    out
+}
+
+/// The chip model's cycles so far (wrapping), for the load report.
+pub fn model_cycles() -> u32 {
+    MODEL_CYCLES.load(Ordering::Relaxed)
 }
 
 /// The sensor: the driver of the chip found on the bus.
@@ -283,7 +317,7 @@ fn model_source(rate_hz: f64) -> source::Source {
 /// The data-ready line: on this board the timer interrupt stands in for it,
 /// and the chip model's clock advances to its next sample.
 pub fn data_ready(sensor: &mut Sensor) {
-    sensor.bus_mut().chip().advance_one_sample();
+    in_model(|| sensor.bus_mut().chip().advance_one_sample());
 }
 
 /// The self-test's delay: each wait lets the chip model's time pass by as

@@ -55,6 +55,37 @@ pub fn render(info: &DeviceInfo, place: &str) -> String {
     outln!(out, "commands: {}", c.commands);
     outln!(out, "command errors: {}", c.command_errors);
     outln!(out, "rx overflows: {}", c.rx_overflows);
+    let l = &info.load;
+    // Each task's share, and its cycles per streamed frame (what a task
+    // costs per sample with decimation 1).
+    let frames_per_window = rate / f64::from(info.decimation.max(1)) * f64::from(l.window_cycles)
+        / f64::from(l.cycles_hz.max(1));
+    let share = |i: usize| {
+        format!(
+            "{:.3} % ({:.0} cycles/frame)",
+            100.0 * l.share(i),
+            f64::from(l.busy_cycles[i]) / frames_per_window.max(1.0)
+        )
+    };
+    outln!(
+        out,
+        "load: data-ready {}, link {}, receive {}, chip model {}, idle {:.3} % (the last {:.2} s; cycles at {} Hz; the chip model is the emulated board's)",
+        share(0),
+        share(1),
+        share(2),
+        share(3),
+        100.0 * l.idle_share(),
+        f64::from(l.window_cycles) / f64::from(l.cycles_hz.max(1)),
+        l.cycles_hz
+    );
+    outln!(
+        out,
+        "longest run: data-ready {} µs, link {} µs, receive {} µs, chip model {} µs (since start)",
+        l.max_run_us[0],
+        l.max_run_us[1],
+        l.max_run_us[2],
+        l.max_run_us[3]
+    );
     let s = &info.scale;
     let r = |x: f32| readable(f64::from(x));
     outln!(

@@ -132,7 +132,11 @@ mod tests {
             lines[1],
             "accel x: response 500.0 mg (4.9033 m/s²), limits 50.0..1700.0 mg; off 0.0100 m/s²: ok"
         );
-        assert!(lines[2].contains("mg, factory 480.0 mg; off"), "{}", lines[2]);
+        assert!(
+            lines[2].contains("mg, factory 480.0 mg; off"),
+            "{}",
+            lines[2]
+        );
         assert!(lines[2].ends_with(": FAILED: response out of limits"));
         assert!(
             lines[4].starts_with("gyro x: response 280.9"),

@@ -201,6 +201,7 @@ impl<'m> Device<'m> {
             baud: 921_600,
             scale,
             orientation,
+            cycles_hz: 1_000_000_000,
         };
         let handler = CommandHandler::new(facts, active, 1, store, stored);
         Self {
