@@ -225,19 +225,26 @@ mod app {
         }
     }
 
-    /// The link's receiver: USART2 on both boards (the NUCLEO's ST-LINK
-    /// virtual COM port; QEMU's second serial port).
+    /// The link's USART interrupt: USART2 on both boards (the NUCLEO's
+    /// ST-LINK virtual COM port; QEMU's second serial port). It receives,
+    /// and on the emulated board it also transmits what the link task
+    /// queued.
     #[task(binds = USART2, priority = 3, local = [serial_rx, rx_in])]
     fn link_rx(cx: link_rx::Context) {
         let run = crate::run_time::begin();
         let (serial_rx, rx_in) = (cx.local.serial_rx, cx.local.rx_in);
+        let mut received = false;
         while let Some(byte) = serial_rx.read() {
+            received = true;
             match byte {
                 Ok(byte) if rx_in.enqueue(byte).is_ok() => {}
                 _ => COUNTERS.rx_overflowed(),
             }
         }
-        cortex_m::peripheral::NVIC::pend(LINK_TASK);
+        // The transmit queue ran empty: the link task may queue more.
+        if serial_rx.transmit() || received {
+            cortex_m::peripheral::NVIC::pend(LINK_TASK);
+        }
         crate::run_time::end(run, Task::Receive);
     }
 
@@ -257,10 +264,7 @@ mod app {
             if let Some((sequence, result)) = l.self_tests_done_out.dequeue() {
                 *l.self_test_running = false;
                 let reply = l.handler.self_test_reply(sequence, &result);
-                if let Ok(packet) = reply.to_packet() {
-                    let n = packet.to_wire(l.buffer);
-                    l.serial.write_all(&l.buffer[..n]);
-                }
+                send_reply(&reply, l.serial, l.buffer);
             }
             // While a self-test runs, commands wait in the queue: the host
             // waits for its reply anyway.
@@ -279,23 +283,42 @@ mod app {
                     &mut |control| controls_in.enqueue(control).is_ok(),
                 );
                 match handled {
-                    Handled::Reply(reply) => {
-                        if let Ok(packet) = reply.to_packet() {
-                            let n = packet.to_wire(l.buffer);
-                            l.serial.write_all(&l.buffer[..n]);
-                        }
-                    }
+                    Handled::Reply(reply) => send_reply(&reply, l.serial, l.buffer),
                     Handled::SelfTest { sequence } => {
                         *l.self_test_running = l.self_tests_in.enqueue(sequence).is_ok();
                     }
                     Handled::Nothing => {}
                 }
             }
-            let Some(frame) = l.frames_out.dequeue() else {
+            // A frame goes when the transmit queue has room for it; else it
+            // waits in the frame queue (which the data-ready task drops and
+            // counts from when it is full) until the queue drains and the
+            // USART's interrupt runs this task again.
+            let Some(frame) = l.frames_out.peek() else {
                 break;
             };
             let n = frame.to_wire(l.buffer);
-            l.serial.write_all(&l.buffer[..n]);
+            if !l.serial.queue(&l.buffer[..n]) {
+                break;
+            }
+            let _ = l.frames_out.dequeue();
+        }
+    }
+
+    /// Queues a reply whole: replies are never dropped, so this waits for
+    /// room (the USART's interrupt, above this task, drains the queue; a
+    /// reply is at most 242 bytes, the queue far longer).
+    fn send_reply(
+        reply: &triad::link::Reply,
+        serial: &mut board::Serial,
+        buffer: &mut [u8; MAX_WIRE_LEN],
+    ) {
+        let Ok(packet) = reply.to_packet() else {
+            return;
+        };
+        let n = packet.to_wire(buffer);
+        while !serial.queue(&buffer[..n]) {
+            cortex_m::asm::nop();
         }
     }
 }

@@ -19,10 +19,15 @@ pub trait MicrosecondClock {
     fn now_us(&self) -> u32;
 }
 
-/// The link's transmitter.
+/// The link's transmitter as the link task feeds it: bytes are queued, and
+/// the board sends them (from the USART's interrupt, or by DMA) while the
+/// task goes on. Nothing waits on the line.
 pub trait LinkTx {
-    /// Sends `bytes` whole, waiting for room (called below the sampling priority).
-    fn write_all(&mut self, bytes: &[u8]);
+    /// Bytes that can be queued now.
+    fn room(&self) -> usize;
+    /// Queues `bytes` (at most [`LinkTx::room`]; beyond it nothing is
+    /// queued and it returns false) and starts the transmitter if it is idle.
+    fn queue(&mut self, bytes: &[u8]) -> bool;
 }
 
 /// Why a received byte was lost.
@@ -40,6 +45,14 @@ pub trait LinkRx {
     /// The next received byte, a reception error, or `None` when nothing
     /// is waiting.
     fn read(&mut self) -> Option<Result<u8, RxError>>;
+
+    /// On a board that transmits from the USART's interrupt: moves queued
+    /// bytes to the USART while it takes them, and returns true when the
+    /// queue ran empty (the link task may queue more). A board that
+    /// transmits by DMA does nothing here.
+    fn transmit(&mut self) -> bool {
+        false
+    }
 }
 
 /// The facts about a board that the stream depends on, in one place: the

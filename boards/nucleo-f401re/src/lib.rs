@@ -348,16 +348,23 @@ fn usart2(
     }
 }
 
-/// The stream's link: USART2's transmitter (PA2), blocking.
+/// The stream's link: USART2's transmitter (PA2). Still blocking: it
+/// takes any bytes and returns once the last is in the transmit register
+/// (DMA transmission is not written yet).
 pub struct Serial(serial::Tx<pac::USART2>);
 
 impl LinkTx for Serial {
-    fn write_all(&mut self, bytes: &[u8]) {
+    fn room(&self) -> usize {
+        usize::MAX
+    }
+
+    fn queue(&mut self, bytes: &[u8]) -> bool {
         for &byte in bytes {
             // Waits for TXE; the transmit path reports no errors (the
             // error type is the receiver's), so the result carries nothing.
             let _ = stm32f4xx_hal::block!(self.0.write(byte));
         }
+        true
     }
 }
 

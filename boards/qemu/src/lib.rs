@@ -50,10 +50,15 @@ pub fn init(dp: pac::Peripherals) -> Board {
     dp.RCC.apb1enr().modify(|_, w| w.usart2en().set_bit());
     let chip = emulated_chip();
     let sensor_bus = SensorBus(SharedBus(chip));
-    let serial = Serial::new(dp.USART2, USART_DIV_X16);
-    // SAFETY: the receiver only sets CR1's RE and RXNEIE and reads SR/DR;
-    // the transmitter owns the rest of USART2.
-    let serial_rx = SerialRx::new(unsafe { pac::USART2::steal() });
+    let tx_queue = cortex_m::singleton!(: Queue<u8, TX_QUEUE_LEN> = Queue::new())
+        .unwrap_or_else(|| exit(false));
+    let (tx_in, tx_out) = tx_queue.split();
+    let serial = Serial::new(dp.USART2, USART_DIV_X16, tx_in);
+    // SAFETY: the interrupt side reads SR/DR, writes DR and sets or clears
+    // CR1's RE, RXNEIE and TXEIE; the link task's side sets TXEIE (a
+    // read-modify-write the interrupt may preempt: both leave the other
+    // bits as they were).
+    let serial_rx = SerialRx::new(unsafe { pac::USART2::steal() }, TxDrain::new(tx_out));
     Board {
         sample_line: SampleLine::new(dp.TIM2, &dp.TIM4, chip.borrow().sample_rate_hz()),
         clock: MicrosecondClock::new(dp.TIM5, TIMER_CLOCK_HZ),
@@ -138,6 +143,8 @@ pub use microsecond_clock::MicrosecondClock;
 mod semihosting_flash;
 mod serial_rx;
 mod serial_tx;
+use heapless::spsc::Queue;
+use serial_tx::{TxDrain, TX_QUEUE_LEN};
 
 /// The stream's link: USART2's transmitter, 8N1. USART2, as on the
 /// NUCLEO (its ST-LINK virtual COM port), so that both boards' firmware
