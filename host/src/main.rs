@@ -12,7 +12,7 @@ use std::process::ExitCode;
 use clap::CommandFactory;
 use clap::{Parser, Subcommand};
 use triad_host::stdio::{self, READER_GONE_STATUS};
-use triad_host::{allan, calib, cli_docs, correct, decode, device, progress, sim, version};
+use triad_host::{allan, calib, cli_docs, correct, decode, device, progress, sim, units, version};
 
 #[derive(Parser)]
 #[command(
@@ -42,6 +42,8 @@ enum Command {
     Sim(sim::SimArgs),
     /// Allan deviation, IEEE 952 noise terms and sensor grade of rate columns.
     Allan(allan::AllanArgs),
+    /// Convert a specification value between data-sheet, Allan and Kalibr units.
+    Units(units::UnitsArgs),
     /// Print a shell completion script (bash, zsh, fish, elvish, powershell).
     Completions(cli_docs::CompletionsArgs),
     /// Print the man page, or write every command's page into a directory.
@@ -60,6 +62,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Calib(args) => calib::run(args),
         Command::Sim(args) => sim::run(args),
         Command::Allan(args) => allan::run(args),
+        Command::Units(args) => units::run(args),
         Command::Completions(args) => cli_docs::completions(args, Cli::command()),
         Command::Man(args) => cli_docs::man(args, Cli::command()),
     }
