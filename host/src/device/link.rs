@@ -42,6 +42,19 @@ impl Default for Settings {
 /// after this pause (the sampling task takes a change within a sample).
 const BUSY_PAUSE: Duration = Duration::from_millis(20);
 
+/// The least a try of `command` waits, whatever `--timeout-ms` says: a
+/// save or an erase stalls a NUCLEO while its flash erases a 128 KiB sector
+/// (up to 2 s each, one sector per save, two per erase:
+/// boards/nucleo-f401re/README.md), and a retry sent into that stall only
+/// queues behind it.
+fn least_wait(command: &Command) -> Duration {
+    match command {
+        Command::Save => Duration::from_secs(3),
+        Command::Erase => Duration::from_secs(5),
+        _ => Duration::ZERO,
+    }
+}
+
 /// Why a command did not get its answer.
 #[derive(Debug)]
 pub enum LinkError {
@@ -203,8 +216,9 @@ impl<P: Read + Write> Link<P> {
     /// tries of the settings; any other status is [`LinkError::Refused`].
     pub fn command(&mut self, command: &Command) -> Result<Reply, LinkError> {
         let mut busy = 0;
+        let timeout = self.settings.timeout.max(least_wait(command));
         loop {
-            let reply = self.exchange(command, self.settings.timeout)?;
+            let reply = self.exchange(command, timeout)?;
             match reply.status {
                 Status::Ok => return Ok(reply),
                 Status::Busy if busy + 1 < self.settings.tries => {
