@@ -11,3 +11,4 @@
 
 pub mod allan;
 pub mod calib_fit;
+pub mod student_t;

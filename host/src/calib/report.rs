@@ -19,6 +19,8 @@ pub struct FitReport<'a> {
     pub sigma_bias: Option<&'a [f64; 3]>,
     /// Segments fitted.
     pub segments: usize,
+    /// Degrees of freedom of the σ's.
+    pub dof: usize,
     /// RMS of the residuals.
     pub residual_rms: f64,
     /// Largest residual.
@@ -37,6 +39,7 @@ macro_rules! fit_report {
             bias: &$fit.bias,
             sigma_bias: $fit.sigma_bias.as_ref(),
             segments: $fit.segments,
+            dof: $fit.dof,
             residual_rms: $fit.residual_rms,
             residual_max: $fit.residual_max,
             condition: $fit.condition,
@@ -56,6 +59,15 @@ impl FitReport<'_> {
         print_vector(out, &format!("b ({bias_unit})"), self.bias, self.sigma_bias);
         if self.sigma_bias.is_none() {
             outln!(out, "  (no standard deviations: {no_dof})");
+        } else {
+            outln!(
+                out,
+                "  (σ's: {} degrees of freedom, so ±2σ covers {:.1} % (Student-t), not 95.4 %; \
+                 from the scatter of the segments about the fit: noise common to every \
+                 segment, such as bias drift over the session, is not in them)",
+                self.dof,
+                100.0 * triad_lab::student_t::coverage(2.0, self.dof as f64)
+            );
         }
     }
 
@@ -70,6 +82,10 @@ impl FitReport<'_> {
         table.insert(
             "condition_number".into(),
             toml::Value::Float(self.condition),
+        );
+        table.insert(
+            "degrees_of_freedom".into(),
+            toml::Value::Integer(self.dof as i64),
         );
         if let (Some(m), Some(b)) = (self.sigma_scale_misalignment, self.sigma_bias) {
             table.insert(
@@ -151,6 +167,7 @@ mod tests {
             bias: &B,
             sigma_bias: sigmas.then_some(&B),
             segments: 6,
+            dof: 2,
             residual_rms: 1e-3,
             residual_max: 2e-3,
             condition: 5.0,
@@ -163,12 +180,34 @@ mod tests {
         report(false).insert_statistics(&mut t);
         assert_eq!(t["segments"].as_integer(), Some(6));
         assert_eq!(t["condition_number"].as_float(), Some(5.0));
+        assert_eq!(t["degrees_of_freedom"].as_integer(), Some(2));
         assert!(!t.contains_key("sigma_bias") && !t.contains_key("convention"));
         let mut t = method_table("m", Some("c"));
         report(true).insert_statistics(&mut t);
         assert_eq!(t["sigma_bias"][1].as_float(), Some(-0.2));
         assert_eq!(t["convention"].as_str(), Some("c"));
         assert_eq!(report(true).triad().bias, B);
+    }
+
+    #[test]
+    fn the_report_names_the_degrees_of_freedom_and_what_2_sigma_covers() {
+        let mut out = String::new();
+        report(true).print(&mut out, "(I+Σ)", "m/s²", "n = 9");
+        // ν = 2: P(|T| ≤ 2) = 2/√6 = 81.6 %.
+        assert!(
+            out.contains("2 degrees of freedom, so ±2σ covers 81.6 % (Student-t)"),
+            "{out}"
+        );
+        assert!(
+            out.contains("bias drift over the session, is not in them"),
+            "{out}"
+        );
+        let mut out = String::new();
+        report(false).print(&mut out, "(I+Σ)", "m/s²", "n = 9");
+        assert!(
+            out.contains("(no standard deviations: n = 9)") && !out.contains("Student"),
+            "{out}"
+        );
     }
 
     #[test]

@@ -96,6 +96,9 @@ pub struct AccelFit {
     pub residual_max: f64,
     /// Static segments used.
     pub segments: usize,
+    /// Degrees of freedom of the σ's: segments − 9 parameters (one equation
+    /// per segment: its magnitude).
+    pub dof: usize,
     /// Distinct orientations among them.
     pub orientations: usize,
     /// Condition number of the column-scaled Jacobian at the solution.
@@ -272,6 +275,7 @@ pub fn fit(means: &[[f64; 3]], g: f64) -> Result<AccelFit, FitError> {
         residual_rms: libm::sqrt(sum_sq / means.len() as f64),
         residual_max: worst,
         segments: means.len(),
+        dof,
         orientations,
         condition,
         iterations,

@@ -44,6 +44,9 @@ pub struct LinearFit {
     pub residual_max: f64,
     /// Segments used.
     pub segments: usize,
+    /// Degrees of freedom of each axis's σ's: segments − 4 parameters per
+    /// output axis (a row of (I+Σ) and its bias).
+    pub dof: usize,
     /// Condition number of the column-scaled design.
     pub condition: f64,
 }
@@ -135,6 +138,7 @@ where
         residual_rms: libm::sqrt(sum_sq / (3 * count) as f64),
         residual_max: worst,
         segments: count,
+        dof,
         condition,
     })
 }
