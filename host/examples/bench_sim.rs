@@ -303,7 +303,7 @@ fn unnamed_cost(n: u64, rates: &EffectRates) {
 
 /// 4. Bias-instability terms vs Allan-floor flatness vs time per sample.
 fn bias_instability_terms(n: u64) {
-    println!("\n== Bias instability: terms vs Allan-floor flatness (band 1 s–10⁴ s) vs time ==");
+    println!("\n== Bias instability: terms vs Allan-floor flatness (default band 0.01 s–10⁵ s) vs time ==");
     println!(
         "{:>5} {:>22} {:>18} {:>12}",
         "terms", "σ_A/(0.664B) min–max", "worst deviation", "ns/sample"

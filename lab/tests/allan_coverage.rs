@@ -158,7 +158,7 @@ fn accel_preset(g: AccelGrade, rate: f64, samples: usize) -> Scenario {
 }
 
 /// A gyro mixture of white noise `n`, bias instability `b` (0: none; band
-/// 1 s … 10⁴ s) and random walk `k` (0: none).
+/// 0.01 s … 10⁵ s) and random walk `k` (0: none).
 fn gyro_mixture(name: &str, n: f64, b: f64, k: f64, rate: f64, samples: usize) -> Scenario {
     let mut scene = static_scene(rate);
     scene.gyro = TriadEffects {
@@ -242,11 +242,7 @@ fn angle_quantised(n: f64, lsb: f64, rate: f64, samples: usize) -> Scenario {
 }
 
 /// Presets at 25 Hz for 2^21 samples (23 h): the bias-instability floor
-/// (band 1 s … 10⁴ s) is seen over 3 decades. Not slower: the simulator
-/// samples its bias-instability terms at points, and at 4 Hz the fastest
-/// one (correlation time 0.053 s) aliases into white noise, so the
-/// records' N exceeds the preset's (measured: +7 % for the rate-grade
-/// gyro, +3…+7 % for the accelerometers; ≈ 0 from 25 Hz up).
+/// (default band 0.01 s … 10⁵ s) is seen over 3 decades.
 const PRESET_RATE: f64 = 25.0;
 const PRESET_SAMPLES: usize = 1 << 21;
 

@@ -5,6 +5,7 @@
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod averaged_gauss_markov;
 pub mod bias;
 pub mod bias_instability;
 pub mod demo_motion;
