@@ -17,7 +17,7 @@ use common::{axes, static_scene, OctaveFitter};
 use triad::units;
 use triad_lab::allan::noise_terms::{Term, TERMS};
 use triad_sim::bias_instability::BiasInstabilityParams;
-use triad_sim::grade::{AccelGrade, GyroGrade};
+use triad_sim::grade::{AccelPreset, GyroPreset};
 use triad_sim::quantisation::quantise;
 use triad_sim::scene::TriadEffects;
 use triad_sim::temperature_dependence::TemperatureDependence;
@@ -124,16 +124,15 @@ fn print(name: &str, t: &Tally) {
     println!("{line}");
 }
 
-fn gyro_preset(g: GyroGrade, rate: f64, samples: usize) -> Scenario {
-    let p = g.preset();
+fn gyro_preset(p: &GyroPreset, rate: f64, samples: usize) -> Scenario {
     let mut truth = [0.0; TERMS];
     truth[Term::WhiteNoise as usize] = units::arw_deg_per_sqrt_h_to_si(p.arw_deg_per_sqrt_h);
     truth[Term::BiasInstability as usize] =
         units::deg_per_h_to_rad_per_s(p.bias_instability_deg_per_h);
     let mut scene = static_scene(rate);
-    scene.gyro = g.effects();
+    scene.gyro = p.effects();
     Scenario {
-        name: format!("gyro {}", g.name()),
+        name: format!("gyro {}", p.name),
         rate,
         runs: PRESET_RUNS,
         truth,
@@ -141,15 +140,14 @@ fn gyro_preset(g: GyroGrade, rate: f64, samples: usize) -> Scenario {
     }
 }
 
-fn accel_preset(g: AccelGrade, rate: f64, samples: usize) -> Scenario {
-    let p = g.preset();
+fn accel_preset(p: &AccelPreset, rate: f64, samples: usize) -> Scenario {
     let mut truth = [0.0; TERMS];
     truth[Term::WhiteNoise as usize] = units::ug_per_sqrt_hz_to_si(p.noise_ug_per_sqrt_hz);
     truth[Term::BiasInstability as usize] = units::ug_to_mps2(p.bias_instability_ug);
     let mut scene = static_scene(rate);
-    scene.accel = g.effects();
+    scene.accel = p.effects();
     Scenario {
-        name: format!("accel {}", g.name()),
+        name: format!("accel {}", p.name),
         rate,
         runs: PRESET_RUNS,
         truth,
@@ -254,11 +252,11 @@ const MIXTURE_RUNS: u64 = 4;
 
 fn scenarios() -> Vec<Scenario> {
     let mut all = Vec::new();
-    for g in GyroGrade::ALL {
-        all.push(gyro_preset(g, PRESET_RATE, PRESET_SAMPLES));
+    for p in &GyroPreset::ALL {
+        all.push(gyro_preset(p, PRESET_RATE, PRESET_SAMPLES));
     }
-    for g in AccelGrade::ALL {
-        all.push(accel_preset(g, PRESET_RATE, PRESET_SAMPLES));
+    for p in &AccelPreset::ALL {
+        all.push(accel_preset(p, PRESET_RATE, PRESET_SAMPLES));
     }
     let n = units::arw_deg_per_sqrt_h_to_si(0.15);
     let b = units::deg_per_h_to_rad_per_s(1.0);

@@ -3,7 +3,7 @@
 
 use triad::model::Triad;
 use triad_sim::bias_instability::{BiasInstabilityParams, MAX_TERMS};
-use triad_sim::grade::{AccelGrade, GyroGrade};
+use triad_sim::grade::{AccelPreset, GyroPreset};
 use triad_sim::scene::{GaussMarkovParams, TriadEffects};
 use triad_sim::temperature_dependence::TemperatureDependence;
 
@@ -45,16 +45,16 @@ fn units(triad: Triad) -> Units {
 /// The effects of the grade preset `name` of `triad`, if there is one.
 fn preset(triad: Triad, name: &str) -> Option<TriadEffects> {
     match triad {
-        Triad::Accel => AccelGrade::from_name(name).map(AccelGrade::effects),
-        Triad::Gyro => GyroGrade::from_name(name).map(GyroGrade::effects),
+        Triad::Accel => AccelPreset::named(name).map(AccelPreset::effects),
+        Triad::Gyro => GyroPreset::named(name).map(GyroPreset::effects),
     }
 }
 
 /// The names of `triad`'s grades.
 fn grade_names(triad: Triad) -> Vec<&'static str> {
     match triad {
-        Triad::Accel => AccelGrade::ALL.iter().map(|g| g.name()).collect(),
-        Triad::Gyro => GyroGrade::ALL.iter().map(|g| g.name()).collect(),
+        Triad::Accel => AccelPreset::ALL.iter().map(|p| p.name).collect(),
+        Triad::Gyro => GyroPreset::ALL.iter().map(|p| p.name).collect(),
     }
 }
 

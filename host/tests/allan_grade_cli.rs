@@ -1,0 +1,130 @@
+//! `triad allan`'s grade end to end, by THEORY.md's tables: a simulated
+//! sensor in a gap of a table is "between" two grades with the parameter
+//! that decides it, and parameters given with `--grade-input` are graded
+//! with the fitted ones.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use common::{allan, dir, s, text, triad};
+
+/// Simulates `[gyro]` `effects` on a static bench at `rate` Hz for
+/// `seconds` into `d`/`name`.csv (the scene written beside it).
+fn simulate(d: &Path, name: &str, gyro: &str, rate: f64, seconds: u64) -> PathBuf {
+    let scene = d.join(format!("{name}.toml"));
+    let text_ = format!(
+        "rate_hz = {rate:?}\n[motion]\nkind = \"static\"\nattitude_deg = [0.0, 0.0, 0.0]\n[gyro]\n{gyro}\n"
+    );
+    std::fs::write(&scene, text_).unwrap();
+    let out = d.join(format!("{name}.csv"));
+    let seconds = seconds.to_string();
+    let o = triad(&[
+        "sim",
+        "--scene",
+        s(&scene),
+        "--seconds",
+        &seconds,
+        "--seed",
+        "5",
+        "--quiet",
+        "--out",
+        s(&out),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    out
+}
+
+/// The JSON report of `triad allan` on column gx of `input` with `extra` arguments.
+fn report(input: &Path, extra: &[&str]) -> serde_json::Value {
+    let o = allan(
+        input,
+        &[&["--json", "--columns", "gx", "--quiet"], extra].concat(),
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    serde_json::from_slice(&o.stdout).unwrap()
+}
+
+#[test]
+fn a_gyro_in_the_tables_gap_is_between_two_grades() {
+    // ARW 0.01 °/√h (aviation: < 0.05) and bias instability 0.5 °/h: the
+    // gap between tactical (1–10 °/h) and aviation (< 0.1 °/h). 4.5 h at
+    // 4 Hz: the floor leads from τ ≈ 3 s and is fitted to a few %.
+    let d = dir("gap");
+    let input = simulate(
+        &d,
+        "gap",
+        "white_noise = \"0.01 deg/sqrt(h)\"\n[gyro.bias_instability]\nvalue = \"0.5 deg/h\"",
+        4.0,
+        1 << 14,
+    );
+    let v = report(&input, &[]);
+    let g = &v["columns"][0]["grade"];
+    assert_eq!(g["grade"], "between tactical and aviation", "{g}");
+    assert_eq!(g["between"], serde_json::json!(["tactical", "aviation"]));
+    assert_eq!(g["decided_by"], "bias instability");
+    assert_eq!(g["table"], "gyro");
+    let params = g["parameters"].as_array().unwrap();
+    assert_eq!(params[0]["parameter"], "white noise");
+    assert_eq!(params[0]["grade"], "aviation");
+    assert_eq!(
+        params[1]["verdict"],
+        "between tactical (1–10) and aviation (< 0.1)"
+    );
+    let b = params[1]["value"].as_f64().unwrap();
+    assert!((b - 0.5).abs() < 0.1, "B {b} deg/h");
+    // The summary says the same.
+    let o = allan(&input, &["--columns", "gx", "--quiet"]);
+    let summary = text(&o.stdout);
+    assert!(
+        summary.contains("grade: between tactical and aviation (decided by bias instability)"),
+        "{summary}"
+    );
+}
+
+#[test]
+fn given_parameters_are_graded_with_the_fitted_ones() {
+    // A tactical gyro (ARW 0.15 °/√h, B 3 °/h) given a scale-factor
+    // instability of 0.5 % (rate grade: 0.1–1 %) and a range of 2000 °/s:
+    // the scale factor decides; the range fits tactical (> 500) and
+    // navigation (> 400), not rate grade (50–1000), and ranks nothing.
+    let d = dir("given");
+    let input = simulate(&d, "tactical", "grade = \"tactical\"", 4.0, 1 << 14);
+    let v = report(
+        &input,
+        &[
+            "--grade-input",
+            "gyro.scale-factor-instability=0.5",
+            "--grade-input",
+            "gyro.range=2000",
+            "--grade-input",
+            "accel.range=16",
+        ],
+    );
+    let g = &v["columns"][0]["grade"];
+    assert_eq!(g["grade"], "rate grade", "{g}");
+    assert_eq!(g["decided_by"], "scale-factor instability");
+    let params = g["parameters"].as_array().unwrap();
+    assert_eq!(params.len(), 4, "the accel input is not a gyro's: {g}");
+    assert_eq!(params[3]["parameter"], "measurement range");
+    assert_eq!(
+        params[3]["fits"],
+        serde_json::json!(["tactical", "navigation"])
+    );
+    assert!(params[3]["grade"].is_null());
+    // Twice the same parameter is refused before the file is read.
+    let o = allan(
+        &input,
+        &[
+            "--grade-input",
+            "gyro.range=1",
+            "--grade-input",
+            "gyro.range=2",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(1));
+    assert!(text(&o.stderr).contains("gives the gyro measurement range twice"));
+    let o = allan(&input, &["--grade-input", "gyro.range=fast"]);
+    assert_eq!(o.status.code(), Some(2), "clap refuses it");
+    assert!(text(&o.stderr).contains("\"fast\" is not a number"));
+}
