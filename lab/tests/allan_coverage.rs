@@ -18,7 +18,6 @@ use triad::units;
 use triad_lab::allan::noise_terms::{Term, TERMS};
 use triad_sim::bias_instability::BiasInstabilityParams;
 use triad_sim::grade::{AccelPreset, GyroPreset};
-use triad_sim::quantisation::quantise;
 use triad_sim::scene::TriadEffects;
 use triad_sim::temperature_dependence::TemperatureDependence;
 use triad_sim::temperature_profile::TemperatureProfile;
@@ -205,37 +204,21 @@ fn ramp(n: f64, r: f64, rate: f64, samples: usize) -> Scenario {
 }
 
 /// White noise `n` read through an angle quantiser of step `lsb` (a
-/// pulse-integrating gyro): the rate is the difference of the quantised
-/// angle. (The simulator's `quantisation` effect rounds the rate itself,
-/// which is white rate noise, part of N, not the IEEE 952 Q.) Q = lsb/√12.
+/// pulse-integrating gyro: the simulator's `increment_quantisation`, the
+/// rate the difference of the counted angle). Q = lsb/√12.
 fn angle_quantised(n: f64, lsb: f64, rate: f64, samples: usize) -> Scenario {
     let mut scene = static_scene(rate);
     scene.gyro = TriadEffects {
         white_noise: Some([n; 3]),
+        increment_quantisation: Some([lsb; 3]),
         ..TriadEffects::NONE
     };
-    let ts = 1.0 / rate;
     Scenario {
         name: "Q+N".into(),
         rate,
         runs: MIXTURE_RUNS,
         truth: [lsb / 12f64.sqrt(), n, 0.0, 0.0, 0.0],
-        make: Box::new(move |seed| {
-            axes(&scene, true, samples + 1, seed).map(|y| {
-                let mut angle = 0.0;
-                let mut last = 0.0;
-                let mut out = Vec::with_capacity(samples);
-                for (i, v) in y.iter().enumerate() {
-                    angle += v * ts;
-                    let q = quantise(angle, lsb);
-                    if i > 0 {
-                        out.push((q - last) / ts);
-                    }
-                    last = q;
-                }
-                out
-            })
-        }),
+        make: Box::new(move |seed| axes(&scene, true, samples, seed)),
     }
 }
 

@@ -43,8 +43,13 @@ pub struct TriadEffects {
     pub temperature: Option<TemperatureDependence>,
     /// Gyro g-sensitivity G, (rad/s)/(m/s²); gyros only.
     pub g_sensitivity: Option<[[f64; 3]; 3]>,
-    /// Quantisation step (LSB), U.
-    pub quantisation: Option<[f64; 3]>,
+    /// Angle (gyro) or velocity (accel) quantisation: the step S of the
+    /// counted integral, rad or m/s ([`super::increment_quantisation`]; IEEE
+    /// 952's Q = S/√12).
+    pub increment_quantisation: Option<[f64; 3]>,
+    /// The output register's LSB: each sample rounded to it, U
+    /// ([`super::output_lsb`]).
+    pub output_lsb: Option<[f64; 3]>,
     /// Measurement range, ±U.
     pub saturation: Option<[f64; 3]>,
 }
@@ -62,7 +67,8 @@ impl TriadEffects {
         turn_on_scale: None,
         temperature: None,
         g_sensitivity: None,
-        quantisation: None,
+        increment_quantisation: None,
+        output_lsb: None,
         saturation: None,
     };
 
@@ -260,8 +266,11 @@ impl TriadEffects {
             }
             all(t, "g_sensitivity", g.as_flattened(), finite)?;
         }
-        if let Some(q) = &self.quantisation {
-            all(t, "quantisation", q, non_negative)?;
+        if let Some(q) = &self.increment_quantisation {
+            all(t, "increment_quantisation", q, non_negative)?;
+        }
+        if let Some(q) = &self.output_lsb {
+            all(t, "output_lsb", q, non_negative)?;
         }
         if let Some(r) = &self.saturation {
             all(t, "saturation", r, positive)?;

@@ -7,7 +7,9 @@
 //! 2. biases: constant, turn-on, temperature, Gauss–Markov, random walk, bias
 //!    instability, g-sensitivity (gyros: G·f_true);
 //! 3. white noise;
-//! 4. quantisation, then saturation.
+//! 4. angle (velocity) quantisation: the output integrated, counted in
+//!    whole steps, differenced ([`super::increment_quantisation`]);
+//! 5. the output register's LSB ([`super::output_lsb`]), then saturation.
 //!
 //! Each stochastic effect draws from its own stream, keyed by (seed, triad,
 //! axis, effect) (see [`super::rng`]), so naming or removing one effect leaves
@@ -17,8 +19,9 @@ use super::bias::draw_turn_on;
 use super::bias_instability::BiasInstability;
 use super::g_sensitivity::rate_error;
 use super::gauss_markov::GaussMarkov;
+use super::increment_quantisation::IncrementQuantiser;
 use super::motion::Trajectory;
-use super::quantisation::quantise;
+use super::output_lsb::round_to_lsb;
 use super::random_walk::RandomWalk;
 use super::rng::{EffectId, Rng};
 use super::saturation::saturate;
@@ -80,7 +83,8 @@ struct TriadState {
     scale_misalignment: Option<[[f64; 3]; 3]>,
     temperature: Option<TemperatureDependence>,
     g_sensitivity: Option<[[f64; 3]; 3]>,
-    quantisation: Option<[f64; 3]>,
+    increment_quantisation: Option<[IncrementQuantiser; 3]>,
+    output_lsb: Option<[f64; 3]>,
     saturation: Option<[f64; 3]>,
     /// False when the scene names no effect for this triad: `measure` is
     /// then skipped with one test instead of twelve.
@@ -132,7 +136,10 @@ impl TriadState {
             scale_misalignment: effects.scale_misalignment,
             temperature: effects.temperature,
             g_sensitivity: effects.g_sensitivity,
-            quantisation: effects.quantisation,
+            increment_quantisation: effects
+                .increment_quantisation
+                .map(|s| s.map(IncrementQuantiser::new)),
+            output_lsb: effects.output_lsb,
             saturation: effects.saturation,
             active: !effects.is_none(),
             contributions,
@@ -141,7 +148,7 @@ impl TriadState {
 
     /// The measurement of `truth` at temperature `temp`; `f_true` is the true
     /// specific force (for g-sensitivity).
-    fn measure(&mut self, truth: [f64; 3], temp: f64, f_true: &[f64; 3]) -> [f64; 3] {
+    fn measure(&mut self, truth: [f64; 3], temp: f64, f_true: &[f64; 3], ts: f64) -> [f64; 3] {
         let mut y = truth;
         if !self.active {
             return y;
@@ -187,8 +194,11 @@ impl TriadState {
             self.contributions.white_noise = c;
             add(&mut y, &c);
         }
-        if let Some(lsb) = &self.quantisation {
-            y = core::array::from_fn(|i| quantise(y[i], lsb[i]));
+        if let Some(q) = &mut self.increment_quantisation {
+            y = core::array::from_fn(|i| q[i].step(y[i], ts).1);
+        }
+        if let Some(lsb) = &self.output_lsb {
+            y = core::array::from_fn(|i| round_to_lsb(y[i], lsb[i]));
         }
         if let Some(range) = &self.saturation {
             y = core::array::from_fn(|i| saturate(y[i], range[i]));
@@ -261,11 +271,13 @@ impl Simulator {
                 truth.specific_force,
                 truth.temperature,
                 &truth.specific_force,
+                self.ts,
             ),
             angular_rate: self.gyro.measure(
                 truth.angular_rate,
                 truth.temperature,
                 &truth.specific_force,
+                self.ts,
             ),
             temperature: truth.temperature,
         };

@@ -52,7 +52,8 @@ fn every_effect(gyro: bool) -> TriadEffects {
             scale_per_degree: [1e-5; 3],
         }),
         g_sensitivity: gyro.then_some([[1e-4, 0.0, 0.0], [0.0, 1e-4, 0.0], [0.0, 0.0, 1e-4]]),
-        quantisation: Some([1e-3; 3]),
+        increment_quantisation: Some([2e-3; 3]),
+        output_lsb: Some([1e-3; 3]),
         saturation: Some([if gyro { 10.0 } else { 5.0 }; 3]),
     }
 }
@@ -87,6 +88,9 @@ fn every_effect_off_measures_the_truth_exactly() {
     }
 }
 
+/// How many effects [`without`] turns off, one by one.
+const EFFECTS: usize = 13;
+
 /// Turns off one effect (by index) of a full effect set.
 fn without(mut e: TriadEffects, which: usize) -> TriadEffects {
     match which {
@@ -100,7 +104,8 @@ fn without(mut e: TriadEffects, which: usize) -> TriadEffects {
         7 => e.turn_on_scale = None,
         8 => e.temperature = None,
         9 => e.g_sensitivity = None,
-        10 => e.quantisation = None,
+        10 => e.output_lsb = None,
+        11 => e.increment_quantisation = None,
         _ => e.saturation = None,
     }
     e
@@ -126,7 +131,7 @@ fn toggling_one_effect_leaves_the_others_bit_identical() {
     let mut full = scene(motions()[2]);
     full.accel = every_effect(false);
     full.gyro = every_effect(true);
-    for which in 0..12 {
+    for which in 0..EFFECTS {
         let mut reduced = full;
         reduced.accel = without(full.accel, which);
         reduced.gyro = without(full.gyro, which);
@@ -169,7 +174,7 @@ fn the_toggled_effect_does_change_the_output() {
     let mut full = scene(motions()[2]);
     full.accel = every_effect(false);
     full.gyro = every_effect(true);
-    for which in 0..12 {
+    for which in 0..EFFECTS {
         let mut reduced = full;
         reduced.accel = without(full.accel, which);
         reduced.gyro = without(full.gyro, which);

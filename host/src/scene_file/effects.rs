@@ -209,12 +209,56 @@ impl Builder<'_> {
         Ok(())
     }
 
-    /// Quantisation step and measurement range.
+    /// Angle or velocity quantisation, the output register's LSB and the
+    /// measurement range.
     fn range(&mut self, t: &TriadFile, triad: Triad, e: &mut TriadEffects) -> anyhow::Result<()> {
         let u = units(triad);
-        if let Some(v) = &t.quantisation {
-            let f = field("quantisation", u.dim, u.example);
-            e.quantisation = Some(self.axes(v, f, triad, what::QUANTISATION)?);
+        let (key, other, step) = match triad {
+            Triad::Gyro => (
+                &t.angle_quantisation,
+                &t.velocity_quantisation,
+                (
+                    "angle_quantisation",
+                    "arcsec, urad",
+                    "velocity_quantisation",
+                ),
+            ),
+            Triad::Accel => (
+                &t.velocity_quantisation,
+                &t.angle_quantisation,
+                ("velocity_quantisation", "mm/s, m/s", "angle_quantisation"),
+            ),
+        };
+        if let Some(v) = other {
+            return Err(self.src.error(
+                &v.span(),
+                format!(
+                    "`{}` is not a {} key: its integral is quantised by `{}`",
+                    step.2,
+                    triad.name(),
+                    step.0
+                ),
+            ));
+        }
+        if let Some(v) = key {
+            let f = field(step.0, u.dim.mul(Dim::TIME), step.1);
+            e.increment_quantisation =
+                Some(self.axes(v, f, triad, what::INCREMENT_QUANTISATION)?);
+        }
+        let lsb = match (&t.output_lsb, &t.quantisation) {
+            (Some(_), Some(old)) => {
+                return Err(self.src.error(
+                    &old.span(),
+                    "`quantisation` is the old name of `output_lsb`: give one of them",
+                ))
+            }
+            (Some(v), None) => Some((v, "output_lsb")),
+            (None, Some(v)) => Some((v, "quantisation")),
+            (None, None) => None,
+        };
+        if let Some((v, name)) = lsb {
+            let f = field(name, u.dim, u.example);
+            e.output_lsb = Some(self.axes(v, f, triad, what::OUTPUT_LSB)?);
         }
         if let Some(v) = &t.saturation {
             let r = self

@@ -115,6 +115,9 @@ mod tests {
             (triad("gyro", "turn_on_bias = [\"1 deg/h\", \"-1 deg/h\", \"0 deg/h\"]"), "s.toml:5:16: `turn_on_bias` = \"-1 deg/h\" must not be negative"),
             (triad("accel", "turn_on_scale = \"-1 ppm\""), "s.toml:5:17: `turn_on_scale` = \"-1 ppm\" must not be negative"),
             (triad("accel", "quantisation = \"-1 mg\""), "s.toml:5:16: `quantisation` = \"-1 mg\" must not be negative"),
+            (triad("accel", "output_lsb = \"-1 mg\""), "s.toml:5:14: `output_lsb` = \"-1 mg\" must not be negative"),
+            (triad("gyro", "angle_quantisation = \"-2 arcsec\""), "s.toml:5:22: `angle_quantisation` = \"-2 arcsec\" must not be negative"),
+            (triad("accel", "velocity_quantisation = \"-1 mm/s\""), "s.toml:5:25: `velocity_quantisation` = \"-1 mm/s\" must not be negative"),
             (triad("gyro", "saturation = \"0 dps\""), "s.toml:5:14: `saturation` (the measurement range) must be positive"),
             (triad("accel", "g_sensitivity = \"0.01 deg/s/g\""), "s.toml:5:17: `g_sensitivity` is a gyro effect; accelerometers cannot have it"),
             (triad("gyro", "[gyro.gauss_markov]\nsigma = \"-1 deg/h\"\ncorrelation_time = \"1 s\""), "s.toml:6:9: `gauss_markov.sigma` = \"-1 deg/h\" must not be negative"),
@@ -157,6 +160,41 @@ mod tests {
         );
         let e = error("rate_hz = 1.0\nduration_s = 0.0\n[motion]\nkind = \"static\"\n");
         assert_eq!(e, "s.toml:2:14: `duration_s` = 0 must be positive");
+        let e = error(&triad("gyro", "velocity_quantisation = \"1 mm/s\""));
+        assert_eq!(e, "s.toml:5:25: `velocity_quantisation` is not a gyro key: its integral is quantised by `angle_quantisation`");
+        let e = error(&triad("accel", "angle_quantisation = \"1 arcsec\""));
+        assert!(
+            e.ends_with("is quantised by `velocity_quantisation`"),
+            "{e}"
+        );
+        let e = error(&triad("gyro", "angle_quantisation = \"1 deg/s\""));
+        assert!(
+            e.contains("angle_quantisation"),
+            "a rate is not an angle: {e}"
+        );
+        let e = error(&triad(
+            "accel",
+            "output_lsb = \"1 mg\"\nquantisation = \"1 mg\"",
+        ));
+        assert_eq!(
+            e,
+            "s.toml:6:16: `quantisation` is the old name of `output_lsb`: give one of them"
+        );
+    }
+
+    #[test]
+    fn quantisation_keys_read_into_si() {
+        let text = format!(
+            "{STATIC}[gyro]\nangle_quantisation = \"2 arcsec\"\nquantisation = \"0.061 mdps\"\n[accel]\nvelocity_quantisation = \"1 mm/s\"\noutput_lsb = \"1 mg\"\n"
+        );
+        let loaded = parse(&text, Path::new("s.toml")).unwrap();
+        let (g, a) = (loaded.scene.gyro, loaded.scene.accel);
+        let arcsec = std::f64::consts::PI / 180.0 / 3600.0;
+        assert!((g.increment_quantisation.unwrap()[0] / (2.0 * arcsec) - 1.0).abs() < 1e-15);
+        let mdps = std::f64::consts::PI / 180.0 * 1e-3;
+        assert!((g.output_lsb.unwrap()[2] / (0.061 * mdps) - 1.0).abs() < 1e-15);
+        assert_eq!(a.increment_quantisation, Some([1e-3; 3]));
+        assert!((a.output_lsb.unwrap()[1] / 9.80665e-3 - 1.0).abs() < 1e-15);
     }
 
     #[test]

@@ -52,7 +52,8 @@ pub(super) mod what {
     pub const TURN_ON_BIAS: &str = "turn_on_bias";
     pub const TURN_ON_SCALE: &str = "turn_on_scale";
     pub const G_SENSITIVITY: &str = "g_sensitivity";
-    pub const QUANTISATION: &str = "quantisation";
+    pub const INCREMENT_QUANTISATION: &str = "increment_quantisation";
+    pub const OUTPUT_LSB: &str = "output_lsb";
     pub const SATURATION: &str = "saturation";
     pub const TEMPERATURE_REFERENCE: &str = "temperature reference";
 }

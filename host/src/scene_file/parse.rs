@@ -70,6 +70,10 @@ pub(super) struct TriadFile {
     pub turn_on_scale: Option<Value>,
     pub misalignment: Option<Value>,
     pub g_sensitivity: Option<Value>,
+    pub angle_quantisation: Option<Value>,
+    pub velocity_quantisation: Option<Value>,
+    pub output_lsb: Option<Value>,
+    /// The old name of `output_lsb`, still read.
     pub quantisation: Option<Value>,
     pub saturation: Option<Value>,
     pub gauss_markov: Option<GaussMarkovFile>,
