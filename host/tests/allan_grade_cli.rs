@@ -128,3 +128,52 @@ fn given_parameters_are_graded_with_the_fitted_ones() {
     assert_eq!(o.status.code(), Some(2), "clap refuses it");
     assert!(text(&o.stderr).contains("\"fast\" is not a number"));
 }
+
+#[test]
+fn each_optical_preset_is_classified_as_its_own_grade() {
+    // THEORY.md's grade/technology pairs: tactical FOG, aviation RLG and
+    // FOG, navigation RLG; 36 h at 1 Hz (the navigation RLG's bias
+    // instability leads only from τ ≈ 1000 s, its white noise between its
+    // fringe quantisation and that floor). Each axis in its own grade by
+    // white noise and bias instability; a ring laser's Q is its fringe
+    // angle over √12 (the fit's 3σ: it is measured to 0.2–0.3 %).
+    use triad_sim::grade::{Grade, GyroPreset, Optics};
+    let d = dir("optical");
+    for p in GyroPreset::ALL.iter().filter(|p| p.optics.is_some()) {
+        let input = simulate(&d, p.name, &format!("grade = \"{}\"", p.name), 1.0, 1 << 17);
+        let o = allan(&input, &["--json", "--quiet", "--columns", "gx,gy,gz"]);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        for c in v["columns"].as_array().unwrap() {
+            let g = &c["grade"];
+            assert_eq!(
+                g["grade"],
+                p.grade.name(),
+                "{} {}: {g}",
+                p.name,
+                c["column"]
+            );
+            assert_eq!(
+                g["decided_by"], "white noise and bias instability",
+                "{}",
+                p.name
+            );
+            if let Some(Optics::RingLaser(r)) = p.optics {
+                let q = &c["terms"]["Q"];
+                let (value, sigma) = (q["si"].as_f64().unwrap(), q["si_sigma"].as_f64().unwrap());
+                let truth = r.quantisation();
+                println!(
+                    "{} {}: Q {value:.4e} ± {sigma:.1e} rad, fringe/√12 {truth:.4e} ({:+.2} σ)",
+                    p.name,
+                    c["column"],
+                    (value - truth) / sigma
+                );
+                assert!(
+                    (value - truth).abs() <= 3.0 * sigma,
+                    "{}: Q {value} vs {truth}",
+                    p.name
+                );
+            }
+        }
+    }
+}

@@ -12,6 +12,7 @@ pub mod demo_motion;
 #[cfg(feature = "scene-blob")]
 pub mod emulated_board;
 pub mod fault;
+pub mod fibre_optic;
 pub mod g_sensitivity;
 pub mod gauss_markov;
 pub mod grade;
@@ -25,6 +26,7 @@ pub mod output_lsb;
 pub mod packet_fifo;
 pub mod random_walk;
 pub mod register_bus;
+pub mod ring_laser;
 pub mod rng;
 pub mod rotation;
 pub mod saturation;

@@ -6,10 +6,14 @@
 //! 1. scale: x·(1 + s_T(T)) (temperature), ·(1 + s_0) (turn-on), (I + Σ)·x;
 //! 2. biases: constant, turn-on, temperature, Gauss–Markov, random walk, bias
 //!    instability, g-sensitivity (gyros: G·f_true);
-//! 3. white noise;
-//! 4. angle (velocity) quantisation: the output integrated, counted in
-//!    whole steps, differenced ([`super::increment_quantisation`]);
-//! 5. the output register's LSB ([`super::output_lsb`]), then saturation.
+//! 3. an optical gyro's optics on that rate: a fibre-optic gyro's response
+//!    ([`super::fibre_optic`]), a ring laser's lock-in or dither
+//!    ([`super::ring_laser`]);
+//! 4. white noise;
+//! 5. a ring laser's fringe counting, or angle (velocity) quantisation: the
+//!    output integrated, counted in whole steps, differenced
+//!    ([`super::increment_quantisation`]);
+//! 6. the output register's LSB ([`super::output_lsb`]), then saturation.
 //!
 //! Each stochastic effect draws from its own stream, keyed by (seed, triad,
 //! axis, effect) (see [`super::rng`]), so naming or removing one effect leaves
@@ -17,12 +21,14 @@
 
 use super::bias::draw_turn_on;
 use super::bias_instability::BiasInstability;
+use super::fibre_optic::FibreOpticParams;
 use super::g_sensitivity::rate_error;
 use super::gauss_markov::GaussMarkov;
 use super::increment_quantisation::IncrementQuantiser;
 use super::motion::Trajectory;
 use super::output_lsb::round_to_lsb;
 use super::random_walk::RandomWalk;
+use super::ring_laser::RingLaser;
 use super::rng::{EffectId, Rng};
 use super::saturation::saturate;
 use super::scale_misalignment;
@@ -83,6 +89,8 @@ struct TriadState {
     scale_misalignment: Option<[[f64; 3]; 3]>,
     temperature: Option<TemperatureDependence>,
     g_sensitivity: Option<[[f64; 3]; 3]>,
+    fibre_optic: Option<FibreOpticParams>,
+    ring_laser: Option<[RingLaser; 3]>,
     increment_quantisation: Option<[IncrementQuantiser; 3]>,
     output_lsb: Option<[f64; 3]>,
     saturation: Option<[f64; 3]>,
@@ -136,6 +144,11 @@ impl TriadState {
             scale_misalignment: effects.scale_misalignment,
             temperature: effects.temperature,
             g_sensitivity: effects.g_sensitivity,
+            fibre_optic: effects.fibre_optic,
+            ring_laser: effects.ring_laser.map(|p| {
+                let rngs = streams(seed, triad, EffectId::RingLaser);
+                rngs.map(|rng| RingLaser::new(p, rng))
+            }),
             increment_quantisation: effects
                 .increment_quantisation
                 .map(|s| s.map(IncrementQuantiser::new)),
@@ -189,10 +202,19 @@ impl TriadState {
         if let Some(g) = &self.g_sensitivity {
             add(&mut y, &rate_error(g, f_true));
         }
+        if let Some(f) = &self.fibre_optic {
+            y = y.map(|w| f.output(w, temp));
+        }
+        if let Some(rl) = &mut self.ring_laser {
+            y = core::array::from_fn(|i| rl[i].sense(y[i], ts));
+        }
         if let Some((wn, rngs)) = &mut self.white_noise {
             let c = core::array::from_fn(|i| wn[i].sample(&mut rngs[i]));
             self.contributions.white_noise = c;
             add(&mut y, &c);
+        }
+        if let Some(rl) = &mut self.ring_laser {
+            y = core::array::from_fn(|i| rl[i].count(y[i], ts).1);
         }
         if let Some(q) = &mut self.increment_quantisation {
             y = core::array::from_fn(|i| q[i].step(y[i], ts).1);

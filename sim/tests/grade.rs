@@ -7,8 +7,8 @@ use triad::units::{
     ug_to_mps2,
 };
 use triad_sim::grade::{
-    AccelGrade, AccelPreset, Cell, Grade, GyroGrade, GyroPreset, Parameter, Table, ACCEL_TABLE,
-    GYRO_TABLE,
+    AccelGrade, AccelPreset, Cell, Grade, GyroGrade, GyroPreset, Optics, Parameter, Table,
+    Technology, ACCEL_TABLE, FOG_FIGURES, GYRO_TABLE, RLG_FIGURES,
 };
 
 /// The tables as THEORY.md prints them, cell by cell (its own text, with
@@ -151,10 +151,9 @@ fn each_preset_lies_inside_its_row() {
 fn preset_effects_are_the_converted_numbers() {
     for p in &GyroPreset::ALL {
         let e = p.effects();
-        assert_eq!(
-            e.white_noise,
-            Some([arw_deg_per_sqrt_h_to_si(p.arw_deg_per_sqrt_h); 3])
-        );
+        let white = (p.technology != Technology::RingLaser)
+            .then_some([arw_deg_per_sqrt_h_to_si(p.arw_deg_per_sqrt_h); 3]);
+        assert_eq!(e.white_noise, white, "{}", p.name);
         let bi = e.bias_instability.unwrap();
         assert!(bi
             .iter()
@@ -178,6 +177,79 @@ fn preset_effects_are_the_converted_numbers() {
     assert_eq!(GyroPreset::named("strategic"), None);
     assert_eq!(GyroGrade::RateGrade.name(), "rate grade");
     assert_eq!(AccelGrade::Automotive.name(), "automotive");
+}
+
+#[test]
+fn each_technology_is_one_the_table_pairs_with_its_grade() {
+    // THEORY.md's headings: rate grade (MEMS), tactical (MEMS, FOG),
+    // aviation (RLG, FOG), navigation (RLG, FOG?).
+    let technologies = GYRO_TABLE.technology.unwrap();
+    for p in &GyroPreset::ALL {
+        let paired = technologies[p.grade.index()];
+        match p.technology {
+            Technology::NoiseTerms => {}
+            t => assert!(
+                paired.contains(t.name()),
+                "{}: {} not in \"{paired}\"",
+                p.name,
+                t.name()
+            ),
+        }
+    }
+    let named = |n: &str| GyroPreset::named(n).unwrap().technology;
+    assert_eq!(named("tactical-fog"), Technology::FibreOptic);
+    assert_eq!(named("aviation-rlg"), Technology::RingLaser);
+    assert_eq!(named("aviation-fog"), Technology::FibreOptic);
+    assert_eq!(named("navigation-rlg"), Technology::RingLaser);
+}
+
+#[test]
+fn optical_presets_have_their_technologys_figures() {
+    for p in &GyroPreset::ALL {
+        let (figures, optics) = match p.optics {
+            Some(o @ Optics::RingLaser(_)) => (RLG_FIGURES, o),
+            Some(o @ Optics::FibreOptic(_)) => (FOG_FIGURES, o),
+            None => continue,
+        };
+        assert!(
+            figures.bias_deg_per_h.holds(p.bias_deg_per_h),
+            "{} bias",
+            p.name
+        );
+        assert!(
+            figures
+                .scale_factor_error_ppm
+                .holds(p.scale_factor_error_ppm),
+            "{} scale-factor error",
+            p.name
+        );
+        let e = p.effects();
+        let s = e.scale_misalignment.unwrap();
+        assert_eq!(s[1][1], ppm_to_ratio(p.scale_factor_error_ppm));
+        assert_eq!(
+            e.constant_bias,
+            Some([deg_per_h_to_rad_per_s(p.bias_deg_per_h); 3])
+        );
+        match optics {
+            Optics::RingLaser(r) => {
+                let arcsec = r.fringe_angle().to_degrees() * 3600.0;
+                assert!(
+                    figures.fringe_arcsec.unwrap().holds(arcsec),
+                    "{}: {arcsec}",
+                    p.name
+                );
+                // The preset's ARW is its dither's walk (stated to 1 %).
+                let walk = r.dither_random_walk().to_degrees() * 60.0;
+                assert!(
+                    (p.arw_deg_per_sqrt_h / walk - 1.0).abs() < 0.01,
+                    "{}: {walk}",
+                    p.name
+                );
+                assert_eq!(e.ring_laser, Some(r));
+            }
+            Optics::FibreOptic(f) => assert_eq!(e.fibre_optic, Some(f)),
+        }
+    }
 }
 
 /// A preset's row of scenes/README.md: each value with its grade's cell.

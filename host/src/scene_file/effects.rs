@@ -240,6 +240,15 @@ impl Builder<'_> {
                 ),
             ));
         }
+        if let (Some(v), Some(_)) = (key, e.ring_laser) {
+            return Err(self.src.error(
+                &v.span(),
+                format!(
+                    "`{}`: this grade's ring laser counts its fringes itself (at Lλ/4A)",
+                    step.0
+                ),
+            ));
+        }
         if let Some(v) = key {
             let f = field(step.0, u.dim.mul(Dim::TIME), step.1);
             e.increment_quantisation =
@@ -364,7 +373,9 @@ mod tests {
             grade_names(Triad::Accel),
             ["automotive", "tactical", "navigation"]
         );
-        assert_eq!(grade_names(Triad::Gyro).len(), 4);
+        assert_eq!(grade_names(Triad::Gyro).len(), 8);
+        assert!(preset(Triad::Gyro, "navigation-rlg").is_some_and(|e| e.ring_laser.is_some()));
+        assert!(preset(Triad::Accel, "aviation-fog").is_none());
     }
 
     #[test]

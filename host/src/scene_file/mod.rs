@@ -138,7 +138,7 @@ mod tests {
     fn what_is_about_the_file_is_checked_here() {
         let triad = |t: &str, body: &str| format!("{STATIC}[{t}]\n{body}\n");
         let e = error(&triad("gyro", "grade = \"best\""));
-        assert_eq!(e, "s.toml:5:9: unknown gyro grade \"best\" (expected rate-grade, tactical, aviation, navigation)");
+        assert_eq!(e, "s.toml:5:9: unknown gyro grade \"best\" (expected rate-grade, tactical, aviation, navigation, tactical-fog, aviation-rlg, aviation-fog, navigation-rlg)");
         let e = error(&triad("accel", "grade = \"rate-grade\""));
         assert!(
             e.contains("unknown accel grade \"rate-grade\" (expected automotive,"),

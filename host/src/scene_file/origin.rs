@@ -56,6 +56,8 @@ pub(super) mod what {
     pub const OUTPUT_LSB: &str = "output_lsb";
     pub const SATURATION: &str = "saturation";
     pub const TEMPERATURE_REFERENCE: &str = "temperature reference";
+    /// The optical gyro models, which only presets set.
+    pub const OPTICS: &str = "optics";
 }
 
 /// A value as [`SceneError`] names it: its triad (None: the scene's own) and its `what`.
@@ -254,6 +256,16 @@ fn classify(e: &SceneError) -> (Option<Option<Triad>>, &'static str, Problem) {
             Problem::Other(f64::NAN),
         ),
         SceneError::ZeroDirection => (Some(None), what::DIRECTION, Problem::Other(0.0)),
+        SceneError::OpticalOnAccel => (
+            Some(Some(Triad::Accel)),
+            what::OPTICS,
+            Problem::Other(f64::NAN),
+        ),
+        SceneError::TwoOpticalModels | SceneError::CountedTwice => (
+            Some(Some(Triad::Gyro)),
+            what::OPTICS,
+            Problem::Other(f64::NAN),
+        ),
     }
 }
 

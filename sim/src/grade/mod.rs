@@ -7,8 +7,10 @@
 pub mod preset;
 pub mod table;
 
-pub use preset::{AccelPreset, GyroPreset, Technology};
-pub use table::{Cell, Parameter, Row, Table, ACCEL_TABLE, GYRO_TABLE};
+pub use preset::{AccelPreset, GyroPreset, Optics, Technology};
+pub use table::{
+    Cell, OpticalFigures, Parameter, Row, Table, ACCEL_TABLE, FOG_FIGURES, GYRO_TABLE, RLG_FIGURES,
+};
 
 /// Gyro grades, worst first (the columns of [`GYRO_TABLE`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]

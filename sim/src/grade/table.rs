@@ -276,3 +276,36 @@ pub const ACCEL_TABLE: Table = Table {
         },
     ],
 };
+
+/// The figures THEORY.md ("Optical gyros") gives for a technology, beside
+/// the grade tables: the fixed bias and scale-factor error a calibration
+/// removes (their instability is the grade tables' row), and for a ring
+/// laser the angle of a fringe.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OpticalFigures {
+    /// The technology ("RLG", "FOG").
+    pub technology: &'static str,
+    /// Bias, °/h.
+    pub bias_deg_per_h: Cell,
+    /// Scale-factor error, ppm.
+    pub scale_factor_error_ppm: Cell,
+    /// Angle per fringe counted, arc-seconds (ring lasers).
+    pub fringe_arcsec: Option<Cell>,
+}
+
+/// The ring laser gyro: bias ≈ 0.001 °/h, scale-factor error 1–10 ppm,
+/// 2–5 arc-seconds per fringe.
+pub const RLG_FIGURES: OpticalFigures = OpticalFigures {
+    technology: "RLG",
+    bias_deg_per_h: About(0.001),
+    scale_factor_error_ppm: Range(1.0, 10.0),
+    fringe_arcsec: Some(Range(2.0, 5.0)),
+};
+
+/// The fibre-optic gyro: bias 0.5–50 °/h, scale-factor error 500–5000 ppm.
+pub const FOG_FIGURES: OpticalFigures = OpticalFigures {
+    technology: "FOG",
+    bias_deg_per_h: Range(0.5, 50.0),
+    scale_factor_error_ppm: Range(500.0, 5000.0),
+    fringe_arcsec: None,
+};
