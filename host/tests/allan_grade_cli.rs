@@ -7,32 +7,15 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use common::{allan, dir, s, text, triad};
+use common::{allan, dir, simulate_scene, text};
 
 /// Simulates `[gyro]` `effects` on a static bench at `rate` Hz for
 /// `seconds` into `d`/`name`.csv (the scene written beside it).
 fn simulate(d: &Path, name: &str, gyro: &str, rate: f64, seconds: u64) -> PathBuf {
-    let scene = d.join(format!("{name}.toml"));
-    let text_ = format!(
+    let body = format!(
         "rate_hz = {rate:?}\n[motion]\nkind = \"static\"\nattitude_deg = [0.0, 0.0, 0.0]\n[gyro]\n{gyro}\n"
     );
-    std::fs::write(&scene, text_).unwrap();
-    let out = d.join(format!("{name}.csv"));
-    let seconds = seconds.to_string();
-    let o = triad(&[
-        "sim",
-        "--scene",
-        s(&scene),
-        "--seconds",
-        &seconds,
-        "--seed",
-        "5",
-        "--quiet",
-        "--out",
-        s(&out),
-    ]);
-    assert!(o.status.success(), "{}", text(&o.stderr));
-    out
+    simulate_scene(d, name, &body, &seconds.to_string(), "5")
 }
 
 /// The JSON report of `triad allan` on column gx of `input` with `extra` arguments.

@@ -7,31 +7,15 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use common::{allan, dir, s, text, triad};
+use common::{allan, dir, simulate_scene, text};
 
 /// Simulates `scene` (a static bench at 100 Hz with the given `[gyro]` and
 /// `[accel]` bodies) for 2^20 samples into `d`/`name`.csv.
 fn simulate(d: &Path, name: &str, gyro: &str, accel: &str) -> PathBuf {
-    let scene = d.join(format!("{name}.toml"));
     let body = format!(
         "rate_hz = 100.0\n[motion]\nkind = \"static\"\nattitude_deg = [0.0, 0.0, 0.0]\n[gyro]\n{gyro}\n[accel]\n{accel}\n"
     );
-    std::fs::write(&scene, body).unwrap();
-    let out = d.join(format!("{name}.csv"));
-    let o = triad(&[
-        "sim",
-        "--scene",
-        s(&scene),
-        "--seconds",
-        "10485.76",
-        "--seed",
-        "3",
-        "--quiet",
-        "--out",
-        s(&out),
-    ]);
-    assert!(o.status.success(), "{}", text(&o.stderr));
-    out
+    simulate_scene(d, name, &body, "10485.76", "3")
 }
 
 /// Q, its σ, whether the data support it, and its unit: `column` in `triad allan --json`.

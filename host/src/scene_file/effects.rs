@@ -65,6 +65,7 @@ impl Builder<'_> {
         self.noise(t, triad, &mut e)?;
         self.scale_misalignment(t, &mut e)?;
         self.g_sensitivity(t, triad, &mut e)?;
+        self.optics(t, triad, &mut e)?;
         self.range(t, triad, &mut e)?;
         if let Some(gm) = &t.gauss_markov {
             e.gauss_markov = Some(self.gauss_markov(gm, triad)?);

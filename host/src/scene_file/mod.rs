@@ -34,6 +34,7 @@ mod build;
 mod effects;
 mod field;
 mod motion;
+mod optics;
 mod origin;
 mod parse;
 pub mod unit;
@@ -180,6 +181,97 @@ mod tests {
             e,
             "s.toml:6:16: `quantisation` is the old name of `output_lsb`: give one of them"
         );
+    }
+
+    #[test]
+    fn optics_sections_read_into_si_and_replace_the_presets() {
+        let rlg = "[gyro.ring_laser]\narea = \"15.588457 cm^2\"\npath_length = \"18 cm\"\nlock_in = \"0.1 deg/s\"\ndither_rate = \"100 deg/s\"\ndither_frequency_hz = 400.0\n";
+        let text = format!("{STATIC}[gyro]\ngrade = \"aviation-fog\"\n{rlg}");
+        let g = parse(&text, Path::new("s.toml")).unwrap().scene.gyro;
+        assert!(g.fibre_optic.is_none(), "the preset's optics are replaced");
+        let r = g.ring_laser.unwrap();
+        assert!((r.area - 15.588457e-4).abs() < 1e-12 && (r.path_length - 0.18).abs() < 1e-15);
+        assert_eq!(r.wavelength, 632.8e-9);
+        assert!((r.lock_in - 0.1f64.to_radians()).abs() < 1e-15);
+        let d = r.dither.unwrap();
+        assert!((d.peak_rate - 100f64.to_radians()).abs() < 1e-12 && d.frequency == 400.0);
+        // Without the dither keys: undithered.
+        let text = format!("{STATIC}[gyro.ring_laser]\narea = \"1 cm^2\"\npath_length = \"4 cm\"\nwavelength = \"633 nm\"\nlock_in = \"100 deg/h\"\n");
+        let r = parse(&text, Path::new("s.toml"))
+            .unwrap()
+            .scene
+            .gyro
+            .ring_laser
+            .unwrap();
+        assert!(r.dither.is_none() && (r.wavelength - 633e-9).abs() < 1e-20);
+        let fog = "[gyro.fibre_optic]\nturns = 1061\ncoil_diameter = \"6 cm\"\nwavelength = \"1550 nm\"\nreadout = \"open\"\nwavelength_per_degree = \"400 ppm/degC\"\n";
+        let f = parse(&format!("{STATIC}{fog}"), Path::new("s.toml"))
+            .unwrap()
+            .scene
+            .gyro
+            .fibre_optic
+            .unwrap();
+        assert_eq!(
+            (f.turns, f.readout, f.reference),
+            (1061.0, triad_sim::fibre_optic::Loop::Open, 25.0)
+        );
+        assert!((f.coil_area - std::f64::consts::PI * 9e-4).abs() < 1e-15);
+        assert!((f.wavelength_per_degree - 400e-6).abs() < 1e-18 && f.area_per_degree == 0.0);
+    }
+
+    #[test]
+    fn optics_sections_refuse_what_is_wrong_at_its_place() {
+        let rl = |body: &str| {
+            format!(
+                "{STATIC}[gyro.ring_laser]\narea = \"1 cm^2\"\npath_length = \"4 cm\"\n{body}\n"
+            )
+        };
+        let e = error(&rl("lock_in = \"-1 deg/s\""));
+        assert_eq!(
+            e,
+            "s.toml:7:11: `ring_laser.lock_in` = \"-1 deg/s\" must not be negative"
+        );
+        let e = error(&rl("lock_in = \"1 deg/s\"\ndither_rate = \"100 deg/s\""));
+        assert_eq!(
+            e,
+            "s.toml:8:15: `dither_rate` needs `dither_frequency_hz` (both, or neither: no dither)"
+        );
+        let e = error(&rl(
+            "lock_in = \"1 deg/s\"\ndither_rate = \"100 deg/s\"\ndither_frequency_hz = 0.0",
+        ));
+        assert_eq!(e, "s.toml:9:23: `dither_frequency_hz` = 0 must be positive");
+        let e = error(&rl("lock_in = \"1 deg/s\"\nwavelength = \"0 nm\""));
+        assert!(
+            e.starts_with("s.toml:8:14: `ring_laser.wavelength` = \"0 nm\""),
+            "{e}"
+        );
+        let e = error(&rl("lock_in = \"1 deg\""));
+        assert!(
+            e.contains("`ring_laser.lock_in`: the unit has dimension rad"),
+            "{e}"
+        );
+        let e = error(&format!("{STATIC}[accel.ring_laser]\narea = \"1 cm^2\"\npath_length = \"4 cm\"\nlock_in = \"1 deg/s\"\n"));
+        assert_eq!(
+            e,
+            "s.toml:5:8: `ring_laser` is a gyro model; accelerometers cannot have it"
+        );
+        let fo = |body: &str| {
+            format!("{STATIC}[gyro.fibre_optic]\nturns = 100\ncoil_diameter = \"6 cm\"\nwavelength = \"1550 nm\"\n{body}\n")
+        };
+        let e = error(&fo("readout = \"half\""));
+        assert_eq!(
+            e,
+            "s.toml:8:11: readout = \"half\": expected \"open\" or \"closed\" (loop)"
+        );
+        let e = error(&fo("readout = \"open\"\n[gyro.ring_laser]\narea = \"1 cm^2\"\npath_length = \"4 cm\"\nlock_in = \"1 deg/s\""));
+        assert_eq!(
+            e,
+            "s.toml:6:17: a gyro is a ring laser or a fibre-optic gyro, not both"
+        );
+        let e = error(&format!("{STATIC}[gyro.fibre_optic]\nturns = 0\ncoil_diameter = \"6 cm\"\nwavelength = \"1550 nm\"\nreadout = \"open\"\n"));
+        assert_eq!(e, "s.toml:5:9: `turns` = 0 must be positive");
+        let e = error(&format!("{STATIC}[gyro.fibre_optic]\nturns = 10\ncoil_diameter = \"-6 cm\"\nwavelength = \"1550 nm\"\nreadout = \"open\"\n"));
+        assert_eq!(e, "s.toml:6:17: `coil_diameter` must be positive");
     }
 
     #[test]

@@ -56,8 +56,17 @@ pub(super) mod what {
     pub const OUTPUT_LSB: &str = "output_lsb";
     pub const SATURATION: &str = "saturation";
     pub const TEMPERATURE_REFERENCE: &str = "temperature reference";
-    /// The optical gyro models, which only presets set.
+    /// The optical gyro models as a whole.
     pub const OPTICS: &str = "optics";
+    pub const RL_AREA: &str = "ring_laser area";
+    pub const RL_PATH: &str = "ring_laser path_length";
+    pub const RL_WAVELENGTH: &str = "ring_laser wavelength";
+    pub const RL_LOCK_IN: &str = "ring_laser lock_in";
+    pub const RL_DITHER_RATE: &str = "ring_laser dither_rate";
+    pub const RL_DITHER_FREQUENCY: &str = "ring_laser dither_frequency";
+    pub const FO_TURNS: &str = "fibre_optic turns";
+    pub const FO_WAVELENGTH: &str = "fibre_optic wavelength";
+    pub const FO_REFERENCE: &str = "fibre_optic reference";
 }
 
 /// A value as [`SceneError`] names it: its triad (None: the scene's own) and its `what`.

@@ -79,6 +79,33 @@ pub(super) struct TriadFile {
     pub gauss_markov: Option<GaussMarkovFile>,
     pub bias_instability: Option<BiasInstabilityFile>,
     pub temperature: Option<TemperatureDependenceFile>,
+    pub ring_laser: Option<RingLaserFile>,
+    pub fibre_optic: Option<FibreOpticFile>,
+}
+
+/// `[gyro.ring_laser]`: a ring laser gyro's cavity, lock-in and dither.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RingLaserFile {
+    pub area: Value,
+    pub path_length: Value,
+    pub wavelength: Option<Value>,
+    pub lock_in: Value,
+    pub dither_rate: Option<Value>,
+    pub dither_frequency_hz: Option<Spanned<f64>>,
+}
+
+/// `[gyro.fibre_optic]`: a fibre-optic gyro's coil, source and readout.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct FibreOpticFile {
+    pub turns: Spanned<f64>,
+    pub coil_diameter: Value,
+    pub wavelength: Value,
+    pub readout: Spanned<String>,
+    pub reference_c: Option<Spanned<f64>>,
+    pub area_per_degree: Option<Value>,
+    pub wavelength_per_degree: Option<Value>,
 }
 
 /// `[accel.gauss_markov]`, `[gyro.gauss_markov]`.
