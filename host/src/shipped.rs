@@ -15,7 +15,7 @@ use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context};
-use triad_sim::grade::{AccelGrade, GyroGrade};
+use triad_sim::grade::{AccelPreset, GyroPreset};
 
 include!(concat!(env!("OUT_DIR"), "/shipped_scenes.rs"));
 
@@ -112,11 +112,11 @@ pub fn listing() -> String {
     out.push_str("Grade presets (a scene's `grade` in [gyro] or [accel]):\n");
     out.push_str(&format!(
         "  gyro:  {}\n",
-        names(GyroGrade::ALL.iter().map(|g| g.name()).collect())
+        names(GyroPreset::ALL.iter().map(|p| p.name).collect())
     ));
     out.push_str(&format!(
         "  accel: {}\n",
-        names(AccelGrade::ALL.iter().map(|g| g.name()).collect())
+        names(AccelPreset::ALL.iter().map(|p| p.name).collect())
     ));
     out.push_str(
         "Calibrations (triad correct --calib NAME, triad calib check|pack NAME, calib fit --base NAME):\n",

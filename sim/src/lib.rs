@@ -5,26 +5,30 @@
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod averaged_gauss_markov;
 pub mod bias;
 pub mod bias_instability;
 pub mod demo_motion;
 #[cfg(feature = "scene-blob")]
 pub mod emulated_board;
 pub mod fault;
+pub mod fibre_optic;
 pub mod g_sensitivity;
 pub mod gauss_markov;
 pub mod grade;
 pub mod icm42688_factory_trim;
 pub mod icm42688_model;
 pub mod icm42688_registers;
+pub mod increment_quantisation;
 pub mod lsm6dsox_model;
 pub mod lsm6dsox_registers;
 pub mod model_clock;
 pub mod motion;
+pub mod output_lsb;
 pub mod packet_fifo;
-pub mod quantisation;
 pub mod random_walk;
 pub mod register_bus;
+pub mod ring_laser;
 pub mod rng;
 pub mod rotation;
 pub mod saturation;

@@ -52,6 +52,8 @@ pub enum EffectId {
     TurnOnBias = 5,
     /// Turn-on scale-factor error, drawn once.
     TurnOnScale = 6,
+    /// A ring laser gyro's dither: its passages and its fringe offsets.
+    RingLaser = 7,
 }
 
 /// A xoshiro256++ generator.

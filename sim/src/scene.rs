@@ -4,7 +4,9 @@
 //! units once, where the scene is loaded).
 
 use super::bias_instability::{BiasInstabilityParams, MAX_TERMS};
+use super::fibre_optic::FibreOpticParams;
 use super::motion::{Environment, Motion, MAX_POSITIONS};
+use super::ring_laser::RingLaserParams;
 use super::temperature_dependence::TemperatureDependence;
 use super::temperature_profile::TemperatureProfile;
 
@@ -43,8 +45,18 @@ pub struct TriadEffects {
     pub temperature: Option<TemperatureDependence>,
     /// Gyro g-sensitivity G, (rad/s)/(m/s²); gyros only.
     pub g_sensitivity: Option<[[f64; 3]; 3]>,
-    /// Quantisation step (LSB), U.
-    pub quantisation: Option<[f64; 3]>,
+    /// A ring laser gyro's optics: lock-in, dither, fringe counting; gyros only.
+    pub ring_laser: Option<RingLaserParams>,
+    /// A fibre-optic gyro's optics: open- or closed-loop response,
+    /// temperature of the scale factor; gyros only.
+    pub fibre_optic: Option<FibreOpticParams>,
+    /// Angle (gyro) or velocity (accel) quantisation: the step S of the
+    /// counted integral, rad or m/s ([`super::increment_quantisation`]; IEEE
+    /// 952's Q = S/√12).
+    pub increment_quantisation: Option<[f64; 3]>,
+    /// The output register's LSB: each sample rounded to it, U
+    /// ([`super::output_lsb`]).
+    pub output_lsb: Option<[f64; 3]>,
     /// Measurement range, ±U.
     pub saturation: Option<[f64; 3]>,
 }
@@ -62,7 +74,10 @@ impl TriadEffects {
         turn_on_scale: None,
         temperature: None,
         g_sensitivity: None,
-        quantisation: None,
+        ring_laser: None,
+        fibre_optic: None,
+        increment_quantisation: None,
+        output_lsb: None,
         saturation: None,
     };
 
@@ -155,6 +170,12 @@ pub enum SceneError {
     GSensitivityOnAccel,
     /// A zero vibration direction.
     ZeroDirection,
+    /// An optical gyro model (`ring_laser`, `fibre_optic`) given for the accelerometers.
+    OpticalOnAccel,
+    /// Both optical gyro models at once.
+    TwoOpticalModels,
+    /// A ring laser gyro with `increment_quantisation`: it counts its fringes itself.
+    CountedTwice,
 }
 
 fn finite(triad: Option<Triad>, what: &'static str, value: f64) -> Result<(), SceneError> {
@@ -260,11 +281,56 @@ impl TriadEffects {
             }
             all(t, "g_sensitivity", g.as_flattened(), finite)?;
         }
-        if let Some(q) = &self.quantisation {
-            all(t, "quantisation", q, non_negative)?;
+        self.validate_optics(triad)?;
+        if let Some(q) = &self.increment_quantisation {
+            all(t, "increment_quantisation", q, non_negative)?;
+        }
+        if let Some(q) = &self.output_lsb {
+            all(t, "output_lsb", q, non_negative)?;
         }
         if let Some(r) = &self.saturation {
             all(t, "saturation", r, positive)?;
+        }
+        Ok(())
+    }
+}
+
+impl TriadEffects {
+    /// Checks the optical gyro models: gyros only, one at a time, each
+    /// parameter in range.
+    fn validate_optics(&self, triad: Triad) -> Result<(), SceneError> {
+        let t = Some(triad);
+        let optical = self.ring_laser.is_some() || self.fibre_optic.is_some();
+        if optical && triad == Triad::Accel {
+            return Err(SceneError::OpticalOnAccel);
+        }
+        if self.ring_laser.is_some() && self.fibre_optic.is_some() {
+            return Err(SceneError::TwoOpticalModels);
+        }
+        if let Some(r) = &self.ring_laser {
+            if self.increment_quantisation.is_some() {
+                return Err(SceneError::CountedTwice);
+            }
+            positive(t, "ring_laser area", r.area)?;
+            positive(t, "ring_laser path_length", r.path_length)?;
+            positive(t, "ring_laser wavelength", r.wavelength)?;
+            non_negative(t, "ring_laser lock_in", r.lock_in)?;
+            if let Some(d) = &r.dither {
+                positive(t, "ring_laser dither_rate", d.peak_rate)?;
+                positive(t, "ring_laser dither_frequency", d.frequency)?;
+            }
+        }
+        if let Some(f) = &self.fibre_optic {
+            positive(t, "fibre_optic turns", f.turns)?;
+            positive(t, "fibre_optic coil_area", f.coil_area)?;
+            positive(t, "fibre_optic wavelength", f.wavelength)?;
+            finite(t, "fibre_optic reference", f.reference)?;
+            finite(t, "fibre_optic area_per_degree", f.area_per_degree)?;
+            finite(
+                t,
+                "fibre_optic wavelength_per_degree",
+                f.wavelength_per_degree,
+            )?;
         }
         Ok(())
     }
@@ -358,6 +424,17 @@ impl core::fmt::Display for SceneError {
                 write!(f, "g_sensitivity is a gyro effect; the accelerometers cannot have it")
             }
             SceneError::ZeroDirection => write!(f, "vibration direction is the zero vector"),
+            SceneError::OpticalOnAccel => write!(
+                f,
+                "ring_laser and fibre_optic are gyro models; the accelerometers cannot have them"
+            ),
+            SceneError::TwoOpticalModels => {
+                write!(f, "a gyro is a ring laser or a fibre-optic gyro, not both")
+            }
+            SceneError::CountedTwice => write!(
+                f,
+                "a ring laser gyro counts its fringes itself: increment_quantisation would count them twice"
+            ),
         }
     }
 }

@@ -7,7 +7,7 @@
 //! ```text
 //! offset  size  field
 //! 0       4     magic "TSCN"
-//! 4       1     version (1)
+//! 4       1     version (2)
 //! 5       8     seed (u64)
 //! 13      2     payload length N (u16)
 //! 15      N     the Scene, postcard-encoded (serde's data model, varints)
@@ -23,8 +23,9 @@ use triad::crc32c::crc32c;
 
 /// The first four bytes of a scene blob.
 pub const MAGIC: [u8; 4] = *b"TSCN";
-/// The layout version this code reads and writes.
-pub const VERSION: u8 = 1;
+/// The layout version this code reads and writes (2: the scene's effects
+/// gained angle/velocity quantisation and the optical gyros).
+pub const VERSION: u8 = 2;
 /// Bytes before the payload.
 const HEADER_LEN: usize = 15;
 /// Bytes after the payload.

@@ -6,8 +6,14 @@
 //! 1. scale: x·(1 + s_T(T)) (temperature), ·(1 + s_0) (turn-on), (I + Σ)·x;
 //! 2. biases: constant, turn-on, temperature, Gauss–Markov, random walk, bias
 //!    instability, g-sensitivity (gyros: G·f_true);
-//! 3. white noise;
-//! 4. quantisation, then saturation.
+//! 3. an optical gyro's optics on that rate: a fibre-optic gyro's response
+//!    ([`super::fibre_optic`]), a ring laser's lock-in or dither
+//!    ([`super::ring_laser`]);
+//! 4. white noise;
+//! 5. a ring laser's fringe counting, or angle (velocity) quantisation: the
+//!    output integrated, counted in whole steps, differenced
+//!    ([`super::increment_quantisation`]);
+//! 6. the output register's LSB ([`super::output_lsb`]), then saturation.
 //!
 //! Each stochastic effect draws from its own stream, keyed by (seed, triad,
 //! axis, effect) (see [`super::rng`]), so naming or removing one effect leaves
@@ -15,11 +21,14 @@
 
 use super::bias::draw_turn_on;
 use super::bias_instability::BiasInstability;
+use super::fibre_optic::FibreOpticParams;
 use super::g_sensitivity::rate_error;
 use super::gauss_markov::GaussMarkov;
+use super::increment_quantisation::IncrementQuantiser;
 use super::motion::Trajectory;
-use super::quantisation::quantise;
+use super::output_lsb::round_to_lsb;
 use super::random_walk::RandomWalk;
+use super::ring_laser::RingLaser;
 use super::rng::{EffectId, Rng};
 use super::saturation::saturate;
 use super::scale_misalignment;
@@ -80,7 +89,10 @@ struct TriadState {
     scale_misalignment: Option<[[f64; 3]; 3]>,
     temperature: Option<TemperatureDependence>,
     g_sensitivity: Option<[[f64; 3]; 3]>,
-    quantisation: Option<[f64; 3]>,
+    fibre_optic: Option<FibreOpticParams>,
+    ring_laser: Option<[RingLaser; 3]>,
+    increment_quantisation: Option<[IncrementQuantiser; 3]>,
+    output_lsb: Option<[f64; 3]>,
     saturation: Option<[f64; 3]>,
     /// False when the scene names no effect for this triad: `measure` is
     /// then skipped with one test instead of twelve.
@@ -132,7 +144,15 @@ impl TriadState {
             scale_misalignment: effects.scale_misalignment,
             temperature: effects.temperature,
             g_sensitivity: effects.g_sensitivity,
-            quantisation: effects.quantisation,
+            fibre_optic: effects.fibre_optic,
+            ring_laser: effects.ring_laser.map(|p| {
+                let rngs = streams(seed, triad, EffectId::RingLaser);
+                rngs.map(|rng| RingLaser::new(p, rng))
+            }),
+            increment_quantisation: effects
+                .increment_quantisation
+                .map(|s| s.map(IncrementQuantiser::new)),
+            output_lsb: effects.output_lsb,
             saturation: effects.saturation,
             active: !effects.is_none(),
             contributions,
@@ -141,7 +161,7 @@ impl TriadState {
 
     /// The measurement of `truth` at temperature `temp`; `f_true` is the true
     /// specific force (for g-sensitivity).
-    fn measure(&mut self, truth: [f64; 3], temp: f64, f_true: &[f64; 3]) -> [f64; 3] {
+    fn measure(&mut self, truth: [f64; 3], temp: f64, f_true: &[f64; 3], ts: f64) -> [f64; 3] {
         let mut y = truth;
         if !self.active {
             return y;
@@ -182,13 +202,25 @@ impl TriadState {
         if let Some(g) = &self.g_sensitivity {
             add(&mut y, &rate_error(g, f_true));
         }
+        if let Some(f) = &self.fibre_optic {
+            y = y.map(|w| f.output(w, temp));
+        }
+        if let Some(rl) = &mut self.ring_laser {
+            y = core::array::from_fn(|i| rl[i].sense(y[i], ts));
+        }
         if let Some((wn, rngs)) = &mut self.white_noise {
             let c = core::array::from_fn(|i| wn[i].sample(&mut rngs[i]));
             self.contributions.white_noise = c;
             add(&mut y, &c);
         }
-        if let Some(lsb) = &self.quantisation {
-            y = core::array::from_fn(|i| quantise(y[i], lsb[i]));
+        if let Some(rl) = &mut self.ring_laser {
+            y = core::array::from_fn(|i| rl[i].count(y[i], ts).1);
+        }
+        if let Some(q) = &mut self.increment_quantisation {
+            y = core::array::from_fn(|i| q[i].step(y[i], ts).1);
+        }
+        if let Some(lsb) = &self.output_lsb {
+            y = core::array::from_fn(|i| round_to_lsb(y[i], lsb[i]));
         }
         if let Some(range) = &self.saturation {
             y = core::array::from_fn(|i| saturate(y[i], range[i]));
@@ -261,11 +293,13 @@ impl Simulator {
                 truth.specific_force,
                 truth.temperature,
                 &truth.specific_force,
+                self.ts,
             ),
             angular_rate: self.gyro.measure(
                 truth.angular_rate,
                 truth.temperature,
                 &truth.specific_force,
+                self.ts,
             ),
             temperature: truth.temperature,
         };

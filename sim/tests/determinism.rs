@@ -3,7 +3,9 @@
 //! bit-identical; the same seed gives the same samples.
 
 use triad_sim::bias_instability::BiasInstabilityParams;
+use triad_sim::fibre_optic::{FibreOpticParams, Loop};
 use triad_sim::motion::{Axis, Environment, Motion};
+use triad_sim::ring_laser::{Dither, RingLaserParams};
 use triad_sim::scene::{GaussMarkovParams, Scene, TriadEffects};
 use triad_sim::simulator::{Contributions, Simulator};
 use triad_sim::source::SampleSource;
@@ -52,7 +54,18 @@ fn every_effect(gyro: bool) -> TriadEffects {
             scale_per_degree: [1e-5; 3],
         }),
         g_sensitivity: gyro.then_some([[1e-4, 0.0, 0.0], [0.0, 1e-4, 0.0], [0.0, 0.0, 1e-4]]),
-        quantisation: Some([1e-3; 3]),
+        ring_laser: None,
+        fibre_optic: gyro.then_some(FibreOpticParams {
+            turns: 1000.0,
+            coil_area: 3e-3,
+            wavelength: 1550e-9,
+            readout: Loop::Open,
+            reference: 25.0,
+            area_per_degree: 1e-6,
+            wavelength_per_degree: 1e-5,
+        }),
+        increment_quantisation: Some([2e-3; 3]),
+        output_lsb: Some([1e-3; 3]),
         saturation: Some([if gyro { 10.0 } else { 5.0 }; 3]),
     }
 }
@@ -87,6 +100,9 @@ fn every_effect_off_measures_the_truth_exactly() {
     }
 }
 
+/// How many effects [`without`] turns off, one by one.
+const EFFECTS: usize = 14;
+
 /// Turns off one effect (by index) of a full effect set.
 fn without(mut e: TriadEffects, which: usize) -> TriadEffects {
     match which {
@@ -100,7 +116,9 @@ fn without(mut e: TriadEffects, which: usize) -> TriadEffects {
         7 => e.turn_on_scale = None,
         8 => e.temperature = None,
         9 => e.g_sensitivity = None,
-        10 => e.quantisation = None,
+        10 => e.output_lsb = None,
+        11 => e.increment_quantisation = None,
+        12 => e.fibre_optic = None,
         _ => e.saturation = None,
     }
     e
@@ -126,7 +144,7 @@ fn toggling_one_effect_leaves_the_others_bit_identical() {
     let mut full = scene(motions()[2]);
     full.accel = every_effect(false);
     full.gyro = every_effect(true);
-    for which in 0..12 {
+    for which in 0..EFFECTS {
         let mut reduced = full;
         reduced.accel = without(full.accel, which);
         reduced.gyro = without(full.gyro, which);
@@ -169,7 +187,7 @@ fn the_toggled_effect_does_change_the_output() {
     let mut full = scene(motions()[2]);
     full.accel = every_effect(false);
     full.gyro = every_effect(true);
-    for which in 0..12 {
+    for which in 0..EFFECTS {
         let mut reduced = full;
         reduced.accel = without(full.accel, which);
         reduced.gyro = without(full.gyro, which);
@@ -178,6 +196,42 @@ fn the_toggled_effect_does_change_the_output() {
         let differs = (0..3000).any(|_| a.step().measured != b.step().measured);
         assert!(differs, "effect {which} has no effect");
     }
+}
+
+#[test]
+fn a_ring_laser_leaves_the_other_effects_bit_identical() {
+    // Its dither draws from its own stream: naming it changes the output,
+    // not another effect's contribution. (It replaces the fibre-optic
+    // optics and the angle quantisation of the full set: one optics, and
+    // it counts its fringes itself.)
+    let mut gyro = every_effect(true);
+    gyro.fibre_optic = None;
+    gyro.increment_quantisation = None;
+    let mut with = scene(motions()[2]);
+    with.gyro = TriadEffects {
+        ring_laser: Some(RingLaserParams {
+            area: 1.5e-3,
+            path_length: 0.18,
+            wavelength: 632.8e-9,
+            lock_in: 1e-3,
+            dither: Some(Dither {
+                peak_rate: 1.7,
+                frequency: 400.0,
+            }),
+        }),
+        ..gyro
+    };
+    let mut without = with;
+    without.gyro.ring_laser = None;
+    let mut a = Simulator::new(&with, 8).unwrap();
+    let mut b = Simulator::new(&without, 8).unwrap();
+    let mut differs = false;
+    for _ in 0..3000 {
+        let (sa, sb) = (a.step(), b.step());
+        differs |= sa.measured != sb.measured;
+        assert_eq!(a.gyro_contributions(), b.gyro_contributions());
+    }
+    assert!(differs, "the ring laser changed nothing");
 }
 
 #[test]

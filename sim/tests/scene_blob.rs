@@ -3,7 +3,7 @@
 
 use triad_sim::motion::{Axis, Motion};
 use triad_sim::scene::{GaussMarkovParams, Scene, TriadEffects};
-use triad_sim::scene_blob::{decode, encode, SceneBlobError, MAX_BLOB_LEN};
+use triad_sim::scene_blob::{decode, encode, SceneBlobError, MAX_BLOB_LEN, VERSION};
 use triad_sim::simulator::Simulator;
 use triad_sim::temperature_profile::TemperatureProfile;
 
@@ -25,7 +25,7 @@ fn busy_scene() -> Scene {
         white_noise: Some([1e-3, 2e-3, 3e-3]),
         constant_bias: Some([0.1, -0.2, 0.3]),
         scale_misalignment: Some([[1e-3, 2e-4, 0.0], [0.0, -2e-3, 1e-4], [3e-4, 0.0, 5e-4]]),
-        quantisation: Some([4.8e-3; 3]),
+        output_lsb: Some([4.8e-3; 3]),
         saturation: Some([156.9; 3]),
         ..TriadEffects::NONE
     };
@@ -35,6 +35,7 @@ fn busy_scene() -> Scene {
             correlation_time: [100.0, 200.0, 300.0],
         }),
         random_walk: Some([1e-6; 3]),
+        increment_quantisation: Some([1e-5; 3]),
         ..TriadEffects::NONE
     };
     scene
@@ -76,8 +77,11 @@ fn damaged_foreign_and_truncated_blobs_are_refused_with_what_was_found() {
     );
 
     let mut newer = good.clone();
-    newer[4] = 2;
-    assert_eq!(decode(&newer), Err(SceneBlobError::Version { found: 2 }));
+    newer[4] = VERSION + 1;
+    assert_eq!(
+        decode(&newer),
+        Err(SceneBlobError::Version { found: VERSION + 1 })
+    );
 
     let cut = &good[..good.len() - 5];
     assert!(
@@ -98,7 +102,8 @@ fn damaged_foreign_and_truncated_blobs_are_refused_with_what_was_found() {
 #[test]
 fn a_payload_that_is_not_a_scene_is_refused_even_with_a_good_crc() {
     // A well-formed blob around 3 bytes of garbage.
-    let mut bytes = b"TSCN\x01".to_vec();
+    let mut bytes = b"TSCN".to_vec();
+    bytes.push(VERSION);
     bytes.extend(1u64.to_le_bytes());
     bytes.extend(3u16.to_le_bytes());
     bytes.extend([0xFF, 0xFF, 0xFF]);

@@ -1,7 +1,8 @@
 //! `--json`: the fitted terms with their uncertainties (data-sheet units and
 //! SI), whether the data support each (`significant`, its `z`), the τ range
 //! that decided it and its share of σ²(τ) there, or its upper limit; the
-//! fit's statistics; the grade; and the curve of every column. A column
+//! fit's statistics; the grade with each parameter's place in THEORY.md's
+//! tables; and the curve of every column. A column
 //! without a fit has `"fit": null`, `"terms": {}`, `"grade": null` and its
 //! reason in `"no_fit"`.
 
@@ -9,16 +10,21 @@ use serde_json::{json, Map, Value};
 use triad::model::Triad;
 use triad::units;
 use triad_lab::allan::gls::SIGNIFICANCE_Z;
+use triad_lab::allan::grade::{Placement, Verdict};
 use triad_lab::allan::noise_terms::{NoiseFit, Term, TermEstimate};
 
 use super::compute::{Analysis, ColumnResult};
 use super::fit::{datasheet, si_unit, NoFit};
-use super::grade::{grade_of, reported};
+use super::grade::{grade_of, reported, ColumnGrade, GradeInput};
 use super::AllanArgs;
 
 /// The whole report.
 pub fn report(args: &AllanArgs, a: &Analysis) -> Value {
-    let columns: Vec<Value> = a.columns.iter().map(column).collect();
+    let columns: Vec<Value> = a
+        .columns
+        .iter()
+        .map(|c| column(c, &args.grade_input))
+        .collect();
     json!({
         "input": crate::input::name(&args.input),
         "samples": a.samples,
@@ -31,12 +37,15 @@ pub fn report(args: &AllanArgs, a: &Analysis) -> Value {
 }
 
 /// One column: its terms, grade, fit statistics and curve.
-fn column(col: &ColumnResult) -> Value {
+fn column(col: &ColumnResult, inputs: &[GradeInput]) -> Value {
     let terms = col
         .fit
         .as_ref()
         .map_or_else(|_| Map::new(), |fit| terms(col.triad, fit));
-    let grade = grade_of(col).map(|(g, d)| json!({"grade": g, "decided_by": d}));
+    let grade = grade_of(col, inputs).map(|g| match g {
+        Ok(g) => grade(&g),
+        Err(why) => json!({"grade": null, "error": why.to_string()}),
+    });
     let curve: Vec<_> = col
         .points
         .iter()
@@ -67,6 +76,52 @@ fn column(col: &ColumnResult) -> Value {
         "fit": fit,
         "no_fit": no_fit,
         "curve": curve,
+    })
+}
+
+/// The grade: overall (with the grades it lies between in a gap of the
+/// table), what decides it, and each parameter with its unit, its place and
+/// the cells of the rows involved.
+fn grade(g: &ColumnGrade) -> Value {
+    let c = &g.classification;
+    let between = match c.overall {
+        Placement::Between { worse, better } => {
+            json!([g.table.grades[worse], g.table.grades[better]])
+        }
+        _ => Value::Null,
+    };
+    let parameters: Vec<Value> = c
+        .assessments()
+        .map(|a| {
+            let fits = match a.verdict {
+                Verdict::Fits(mask) => json!((0..g.table.grades.len())
+                    .filter(|i| mask & (1 << i) != 0)
+                    .map(|i| g.table.grades[i])
+                    .collect::<Vec<_>>()),
+                Verdict::Placed(_) => Value::Null,
+            };
+            let place = match a.verdict {
+                Verdict::Placed(p) => json!(p.describe(g.table).to_string()),
+                Verdict::Fits(_) => Value::Null,
+            };
+            json!({
+                "parameter": a.parameter.name(),
+                "value": a.value,
+                "unit": g.unit(a.parameter),
+                "grade": place,
+                "fits": fits,
+                "verdict": g.verdict(a),
+            })
+        })
+        .collect();
+    let limits: Vec<&str> = g.limits.iter().map(|t| t.symbol()).collect();
+    json!({
+        "grade": g.name(),
+        "between": between,
+        "decided_by": g.decided_by(),
+        "table": g.table.name,
+        "upper_limits": limits,
+        "parameters": parameters,
     })
 }
 

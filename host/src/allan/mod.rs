@@ -80,6 +80,13 @@ pub struct AllanArgs {
     /// Confidence level of the intervals (default 0.6827, one sigma).
     #[arg(long, default_value_t = ONE_SIGMA, allow_negative_numbers = true)]
     pub confidence: f64,
+    /// A grade-table parameter Allan variance does not measure, graded with
+    /// the fitted terms of its triad's columns (repeatable), a number in the
+    /// table's unit: gyro.scale-factor-instability (%), gyro.range (deg/s),
+    /// gyro.bandwidth (Hz), accel.scale-factor-instability (ppm), accel.range
+    /// (g), accel.bandwidth (Hz).
+    #[arg(long, value_name = "TRIAD.KEY=NUMBER", allow_hyphen_values = true)]
+    pub grade_input: Vec<grade::GradeInput>,
 }
 
 /// Runs `triad allan`: the outputs checked before the file is read, all of
@@ -139,6 +146,18 @@ fn check(args: &AllanArgs) -> anyhow::Result<()> {
     if let Some(t) = args.max_tau {
         positive("--max-tau", t, "must be a positive number of seconds")?;
     }
+    for (k, a) in args.grade_input.iter().enumerate() {
+        if args.grade_input[..k]
+            .iter()
+            .any(|b| (b.triad, b.parameter) == (a.triad, a.parameter))
+        {
+            bail!(
+                "--grade-input gives the {} {} twice",
+                a.triad.name(),
+                a.parameter.name()
+            );
+        }
+    }
     Ok(())
 }
 
@@ -158,6 +177,7 @@ pub(crate) mod tests {
             all_tau: false,
             max_tau: None,
             confidence: ONE_SIGMA,
+            grade_input: Vec::new(),
         }
     }
 
@@ -176,5 +196,26 @@ pub(crate) mod tests {
         let mut a = args("x.csv");
         a.max_tau = Some(f64::NAN);
         assert!(check(&a).unwrap_err().to_string().contains("--max-tau NaN"));
+        let mut a = args("x.csv");
+        a.grade_input = vec![
+            "gyro.range=300".parse().unwrap(),
+            "accel.range=16".parse().unwrap(),
+        ];
+        assert!(check(&a).is_ok());
+        a.grade_input.push("gyro.range=400".parse().unwrap());
+        let e = check(&a).unwrap_err().to_string();
+        assert!(e.contains("gyro measurement range twice"), "{e}");
+    }
+
+    #[test]
+    fn the_help_names_every_grade_input_key() {
+        use clap::Args;
+        let help = AllanArgs::augment_args(clap::Command::new("allan"))
+            .render_long_help()
+            .to_string()
+            .split_whitespace()
+            .collect::<Vec<_>>()
+            .join(" ");
+        assert!(help.contains(&grade::input_keys()), "{help}");
     }
 }

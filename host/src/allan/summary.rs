@@ -2,7 +2,8 @@
 //! (generalised least squares, its χ² and the test a term must pass), each
 //! term in data-sheet units — with its uncertainty, its z and the τ range
 //! that decided it when the data support it, else its upper limit — and the
-//! grade, or why the column has none.
+//! grade by THEORY.md's tables with each parameter's place in them, or why
+//! the column has none.
 
 use std::io::Write;
 
@@ -11,7 +12,7 @@ use triad_lab::allan::noise_terms::{NoiseFit, Term};
 
 use super::compute::{Analysis, ColumnResult};
 use super::fit::{datasheet, si_unit};
-use super::grade::{grade_of, reported, UPPER_LIMIT_SIGMAS};
+use super::grade::{figure, grade_of, reported, ColumnGrade, UPPER_LIMIT_SIGMAS};
 use super::AllanArgs;
 
 /// Writes the report of `a` to `w`.
@@ -28,13 +29,13 @@ pub fn write(w: &mut impl Write, args: &AllanArgs, a: &Analysis) -> anyhow::Resu
         100.0 * args.confidence
     )?;
     for col in &a.columns {
-        write_column(w, col)?;
+        write_column(w, args, col)?;
     }
     Ok(())
 }
 
 /// One column: its heading, its fit, its terms and its grade.
-fn write_column(w: &mut impl Write, col: &ColumnResult) -> anyhow::Result<()> {
+fn write_column(w: &mut impl Write, args: &AllanArgs, col: &ColumnResult) -> anyhow::Result<()> {
     let (first, last) = (col.points.first(), col.points.last());
     writeln!(
         w,
@@ -61,21 +62,40 @@ fn write_column(w: &mut impl Write, col: &ColumnResult) -> anyhow::Result<()> {
         fit.inflation
     )?;
     write_terms(w, col, fit)?;
-    if let Some((g, d)) = grade_of(col) {
-        let limits: Vec<&str> = [Term::WhiteNoise, Term::BiasInstability]
-            .into_iter()
-            .filter(|&t| !fit.term(t).significant)
-            .map(|t| t.symbol())
-            .collect();
-        let note = if limits.is_empty() {
-            String::new()
-        } else {
-            format!(
-                "; {} not detected: graded on its upper limit",
-                limits.join(" and ")
-            )
-        };
-        writeln!(w, "  grade: {g} (decided by {d}){note}")?;
+    match grade_of(col, &args.grade_input) {
+        None => {}
+        Some(Err(why)) => writeln!(w, "  grade: none ({why})")?,
+        Some(Ok(g)) => write_grade(w, &g)?,
+    }
+    Ok(())
+}
+
+/// The grade line, then a line per parameter graded with the table's cells.
+fn write_grade(w: &mut impl Write, g: &ColumnGrade) -> anyhow::Result<()> {
+    let note = if g.limits.is_empty() {
+        String::new()
+    } else {
+        let symbols: Vec<&str> = g.limits.iter().map(|t| t.symbol()).collect();
+        format!(
+            "; {} not detected: graded on its upper limit",
+            symbols.join(" and ")
+        )
+    };
+    writeln!(
+        w,
+        "  grade: {} (decided by {}){note}",
+        g.name(),
+        g.decided_by()
+    )?;
+    for a in g.classification.assessments() {
+        writeln!(
+            w,
+            "    {} {} {}: {}",
+            a.parameter.name(),
+            figure(a.value),
+            g.unit(a.parameter),
+            g.verdict(a)
+        )?;
     }
     Ok(())
 }

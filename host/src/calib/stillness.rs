@@ -31,8 +31,10 @@ const SIGMAS: f64 = 6.0;
 pub const GYRO_FLOOR_DPS: f64 = 0.5;
 
 /// Floor of the accelerometer's steadiness threshold, m/s² (about 10 mg):
-/// above accelerometer bias instability (≤ 1000 µg); a tilt of 1° moves a
-/// horizontal component by 0.17 m/s².
+/// above the bias instability of tactical and navigation accelerometers
+/// (≤ 1 mg, THEORY.md's table), not of automotive ones (10–100 mg there),
+/// whose block means wander by tens of mg: a still automotive record is
+/// refused. A tilt of 1° moves a horizontal component by 0.17 m/s².
 pub const ACCEL_FLOOR: f64 = 0.1;
 
 /// Default `--max-bias`, °/s: above the zero-rate offset of MEMS gyros

@@ -3,7 +3,7 @@
 
 use triad::model::Triad;
 use triad_sim::bias_instability::{BiasInstabilityParams, MAX_TERMS};
-use triad_sim::grade::{AccelGrade, GyroGrade};
+use triad_sim::grade::{AccelPreset, GyroPreset};
 use triad_sim::scene::{GaussMarkovParams, TriadEffects};
 use triad_sim::temperature_dependence::TemperatureDependence;
 
@@ -45,16 +45,16 @@ fn units(triad: Triad) -> Units {
 /// The effects of the grade preset `name` of `triad`, if there is one.
 fn preset(triad: Triad, name: &str) -> Option<TriadEffects> {
     match triad {
-        Triad::Accel => AccelGrade::from_name(name).map(AccelGrade::effects),
-        Triad::Gyro => GyroGrade::from_name(name).map(GyroGrade::effects),
+        Triad::Accel => AccelPreset::named(name).map(AccelPreset::effects),
+        Triad::Gyro => GyroPreset::named(name).map(GyroPreset::effects),
     }
 }
 
 /// The names of `triad`'s grades.
 fn grade_names(triad: Triad) -> Vec<&'static str> {
     match triad {
-        Triad::Accel => AccelGrade::ALL.iter().map(|g| g.name()).collect(),
-        Triad::Gyro => GyroGrade::ALL.iter().map(|g| g.name()).collect(),
+        Triad::Accel => AccelPreset::ALL.iter().map(|p| p.name).collect(),
+        Triad::Gyro => GyroPreset::ALL.iter().map(|p| p.name).collect(),
     }
 }
 
@@ -65,6 +65,7 @@ impl Builder<'_> {
         self.noise(t, triad, &mut e)?;
         self.scale_misalignment(t, &mut e)?;
         self.g_sensitivity(t, triad, &mut e)?;
+        self.optics(t, triad, &mut e)?;
         self.range(t, triad, &mut e)?;
         if let Some(gm) = &t.gauss_markov {
             e.gauss_markov = Some(self.gauss_markov(gm, triad)?);
@@ -209,12 +210,65 @@ impl Builder<'_> {
         Ok(())
     }
 
-    /// Quantisation step and measurement range.
+    /// Angle or velocity quantisation, the output register's LSB and the
+    /// measurement range.
     fn range(&mut self, t: &TriadFile, triad: Triad, e: &mut TriadEffects) -> anyhow::Result<()> {
         let u = units(triad);
-        if let Some(v) = &t.quantisation {
-            let f = field("quantisation", u.dim, u.example);
-            e.quantisation = Some(self.axes(v, f, triad, what::QUANTISATION)?);
+        let (key, other, step) = match triad {
+            Triad::Gyro => (
+                &t.angle_quantisation,
+                &t.velocity_quantisation,
+                (
+                    "angle_quantisation",
+                    "arcsec, urad",
+                    "velocity_quantisation",
+                ),
+            ),
+            Triad::Accel => (
+                &t.velocity_quantisation,
+                &t.angle_quantisation,
+                ("velocity_quantisation", "mm/s, m/s", "angle_quantisation"),
+            ),
+        };
+        if let Some(v) = other {
+            return Err(self.src.error(
+                &v.span(),
+                format!(
+                    "`{}` is not a {} key: its integral is quantised by `{}`",
+                    step.2,
+                    triad.name(),
+                    step.0
+                ),
+            ));
+        }
+        if let (Some(v), Some(_)) = (key, e.ring_laser) {
+            return Err(self.src.error(
+                &v.span(),
+                format!(
+                    "`{}`: this grade's ring laser counts its fringes itself (at Lλ/4A)",
+                    step.0
+                ),
+            ));
+        }
+        if let Some(v) = key {
+            let f = field(step.0, u.dim.mul(Dim::TIME), step.1);
+            e.increment_quantisation =
+                Some(self.axes(v, f, triad, what::INCREMENT_QUANTISATION)?);
+        }
+        let lsb = match (&t.output_lsb, &t.quantisation) {
+            (Some(_), Some(old)) => {
+                return Err(self.src.error(
+                    &old.span(),
+                    "`quantisation` is the old name of `output_lsb`: give one of them",
+                ))
+            }
+            (Some(v), None) => Some((v, "output_lsb")),
+            (None, Some(v)) => Some((v, "quantisation")),
+            (None, None) => None,
+        };
+        if let Some((v, name)) = lsb {
+            let f = field(name, u.dim, u.example);
+            e.output_lsb = Some(self.axes(v, f, triad, what::OUTPUT_LSB)?);
         }
         if let Some(v) = &t.saturation {
             let r = self
@@ -320,7 +374,9 @@ mod tests {
             grade_names(Triad::Accel),
             ["automotive", "tactical", "navigation"]
         );
-        assert_eq!(grade_names(Triad::Gyro).len(), 4);
+        assert_eq!(grade_names(Triad::Gyro).len(), 8);
+        assert!(preset(Triad::Gyro, "navigation-rlg").is_some_and(|e| e.ring_laser.is_some()));
+        assert!(preset(Triad::Accel, "aviation-fog").is_none());
     }
 
     #[test]

@@ -34,6 +34,7 @@ mod build;
 mod effects;
 mod field;
 mod motion;
+mod optics;
 mod origin;
 mod parse;
 pub mod unit;
@@ -115,6 +116,9 @@ mod tests {
             (triad("gyro", "turn_on_bias = [\"1 deg/h\", \"-1 deg/h\", \"0 deg/h\"]"), "s.toml:5:16: `turn_on_bias` = \"-1 deg/h\" must not be negative"),
             (triad("accel", "turn_on_scale = \"-1 ppm\""), "s.toml:5:17: `turn_on_scale` = \"-1 ppm\" must not be negative"),
             (triad("accel", "quantisation = \"-1 mg\""), "s.toml:5:16: `quantisation` = \"-1 mg\" must not be negative"),
+            (triad("accel", "output_lsb = \"-1 mg\""), "s.toml:5:14: `output_lsb` = \"-1 mg\" must not be negative"),
+            (triad("gyro", "angle_quantisation = \"-2 arcsec\""), "s.toml:5:22: `angle_quantisation` = \"-2 arcsec\" must not be negative"),
+            (triad("accel", "velocity_quantisation = \"-1 mm/s\""), "s.toml:5:25: `velocity_quantisation` = \"-1 mm/s\" must not be negative"),
             (triad("gyro", "saturation = \"0 dps\""), "s.toml:5:14: `saturation` (the measurement range) must be positive"),
             (triad("accel", "g_sensitivity = \"0.01 deg/s/g\""), "s.toml:5:17: `g_sensitivity` is a gyro effect; accelerometers cannot have it"),
             (triad("gyro", "[gyro.gauss_markov]\nsigma = \"-1 deg/h\"\ncorrelation_time = \"1 s\""), "s.toml:6:9: `gauss_markov.sigma` = \"-1 deg/h\" must not be negative"),
@@ -135,7 +139,7 @@ mod tests {
     fn what_is_about_the_file_is_checked_here() {
         let triad = |t: &str, body: &str| format!("{STATIC}[{t}]\n{body}\n");
         let e = error(&triad("gyro", "grade = \"best\""));
-        assert_eq!(e, "s.toml:5:9: unknown gyro grade \"best\" (expected rate-grade, tactical, aviation, navigation)");
+        assert_eq!(e, "s.toml:5:9: unknown gyro grade \"best\" (expected rate-grade, tactical, aviation, navigation, tactical-fog, aviation-rlg, aviation-fog, navigation-rlg)");
         let e = error(&triad("accel", "grade = \"rate-grade\""));
         assert!(
             e.contains("unknown accel grade \"rate-grade\" (expected automotive,"),
@@ -157,6 +161,132 @@ mod tests {
         );
         let e = error("rate_hz = 1.0\nduration_s = 0.0\n[motion]\nkind = \"static\"\n");
         assert_eq!(e, "s.toml:2:14: `duration_s` = 0 must be positive");
+        let e = error(&triad("gyro", "velocity_quantisation = \"1 mm/s\""));
+        assert_eq!(e, "s.toml:5:25: `velocity_quantisation` is not a gyro key: its integral is quantised by `angle_quantisation`");
+        let e = error(&triad("accel", "angle_quantisation = \"1 arcsec\""));
+        assert!(
+            e.ends_with("is quantised by `velocity_quantisation`"),
+            "{e}"
+        );
+        let e = error(&triad("gyro", "angle_quantisation = \"1 deg/s\""));
+        assert!(
+            e.contains("angle_quantisation"),
+            "a rate is not an angle: {e}"
+        );
+        let e = error(&triad(
+            "accel",
+            "output_lsb = \"1 mg\"\nquantisation = \"1 mg\"",
+        ));
+        assert_eq!(
+            e,
+            "s.toml:6:16: `quantisation` is the old name of `output_lsb`: give one of them"
+        );
+    }
+
+    #[test]
+    fn optics_sections_read_into_si_and_replace_the_presets() {
+        let rlg = "[gyro.ring_laser]\narea = \"15.588457 cm^2\"\npath_length = \"18 cm\"\nlock_in = \"0.1 deg/s\"\ndither_rate = \"100 deg/s\"\ndither_frequency_hz = 400.0\n";
+        let text = format!("{STATIC}[gyro]\ngrade = \"aviation-fog\"\n{rlg}");
+        let g = parse(&text, Path::new("s.toml")).unwrap().scene.gyro;
+        assert!(g.fibre_optic.is_none(), "the preset's optics are replaced");
+        let r = g.ring_laser.unwrap();
+        assert!((r.area - 15.588457e-4).abs() < 1e-12 && (r.path_length - 0.18).abs() < 1e-15);
+        assert_eq!(r.wavelength, 632.8e-9);
+        assert!((r.lock_in - 0.1f64.to_radians()).abs() < 1e-15);
+        let d = r.dither.unwrap();
+        assert!((d.peak_rate - 100f64.to_radians()).abs() < 1e-12 && d.frequency == 400.0);
+        // Without the dither keys: undithered.
+        let text = format!("{STATIC}[gyro.ring_laser]\narea = \"1 cm^2\"\npath_length = \"4 cm\"\nwavelength = \"633 nm\"\nlock_in = \"100 deg/h\"\n");
+        let r = parse(&text, Path::new("s.toml"))
+            .unwrap()
+            .scene
+            .gyro
+            .ring_laser
+            .unwrap();
+        assert!(r.dither.is_none() && (r.wavelength - 633e-9).abs() < 1e-20);
+        let fog = "[gyro.fibre_optic]\nturns = 1061\ncoil_diameter = \"6 cm\"\nwavelength = \"1550 nm\"\nreadout = \"open\"\nwavelength_per_degree = \"400 ppm/degC\"\n";
+        let f = parse(&format!("{STATIC}{fog}"), Path::new("s.toml"))
+            .unwrap()
+            .scene
+            .gyro
+            .fibre_optic
+            .unwrap();
+        assert_eq!(
+            (f.turns, f.readout, f.reference),
+            (1061.0, triad_sim::fibre_optic::Loop::Open, 25.0)
+        );
+        assert!((f.coil_area - std::f64::consts::PI * 9e-4).abs() < 1e-15);
+        assert!((f.wavelength_per_degree - 400e-6).abs() < 1e-18 && f.area_per_degree == 0.0);
+    }
+
+    #[test]
+    fn optics_sections_refuse_what_is_wrong_at_its_place() {
+        let rl = |body: &str| {
+            format!(
+                "{STATIC}[gyro.ring_laser]\narea = \"1 cm^2\"\npath_length = \"4 cm\"\n{body}\n"
+            )
+        };
+        let e = error(&rl("lock_in = \"-1 deg/s\""));
+        assert_eq!(
+            e,
+            "s.toml:7:11: `ring_laser.lock_in` = \"-1 deg/s\" must not be negative"
+        );
+        let e = error(&rl("lock_in = \"1 deg/s\"\ndither_rate = \"100 deg/s\""));
+        assert_eq!(
+            e,
+            "s.toml:8:15: `dither_rate` needs `dither_frequency_hz` (both, or neither: no dither)"
+        );
+        let e = error(&rl(
+            "lock_in = \"1 deg/s\"\ndither_rate = \"100 deg/s\"\ndither_frequency_hz = 0.0",
+        ));
+        assert_eq!(e, "s.toml:9:23: `dither_frequency_hz` = 0 must be positive");
+        let e = error(&rl("lock_in = \"1 deg/s\"\nwavelength = \"0 nm\""));
+        assert!(
+            e.starts_with("s.toml:8:14: `ring_laser.wavelength` = \"0 nm\""),
+            "{e}"
+        );
+        let e = error(&rl("lock_in = \"1 deg\""));
+        assert!(
+            e.contains("`ring_laser.lock_in`: the unit has dimension rad"),
+            "{e}"
+        );
+        let e = error(&format!("{STATIC}[accel.ring_laser]\narea = \"1 cm^2\"\npath_length = \"4 cm\"\nlock_in = \"1 deg/s\"\n"));
+        assert_eq!(
+            e,
+            "s.toml:5:8: `ring_laser` is a gyro model; accelerometers cannot have it"
+        );
+        let fo = |body: &str| {
+            format!("{STATIC}[gyro.fibre_optic]\nturns = 100\ncoil_diameter = \"6 cm\"\nwavelength = \"1550 nm\"\n{body}\n")
+        };
+        let e = error(&fo("readout = \"half\""));
+        assert_eq!(
+            e,
+            "s.toml:8:11: readout = \"half\": expected \"open\" or \"closed\" (loop)"
+        );
+        let e = error(&fo("readout = \"open\"\n[gyro.ring_laser]\narea = \"1 cm^2\"\npath_length = \"4 cm\"\nlock_in = \"1 deg/s\""));
+        assert_eq!(
+            e,
+            "s.toml:6:17: a gyro is a ring laser or a fibre-optic gyro, not both"
+        );
+        let e = error(&format!("{STATIC}[gyro.fibre_optic]\nturns = 0\ncoil_diameter = \"6 cm\"\nwavelength = \"1550 nm\"\nreadout = \"open\"\n"));
+        assert_eq!(e, "s.toml:5:9: `turns` = 0 must be positive");
+        let e = error(&format!("{STATIC}[gyro.fibre_optic]\nturns = 10\ncoil_diameter = \"-6 cm\"\nwavelength = \"1550 nm\"\nreadout = \"open\"\n"));
+        assert_eq!(e, "s.toml:6:17: `coil_diameter` must be positive");
+    }
+
+    #[test]
+    fn quantisation_keys_read_into_si() {
+        let text = format!(
+            "{STATIC}[gyro]\nangle_quantisation = \"2 arcsec\"\nquantisation = \"0.061 mdps\"\n[accel]\nvelocity_quantisation = \"1 mm/s\"\noutput_lsb = \"1 mg\"\n"
+        );
+        let loaded = parse(&text, Path::new("s.toml")).unwrap();
+        let (g, a) = (loaded.scene.gyro, loaded.scene.accel);
+        let arcsec = std::f64::consts::PI / 180.0 / 3600.0;
+        assert!((g.increment_quantisation.unwrap()[0] / (2.0 * arcsec) - 1.0).abs() < 1e-15);
+        let mdps = std::f64::consts::PI / 180.0 * 1e-3;
+        assert!((g.output_lsb.unwrap()[2] / (0.061 * mdps) - 1.0).abs() < 1e-15);
+        assert_eq!(a.increment_quantisation, Some([1e-3; 3]));
+        assert!((a.output_lsb.unwrap()[1] / 9.80665e-3 - 1.0).abs() < 1e-15);
     }
 
     #[test]

@@ -52,9 +52,21 @@ pub(super) mod what {
     pub const TURN_ON_BIAS: &str = "turn_on_bias";
     pub const TURN_ON_SCALE: &str = "turn_on_scale";
     pub const G_SENSITIVITY: &str = "g_sensitivity";
-    pub const QUANTISATION: &str = "quantisation";
+    pub const INCREMENT_QUANTISATION: &str = "increment_quantisation";
+    pub const OUTPUT_LSB: &str = "output_lsb";
     pub const SATURATION: &str = "saturation";
     pub const TEMPERATURE_REFERENCE: &str = "temperature reference";
+    /// The optical gyro models as a whole.
+    pub const OPTICS: &str = "optics";
+    pub const RL_AREA: &str = "ring_laser area";
+    pub const RL_PATH: &str = "ring_laser path_length";
+    pub const RL_WAVELENGTH: &str = "ring_laser wavelength";
+    pub const RL_LOCK_IN: &str = "ring_laser lock_in";
+    pub const RL_DITHER_RATE: &str = "ring_laser dither_rate";
+    pub const RL_DITHER_FREQUENCY: &str = "ring_laser dither_frequency";
+    pub const FO_TURNS: &str = "fibre_optic turns";
+    pub const FO_WAVELENGTH: &str = "fibre_optic wavelength";
+    pub const FO_REFERENCE: &str = "fibre_optic reference";
 }
 
 /// A value as [`SceneError`] names it: its triad (None: the scene's own) and its `what`.
@@ -253,6 +265,16 @@ fn classify(e: &SceneError) -> (Option<Option<Triad>>, &'static str, Problem) {
             Problem::Other(f64::NAN),
         ),
         SceneError::ZeroDirection => (Some(None), what::DIRECTION, Problem::Other(0.0)),
+        SceneError::OpticalOnAccel => (
+            Some(Some(Triad::Accel)),
+            what::OPTICS,
+            Problem::Other(f64::NAN),
+        ),
+        SceneError::TwoOpticalModels | SceneError::CountedTwice => (
+            Some(Some(Triad::Gyro)),
+            what::OPTICS,
+            Problem::Other(f64::NAN),
+        ),
     }
 }
 

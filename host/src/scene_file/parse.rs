@@ -70,11 +70,42 @@ pub(super) struct TriadFile {
     pub turn_on_scale: Option<Value>,
     pub misalignment: Option<Value>,
     pub g_sensitivity: Option<Value>,
+    pub angle_quantisation: Option<Value>,
+    pub velocity_quantisation: Option<Value>,
+    pub output_lsb: Option<Value>,
+    /// The old name of `output_lsb`, still read.
     pub quantisation: Option<Value>,
     pub saturation: Option<Value>,
     pub gauss_markov: Option<GaussMarkovFile>,
     pub bias_instability: Option<BiasInstabilityFile>,
     pub temperature: Option<TemperatureDependenceFile>,
+    pub ring_laser: Option<RingLaserFile>,
+    pub fibre_optic: Option<FibreOpticFile>,
+}
+
+/// `[gyro.ring_laser]`: a ring laser gyro's cavity, lock-in and dither.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RingLaserFile {
+    pub area: Value,
+    pub path_length: Value,
+    pub wavelength: Option<Value>,
+    pub lock_in: Value,
+    pub dither_rate: Option<Value>,
+    pub dither_frequency_hz: Option<Spanned<f64>>,
+}
+
+/// `[gyro.fibre_optic]`: a fibre-optic gyro's coil, source and readout.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct FibreOpticFile {
+    pub turns: Spanned<f64>,
+    pub coil_diameter: Value,
+    pub wavelength: Value,
+    pub readout: Spanned<String>,
+    pub reference_c: Option<Spanned<f64>>,
+    pub area_per_degree: Option<Value>,
+    pub wavelength_per_degree: Option<Value>,
 }
 
 /// `[accel.gauss_markov]`, `[gyro.gauss_markov]`.

@@ -29,6 +29,8 @@ impl Dim {
     pub const TIME: Dim = Dim::new(0, 2, 0, 0);
     /// Angle, rad.
     pub const ANGLE: Dim = Dim::new(0, 0, 2, 0);
+    /// Length, m.
+    pub const LENGTH: Dim = Dim::new(2, 0, 0, 0);
 
     /// From doubled exponents.
     pub const fn new(m: i8, s: i8, rad: i8, k: i8) -> Self {
@@ -110,7 +112,10 @@ const DEG: f64 = std::f64::consts::PI / 180.0;
 /// The unit names: (names, SI factor, dimension).
 const UNITS: &[(&[&str], f64, Dim)] = &[
     (&["m"], 1.0, Dim::new(2, 0, 0, 0)),
+    (&["cm"], 1e-2, Dim::new(2, 0, 0, 0)),
     (&["mm"], 1e-3, Dim::new(2, 0, 0, 0)),
+    (&["um", "µm"], 1e-6, Dim::new(2, 0, 0, 0)),
+    (&["nm"], 1e-9, Dim::new(2, 0, 0, 0)),
     (&["s", "sec"], 1.0, Dim::TIME),
     (&["ms"], 1e-3, Dim::TIME),
     (&["min"], 60.0, Dim::TIME),

@@ -61,3 +61,25 @@ pub fn calibration(name: &str) -> PathBuf {
         .join("../calibrations")
         .join(name)
 }
+
+/// Writes the scene `body` to `d`/`name`.toml and simulates `seconds` of it
+/// (seed `seed`) into `d`/`name`.csv, which it returns.
+pub fn simulate_scene(d: &Path, name: &str, body: &str, seconds: &str, seed: &str) -> PathBuf {
+    let scene = d.join(format!("{name}.toml"));
+    std::fs::write(&scene, body).unwrap();
+    let out = d.join(format!("{name}.csv"));
+    let o = triad(&[
+        "sim",
+        "--scene",
+        s(&scene),
+        "--seconds",
+        seconds,
+        "--seed",
+        seed,
+        "--quiet",
+        "--out",
+        s(&out),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    out
+}

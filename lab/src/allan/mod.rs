@@ -16,7 +16,7 @@
 //! - [`covariance`]: the covariance of the octave estimates under the model;
 //! - [`noise_terms`]: the model of Q, N, B, K, R and its types;
 //! - [`gls`]: its fit, by generalised least squares with that covariance;
-//! - [`grade`]: the sensor grade from N and B per the published tables.
+//! - [`grade`]: the sensor grade by the grade tables of THEORY.md.
 
 pub mod accumulate;
 pub mod chi2;
