@@ -127,6 +127,12 @@ pub struct ServeArgs {
     /// Power-cut test: end the run at this write or erase operation of the flash.
     #[arg(long, hide = true, requires = "storage")]
     storage_cut_after: Option<u32>,
+    /// Run QEMU with `-icount` (one instruction per virtual nanosecond, idle
+    /// time skipped) instead of in real time: no overrun from the host's
+    /// load, and the chip model's samples replayable on the host (the
+    /// end-to-end tests of the link).
+    #[arg(long, hide = true)]
+    deterministic: bool,
 }
 
 fn main() -> std::process::ExitCode {
@@ -195,7 +201,12 @@ fn serve_command(args: ServeArgs) -> anyhow::Result<()> {
         }
         None => build(&args.firmware)?.0,
     };
-    serve::serve(&elf, storage.as_ref())
+    let clock = if args.deterministic {
+        qemu::Clock::Deterministic
+    } else {
+        qemu::Clock::RealTime
+    };
+    serve::serve(&elf, storage.as_ref(), clock)
 }
 
 /// Sets up and builds the firmware `args` describe; returns the ELF and the

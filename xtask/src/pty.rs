@@ -6,7 +6,7 @@
 use anyhow::{Context, Result};
 use nix::fcntl::{fcntl, FcntlArg, OFlag};
 use nix::pty::{openpty, OpenptyResult};
-use nix::sys::termios::{cfmakeraw, tcgetattr, tcsetattr, SetArg};
+use nix::sys::termios::{cfmakeraw, tcflush, tcgetattr, tcsetattr, FlushArg, SetArg};
 use std::fs::File;
 use std::os::fd::{AsFd, OwnedFd};
 use std::path::PathBuf;
@@ -17,7 +17,7 @@ pub struct Pty {
     pub master: File,
     /// Kept open so the master never sees end-of-file between two clients
     /// (each `triad device` command opens and closes the slave).
-    _slave: OwnedFd,
+    slave: OwnedFd,
     /// The slave's path, for `--port`.
     pub path: PathBuf,
 }
@@ -36,8 +36,33 @@ impl Pty {
         fcntl(master.as_fd(), FcntlArg::F_SETFL(OFlag::O_NONBLOCK)).context("O_NONBLOCK")?;
         Ok(Pty {
             master: File::from(master),
-            _slave: slave,
+            slave,
             path,
         })
+    }
+
+    /// A handle on what the slave side holds unread, for the thread that
+    /// writes the master.
+    pub fn unread(&self) -> Result<Unread> {
+        Ok(Unread(
+            self.slave.try_clone().context("cloning the pty's slave")?,
+        ))
+    }
+}
+
+/// The bytes written to the master that no client has read yet.
+///
+/// The pty keeps what no client reads (xtask holds the slave open), up to a
+/// few tens of KiB: a client opening the port later would find that much
+/// stale stream before it, and a reply to its first command, arriving while
+/// the queue is still full, would be lost. A board's USB serial port keeps
+/// nothing while no one has it open; this keeps the newest bytes instead of
+/// the oldest.
+pub struct Unread(OwnedFd);
+
+impl Unread {
+    /// Drops every byte no client has read.
+    pub fn discard(&self) -> Result<()> {
+        tcflush(self.0.as_fd(), FlushArg::TCIFLUSH).context("flushing the pty's unread bytes")
     }
 }

@@ -4,16 +4,19 @@
 //! pseudo-terminal; the pty's path is the first line on stdout, so that
 //! `triad device --port PATH` and `triad decode --port PATH` work against it
 //! exactly as against a board. It runs until killed (Ctrl-C), or until the
-//! firmware stops.
+//! firmware stops. The end-to-end tests of the link serve with the hidden
+//! option `--deterministic`: QEMU's `-icount` clock, as `cargo xtask run`
+//! uses, so the host's load causes no overrun.
 //!
 //! The calibration flash is the file `--storage FILE` names (created all
 //! 0xFF when missing, so it persists across runs); without it the board
 //! has no storage and `save` answers "not supported".
 
-use crate::pty::Pty;
+use crate::pty::{Pty, Unread};
 use crate::{defmt_log, qemu};
 use anyhow::{bail, Context, Result};
 use nix::poll::{poll, PollFd, PollFlags, PollTimeout};
+use std::fs::File;
 use std::io::{ErrorKind, Read, Write};
 use std::os::fd::AsFd;
 use std::path::{Path, PathBuf};
@@ -69,12 +72,13 @@ pub fn semihosting_args(storage: &Storage) -> Vec<String> {
     args
 }
 
-/// Serves `elf` until QEMU stops (the firmware ended the run, or it was
-/// killed); an early stop is an error.
-pub fn serve(elf: &Path, storage: Option<&Storage>) -> Result<()> {
+/// Serves `elf` with `clock` (real time, or deterministic for the tests)
+/// until QEMU stops (the firmware ended the run, or it was killed); an
+/// early stop is an error.
+pub fn serve(elf: &Path, storage: Option<&Storage>, clock: qemu::Clock) -> Result<()> {
     let pty = Pty::open()?;
     let args = storage.map(semihosting_args).unwrap_or_default();
-    let mut board = qemu::Board::start(elf, qemu::Clock::RealTime, &args)?;
+    let mut board = qemu::Board::start(elf, clock, &args)?;
     let elf_bytes = std::fs::read(elf).with_context(|| format!("reading {}", elf.display()))?;
     let log = board.take_log()?;
     std::thread::spawn(move || defmt_log::print(&elf_bytes, log));
@@ -95,19 +99,17 @@ pub fn serve(elf: &Path, storage: Option<&Storage>) -> Result<()> {
     let mut to_device = board.link.try_clone().context("cloning the link socket")?;
     let mut master_out = pty.master.try_clone().context("cloning the pty")?;
     let mut master_in = pty.master.try_clone().context("cloning the pty")?;
-    // Device → host: what no client reads is dropped (the pty is full).
-    std::thread::spawn(move || -> std::io::Result<()> {
+    let unread = pty.unread()?;
+    // Device → host: when the pty is full (no client, or one not reading),
+    // what it holds unread is dropped, so the newest bytes (a reply) get in.
+    std::thread::spawn(move || -> Result<()> {
         let mut buffer = [0u8; 4096];
         loop {
             let n = from_device.read(&mut buffer)?;
             if n == 0 {
                 return Ok(());
             }
-            match master_out.write(&buffer[..n]) {
-                Ok(_) => {}
-                Err(e) if e.kind() == ErrorKind::WouldBlock => {}
-                Err(e) => return Err(e),
-            }
+            to_client(&mut master_out, &unread, &buffer[..n])?;
         }
     });
     // Host → device.
@@ -130,4 +132,34 @@ pub fn serve(elf: &Path, storage: Option<&Storage>) -> Result<()> {
     });
     let status = board.wait()?;
     bail!("the firmware stopped QEMU ({status})")
+}
+
+/// Writes `chunk` into the pty's master. When the pty is full (no client,
+/// or one not reading), what the client has not read is dropped and the
+/// whole chunk written again, so a reply in it arrives whole; bytes that
+/// still do not fit are dropped, as on a line nobody listens to.
+fn to_client(master: &mut File, unread: &Unread, chunk: &[u8]) -> Result<()> {
+    let mut rest = chunk;
+    let mut discarded = false;
+    while !rest.is_empty() {
+        let full = match master.write(rest) {
+            Ok(0) => true,
+            Ok(n) => {
+                rest = &rest[n..];
+                false
+            }
+            Err(e) if e.kind() == ErrorKind::WouldBlock => true,
+            Err(e) => return Err(e.into()),
+        };
+        if full {
+            if discarded {
+                return Ok(());
+            }
+            // The chunk's head, if written, went with the rest.
+            unread.discard()?;
+            discarded = true;
+            rest = chunk;
+        }
+    }
+    Ok(())
 }

@@ -2,8 +2,9 @@
 //! sweeps in release), the docs, the first-run checks (`cargo xtask run`'s
 //! stdout, an installed `triad`), clippy and the build of the firmware for
 //! every board × bus (and chip model), of the
-//! benchmark firmware and of the user-firmware example, and the end-to-end
-//! tests on QEMU for every chip and bus of the emulated board.
+//! benchmark firmware and of the user-firmware example, the end-to-end
+//! tests on QEMU for every chip and bus of the emulated board, and those of
+//! the device link against the emulated board served as `xtask serve` serves it.
 
 use crate::board::{Board, Firmware};
 use crate::cmd::{self, cargo, check};
@@ -98,6 +99,13 @@ pub fn run(scope: Scope) -> Result<()> {
     embedded_checks::clippy_firmware(firmware, &calibration, Some(&blob))?;
     let elf = cmd::build_firmware_with_scene(firmware, &calibration, &blob)?;
     end_to_end(firmware, &elf, &triad, &calibration, Some(&blob))?;
+
+    // The device link, on the default chip and bus built above.
+    let (firmware, elf) = qemu_elves
+        .iter()
+        .find(|(f, _)| *f == firmware)
+        .context("the default emulated firmware was built")?;
+    served_board(*firmware, elf, &calibration)?;
     eprintln!("xtask: all tests passed");
     Ok(())
 }
@@ -131,18 +139,8 @@ fn end_to_end(
     if !status.success() {
         bail!("triad decode of the QEMU stream of {label} exited with {status}");
     }
-    let mut command = cargo();
+    let mut command = ignored_host_tests("e2e_qemu", &[]);
     command
-        .args([
-            "test",
-            "--quiet",
-            "-p",
-            "triad-host",
-            "--test",
-            "e2e_qemu",
-            "--",
-            "--ignored",
-        ])
         .env("TRIAD_E2E_STREAM", &raw)
         .env("TRIAD_E2E_CSV", &csv)
         .env("TRIAD_E2E_BLOB", calibration)
@@ -160,6 +158,51 @@ fn end_to_end(
         command,
         &format!("the end-to-end tests on QEMU for {label}"),
     )
+}
+
+/// Runs host/tests/device_qemu.rs: `elf` served by `xtask serve` (a copy of
+/// this executable, as cargo may rebuild xtask's own while the tests run),
+/// driven by `triad device`; `calibration` is the blob the firmware embeds.
+/// One test at a time: each QEMU keeps a core busy.
+fn served_board(firmware: Firmware, elf: &Path, calibration: &Path) -> Result<()> {
+    eprintln!(
+        "xtask: end-to-end on QEMU, the device link of {} served: upload, save and restart, \
+         erase, bad uploads, raw mode, commands while streaming, power cuts during a save",
+        firmware.label()
+    );
+    let dir = cmd::root().join("target/e2e");
+    std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+    let xtask = dir.join("xtask-serve");
+    let copying = dir.join("xtask-serve.part");
+    let current = std::env::current_exe().context("xtask's own path")?;
+    std::fs::copy(&current, &copying)
+        .and_then(|_| std::fs::rename(&copying, &xtask))
+        .with_context(|| format!("copying {} to {}", current.display(), xtask.display()))?;
+    let mut command = ignored_host_tests("device_qemu", &["--test-threads=1", "--nocapture"]);
+    command
+        .env("TRIAD_SERVE_XTASK", &xtask)
+        .env("TRIAD_SERVE_ELF", elf)
+        .env("TRIAD_SERVE_BLOB", calibration)
+        .envs(firmware.build_env())
+        .env("TRIAD_E2E_BUS", firmware.bus.name());
+    check(
+        command,
+        &format!(
+            "the device link's end-to-end tests for {}",
+            firmware.label()
+        ),
+    )
+}
+
+/// `cargo test` of the host's integration test `name`, its ignored tests
+/// only (they need what xtask prepares), `harness` passed to the test harness.
+fn ignored_host_tests(name: &str, harness: &[&str]) -> std::process::Command {
+    let mut command = cargo();
+    command
+        .args(["test", "--quiet", "-p", "triad-host", "--test", name])
+        .args(["--", "--ignored"])
+        .args(harness);
+    command
 }
 
 fn step(what: &str, args: &[&str]) -> Result<()> {

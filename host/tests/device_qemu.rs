@@ -1,0 +1,540 @@
+//! End to end on the emulated board served like hardware: the firmware on
+//! QEMU behind `xtask serve --storage FILE`, driven over its pseudo-terminal
+//! by the real `triad device` binary (and, where a test reads the frames
+//! themselves, by the host's transport, `triad_host::device::link`).
+//!
+//! Each test serves a fresh storage file. Except where it measures what a
+//! user sees, QEMU runs with `--deterministic` (`-icount`: one instruction
+//! per virtual nanosecond), so a loaded host cannot make the board overrun;
+//! the board then runs at about half of real time here. The raw sample
+//! behind a frame is known by replaying the chip model on the host
+//! (`emulated_board::Replay`).
+//!
+//! The link runs at the board's 921600 baud in name only: QEMU's USART sends
+//! each byte at once and a pseudo-terminal has no baud, so what is checked
+//! here is the firmware's logic (priorities, queues, storage), not a wire's
+//! timing. The emulated chip samples at its driver configuration's rate
+//! (1 kHz for the ICM-42688-P, the default chip), every sample streamed
+//! (decimation 1): the highest rate the firmware runs.
+//!
+//! Run by `cargo xtask test` (it sets TRIAD_SERVE_XTASK, TRIAD_SERVE_ELF and
+//! TRIAD_SERVE_BLOB); ignored in a plain `cargo test`.
+
+mod emulated_board;
+mod served_board;
+
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use emulated_board::{decoded_csv, triad_correct, Replay};
+use served_board::{env_path, frames, test_dir, text, Clock, ServedBoard};
+use triad::device::start_calibration;
+use triad::link::{CalibrationSource, Command, Mode, Packet, RawFrame, RawScale};
+use triad::model::{blob, Corrector};
+use triad::stream::{Flags, Frame};
+use triad_host::calib_file;
+use triad_host::device::{identify, transfer};
+use triad_sim::emulated_board::DESCRIPTION;
+
+/// Long enough for a few thousand frames at half of real time on a loaded machine.
+const STREAM_TIMEOUT: Duration = Duration::from_secs(60);
+
+/// The id of the calibration built into the firmware under test.
+fn built_in_id() -> u32 {
+    let bytes = std::fs::read(env_path("TRIAD_SERVE_BLOB")).expect("the built-in blob");
+    blob::decode(&bytes).expect("the built-in blob decodes").id
+}
+
+/// A valid calibration other than the built-in one, with the id `id` and a
+/// correction the size of a consumer IMU's; `offset` shifts its accel bias,
+/// so two files differ. No temperature terms and no orientation: what the
+/// device applies is exactly what `triad correct` applies.
+fn calibration_file(d: &Path, id: u32, offset: f64) -> PathBuf {
+    let text = format!(
+        "id = {id:#010x}\n\
+         [accel]\n\
+         scale_misalignment = [[1.01, 0.002, 0.0], [0.0, 0.995, -0.001], [0.003, 0.0, 1.004]]\n\
+         bias = [{}, -0.2, 0.15]\n\
+         [gyro]\n\
+         scale_misalignment = [[0.998, 0.0, 0.001], [0.0, 1.002, 0.0], [0.0, 0.0, 1.0]]\n\
+         bias = [0.01, -0.004, 0.002]\n",
+        0.3 + offset
+    );
+    let path = d.join(format!("{id:08x}.toml"));
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+fn data(packet: &Packet) -> &Frame {
+    match packet {
+        Packet::Data(frame) => frame,
+        other => panic!("a data frame expected, got {other:?}"),
+    }
+}
+
+fn bits(v: &[f32]) -> Vec<u32> {
+    v.iter().map(|x| x.to_bits()).collect()
+}
+
+/// Uploads `file` and saves it; `save`'s stdout.
+fn upload_and_save(board: &ServedBoard, file: &Path) -> String {
+    board.device_ok(&["upload", s(file)]);
+    board.device_ok(&["save"])
+}
+
+/// `info`'s line `calibration: ID (SOURCE)` and `stored: STATE` as `triad device info` prints them.
+fn assert_info(board: &ServedBoard, id: u32, source: &str, stored: &str) {
+    let out = board.device_ok(&["info"]);
+    let calibration = format!("calibration: {id:#010x} ({source})");
+    let stored = format!("stored: {stored}");
+    assert!(
+        out.lines().any(|l| l == calibration) && out.lines().any(|l| l == stored),
+        "{calibration:?} and {stored:?} in:\n{out}"
+    );
+}
+
+/// The next `count` frames all carry calibration `id`.
+fn assert_stream_id(board: &ServedBoard, id: u32, count: usize) {
+    let mut link = board.link();
+    for packet in frames(&mut link, count, STREAM_TIMEOUT) {
+        let frame = data(&packet);
+        assert_eq!(frame.calibration_id, id, "frame {}", frame.sequence);
+        assert!(!frame.flags.contains(Flags::UNCALIBRATED));
+    }
+}
+
+/// The frames' sequence numbers map to the chip model's samples only if the
+/// device dropped no frame and failed no read (see `Replay`).
+fn assert_replayable<P: std::io::Read + std::io::Write>(
+    link: &mut triad_host::device::link::Link<P>,
+) {
+    let counters = identify(link).unwrap().counters;
+    assert_eq!(
+        (counters.frames_dropped, counters.read_failures),
+        (0, 0),
+        "{counters:?}"
+    );
+}
+
+#[test]
+#[ignore = "needs the served board of `cargo xtask test`"]
+fn an_upload_changes_the_streams_calibration_to_triad_corrects_values() {
+    let d = test_dir("upload");
+    let file = calibration_file(&d, 0x1234_5678, 0.0);
+    let cal = calib_file::load(&file).unwrap().calibration;
+    let board = ServedBoard::start(&d.join("storage.bin"), Clock::Deterministic, None);
+    let built_in = built_in_id();
+    assert_stream_id(&board, built_in, 50);
+
+    let out = board.device_ok(&["upload", s(&file)]);
+    assert!(out.contains("calibration 0x12345678 active"), "{out}");
+    assert_info(&board, 0x1234_5678, "uploaded", "empty");
+
+    // What was queued before the upload still carries the built-in id; then
+    // every frame carries the new one.
+    let mut link = board.link();
+    let mut new = Vec::new();
+    while new.len() < 1000 {
+        for packet in frames(&mut link, 100, STREAM_TIMEOUT) {
+            let frame = *data(&packet);
+            match frame.calibration_id {
+                id if id == cal.id => new.push(frame),
+                id if id == built_in && new.is_empty() => {}
+                id => panic!("frame {}: calibration {id:#010x}", frame.sequence),
+            }
+        }
+    }
+    assert_replayable(&mut link);
+
+    let mut replay = Replay::from_env();
+    let scale = replay.scale();
+    let host = Corrector::new(&cal, &scale, DESCRIPTION.orientation).unwrap();
+    let mut raws = Vec::with_capacity(new.len());
+    for frame in &new {
+        let raw = replay.of_frame(frame.sequence);
+        assert_eq!(
+            bits(&decoded_csv::frame_values(frame)),
+            bits(&decoded_csv::sample_values(&host.correct(&raw))),
+            "frame {}",
+            frame.sequence
+        );
+        raws.push(raw);
+    }
+    let times_s: Vec<f64> = new
+        .iter()
+        .map(|f| f64::from(f.timestamp_us) * 1e-6)
+        .collect();
+    let streamed: Vec<[f32; 6]> = new
+        .iter()
+        .map(|f| {
+            [
+                f.accel[0], f.accel[1], f.accel[2], f.gyro[0], f.gyro[1], f.gyro[2],
+            ]
+        })
+        .collect();
+    // The file's (I+Σ)⁻¹ has absolute row sums below 1.02 and |b| below
+    // 0.4 SI units: the bound's premise holds.
+    let worst = triad_correct::agrees_with_firmware(&file, &raws, &times_s, &scale, &streamed);
+    println!(
+        "upload: {} frames with the new id equal the host's correction bit for bit; \
+         triad correct within {worst:.3} of the f32 bound",
+        new.len()
+    );
+}
+
+#[test]
+#[ignore = "needs the served board of `cargo xtask test`"]
+fn a_saved_calibration_starts_the_next_run_and_an_erased_one_leaves_the_built_in() {
+    let d = test_dir("save");
+    let file = calibration_file(&d, 0x5a5a_0001, 0.0);
+    let storage = d.join("storage.bin");
+    let built_in = built_in_id();
+    {
+        let board = ServedBoard::start(&storage, Clock::Deterministic, None);
+        assert_info(&board, built_in, "built in", "empty");
+        assert_eq!(
+            upload_and_save(&board, &file),
+            "saved calibration 0x5a5a0001 to flash (generation 1, slot 0)\n"
+        );
+    }
+    {
+        let board = ServedBoard::start(&storage, Clock::Deterministic, None);
+        assert_info(&board, 0x5a5a_0001, "stored", "valid");
+        assert_stream_id(&board, 0x5a5a_0001, 200);
+        board.device_ok(&["erase"]);
+        // The stored one runs until restart.
+        assert_info(&board, 0x5a5a_0001, "stored", "empty");
+    }
+    let erased = std::fs::read(&storage).unwrap();
+    assert!(
+        erased.iter().all(|&b| b == 0xFF),
+        "erase leaves erased flash"
+    );
+    let board = ServedBoard::start(&storage, Clock::Deterministic, None);
+    assert_info(&board, built_in, "built in", "empty");
+    assert_stream_id(&board, built_in, 200);
+}
+
+#[test]
+#[ignore = "needs the served board of `cargo xtask test`"]
+fn a_bad_upload_is_refused_with_calib_checks_reason_and_changes_nothing() {
+    let d = test_dir("bad");
+    let board = ServedBoard::start(&d.join("storage.bin"), Clock::Deterministic, None);
+    let built_in = built_in_id();
+    let bad_dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../calibrations/bad");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&bad_dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    files.sort();
+    let mut refused_by_device = Vec::new();
+    for bad in &files {
+        let check = std::process::Command::new(env!("CARGO_BIN_EXE_triad"))
+            .args(["calib", "check"])
+            .arg(bad)
+            .output()
+            .unwrap();
+        assert!(
+            !check.status.success(),
+            "{} passes calib check",
+            bad.display()
+        );
+        let check_err = text(&check.stderr);
+        let reason = check_err
+            .trim_end()
+            .strip_prefix(&format!("triad: {}: ", bad.display()))
+            .unwrap_or_else(|| panic!("{check_err}"));
+        let out = board.device(&["upload", s(bad)]);
+        assert_eq!(out.status.code(), Some(1), "{}", bad.display());
+        let err = text(&out.stderr);
+        // A file that does not even read as a calibration is refused by the
+        // host, with calib check's message; any other reaches the device,
+        // which gives calib check's reason.
+        let device_says =
+            format!("triad: upload commit: the device answered invalid calibration: {reason}\n");
+        if err == device_says {
+            refused_by_device.push(bad.file_name().unwrap().to_string_lossy().into_owned());
+        } else {
+            assert_eq!(err, check_err, "{}", bad.display());
+        }
+    }
+    assert!(
+        refused_by_device.contains(&"singular.toml".to_string()),
+        "{refused_by_device:?}"
+    );
+    let mut link = board.link();
+    let info = identify(&mut link).unwrap();
+    assert_eq!(
+        (info.calibration_id, info.calibration_source),
+        (built_in, CalibrationSource::BuiltIn)
+    );
+    assert_eq!(
+        info.counters.command_errors as usize,
+        refused_by_device.len(),
+        "one error per refused commit"
+    );
+    drop(link);
+    assert_stream_id(&board, built_in, 200);
+    println!(
+        "bad uploads: {} of {} files refused by the device ({refused_by_device:?}), the rest by the host",
+        refused_by_device.len(),
+        files.len()
+    );
+}
+
+#[test]
+#[ignore = "needs the served board of `cargo xtask test`"]
+fn raw_frames_carry_the_chips_counts_which_scaled_are_the_uncalibrated_values() {
+    let d = test_dir("raw");
+    let board = ServedBoard::start(&d.join("storage.bin"), Clock::Deterministic, None);
+    let out = board.device_ok(&["raw"]);
+    assert!(out.starts_with("mode: raw"), "{out}");
+
+    let mut replay = Replay::from_env();
+    let scale = replay.scale();
+    // What a firmware without a calibration streams: the start-up identity.
+    let uncalibrated = start_calibration(None, &[], &scale, DESCRIPTION.orientation)
+        .unwrap()
+        .corrector;
+    let mut link = board.link();
+    let mut raw: Vec<RawFrame> = Vec::new();
+    while raw.len() < 500 {
+        for packet in frames(&mut link, 100, STREAM_TIMEOUT) {
+            match packet {
+                Packet::Raw(frame) => raw.push(frame),
+                // Queued before the switch.
+                Packet::Data(_) if raw.is_empty() => {}
+                other => panic!("after a raw frame: {other:?}"),
+            }
+        }
+    }
+    let info = identify(&mut link).unwrap();
+    assert_eq!(info.scale, RawScale::of(&scale), "identify's scale");
+    assert_replayable(&mut link);
+    drop(link);
+    for frame in &raw {
+        let n = frame.sequence;
+        let sample = replay.of_frame(n);
+        // Counts: the chip's registers, exactly.
+        assert_eq!(
+            frame.accel,
+            sample.accel.map(f32::from),
+            "accel of frame {n}"
+        );
+        assert_eq!(frame.gyro, sample.gyro.map(f32::from), "gyro of frame {n}");
+        assert_eq!(frame.temperature, f32::from(sample.temperature));
+        assert_eq!(frame.scale, info.scale, "frame {n}");
+        assert!(frame.flags.contains(Flags::RAW.union(Flags::UNCALIBRATED)));
+        // Scaled: what the uncalibrated firmware computes, bit for bit.
+        let (a, g, t) = frame.to_si();
+        let want = uncalibrated.correct(&sample);
+        assert_eq!(bits(&a), bits(&want.accel), "accel of frame {n}");
+        assert_eq!(bits(&g), bits(&want.gyro), "gyro of frame {n}");
+        assert_eq!(t.to_bits(), want.temperature.to_bits(), "frame {n}");
+    }
+
+    // `triad device stream` prints raw frames scaled, flagged RAW and UNCALIBRATED.
+    let rows = decoded_csv::rows(&board.device_ok(&["stream", "--max-frames", "100"]));
+    assert_eq!(rows.len(), 100);
+    for row in &rows {
+        let want = uncalibrated.correct(&replay.of_frame(row.sequence));
+        let want = decoded_csv::sample_values(&want);
+        assert_eq!(bits(&row.values), bits(&want), "{row:?}");
+        assert!(
+            row.flags.contains(Flags::RAW.union(Flags::UNCALIBRATED)),
+            "{row:?}"
+        );
+    }
+
+    board.device_ok(&["calibrated"]);
+    let mut link = board.link();
+    let last = frames(&mut link, 200, STREAM_TIMEOUT);
+    assert!(matches!(last.last(), Some(Packet::Data(_))), "{last:?}");
+    println!(
+        "raw mode: {} raw frames are the chip model's counts, scaled bit for bit as uncalibrated",
+        raw.len()
+    );
+}
+
+#[test]
+#[ignore = "needs the served board of `cargo xtask test`"]
+fn commands_while_streaming_at_the_full_rate_cost_no_overrun_and_no_frame() {
+    let d = test_dir("busy");
+    let file = calibration_file(&d, 0x0b05_0001, 0.0);
+    let upload = blob::encode(&calib_file::load(&file).unwrap().calibration);
+    let board = ServedBoard::start(&d.join("storage.bin"), Clock::Deterministic, None);
+    let mut link = board.link();
+    // Past whatever the port held when it was opened.
+    let first = frames(&mut link, 20, STREAM_TIMEOUT);
+    let start_seq = data(first.last().unwrap()).sequence;
+    let before = *link.stats();
+    let info = identify(&mut link).unwrap();
+    let rate = info.sample_rate_hz;
+    assert_eq!(info.decimation, 1);
+
+    // Every command but the self-test (which pauses sampling by design),
+    // back to back, for at least 1000 frames (a second of stream). Each
+    // succeeds: a change the sampling task has not taken yet (it takes one
+    // per sample, two queued at most) is answered busy, counted as a
+    // command error, and asked again by the link.
+    let mut rounds = 0u32;
+    let mut last_seq = start_seq;
+    let started = Instant::now();
+    while last_seq < start_seq + 1000 {
+        assert!(started.elapsed() < STREAM_TIMEOUT, "the stream stalled");
+        link.command(&Command::Identify).unwrap();
+        link.command(&Command::SetMode(Mode::Calibrated)).unwrap();
+        link.command(&Command::SetDecimation(1)).unwrap();
+        transfer::upload(&mut link, &upload).unwrap();
+        transfer::download(&mut link).unwrap().unwrap();
+        link.command(&Command::Save).unwrap();
+        link.command(&Command::Erase).unwrap();
+        rounds += 1;
+        // The newest frame's number (the replies' waits skip frames).
+        let next = frames(&mut link, 1, STREAM_TIMEOUT);
+        last_seq = data(&next[0]).sequence;
+    }
+    let after = *link.stats();
+    let counters = identify(&mut link).unwrap().counters;
+    let frames_seen = after.frames - before.frames;
+    println!(
+        "{} commands ({rounds} rounds of identify, mode, decimation, upload, read back, save, \
+         erase) while streaming {frames_seen} frames at {rate} Hz, decimation 1, 921600 baud \
+         (nominal: QEMU and the pty ignore it), deterministic clock: overruns {}, dropped {}, \
+         sequence gaps {}; {} busy replies, each asked again",
+        counters.commands,
+        counters.overruns,
+        counters.frames_dropped,
+        after.sequence_gaps - before.sequence_gaps,
+        counters.command_errors
+    );
+    assert!(frames_seen >= 1000, "{frames_seen} frames");
+    assert_eq!(after.sequence_gaps, before.sequence_gaps, "{after:?}");
+    assert_eq!(after.crc_errors, before.crc_errors, "{after:?}");
+    assert_eq!(after.device_overruns, before.device_overruns, "{after:?}");
+    assert_eq!(after.device_dropped, before.device_dropped, "{after:?}");
+    assert_eq!(
+        (
+            counters.overruns,
+            counters.frames_dropped,
+            counters.rx_overflows
+        ),
+        (0, 0, 0),
+        "{counters:?}"
+    );
+    // At least identify, mode, decimation, commit, a read, save, erase per round.
+    assert!(counters.commands >= 7 * rounds, "{counters:?}");
+}
+
+/// The storage file's two slots (16 KiB each).
+const SLOT: usize = 16 * 1024;
+/// A record's header before its blob.
+const HEADER: usize = 16;
+
+#[test]
+#[ignore = "needs the served board of `cargo xtask test`"]
+fn a_power_cut_during_a_save_leaves_the_old_calibration_or_the_new_one_whole() {
+    let d = test_dir("cut");
+    let storage = d.join("storage.bin");
+    let old = calibration_file(&d, 0x01d0_0001, 0.0);
+    let new = calibration_file(&d, 0x0e30_0002, 0.05);
+    let new_blob = blob::encode(&calib_file::load(&new).unwrap().calibration);
+    {
+        let board = ServedBoard::start(&storage, Clock::Deterministic, None);
+        upload_and_save(&board, &old);
+    }
+    let slot0 = std::fs::read(&storage).unwrap()[..SLOT].to_vec();
+
+    // A save of the new calibration (into slot 1) is one erase, then eight
+    // 64-byte writes of the blob, then the header's write: ten operations of
+    // the emulated flash. A cut before operation n leaves n done. The order
+    // makes each cut's effect visible: after n = 9 slot 1 holds the whole
+    // blob, so n = 0 (before the erase) is seen to leave it there.
+    for n in [9, 0, 1, 2, 3, 4, 5, 6, 7, 8] {
+        let mut board = ServedBoard::start(&storage, Clock::Deterministic, Some(n));
+        // Whatever the last cut left, the old calibration starts, from flash.
+        assert_info(&board, 0x01d0_0001, "stored", "valid");
+        board.device_ok(&["upload", s(&new)]);
+        let out = board.device(&["save"]);
+        assert_eq!(out.status.code(), Some(1), "save cut at operation {n}");
+        let status = board
+            .wait_exit(Duration::from_secs(30))
+            .unwrap_or_else(|| panic!("QEMU still runs after the cut at {n}"));
+        assert!(!status.success());
+        let log = board.log();
+        assert!(log.contains("the firmware stopped QEMU"), "{log}");
+        let flash = std::fs::read(&storage).unwrap();
+        assert_eq!(flash[..SLOT], slot0[..], "slot 0 untouched (cut at {n})");
+        let slot1 = &flash[SLOT..];
+        let written = match n {
+            0 => None,
+            n => Some(64 * (n as usize - 1)),
+        };
+        if let Some(written) = written {
+            assert!(slot1[..HEADER].iter().all(|&b| b == 0xFF), "header at {n}");
+            let blob_end = HEADER + written;
+            assert_eq!(slot1[HEADER..blob_end], new_blob[..written], "blob at {n}");
+            assert!(
+                slot1[blob_end..].iter().all(|&b| b == 0xFF),
+                "erased at {n}"
+            );
+        } else {
+            // Before the erase: the last run's whole blob is still there.
+            assert_eq!(slot1[HEADER..HEADER + new_blob.len()], new_blob[..]);
+        }
+    }
+    {
+        // Ten operations done: the save completes.
+        let board = ServedBoard::start(&storage, Clock::Deterministic, Some(10));
+        assert_info(&board, 0x01d0_0001, "stored", "valid");
+        assert_eq!(
+            upload_and_save(&board, &new),
+            "saved calibration 0x0e300002 to flash (generation 2, slot 1)\n"
+        );
+    }
+    let board = ServedBoard::start(&storage, Clock::Deterministic, None);
+    assert_info(&board, 0x0e30_0002, "stored", "valid");
+    assert_stream_id(&board, 0x0e30_0002, 100);
+}
+
+/// The median and the largest of `v` (sorted here).
+fn median_max(v: &mut [Duration]) -> (Duration, Duration) {
+    v.sort();
+    (v[v.len() / 2], v[v.len() - 1])
+}
+
+#[test]
+#[ignore = "needs the served board of `cargo xtask test`"]
+fn identify_round_trips_figure() {
+    let d = test_dir("round-trip");
+    for clock in [Clock::RealTime, Clock::Deterministic] {
+        let board = ServedBoard::start(&d.join("storage.bin"), clock, None);
+        // Nobody reads for a while: the pty fills up with the stream, as it
+        // does before a user's first command.
+        std::thread::sleep(Duration::from_millis(1500));
+        let port = triad_host::serial::open(board.port(), 921_600, Duration::from_millis(5))
+            .expect("opening the served port");
+        // One try each: a reply lost anywhere fails here.
+        let settings = triad_host::device::link::Settings {
+            timeout: Duration::from_secs(2),
+            tries: 1,
+        };
+        let mut link = triad_host::device::link::Link::new(port, settings, "served".into(), 9);
+        let mut times = Vec::with_capacity(100);
+        for _ in 0..100 {
+            let sent = Instant::now();
+            identify(&mut link).unwrap();
+            times.push(sent.elapsed());
+        }
+        let (median, max) = median_max(&mut times);
+        println!(
+            "identify round trip, {clock:?} clock, 921600 baud nominal (QEMU's USART and the pty \
+             ignore it): median {median:?}, max {max:?} over 100"
+        );
+    }
+}

@@ -1,0 +1,140 @@
+//! The emulated board's sensor rebuilt on the host: the chip model the
+//! firmware reads, found and started by the same driver, so a test knows
+//! every raw sample the firmware read (the model moves to its next sample at
+//! each data-ready step, whatever the clock). Shared by the end-to-end tests
+//! on QEMU (`e2e_qemu.rs`, `device_qemu.rs`); each uses a part of it.
+#![allow(dead_code)]
+
+pub mod decoded_csv;
+pub mod triad_correct;
+
+use triad::sensor::interface::{I2cInterface, SpiInterface};
+use triad::sensor::{AnyChip, Imu, ImuScale, RawSample, CHIP_NAMES};
+
+/// The emulated board's chip models: the very code the firmware builds.
+use triad_sim::emulated_board::{source, EmulatedChip};
+
+/// What the firmware's chip model served: the scene of TRIAD_E2E_SCENE (the
+/// blob the firmware embedded) when xtask ran a simulated scene, else the
+/// demo motion; at the chip's rate, as boards/qemu/board.rs builds it.
+fn model_source(rate_hz: f64) -> source::Source {
+    match std::env::var_os("TRIAD_E2E_SCENE") {
+        Some(path) => {
+            let blob = std::fs::read(&path).expect("the scene blob of the run");
+            source::scene(rate_hz, &blob).expect("the embedded scene runs")
+        }
+        None => source::demo(rate_hz),
+    }
+}
+
+struct NoDelay;
+impl embedded_hal::delay::DelayNs for NoDelay {
+    fn delay_ns(&mut self, _: u32) {}
+}
+
+/// The emulated board's sensor as the firmware build chose it: the chip model
+/// `TRIAD_EMULATED_CHIP` names on the bus `TRIAD_E2E_BUS` (spi or i2c), each
+/// the board's default (the first listed chip, SPI) when unset; found on the
+/// bus and started as the firmware does.
+pub enum HostSensor {
+    Spi(AnyChip<SpiInterface<EmulatedChip>>),
+    I2c(AnyChip<I2cInterface<EmulatedChip>>),
+}
+
+/// Runs `$body` with `$s` bound to the driver, whatever the bus.
+macro_rules! each_bus {
+    ($sensor:expr, $s:ident => $body:expr) => {
+        match $sensor {
+            HostSensor::Spi($s) => $body,
+            HostSensor::I2c($s) => $body,
+        }
+    };
+}
+
+impl HostSensor {
+    /// The chip model and bus the firmware under test was built with.
+    pub fn from_env() -> Self {
+        let chip = std::env::var("TRIAD_EMULATED_CHIP").unwrap_or_else(|_| CHIP_NAMES[0].into());
+        let bus = std::env::var("TRIAD_E2E_BUS").unwrap_or_else(|_| "spi".into());
+        Self::new(&chip, &bus)
+    }
+
+    /// The model of `chip` on `bus` (spi, i2c), found and started as the firmware does.
+    pub fn new(chip: &str, bus: &str) -> Self {
+        let model = EmulatedChip::named(chip, model_source)
+            .unwrap_or_else(|| panic!("{chip:?}: not one of {CHIP_NAMES:?}"));
+        let mut sensor = match bus {
+            "spi" => Self::Spi(AnyChip::detect(SpiInterface::new(model)).expect("found on SPI")),
+            "i2c" => Self::I2c(AnyChip::detect_i2c(model).expect("found on I²C")),
+            other => panic!("TRIAD_E2E_BUS {other:?}: expected spi or i2c"),
+        };
+        assert_eq!(each_bus!(&sensor, s => s.name()), chip, "the chip found");
+        each_bus!(&mut sensor, s => s.start(&mut NoDelay).expect("the chip model starts"));
+        sensor
+    }
+
+    /// The data-ready rate, Hz: the started chip's configuration's.
+    pub fn sample_rate_hz(&self) -> f64 {
+        each_bus!(self, s => s.sample_rate_hz())
+    }
+
+    /// The chip model.
+    pub fn model(&self) -> &EmulatedChip {
+        each_bus!(self, s => s.bus())
+    }
+
+    /// What the emulated board's `data_ready` does: the model's clock moves to its next sample.
+    pub fn data_ready(&mut self) {
+        each_bus!(self, s => s.bus_mut().advance_one_sample())
+    }
+}
+
+impl Imu for HostSensor {
+    type Error = String;
+
+    fn read_sample(&mut self) -> Result<RawSample, String> {
+        each_bus!(self, s => s.read_sample().map_err(|e| format!("{e:?}")))
+    }
+
+    fn scale(&self) -> ImuScale {
+        each_bus!(self, s => s.scale())
+    }
+}
+
+/// The raw sample behind each streamed frame, by the frame's sequence
+/// number: with decimation 1, frame n is the (n+1)-th data-ready step, which
+/// read the model's (n+1)-th sample. That holds while the device drops no
+/// frame (a dropped frame's number is reused) and every read succeeds (a
+/// failed read makes no frame); steps lost to overruns do not matter, as
+/// the model advances per step taken, not per period of the clock. The
+/// caller checks the device's counters for both.
+pub struct Replay {
+    sensor: HostSensor,
+    samples: Vec<RawSample>,
+}
+
+impl Replay {
+    /// The sensor of [`HostSensor::from_env`], before its first step.
+    pub fn from_env() -> Self {
+        Replay {
+            sensor: HostSensor::from_env(),
+            samples: Vec::new(),
+        }
+    }
+
+    /// The chip's scale.
+    pub fn scale(&self) -> ImuScale {
+        self.sensor.scale()
+    }
+
+    /// The raw sample frame `sequence` was made from.
+    pub fn of_frame(&mut self, sequence: u32) -> RawSample {
+        let n = sequence as usize;
+        while self.samples.len() <= n {
+            self.sensor.data_ready();
+            let raw = self.sensor.read_sample().expect("the model reads");
+            self.samples.push(raw);
+        }
+        self.samples[n]
+    }
+}
