@@ -453,7 +453,7 @@ pub struct F64Sample {
     pub clip: ClipFlags,
 }
 
-/// One output of a variant, as the sink of [`Kernels::each_output`] sees it.
+/// One output of a variant, as the sink of [`Bench::each_output`] sees it.
 #[derive(Clone, Copy, Debug)]
 pub enum Output<'a> {
     /// Accelerometer then gyroscope in f32 SI units (the simple models).

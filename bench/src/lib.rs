@@ -8,15 +8,21 @@
 //! i16 samples → SI values); the firmware times [`BATCHES`] such batches.
 //! Batches, not one block of 1000, because the Cortex-M0 core (nRF51 on
 //! QEMU's `microbit`) has 16 KiB of RAM.
+//!
+//! Besides the variants, [`command_handling`] times what each command of
+//! the link costs the firmware's `link` task, over a [`ram_flash`] that
+//! counts its operations.
 
 #![no_std]
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod command_handling;
 pub mod digest;
 pub mod inputs;
 pub mod kernels;
 pub mod pipeline;
+pub mod ram_flash;
 pub mod sensor_reads;
 
 pub use digest::Digest;

@@ -1,6 +1,7 @@
 //! The emulated cores: build the benchmark firmware for each, run it under
 //! QEMU with `-icount shift=0`, parse its lines, and check each digest
-//! against the host's computation of the same variant.
+//! against the host's computation of the same variant (the command-handling
+//! lines: [`super::commands`]).
 
 use anyhow::{bail, Context, Result};
 use std::path::{Path, PathBuf};
@@ -9,6 +10,7 @@ use std::time::{Duration, Instant};
 use triad_bench::kernels::NoMeter;
 use triad_bench::{Bench, Variant, BATCH, BATCHES};
 
+use super::commands::{self, CommandRow};
 use crate::cmd::{cargo, check, root};
 use crate::qemu;
 
@@ -49,7 +51,7 @@ impl Core {
 
     /// SysTick ticks per instruction under `-icount shift=0` (1 ns each):
     /// the core clock in GHz.
-    fn ticks_per_instruction(self) -> f64 {
+    pub(super) fn ticks_per_instruction(self) -> f64 {
         match self {
             Core::CortexM4F => 0.168,
             Core::CortexM0 => 0.016,
@@ -80,13 +82,16 @@ struct Line {
 /// Cortex-M0, takes a few seconds).
 const RUN_TIMEOUT: Duration = Duration::from_secs(300);
 
-/// Builds, runs and checks the benchmark on `core`.
-pub fn measure(core: Core) -> Result<Vec<Measured>> {
+/// Builds, runs and checks the benchmark on `core`: the variants' rows and
+/// the command-handling rows.
+pub fn measure(core: Core) -> Result<(Vec<Measured>, Vec<CommandRow>)> {
     let elf = build(core)?;
-    let lines = run(core, &elf)?;
+    let stdout = run(core, &elf)?;
+    let lines = variant_lines(core, &stdout)?;
     check_digests(core, &lines)?;
+    let commands = commands::measure(core, &stdout)?;
     let elf_bytes = std::fs::read(&elf)?;
-    lines
+    let variants = lines
         .iter()
         .map(|l| {
             let ticks = l.ticks.saturating_sub(l.overhead * BATCHES as u64);
@@ -99,7 +104,8 @@ pub fn measure(core: Core) -> Result<Vec<Measured>> {
                 stack_bytes: l.stack,
             })
         })
-        .collect()
+        .collect::<Result<_>>()?;
+    Ok((variants, commands))
 }
 
 /// The test of `cargo xtask test`: every variant's outputs on both emulated
@@ -107,12 +113,15 @@ pub fn measure(core: Core) -> Result<Vec<Measured>> {
 pub fn check_firmware_outputs() -> Result<()> {
     for core in Core::ALL {
         let elf = build(core)?;
-        let lines = run(core, &elf)?;
+        let stdout = run(core, &elf)?;
+        let lines = variant_lines(core, &stdout)?;
         check_digests(core, &lines)?;
+        let commands = commands::measure(core, &stdout)?;
         eprintln!(
-            "xtask: bench firmware on {}: {} variants, outputs equal the host's",
+            "xtask: bench firmware on {}: {} variants and {} commands, outputs equal the host's",
             core.name(),
-            lines.len()
+            lines.len(),
+            commands.len()
         );
     }
     Ok(())
@@ -147,7 +156,8 @@ fn build(core: Core) -> Result<PathBuf> {
         .join("release/triad-bench"))
 }
 
-fn run(core: Core, elf: &Path) -> Result<Vec<Line>> {
+/// Runs the benchmark firmware on `core`; returns what it printed.
+fn run(core: Core, elf: &Path) -> Result<String> {
     let mut command = qemu::command(core.machine(), elf);
     let mut child = command
         .stdout(Stdio::piped())
@@ -170,7 +180,7 @@ fn run(core: Core, elf: &Path) -> Result<Vec<Line>> {
         std::thread::sleep(Duration::from_millis(50));
     };
     let output = child.wait_with_output()?;
-    let stdout = String::from_utf8_lossy(&output.stdout);
+    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
     if !status.success() {
         bail!(
             "the benchmark on {} ended with {status}:\n{stdout}{}",
@@ -178,6 +188,11 @@ fn run(core: Core, elf: &Path) -> Result<Vec<Line>> {
             String::from_utf8_lossy(&output.stderr)
         );
     }
+    Ok(stdout)
+}
+
+/// The variants' lines of a run.
+fn variant_lines(core: Core, stdout: &str) -> Result<Vec<Line>> {
     let lines: Vec<Line> = stdout
         .lines()
         .filter(|l| l.starts_with("bench "))
@@ -194,19 +209,31 @@ fn run(core: Core, elf: &Path) -> Result<Vec<Line>> {
     Ok(lines)
 }
 
+/// The value of `key=value` in a line of the benchmark firmware.
+pub(super) fn field<'a>(line: &'a str, key: &str) -> Result<&'a str> {
+    line.split_whitespace()
+        .find_map(|kv| kv.strip_prefix(key)?.strip_prefix('='))
+        .with_context(|| format!("no `{key}=` in benchmark line {line:?}"))
+}
+
+/// The decimal number of `key=value` in a line of the benchmark firmware.
+pub(super) fn number(line: &str, key: &str) -> Result<u64> {
+    let v = field(line, key)?;
+    v.parse()
+        .with_context(|| format!("`{key}={v}` is not a number in {line:?}"))
+}
+
+/// The hexadecimal digest of `key=0x…` in a line of the benchmark firmware.
+pub(super) fn digest(line: &str, key: &str) -> Result<u64> {
+    let d = field(line, key)?;
+    u64::from_str_radix(d.trim_start_matches("0x"), 16)
+        .with_context(|| format!("digest {d:?} is not hexadecimal in {line:?}"))
+}
+
 fn parse_line(line: &str) -> Result<Line> {
-    let field = |key: &str| -> Result<&str> {
-        line.split_whitespace()
-            .find_map(|kv| kv.strip_prefix(key)?.strip_prefix('='))
-            .with_context(|| format!("no `{key}=` in benchmark line {line:?}"))
-    };
-    let number = |key: &str| -> Result<u64> {
-        let v = field(key)?;
-        v.parse()
-            .with_context(|| format!("`{key}={v}` is not a number in {line:?}"))
-    };
+    let field = |key: &str| field(line, key);
+    let number = |key: &str| number(line, key);
     let name = field("variant")?;
-    let digest = field("digest")?;
     Ok(Line {
         variant: Variant::from_name(name)
             .with_context(|| format!("unknown variant {name:?} in {line:?}"))?,
@@ -214,8 +241,7 @@ fn parse_line(line: &str) -> Result<Line> {
         ticks: number("ticks")?,
         overhead: number("overhead")?,
         stack: number("stack")? as u32,
-        digest: u64::from_str_radix(digest.trim_start_matches("0x"), 16)
-            .with_context(|| format!("digest {digest:?} is not hexadecimal"))?,
+        digest: digest(line, "digest")?,
     })
 }
 

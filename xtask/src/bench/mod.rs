@@ -4,6 +4,8 @@
 //! reference, and the report (docs/BENCHMARKS.md, or JSON on stdout).
 
 mod accuracy;
+mod command_report;
+mod commands;
 mod cores;
 mod host;
 mod plot;
@@ -37,9 +39,11 @@ pub struct Row {
 /// docs/BENCHMARKS.md either way.
 pub fn run(json: bool) -> Result<()> {
     let mut rows = Vec::new();
+    let mut command_rows = Vec::new();
     let accuracies = accuracy::all()?;
     for core in Core::ALL {
-        let measured = cores::measure(core)?;
+        let (measured, commands) = cores::measure(core)?;
+        command_rows.extend(commands);
         for m in measured {
             let (realistic, extreme) = accuracies
                 .iter()
@@ -66,7 +70,10 @@ pub fn run(json: bool) -> Result<()> {
     let docs = crate::cmd::root().join("docs");
     let svg = plot::svg(&rows).map_err(|e| anyhow::anyhow!("plotting: {e}"))?;
     std::fs::write(docs.join("benchmarks.svg"), svg)?;
-    std::fs::write(docs.join("BENCHMARKS.md"), report::markdown(&rows, &host)?)?;
+    std::fs::write(
+        docs.join("BENCHMARKS.md"),
+        report::markdown(&rows, &command_rows, &host)?,
+    )?;
     eprintln!("xtask: wrote docs/BENCHMARKS.md and docs/benchmarks.svg");
     Ok(())
 }

@@ -2,6 +2,8 @@
 //! docs/BENCHMARKS.md.
 
 use super::accuracy::Accuracy;
+use super::command_report;
+use super::commands::CommandRow;
 use super::{Core, Row};
 use anyhow::Result;
 use std::fmt::Write;
@@ -97,7 +99,7 @@ fn find(rows: &[Row], core: Core, variant: Variant) -> Option<&Row> {
 }
 
 /// docs/BENCHMARKS.md.
-pub fn markdown(rows: &[Row], host: &[(Variant, f64)]) -> Result<String> {
+pub fn markdown(rows: &[Row], commands: &[CommandRow], host: &[(Variant, f64)]) -> Result<String> {
     let mut md = String::new();
     let date = version("date", "-u");
     writeln!(md, "# What accuracy costs in time\n")?;
@@ -134,6 +136,7 @@ pub fn markdown(rows: &[Row], host: &[(Variant, f64)]) -> Result<String> {
         "![max error against instructions per sample](benchmarks.svg)\n"
     )?;
     sensor_reads(&mut md, rows)?;
+    command_report::section(&mut md, commands)?;
     writeln!(md, "## Host\n")?;
     writeln!(
         md,
