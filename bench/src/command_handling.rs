@@ -226,6 +226,7 @@ fn facts() -> DeviceFacts {
         baud: LINK_BAUD,
         scale: inputs::scale(),
         orientation: Orientation::RotationNone,
+        cycles_hz: 84_000_000,
     }
 }
 
