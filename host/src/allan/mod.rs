@@ -30,6 +30,7 @@ pub mod curve;
 pub mod fit;
 pub mod grade;
 pub mod json;
+pub mod kalibr;
 pub mod plot;
 mod rows;
 pub mod summary;
@@ -70,6 +71,10 @@ pub struct AllanArgs {
     /// Print the fitted terms, their uncertainties and the grade as JSON.
     #[arg(long)]
     pub json: bool,
+    /// Write the noise model Kalibr reads (YAML: noise densities and random
+    /// walks in SI, the worst axis per triad; `-`: standard output).
+    #[arg(long, value_name = "FILE")]
+    pub kalibr: Option<PathBuf>,
     /// Every τ = m·τ₀ (m = 1, 2, 3, … up to 2^14 or --max-tau) instead of
     /// octaves; holds the record in memory, costs N per τ.
     #[arg(long)]
@@ -94,10 +99,14 @@ pub struct AllanArgs {
 /// JSON) printed, on stderr when an output went to stdout.
 pub fn run(args: AllanArgs) -> anyhow::Result<ExitCode> {
     check(&args)?;
-    let outputs: Vec<Named> = [("--out", &args.out), ("--plot", &args.plot)]
-        .into_iter()
-        .filter_map(|(what, p)| p.as_deref().map(|p| named(what, p)))
-        .collect();
+    let outputs: Vec<Named> = [
+        ("--out", &args.out),
+        ("--plot", &args.plot),
+        ("--kalibr", &args.kalibr),
+    ]
+    .into_iter()
+    .filter_map(|(what, p)| p.as_deref().map(|p| named(what, p)))
+    .collect();
     distinct::check(&[named("input", &args.input)], &outputs)?;
     let to_stdout = outputs.iter().find(|o| is_stdout(o.path));
     if let (Some(o), true) = (to_stdout, args.json) {
@@ -117,6 +126,9 @@ pub fn run(args: AllanArgs) -> anyhow::Result<ExitCode> {
     }
     if let Some(path) = &args.plot {
         files.push(plot::write_svg(path, &analysis.columns)?);
+    }
+    if let Some(path) = &args.kalibr {
+        files.push(kalibr::write(path, &analysis, &args.input)?);
     }
     for file in files {
         file.commit()?;
@@ -174,6 +186,7 @@ pub(crate) mod tests {
             out: None,
             plot: None,
             json: false,
+            kalibr: None,
             all_tau: false,
             max_tau: None,
             confidence: ONE_SIGMA,
