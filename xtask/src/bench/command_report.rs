@@ -143,7 +143,7 @@ fn stretch(md: &mut String, rows: &[CommandRow]) -> Result<()> {
     )?;
     writeln!(
         md,
-        "- The task then writes the reply whole, waiting for the transmitter (`LinkTx::write_all`): the longest reply, {}'s {:.0} bytes, holds the link for {:.0} µs at {LINK_BAUD} baud, which is the link's time, not the CPU's, but frames behind the reply wait for it too.",
+        "- The task then queues the reply whole in the transmit queue (`LinkTx::queue`; the USART's interrupt or DMA sends it): the longest reply, {}'s {:.0} bytes, holds the line for {:.0} µs at {LINK_BAUD} baud, which is the link's time, not the CPU's, but frames queued behind the reply wait for it.",
         longest_reply.command.name(),
         longest_reply.reply_bytes,
         wire_s(longest_reply.reply_bytes) * 1e6
