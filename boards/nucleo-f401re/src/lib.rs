@@ -9,9 +9,10 @@
 //! chip select PB6 (D10); or I²C1 SCL PB8 (D15), SDA PB9 (D14), with PB6
 //! holding the chip's CS high; the IMU's INT1 → PB0 (A3) on EXTI0, rising
 //! edge; the link on USART2, the ST-LINK's virtual COM port: the stream
-//! out on TX PA2 (blocking), the commands in on RX PA3 by DMA (DMA1 stream 5
-//! into a ring, woken by the IDLE-line interrupt); timestamps from TIM5
-//! (32-bit) at 1 MHz; the calibration in flash sectors 6 and 7.
+//! and the replies out on TX PA2 by DMA (DMA1 stream 6 from a ring), the
+//! commands in on RX PA3 by DMA (DMA1 stream 5 into a ring, woken by the
+//! IDLE-line interrupt); timestamps from TIM5 (32-bit) at 1 MHz; the
+//! calibration in flash sectors 6 and 7.
 //!
 //! Nothing here has run on silicon yet (see README.md).
 
@@ -23,10 +24,12 @@ pub use stm32f4xx_hal::pac;
 mod dma_ring;
 mod flash;
 mod serial_rx;
+mod serial_tx;
+mod tx_ring;
 pub use flash::{Flash, FlashError, StorageUnavailable, STORAGE_SLOTS};
 pub use serial_rx::SerialRx;
+pub use serial_tx::{Serial, TX_BUFFER_LEN};
 
-use embedded_hal_nb::serial::Write as _;
 use stm32f4xx_hal::dma::StreamsTuple;
 use stm32f4xx_hal::gpio::{self, Edge, ExtiPin as _, GpioExt as _, Input, PinState};
 use stm32f4xx_hal::rcc::{self, Rcc, RccExt as _};
@@ -34,7 +37,7 @@ use stm32f4xx_hal::serial::{self, SerialExt as _};
 use stm32f4xx_hal::syscfg::{SysCfg, SysCfgExt as _};
 use stm32f4xx_hal::time::{Bps, Hertz};
 use stm32f4xx_hal::timer::FTimerUs;
-use triad::device::board::{BoardDescription, DataReadyLine, LinkTx};
+use triad::device::board::{BoardDescription, DataReadyLine};
 use triad::model::Orientation;
 #[cfg(feature = "bus-i2c")]
 use triad::sensor::interface::I2cInterface;
@@ -68,7 +71,8 @@ pub struct Board {
     pub sample_line: SampleLine,
     /// Microsecond timestamps for the stream (TIM5).
     pub clock: MicrosecondClock,
-    /// The stream's transmitter (USART2).
+    /// The stream's transmitter (USART2 by DMA; interrupt DMA1_STREAM6,
+    /// handled here).
     pub serial: Serial,
     /// The commands' receiver (USART2 by DMA; interrupt USART2).
     pub serial_rx: SerialRx,
@@ -85,8 +89,9 @@ pub type SelfTestDelay = Delay;
 
 /// Brings up clocks and peripherals.
 pub fn init(dp: pac::Peripherals) -> Board {
-    // SAFETY: init runs once, before any task; only the trace enable and
-    // the cycle counter's enable bit are written (RTIC uses neither).
+    // SAFETY: init runs once, before any task; only the trace enable, the
+    // cycle counter's enable bit (RTIC uses neither) and the priority of
+    // DMA1_STREAM6, an interrupt RTIC does not bind, are written.
     let mut core = unsafe { cortex_m::Peripherals::steal() };
     core.DCB.enable_trace();
     core.DWT.enable_cycle_counter();
@@ -110,7 +115,7 @@ pub fn init(dp: pac::Peripherals) -> Board {
     Board {
         sample_line: SampleLine::new(gpiob.pb0, &mut syscfg, &mut exti),
         clock: MicrosecondClock::new(dp.TIM5, &mut rcc),
-        serial: Serial(tx),
+        serial: Serial::new(tx, dma1.6, &mut core.NVIC),
         serial_rx: SerialRx::new(rx, dma1.5),
         sensor_bus,
         flash: Ok(Flash::new(dp.FLASH)),
@@ -326,8 +331,8 @@ impl triad::device::board::MicrosecondClock for MicrosecondClock {
 }
 
 /// USART2 8N1 at `DESCRIPTION.baud`, TX on PA2 and RX on PA3 (AF7), both to
-/// the ST-LINK's virtual COM port, the receiver's requests going to the DMA
-/// (CR3's DMAR). 921600 baud from 42 MHz: the HAL writes BRR = 46 (16×
+/// the ST-LINK's virtual COM port, both sides' requests going to the DMA
+/// (CR3's DMAT and DMAR). 921600 baud from 42 MHz: the HAL writes BRR = 46 (16×
 /// oversampling, 2 + 14/16), 913 kbaud, −0.9 %.
 fn usart2(
     usart: pac::USART2,
@@ -337,7 +342,7 @@ fn usart2(
 ) -> (serial::Tx<pac::USART2>, serial::Rx<pac::USART2>) {
     let config = serial::Config::default()
         .baudrate(Bps(DESCRIPTION.baud))
-        .dma(serial::config::DmaConfig::Rx);
+        .dma(serial::config::DmaConfig::TxRx);
     match usart.serial((tx, rx), config, rcc) {
         Ok(serial) => serial.split(),
         // Only a baud rate above PCLK1 / 8 is refused.
@@ -345,26 +350,6 @@ fn usart2(
             defmt::error!("USART2 cannot run at {} baud", DESCRIPTION.baud);
             exit(false)
         }
-    }
-}
-
-/// The stream's link: USART2's transmitter (PA2). Still blocking: it
-/// takes any bytes and returns once the last is in the transmit register
-/// (DMA transmission is not written yet).
-pub struct Serial(serial::Tx<pac::USART2>);
-
-impl LinkTx for Serial {
-    fn room(&self) -> usize {
-        usize::MAX
-    }
-
-    fn queue(&mut self, bytes: &[u8]) -> bool {
-        for &byte in bytes {
-            // Waits for TXE; the transmit path reports no errors (the
-            // error type is the receiver's), so the result carries nothing.
-            let _ = stm32f4xx_hal::block!(self.0.write(byte));
-        }
-        true
     }
 }
 

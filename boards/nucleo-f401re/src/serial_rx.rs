@@ -94,7 +94,7 @@ impl SerialRx {
     fn registers(&self) -> &pac::usart1::RegisterBlock {
         // SAFETY: a shared reference to memory-mapped registers; only SR and
         // DR are read through it, which changes nothing but the receive flags
-        // that this receiver owns (the transmitter writes DR and reads TXE).
+        // that this receiver owns (the transmitter's DMA writes DR).
         unsafe { &*pac::USART2::ptr() }
     }
 
