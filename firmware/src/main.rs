@@ -77,7 +77,8 @@ mod app {
     const LOG_LOAD_EVERY: u32 = 10;
 
     /// The interrupt that runs the `link` task.
-    const LINK_TASK: board::pac::Interrupt = board::pac::Interrupt::EXTI1;
+    /// (The board names it too: the task below binds EXTI1 by name.)
+    const LINK_TASK: board::pac::Interrupt = board::LINK_TASK;
 
     #[shared]
     struct Shared {}

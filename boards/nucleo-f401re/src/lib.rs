@@ -353,6 +353,11 @@ fn usart2(
     }
 }
 
+/// The interrupt the firmware's link task is bound to (firmware/src/main.rs
+/// binds EXTI1: RTIC takes the name literally, so the two must agree): a
+/// board that frees transmit room from its own interrupt pends it.
+pub const LINK_TASK: pac::Interrupt = pac::Interrupt::EXTI1;
+
 /// The load measurement's clock: the DWT cycle counter (the core clock,
 /// 84 MHz; [`init`] starts it).
 pub fn cycles() -> u32 {

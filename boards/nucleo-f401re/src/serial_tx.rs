@@ -63,10 +63,6 @@ static RELEASED: AtomicUsize = AtomicUsize::new(0);
 /// lends them to the handler, which nothing else borrows from.
 static SENDER: Mutex<RefCell<Option<Sender>>> = Mutex::new(RefCell::new(None));
 
-/// The interrupt that runs the firmware's link task (firmware/src/main.rs,
-/// `LINK_TASK`): pended when room was freed.
-const LINK_TASK: pac::Interrupt = pac::Interrupt::EXTI1;
-
 /// The stream and channel RM0368 Table 28 gives USART2_TX; the HAL's table
 /// must agree, or this does not compile.
 fn usart2_tx_maps_to<S, const CHANNEL: u8>()
@@ -185,7 +181,7 @@ impl Sender {
             RELEASED.store(released.wrapping_add(self.sending), Ordering::Release);
             self.sending = 0;
             // Frames may be waiting in the firmware's queue for this room.
-            NVIC::pend(LINK_TASK);
+            NVIC::pend(super::LINK_TASK);
         }
         // RM0368 (DMA_SxCR, EN): the stream's flags are cleared before it is
         // enabled; this also ends the interrupt's request.

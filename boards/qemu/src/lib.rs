@@ -163,6 +163,11 @@ pub use semihosting_flash::Unavailable as StorageUnavailable;
 // sends at once whatever BRR says.)
 const USART_DIV_X16: u16 = ((APB1_HZ + DESCRIPTION.baud / 2) / DESCRIPTION.baud) as u16;
 
+/// The interrupt the firmware's link task is bound to (firmware/src/main.rs
+/// binds EXTI1: RTIC takes the name literally, so the two must agree): a
+/// board that frees transmit room from its own interrupt pends it.
+pub const LINK_TASK: pac::Interrupt = pac::Interrupt::EXTI1;
+
 /// The load measurement's clock: TIM4, never written, counts QEMU's virtual
 /// nanoseconds since reset, which under `-icount shift=0` are instructions
 /// (and, served in real time, host nanoseconds).
