@@ -11,4 +11,5 @@
 
 pub mod allan;
 pub mod calib_fit;
+pub mod f_dist;
 pub mod student_t;

@@ -174,7 +174,15 @@ fn served_board(firmware: Firmware, elf: &Path, calibration: &Path) -> Result<()
     std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
     let xtask = dir.join("xtask-serve");
     let copying = dir.join("xtask-serve.part");
-    let current = std::env::current_exe().context("xtask's own path")?;
+    // By now `cargo clippy`/`cargo test` may have rebuilt xtask, replacing
+    // the file this process was started from: on Linux /proc/self/exe still
+    // opens the running image itself.
+    let proc_exe = Path::new("/proc/self/exe");
+    let current = if proc_exe.exists() {
+        proc_exe.to_path_buf()
+    } else {
+        std::env::current_exe().context("xtask's own path")?
+    };
     std::fs::copy(&current, &copying)
         .and_then(|_| std::fs::rename(&copying, &xtask))
         .with_context(|| format!("copying {} to {}", current.display(), xtask.display()))?;

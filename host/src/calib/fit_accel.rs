@@ -16,7 +16,6 @@ use super::fit::{file_list, inputs, names, write_calibration, Base, Output};
 use super::fit_csv;
 use super::report::{fit_report, method_table};
 use super::segments::{self, Stat};
-use crate::number::positive;
 use crate::stdio::outln;
 
 /// Arguments of `triad calib fit accel`.
@@ -65,17 +64,7 @@ pub fn run(args: AccelArgs) -> anyhow::Result<ExitCode> {
 }
 
 fn check(args: &AccelArgs) -> anyhow::Result<()> {
-    positive(
-        "--gravity",
-        args.gravity,
-        "must be a positive number of m/s²",
-    )?;
-    positive(
-        "--min-static",
-        args.min_static,
-        "must be a positive number of seconds",
-    )?;
-    Ok(())
+    segments::check_pose_options(args.gravity, args.min_static)
 }
 
 /// The ellipsoid fit: orientations unknown, |(I+Σ)⁻¹(f̂ − b)| = g.

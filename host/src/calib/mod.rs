@@ -10,6 +10,7 @@ pub mod fit_gyro;
 pub mod report;
 pub mod segments;
 pub mod stillness;
+pub mod verify;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -54,6 +55,9 @@ enum CalibCommand {
     },
     /// Fit a triad's (I+Σ) and b to recorded data and write a calibration file.
     Fit(fit::FitArgs),
+    /// Apply a calibration to records its fit did not use; judge the residuals
+    /// against the fit's own statistics (exit 1 when they fail).
+    Verify(verify::VerifyArgs),
 }
 
 /// The sensor's configured ranges: they bound the bias check and, for a
@@ -123,6 +127,7 @@ pub fn run(args: CalibArgs) -> anyhow::Result<ExitCode> {
             check::run(&calib_file::load(&file)?, &ranges)
         }
         CalibCommand::Fit(args) => fit::run(args),
+        CalibCommand::Verify(args) => verify::run(args),
         CalibCommand::Pack {
             file,
             output,

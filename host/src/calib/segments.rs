@@ -24,6 +24,18 @@ pub struct Stat {
     pub count: usize,
 }
 
+/// `--gravity` and `--min-static` of the commands that detect static poses,
+/// each positive, or an error naming it.
+pub fn check_pose_options(gravity: f64, min_static: f64) -> anyhow::Result<()> {
+    crate::number::positive("--gravity", gravity, "must be a positive number of m/s²")?;
+    crate::number::positive(
+        "--min-static",
+        min_static,
+        "must be a positive number of seconds",
+    )?;
+    Ok(())
+}
+
 /// The statistics of `record`'s samples `range` (file number `file`).
 pub fn stat(record: &Record, file: usize, range: std::ops::Range<usize>) -> Stat {
     let s = &record.samples[range.clone()];
