@@ -11,7 +11,7 @@
 use std::io::{self, ErrorKind, Write};
 
 use anyhow::bail;
-use triad::link::{Packet, RawFrame};
+use triad::link::{BatchFrame, Packet, RawFrame};
 use triad::stream::{DecodeError, DecoderStats, Flags, Frame, TimestampUnwrapper};
 
 use crate::number::{positive, refused};
@@ -163,6 +163,10 @@ impl<'a, W: Write> CsvSink<'a, W> {
         match decoded {
             Ok(Packet::Data(frame)) => self.row(&Row::of_frame(frame)),
             Ok(Packet::Raw(raw)) => self.row(&Row::of_raw(raw)),
+            // One row per sample; the rows of a batch share its sequence number.
+            Ok(Packet::Batch(batch)) => {
+                (0..usize::from(batch.count)).find_map(|i| self.row(&Row::of_batch(batch, i)))
+            }
             // Counted by the decoder, not printed.
             Ok(Packet::Reply(_) | Packet::Command(_)) => None,
             Err(error) => {
@@ -215,6 +219,21 @@ impl Row {
             gyro: f.gyro,
             temperature: f.temperature,
             flags: f.flags,
+        }
+    }
+
+    /// Sample `i` of a batch: its fixed point × the batch's LSBs, at the
+    /// first sample's time plus i periods (rounded to the µs).
+    fn of_batch(b: &BatchFrame, i: usize) -> Row {
+        let (accel, gyro) = b.sample_si(i).unwrap_or_default();
+        let offset_us = (u64::from(b.period_ns) * i as u64 + 500) / 1000;
+        Row {
+            sequence: b.sequence,
+            timestamp_us: b.timestamp_us.wrapping_add(offset_us as u32),
+            accel,
+            gyro,
+            temperature: b.temperature,
+            flags: b.flags,
         }
     }
 

@@ -266,3 +266,40 @@ fn the_help_says_what_a_raw_frame_becomes() {
         assert!(help.contains(words), "{words:?} not in {help}");
     }
 }
+
+#[test]
+fn a_batch_frame_is_a_row_per_sample_at_its_own_time() {
+    use triad::link::{BatchFrame, MAX_WIRE_LEN};
+    let (a_lsb, g_lsb) = (0.01f32, 0.001f32);
+    let mut batch = BatchFrame::new(a_lsb, g_lsb);
+    batch.sequence = 3;
+    batch.timestamp_us = 2_000_000;
+    batch.period_ns = 125_000; // 8 kHz: rows 125 µs apart
+    batch.temperature = 30.0;
+    for i in 0..4 {
+        batch.push([i as f32, 0.0, 9.8], [0.0, 0.0, 0.01 * i as f32]);
+    }
+    let mut wire = [0u8; MAX_WIRE_LEN];
+    let n = batch.to_packet().unwrap().to_wire(&mut wire);
+    let mut bytes = vec![0u8];
+    bytes.extend_from_slice(&wire[..n]);
+    bytes.extend(encoded(&frame(4, 2_000_500)));
+    let out = run(&["-"], Some(&bytes));
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let rows = rows(&text(&out.stdout));
+    assert_eq!(rows.len(), 5);
+    let times: Vec<&str> = rows.iter().map(|r| r.1.as_str()).collect();
+    assert_eq!(
+        times,
+        ["2.000000", "2.000125", "2.000250", "2.000375", "2.000500"]
+    );
+    for (i, r) in rows.iter().take(4).enumerate() {
+        assert_eq!(r.0, 3, "the rows of a batch share its sequence number");
+        let (a, g) = batch.sample_si(i).unwrap();
+        assert_eq!([r.2[0], r.2[2], r.2[5], r.2[6]], [a[0], a[2], g[2], 30.0]);
+    }
+    assert_eq!(
+        summary_value(&text(&out.stderr), "sequence gaps"),
+        "0 (0 frames lost)"
+    );
+}

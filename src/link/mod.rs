@@ -8,6 +8,7 @@
 //! [`Decoder`](crate::stream::Decoder) finds them in a byte stream. The
 //! device side (the command handler) is [`crate::device::commands`].
 
+pub mod batch_frame;
 mod byte_enum;
 pub mod bytes;
 pub mod command;
@@ -18,6 +19,7 @@ pub mod raw_frame;
 pub mod reply;
 pub mod self_test;
 
+pub use batch_frame::{BatchFrame, MAX_BATCH};
 pub use command::{Command, CommandError, CommandPacket, Mode, CHUNK_LEN};
 pub use device_info::{CalibrationSource, Counters, DeviceInfo, Load, StoredState, Text};
 pub use packet::{Packet, PacketBuf, PacketType, MAX_PACKET_LEN, MAX_WIRE_LEN};

@@ -7,6 +7,7 @@
 //! speaking version 2 streams corrected samples exactly as before, so a
 //! version-1 decoder still reads them (and rejects the new types).
 
+use super::batch_frame::BatchFrame;
 use super::byte_enum::byte_enum;
 use super::command::CommandPacket;
 use super::raw_frame::RawFrame;
@@ -42,6 +43,8 @@ byte_enum! {
         Raw = 0x02 => "raw frame",
         /// Device → host: the answer to one command.
         Reply = 0x03 => "reply",
+        /// Device → host: W corrected samples in fixed point.
+        Batch = 0x04 => "batch frame",
         /// Host → device: one command.
         Command = 0x10 => "command",
     }
@@ -56,6 +59,8 @@ pub enum Packet {
     Raw(RawFrame),
     /// A reply to a command.
     Reply(Reply),
+    /// W corrected samples.
+    Batch(BatchFrame),
     /// A command (what the device decodes).
     Command(CommandPacket),
 }
@@ -80,6 +85,7 @@ impl Packet {
                 match PacketType::from_byte(*kind) {
                     Some(PacketType::Raw) => RawFrame::parse(body).map(Packet::Raw),
                     Some(PacketType::Reply) => Reply::parse(body).map(Packet::Reply),
+                    Some(PacketType::Batch) => BatchFrame::parse(body).map(Packet::Batch),
                     Some(PacketType::Command) => CommandPacket::parse(body).map(Packet::Command),
                     None => Err(DecodeError::Type { kind: *kind }),
                 }
@@ -110,6 +116,9 @@ fn plausible_length(bytes: &[u8]) -> bool {
             len >= HEADER_LEN + super::reply::REPLY_HEADER_LEN + CRC_LEN
         }
         (Some(&VERSION), Some(PacketType::Command)) => len >= HEADER_LEN + 3 + CRC_LEN,
+        (Some(&VERSION), Some(PacketType::Batch)) => {
+            len >= HEADER_LEN + super::batch_frame::BATCH_HEADER_LEN + CRC_LEN
+        }
         _ => len == FRAME_LEN || checked_body(bytes).is_ok(),
     }
 }

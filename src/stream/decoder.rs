@@ -16,6 +16,10 @@ pub struct DecoderStats {
     pub frames: u64,
     /// Raw frames decoded (protocol version 2, raw mode).
     pub raw_frames: u64,
+    /// Batch frames decoded (protocol version 2), and the samples in them.
+    pub batch_frames: u64,
+    /// Samples the batch frames carried.
+    pub batch_samples: u64,
     /// Replies and commands decoded (protocol version 2).
     pub messages: u64,
     /// Bytes on the wire of the good packets of every kind, delimiters
@@ -88,6 +92,8 @@ impl Decoder {
                 bytes: 0,
                 frames: 0,
                 raw_frames: 0,
+                batch_frames: 0,
+                batch_samples: 0,
                 messages: 0,
                 packet_bytes: 0,
                 crc_errors: 0,
@@ -212,6 +218,11 @@ impl Decoder {
             Packet::Raw(raw) => {
                 s.raw_frames = s.raw_frames.saturating_add(1);
                 (raw.sequence, raw.overruns, raw.dropped)
+            }
+            Packet::Batch(batch) => {
+                s.batch_frames = s.batch_frames.saturating_add(1);
+                s.batch_samples = s.batch_samples.saturating_add(u64::from(batch.count));
+                (batch.sequence, batch.overruns, batch.dropped)
             }
             Packet::Reply(_) | Packet::Command(_) => {
                 s.messages = s.messages.saturating_add(1);

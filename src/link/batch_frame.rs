@@ -1,0 +1,191 @@
+//! Device → host: W corrected samples in one packet (type `0x04`), so the
+//! link carries every sample at the chip's full rate: one header per batch
+//! and each 6-axis sample in 12 bytes of fixed point.
+//!
+//! Body (little-endian): `sequence u32 | timestamp_us u32` (the first
+//! sample's) `| period_ns u32` (between samples: sample i is at timestamp +
+//! i·period) `| flags u16 | overruns u16 | dropped u16 | calibration_id u32
+//! | accel_lsb f32 | gyro_lsb f32` (m/s² and rad/s per count of the fixed
+//! point) `| temperature f32` (°C, the batch's mean) `| count u8 | count × (6 ×
+//! i16)` (accel x y z, gyro x y z). At most [`MAX_BATCH`] samples: 233 bytes
+//! with the header and CRC, 235 on the wire, 14.7 bytes per sample.
+//!
+//! The fixed point: each corrected value is rounded to the nearest count of
+//! its triad's `lsb` (the device uses twice the chip's own LSB, so the
+//! counts span twice the chip's range), an error of at most lsb/2 (one of
+//! the chip's LSBs); a value beyond ±32767 counts is clipped to it, and the
+//! batch's clip flag for that triad is set. Sequence numbers count packets,
+//! one numbering with data and raw frames.
+
+use super::bytes::{Reader, Writer};
+use super::packet::{PacketBuf, PacketType, TooLong};
+use crate::stream::{DecodeError, Flags};
+
+/// Most samples in one batch packet.
+pub const MAX_BATCH: usize = 16;
+
+/// Bytes of the body before the samples.
+pub const BATCH_HEADER_LEN: usize = 35;
+
+/// Bytes per sample.
+pub const BATCH_SAMPLE_LEN: usize = 12;
+
+/// W corrected samples.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BatchFrame {
+    /// Packet number, one numbering with data and raw frames.
+    pub sequence: u32,
+    /// The first sample's time, µs since start, wrapping.
+    pub timestamp_us: u32,
+    /// Time between samples, ns.
+    pub period_ns: u32,
+    /// Status bits for the batch (a clip flag: some sample of it).
+    pub flags: Flags,
+    /// Lost sample steps since the previous packet.
+    pub overruns: u16,
+    /// Packets dropped by the firmware since the previous one.
+    pub dropped: u16,
+    /// The calibration applied.
+    pub calibration_id: u32,
+    /// m/s² per accelerometer count.
+    pub accel_lsb: f32,
+    /// rad/s per gyroscope count.
+    pub gyro_lsb: f32,
+    /// Mean temperature of the batch, °C.
+    pub temperature: f32,
+    /// Samples in use.
+    pub count: u8,
+    /// The samples' counts: accel x y z, gyro x y z.
+    pub samples: [[i16; 6]; MAX_BATCH],
+}
+
+/// A value in counts of `lsb`, rounded, clipped to ±32767; and whether it
+/// was clipped.
+pub fn to_counts(value: f32, lsb: f32) -> (i16, bool) {
+    let c = libm::roundf(value / lsb);
+    if c.is_nan() {
+        return (0, true);
+    }
+    if c > 32767.0 {
+        (32767, true)
+    } else if c < -32767.0 {
+        (-32767, true)
+    } else {
+        (c as i16, false)
+    }
+}
+
+impl BatchFrame {
+    /// An empty batch.
+    pub const fn new(accel_lsb: f32, gyro_lsb: f32) -> Self {
+        Self {
+            sequence: 0,
+            timestamp_us: 0,
+            period_ns: 0,
+            flags: Flags::empty(),
+            overruns: 0,
+            dropped: 0,
+            calibration_id: 0,
+            accel_lsb,
+            gyro_lsb,
+            temperature: 0.0,
+            count: 0,
+            samples: [[0; 6]; MAX_BATCH],
+        }
+    }
+
+    /// Adds a corrected sample in fixed point; false when the batch is full.
+    /// Clipping sets the triad's clip flag.
+    pub fn push(&mut self, accel: [f32; 3], gyro: [f32; 3]) -> bool {
+        let Some(slot) = self.samples.get_mut(usize::from(self.count)) else {
+            return false;
+        };
+        for k in 0..3 {
+            let (a, a_clip) = to_counts(accel[k], self.accel_lsb);
+            let (g, g_clip) = to_counts(gyro[k], self.gyro_lsb);
+            slot[k] = a;
+            slot[3 + k] = g;
+            if a_clip {
+                self.flags.insert(Flags::ACCEL_CLIPPED);
+            }
+            if g_clip {
+                self.flags.insert(Flags::GYRO_CLIPPED);
+            }
+        }
+        self.count += 1;
+        true
+    }
+
+    /// The samples in use.
+    pub fn samples(&self) -> &[[i16; 6]] {
+        &self.samples[..usize::from(self.count)]
+    }
+
+    /// Sample `i` in SI units (m/s², rad/s), computed in f32 as
+    /// docs/PROTOCOL.md says, so every decoder gets the same bits.
+    pub fn sample_si(&self, i: usize) -> Option<([f32; 3], [f32; 3])> {
+        let s = self.samples().get(i)?;
+        Some((
+            [0, 1, 2].map(|k| f32::from(s[k]) * self.accel_lsb),
+            [3, 4, 5].map(|k| f32::from(s[k]) * self.gyro_lsb),
+        ))
+    }
+
+    /// Reads a batch body (after version and type, before the CRC).
+    pub fn parse(body: &[u8]) -> Result<BatchFrame, DecodeError> {
+        let bad = DecodeError::Body {
+            kind: PacketType::Batch as u8,
+            len: body.len(),
+        };
+        let mut r = Reader::new(body);
+        let mut b = BatchFrame::new(0.0, 0.0);
+        b.sequence = r.u32();
+        b.timestamp_us = r.u32();
+        b.period_ns = r.u32();
+        b.flags = Flags::from_bits_retain(r.u16());
+        b.overruns = r.u16();
+        b.dropped = r.u16();
+        b.calibration_id = r.u32();
+        b.accel_lsb = r.f32();
+        b.gyro_lsb = r.f32();
+        b.temperature = r.f32();
+        b.count = r.u8();
+        let n = usize::from(b.count);
+        if r.ran_short() || n > MAX_BATCH || r.remaining() != n * BATCH_SAMPLE_LEN {
+            return Err(bad);
+        }
+        for slot in b.samples.iter_mut().take(n) {
+            for v in slot.iter_mut() {
+                *v = r.u16() as i16;
+            }
+        }
+        Ok(b)
+    }
+
+    /// The batch as a sealed packet.
+    pub fn to_packet(&self) -> Result<PacketBuf, TooLong> {
+        let mut body = [0u8; BATCH_HEADER_LEN + MAX_BATCH * BATCH_SAMPLE_LEN];
+        let mut w = Writer::new(&mut body);
+        w.u32(self.sequence)
+            .u32(self.timestamp_us)
+            .u32(self.period_ns)
+            .u16(self.flags.bits())
+            .u16(self.overruns)
+            .u16(self.dropped)
+            .u32(self.calibration_id)
+            .f32(self.accel_lsb)
+            .f32(self.gyro_lsb)
+            .f32(self.temperature)
+            .u8(self.count);
+        for s in self.samples() {
+            for v in s {
+                w.u16(*v as u16);
+            }
+        }
+        if w.overflowed() {
+            return Err(TooLong);
+        }
+        let n = w.len();
+        PacketBuf::new(PacketType::Batch, &body[..n])
+    }
+}

@@ -1,0 +1,100 @@
+//! The batched data frame (protocol v2, type 0x04): W corrected samples in
+//! fixed point, within half a count of each value, clipped and flagged
+//! beyond the range, at most 25 bytes per sample on the wire, and decoded
+//! back through the stream decoder.
+
+use triad::link::batch_frame::{to_counts, BatchFrame, MAX_BATCH};
+use triad::link::{Packet, MAX_WIRE_LEN};
+use triad::stream::{Decoder, Flags};
+
+/// Twice the LSB of a ±16 g, ±2000 °/s 16-bit chip: what the device uses.
+const ACCEL_LSB: f32 = 2.0 * 16.0 * 9.80665 / 32768.0;
+const GYRO_LSB: f32 = 2.0 * 2000.0 * (core::f32::consts::PI / 180.0) / 32768.0;
+
+fn sample(i: usize) -> ([f32; 3], [f32; 3]) {
+    let x = i as f32;
+    (
+        [0.1 * x - 0.7, 9.80665 - 0.013 * x, -3.3 + 0.21 * x],
+        [0.001 * x, -0.25 + 0.0173 * x, 1.5 - 0.1 * x],
+    )
+}
+
+#[test]
+fn a_full_batch_fits_the_budget_and_reads_back_within_half_a_count() {
+    let mut batch = BatchFrame::new(ACCEL_LSB, GYRO_LSB);
+    batch.sequence = 7;
+    batch.timestamp_us = 1_000_000;
+    batch.period_ns = 125_000; // 8 kHz
+    batch.calibration_id = 0xCAFE;
+    batch.temperature = 31.5;
+    for i in 0..MAX_BATCH {
+        let (a, g) = sample(i);
+        assert!(batch.push(a, g));
+    }
+    assert!(
+        !batch.push([0.0; 3], [0.0; 3]),
+        "a full batch takes no more"
+    );
+    assert_eq!(batch.flags, Flags::empty());
+    let packet = batch.to_packet().unwrap();
+    let mut wire = [0u8; MAX_WIRE_LEN];
+    let n = packet.to_wire(&mut wire);
+    // The budget: at most 25 bytes per 6-axis sample on the wire.
+    let per_sample = n as f64 / MAX_BATCH as f64;
+    assert!(per_sample <= 25.0, "{per_sample} bytes per sample");
+    assert_eq!(n, 235);
+    let mut decoder = Decoder::new();
+    let mut bytes = vec![0u8];
+    bytes.extend_from_slice(&wire[..n]);
+    let decoded: Vec<_> = decoder.feed_packets(&bytes).collect();
+    let [Ok(Packet::Batch(back))] = decoded.as_slice() else {
+        panic!("{decoded:?}");
+    };
+    assert_eq!(*back, batch);
+    assert_eq!(decoder.stats().batch_samples, MAX_BATCH as u64);
+    for i in 0..MAX_BATCH {
+        let (a, g) = sample(i);
+        let (ra, rg) = back.sample_si(i).unwrap();
+        for k in 0..3 {
+            // Half a count, plus the f32 rounding of count × lsb.
+            assert!(
+                (ra[k] - a[k]).abs() <= 0.5 * ACCEL_LSB * (1.0 + 1e-6),
+                "{i} {k}"
+            );
+            assert!(
+                (rg[k] - g[k]).abs() <= 0.5 * GYRO_LSB * (1.0 + 1e-6),
+                "{i} {k}"
+            );
+        }
+    }
+}
+
+#[test]
+fn values_beyond_the_range_are_clipped_and_flagged_per_triad() {
+    assert_eq!(to_counts(1e9, 1.0), (32767, true));
+    assert_eq!(to_counts(-1e9, 1.0), (-32767, true));
+    assert_eq!(to_counts(f32::NAN, 1.0), (0, true));
+    assert_eq!(to_counts(2.5, 1.0), (3, false));
+    let mut batch = BatchFrame::new(ACCEL_LSB, GYRO_LSB);
+    batch.push([0.0; 3], [1e6, 0.0, 0.0]);
+    assert_eq!(batch.flags, Flags::GYRO_CLIPPED);
+    batch.push([-1e6, 0.0, 0.0], [0.0; 3]);
+    assert_eq!(batch.flags, Flags::GYRO_CLIPPED | Flags::ACCEL_CLIPPED);
+}
+
+#[test]
+fn a_batch_whose_count_disagrees_with_its_length_is_malformed() {
+    let mut batch = BatchFrame::new(ACCEL_LSB, GYRO_LSB);
+    batch.push([1.0; 3], [0.5; 3]);
+    let good = batch.to_packet().unwrap();
+    let mut bytes = good.as_bytes().to_vec();
+    // Claim two samples while carrying one, CRC recomputed.
+    bytes[2 + 34] = 2;
+    let crc_at = bytes.len() - 4;
+    let crc = triad::crc32c::crc32c(&bytes[..crc_at]);
+    bytes[crc_at..].copy_from_slice(&crc.to_le_bytes());
+    assert!(matches!(
+        Packet::parse(&bytes),
+        Err(triad::stream::DecodeError::Body { kind: 0x04, .. })
+    ));
+}
