@@ -39,6 +39,7 @@
 //! the variance they share.
 
 use super::error::{FitError, MIN_ACCEL_ORIENTATIONS};
+use super::levenberg_marquardt::{self, Problem};
 use super::qr::GivensLs;
 use super::small3::{spread, Mat3};
 use triad::model::matrix;
@@ -222,7 +223,8 @@ pub fn fit(means: &[[f64; 3]], g: f64) -> Result<AccelFit, FitError> {
     let start: Params = [
         t0[0][0], t0[0][1], t0[0][2], t0[1][1], t0[1][2], t0[2][2], b0[0], b0[1], b0[2],
     ];
-    let (p, iterations) = levenberg_marquardt(start, means, g)?;
+    let (p, iterations) =
+        levenberg_marquardt::minimise(&Magnitudes { means, g }, start, MAX_ITERATIONS)?;
 
     // The undamped QR at the solution: conditioning and covariance.
     let mut ls = GivensLs::<9>::new();
@@ -304,55 +306,20 @@ fn sigma_of_inverse(m: &Mat3, c: &[[f64; 9]; 9]) -> Mat3 {
     out
 }
 
-/// Levenberg–Marquardt from `p`; returns the solution and the iterations run.
-fn levenberg_marquardt(
-    mut p: Params,
-    means: &[[f64; 3]],
+/// The magnitudes' least-squares problem for [`levenberg_marquardt::minimise`].
+struct Magnitudes<'a> {
+    means: &'a [[f64; 3]],
     g: f64,
-) -> Result<(Params, u32), FitError> {
-    let mut lambda = 1e-3;
-    let mut current = cost(&p, means, g);
-    for iteration in 1..=MAX_ITERATIONS {
-        let mut column_sq = [0.0; 9];
-        let mut ls = GivensLs::<9>::new();
-        for m in means {
-            let (r, grad) = residual_and_gradient(&p, m, g);
-            for (c, x) in column_sq.iter_mut().zip(grad) {
-                *c += x * x;
-            }
-            ls.add_row(grad, -r);
-        }
-        for (k, c) in column_sq.iter().enumerate() {
-            let mut row = [0.0; 9];
-            row[k] = libm::sqrt(lambda * c);
-            ls.add_row(row, 0.0);
-        }
-        let step = ls.solve()?;
-        let mut trial = p;
-        for (x, d) in trial.iter_mut().zip(step) {
-            *x += d;
-        }
-        let trial_cost = cost(&trial, means, g);
-        let small = step
-            .iter()
-            .zip(p.iter())
-            .all(|(d, x)| d.abs() <= 1e-13 * x.abs().max(1.0));
-        if trial_cost <= current {
-            p = trial;
-            current = trial_cost;
-            lambda = (lambda / 10.0).max(1e-15);
-            if small {
-                return Ok((p, iteration));
-            }
-        } else {
-            lambda *= 10.0;
-            // No step, however short, lowers the cost: a minimum to rounding.
-            if lambda > 1e10 || small {
-                return Ok((p, iteration));
-            }
+}
+
+impl Problem<9> for Magnitudes<'_> {
+    fn cost(&self, p: &Params) -> f64 {
+        cost(p, self.means, self.g)
+    }
+    fn rows(&self, p: &Params, row: &mut dyn FnMut([f64; 9], f64)) {
+        for m in self.means {
+            let (r, grad) = residual_and_gradient(p, m, self.g);
+            row(grad, r);
         }
     }
-    Err(FitError::NoConvergence {
-        iterations: MAX_ITERATIONS,
-    })
 }

@@ -105,6 +105,72 @@ pub enum FitError {
         /// Iterations run.
         iterations: u32,
     },
+    /// The record's times and samples differ in number, or a pose's samples
+    /// are not within the record, after the previous pose's.
+    PosesOutOfRecord {
+        /// The pose (0-based).
+        pose: usize,
+        /// Samples in the record.
+        samples: usize,
+    },
+    /// The gyro's full scale given is not a positive finite rate.
+    InvalidFullScale {
+        /// The value, rad/s.
+        value: f64,
+    },
+    /// A gyro sample is near the gyro's range: the turn may have clipped.
+    GyroNearRange {
+        /// The sample (0-based).
+        sample: usize,
+        /// Its largest |axis|, rad/s.
+        rate: f64,
+        /// The gyro's full scale, rad/s.
+        full_scale: f64,
+        /// The accepted fraction of the full scale.
+        fraction: f64,
+    },
+    /// The record turns too far between two samples for the integration.
+    TooFastForRate {
+        /// The sample (0-based) where the turn is fastest.
+        sample: usize,
+        /// The rotation between it and the next sample, degrees.
+        rotation_deg: f64,
+        /// The largest accepted, degrees.
+        limit_deg: f64,
+        /// The record's sample rate, Hz.
+        rate_hz: f64,
+    },
+    /// The gyro's mean over a static pose strays from the other poses' mean
+    /// rate: the unit turned during the pose (about the vertical, which the
+    /// accelerometer does not see).
+    PoseNotStatic {
+        /// The pose (0-based).
+        pose: usize,
+        /// The worst axis's distance from the other poses' mean, rad/s.
+        rate: f64,
+        /// The largest accepted, rad/s.
+        limit: f64,
+    },
+    /// Fewer turns between consecutive poses than the gyro fit needs.
+    TooFewRotations {
+        /// Consecutive pose pairs (poses − 1).
+        rotations: usize,
+        /// Those that turn by at least the smallest counted angle.
+        turns: usize,
+        /// The minimum.
+        needed: usize,
+    },
+    /// The turns' axes lie near one plane or one axis: some column of the
+    /// gyro's (I+Σ) is not determined.
+    RotationAxesDegenerate {
+        /// Turns whose axes were measured.
+        turns: usize,
+        /// The smallest and the middle eigenvalue of the axes' scatter
+        /// (mean of a·aᵀ, trace 1; 1/3 each for axes spread evenly).
+        spread: [f64; 2],
+        /// The smallest accepted eigenvalue.
+        needed: f64,
+    },
     /// A static-segment buffer is too small for the segments found.
     TooManySegments {
         /// The buffer's capacity.
@@ -193,6 +259,56 @@ impl fmt::Display for FitError {
             }
             FitError::NoConvergence { iterations } => {
                 write!(f, "the fit did not converge in {iterations} iterations")
+            }
+            FitError::PosesOutOfRecord { pose, samples } => write!(
+                f,
+                "pose {}: its samples are not within the record's {samples} (or not after the previous pose's)",
+                pose + 1
+            ),
+            FitError::InvalidFullScale { value } => {
+                write!(f, "gyro full scale {value} rad/s: must be a positive finite rate")
+            }
+            FitError::GyroNearRange { sample, rate, full_scale, fraction } => write!(
+                f,
+                "sample {}: the gyro reads {:.1} °/s, beyond {:.0} % of its full scale {:.0} °/s, so the turn may \
+                 have clipped: turn more slowly (or set a wider gyro range)",
+                sample + 1,
+                rate.to_degrees(),
+                100.0 * fraction,
+                full_scale.to_degrees()
+            ),
+            FitError::TooFastForRate { sample, rotation_deg, limit_deg, rate_hz } => write!(
+                f,
+                "sample {}: the unit turns {rotation_deg:.2}° between two samples (limit {limit_deg}° at \
+                 {rate_hz:.1} Hz, i.e. {:.0} °/s): turn more slowly or record at a higher rate",
+                sample + 1,
+                limit_deg * rate_hz
+            ),
+            FitError::PoseNotStatic { pose, rate, limit } => write!(
+                f,
+                "pose {}: the gyro's mean differs from the other poses' by {:.4} °/s (limit {:.4} °/s): \
+                 the unit turned during that pose (about the vertical, which the accelerometer does not see); \
+                 hold it still at each pose",
+                pose + 1,
+                rate.to_degrees(),
+                limit.to_degrees()
+            ),
+            FitError::TooFewRotations { rotations, turns, needed } => write!(
+                f,
+                "{turns} of the {rotations} moves between consecutive poses turn by ≥ {} degrees; the gyro fit \
+                 (9 entries of I+Σ, 2 equations per turn: the gravity direction at the next pose) needs at least \
+                 {needed}: add poses, turning the unit between each",
+                super::rig_free::MIN_TURN_DEG
+            ),
+            FitError::RotationAxesDegenerate { turns, spread, needed } => {
+                let what = if spread[1] < needed { "all about one axis" } else { "all about axes in one plane" };
+                write!(
+                    f,
+                    "the {turns} turns are {what} (eigenvalues {:.4}, {:.4} of the axes' scatter, need ≥ {needed}): \
+                 the gyro's response to rates about the missing axis is not determined; turn the unit about \
+                 other axes too (tip it over its edges and spin it flat, not always the same way)",
+                    spread[0], spread[1]
+                )
             }
             FitError::TooManySegments { capacity } => {
                 write!(f, "more than {capacity} static segments")

@@ -9,6 +9,11 @@
 //!   tumble), where gravity's direction is known: full (I+Σ), linear.
 //! - [`gyro_fit`]: the gyroscope from rate-table segments with known rates,
 //!   ω̂ = (I+Σ)ω + b, by linear least squares.
+//! - [`rig_free`]: the gyroscope from one hand-rotated record (turns
+//!   between static poses integrated and matched to the accelerometer's
+//!   gravity directions); [`hand_record`] makes such records with known truth.
+//! - [`levenberg_marquardt`]: the nonlinear fits' minimiser; [`quaternion`]:
+//!   attitude integration.
 //! - [`qr`]: the least-squares solver both use (Givens QR, fixed size);
 //!   [`small3`]: 3×3 helpers.
 //!
@@ -19,7 +24,11 @@ pub mod accel_fit;
 pub mod ellipsoid;
 pub mod error;
 pub mod gyro_fit;
+pub mod hand_record;
+pub mod levenberg_marquardt;
 pub mod qr;
+pub mod quaternion;
+pub mod rig_free;
 pub mod small3;
 pub mod static_segments;
 

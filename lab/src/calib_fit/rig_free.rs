@@ -1,0 +1,574 @@
+//! Rig-free gyroscope calibration from one hand-rotated record (the method
+//! of Tedaldi, Pretto & Menegatti, "A robust and easy to implement method
+//! for IMU calibration without external equipments", ICRA 2014): the unit
+//! rests in a pose, is turned by hand, rests again, and so on.
+//!
+//! 1. The accelerometer is fitted first ([`super::accel_fit`]) from the
+//!    poses' static means; its corrected frame is the frame of the result.
+//! 2. The gyro bias is the mean of the poses' gyro means. Its σ is the
+//!    scatter of those means over √(poses), with poses − 1 degrees of
+//!    freedom: drift of the bias from pose to pose (correlated noise) is in
+//!    it, not only white noise. A pose whose gyro mean strays from the
+//!    others' is refused (the unit turned about the vertical during it).
+//! 3. The gyro's (I+Σ), all nine entries: for each move from pose j to pose
+//!    j+1 the corrected rate ω = (I+Σ)⁻¹(ω̂ − b) is integrated from the last
+//!    sample of pose j to the first of pose j+1 (RK4 on the quaternion at
+//!    the record's own rate, [`quaternion::rk4_step`]), which predicts where
+//!    pose j's gravity direction u_j lies at pose j+1; the residual is the
+//!    predicted minus the measured direction u_{j+1}, its two components
+//!    across u_{j+1} (along u_{j+1} it is second order). Levenberg–Marquardt
+//!    ([`levenberg_marquardt`]) from (I+Σ) = I over all moves, with a
+//!    central-difference Jacobian; covariance s²·(JᵀJ)⁻¹ with
+//!    2·moves − 9 degrees of freedom.
+//!
+//! The gravity directions come from the fitted accelerometer, whose error
+//! (common to all poses) is not in the gyro's σ's; nor is the bias's (its
+//! effect, σ_b × the duration of a turn, is small beside the noise
+//! integrated over the turn). No allocation: the caller owns the record.
+
+use super::accel_fit::{self, AccelFit};
+use super::error::FitError;
+use super::levenberg_marquardt::{self, Problem};
+use super::qr::GivensLs;
+use super::quaternion::{self, Quat};
+use super::small3::{symmetric_eigenvalues, Mat3};
+use super::static_segments::Segment;
+use triad::model::matrix;
+
+/// The fewest turns the gyro fit accepts: 9 unknowns, 2 equations per turn,
+/// so 5 turns leave one degree of freedom.
+pub const MIN_ROTATIONS: usize = 5;
+
+/// A move between poses counts as a turn when it turns by at least this
+/// (degrees): smaller ones carry little about (I+Σ) and their axis is noise.
+pub const MIN_TURN_DEG: f64 = 10.0;
+
+/// The smallest accepted eigenvalue of the scatter of the turns' unit axes
+/// (mean of a·aᵀ, trace 1): 0.05 ≈ RMS 13° of the axes out of their best
+/// plane. Axes spread evenly give 1/3 each.
+pub const MIN_AXIS_SPREAD: f64 = 0.05;
+
+/// The gyro may read at most this fraction of its full scale: nearer, a
+/// turn's peak may have clipped (the sample and its neighbours lose rate
+/// the integration cannot recover).
+pub const MAX_RANGE_FRACTION: f64 = 0.9;
+
+/// The largest rotation between two samples, degrees. The integrator takes
+/// the rate as linear between samples; on smooth synthetic turns at this
+/// limit its error is 2e-10 rad (the test `integration_error_at_the_rate_limit`),
+/// so the limit guards real turns, whose rate need not be smooth within a
+/// sample (hand jerks, the sensor's output filter): at 3° per sample a rate
+/// change of 10 % within one sample already moves the turn by 0.3°·0.1/2 ≈
+/// 3e-4 rad, above the noise a MEMS gyro integrates over a turn (~1e-4 rad).
+pub const MAX_ROTATION_PER_SAMPLE_DEG: f64 = 3.0;
+
+/// A pose's gyro mean may stray from the other poses' by this many of its
+/// standard errors (white noise: exceeded with probability ~1e-8 per axis)…
+pub const STILL_SIGMAS: f64 = 6.0;
+
+/// …or by this floor (rad/s, 0.1 °/s), whichever is larger: above how far
+/// the bias of a MEMS gyro wanders between poses a few seconds apart; a
+/// turn about the vertical of 1° over a 10 s pose already exceeds it.
+pub const STILL_FLOOR: f64 = 0.1 * core::f64::consts::PI / 180.0;
+
+/// The largest accepted condition number of the column-scaled Jacobian
+/// (see [`super::accel_fit::MAX_CONDITION`]).
+pub const MAX_CONDITION: f64 = 1.0e4;
+
+/// Iteration limit of Levenberg–Marquardt.
+pub const MAX_ITERATIONS: u32 = 100;
+
+/// Step of the central differences on the entries of (I+Σ) (≈ 1): the
+/// truncation error ∝ h² and the rounding error ∝ ε/h balance near 1e-5..1e-6.
+const DERIVATIVE_STEP: f64 = 1.0e-6;
+
+/// The record: sample times (s) and gyro samples (rad/s).
+#[derive(Clone, Copy, Debug)]
+pub struct Record<'a> {
+    /// Times, s, increasing.
+    pub t: &'a [f64],
+    /// Gyro samples, rad/s.
+    pub gyro: &'a [[f64; 3]],
+}
+
+/// The result of [`fit`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RigFreeGyroFit {
+    /// The gyro's (I+Σ) in the accelerometer's corrected frame.
+    pub scale_misalignment: Mat3,
+    /// b, rad/s.
+    pub bias: [f64; 3],
+    /// σ of (I+Σ); `None` with no degree of freedom.
+    pub sigma_scale_misalignment: Option<Mat3>,
+    /// σ of b, rad/s (scatter of the pose means).
+    pub sigma_bias: Option<[f64; 3]>,
+    /// Poses (static segments).
+    pub segments: usize,
+    /// Moves between consecutive poses (poses − 1), all fitted.
+    pub rotations: usize,
+    /// Those that turn by ≥ [`MIN_TURN_DEG`].
+    pub turns: usize,
+    /// Degrees of freedom of the (I+Σ) σ's: the smallest of
+    /// [`Self::dof_entries`], rounded down.
+    pub dof: usize,
+    /// Effective degrees of freedom of each entry's σ (Welch–Satterthwaite
+    /// of the gyro's own 2·rotations − 9 and the accelerometer fit's).
+    pub dof_entries: Option<Mat3>,
+    /// Degrees of freedom of the gyro's own residuals: 2·rotations − 9.
+    pub gyro_dof: usize,
+    /// Degrees of freedom of the bias σ's: poses − 1.
+    pub bias_dof: usize,
+    /// RMS of the direction residuals, rad.
+    pub residual_rms: f64,
+    /// Largest |direction residual component|, rad.
+    pub residual_max: f64,
+    /// Condition number of the column-scaled Jacobian at the solution.
+    pub condition: f64,
+    /// Levenberg–Marquardt iterations.
+    pub iterations: u32,
+    /// The smallest and middle eigenvalues of the turns' axis scatter.
+    pub axis_spread: [f64; 2],
+    /// The largest rotation between two samples, degrees.
+    pub max_rotation_per_sample_deg: f64,
+    /// The largest |gyro axis| in the record, rad/s.
+    pub peak_rate: f64,
+}
+
+/// The unit gravity direction of a pose in the accelerometer's corrected
+/// frame, for accelerometer parameters `a` ([`accel_fit::Params`]).
+fn up(a: &accel_fit::Params, mean: &[f64; 3]) -> [f64; 3] {
+    let v = [0, 1, 2].map(|i| mean[i] - a[6 + i]);
+    unit(matrix::mul_vec(&accel_fit::t_of(a), &v))
+}
+
+fn unit(v: [f64; 3]) -> [f64; 3] {
+    let n = libm::sqrt(dot(&v, &v));
+    v.map(|x| x / n)
+}
+
+fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// Two unit vectors across `u` (fixed by `u` alone, not by the parameters).
+fn across(u: &[f64; 3]) -> [[f64; 3]; 2] {
+    let k = (0..3)
+        .min_by(|&a, &b| u[a].abs().total_cmp(&u[b].abs()))
+        .unwrap_or(0);
+    let mut e = [0.0; 3];
+    e[k] = 1.0;
+    let e1 = unit(cross(u, &e));
+    [e1, cross(u, &e1)]
+}
+
+/// The turn from the last sample of `from` to the first of `to`, integrating
+/// (I+Σ)⁻¹(ω̂ − b) = `k`·(ω̂ − b).
+fn integrate(record: &Record, from: &Segment, to: &Segment, k: &Mat3, bias: &[f64; 3]) -> Quat {
+    let rate = |i: usize| {
+        let w = record.gyro[i];
+        matrix::mul_vec(k, &[w[0] - bias[0], w[1] - bias[1], w[2] - bias[2]])
+    };
+    let mut q = quaternion::IDENTITY;
+    let mut w0 = rate(from.end - 1);
+    for i in from.end - 1..to.start {
+        let w1 = rate(i + 1);
+        q = quaternion::rk4_step(&q, &w0, &w1, record.t[i + 1] - record.t[i]);
+        w0 = w1;
+    }
+    q
+}
+
+fn matrix_of(p: &[f64; 9]) -> Mat3 {
+    [[p[0], p[1], p[2]], [p[3], p[4], p[5]], [p[6], p[7], p[8]]]
+}
+
+/// The moves' direction residuals as a least-squares problem in the nine
+/// entries of (I+Σ), row by row.
+struct Moves<'a> {
+    record: Record<'a>,
+    poses: &'a [Segment],
+    accel_means: &'a [[f64; 3]],
+    accel: &'a AccelFit,
+    bias: [f64; 3],
+}
+
+impl Moves<'_> {
+    /// The two residuals of move `j` (pose j to j+1) at (I+Σ) = `p`; NaN
+    /// when (I+Σ) is singular.
+    fn residuals(&self, j: usize, p: &[f64; 9]) -> [f64; 2] {
+        self.residuals_with(j, p, &self.accel.params)
+    }
+
+    /// [`Self::residuals`] with the accelerometer's parameters `a`.
+    fn residuals_with(&self, j: usize, p: &[f64; 9], a: &accel_fit::Params) -> [f64; 2] {
+        let Some(k) = matrix::inverse(&matrix_of(p)) else {
+            return [f64::NAN; 2];
+        };
+        let q = integrate(
+            &self.record,
+            &self.poses[j],
+            &self.poses[j + 1],
+            &k,
+            &self.bias,
+        );
+        let before = up(a, &self.accel_means[j]);
+        let after = up(a, &self.accel_means[j + 1]);
+        let predicted = quaternion::rotate_inverse(&q, &before);
+        let d = [0, 1, 2].map(|i| predicted[i] - after[i]);
+        across(&after).map(|e| dot(&d, &e))
+    }
+
+    /// ∂(residuals of move j)/∂x by central differences, x the gyro's
+    /// parameters (`gyro` true) or the accelerometer's.
+    fn jacobian(&self, j: usize, p: &[f64; 9], gyro: bool) -> [[f64; 9]; 2] {
+        let mut out = [[0.0; 9]; 2];
+        let a = self.accel.params;
+        for k in 0..9 {
+            let shifted = |h: f64| {
+                let (mut pg, mut pa) = (*p, a);
+                if gyro {
+                    pg[k] += h;
+                } else {
+                    pa[k] += h;
+                }
+                self.residuals_with(j, &pg, &pa)
+            };
+            let (rp, rm) = (shifted(DERIVATIVE_STEP), shifted(-DERIVATIVE_STEP));
+            for c in 0..2 {
+                out[c][k] = (rp[c] - rm[c]) / (2.0 * DERIVATIVE_STEP);
+            }
+        }
+        out
+    }
+
+    fn moves(&self) -> usize {
+        self.poses.len() - 1
+    }
+}
+
+impl Problem<9> for Moves<'_> {
+    fn cost(&self, p: &[f64; 9]) -> f64 {
+        let c: f64 = (0..self.moves())
+            .flat_map(|j| self.residuals(j, p))
+            .map(|r| r * r)
+            .sum();
+        if c.is_nan() {
+            f64::INFINITY
+        } else {
+            c
+        }
+    }
+
+    fn rows(&self, p: &[f64; 9], row: &mut dyn FnMut([f64; 9], f64)) {
+        for j in 0..self.moves() {
+            let r = self.residuals(j, p);
+            let grads = self.jacobian(j, p, true);
+            row(grads[0], r[0]);
+            row(grads[1], r[1]);
+        }
+    }
+}
+
+/// Checks the poses lie in the record, in order, each with ≥ 2 samples.
+fn check_poses(
+    record: &Record,
+    poses: &[Segment],
+    accel_means: &[[f64; 3]],
+) -> Result<(), FitError> {
+    let samples = record.gyro.len();
+    if record.t.len() != samples {
+        return Err(FitError::PosesOutOfRecord { pose: 0, samples });
+    }
+    if accel_means.len() != poses.len() {
+        let pose = accel_means.len().min(poses.len());
+        return Err(FitError::PosesOutOfRecord { pose, samples });
+    }
+    let mut previous_end = 0;
+    for (pose, s) in poses.iter().enumerate() {
+        if s.start < previous_end || s.end < s.start + 2 || s.end > samples {
+            return Err(FitError::PosesOutOfRecord { pose, samples });
+        }
+        previous_end = s.end;
+    }
+    if let Some((sample, value)) = record
+        .gyro
+        .iter()
+        .flatten()
+        .chain(record.t.iter())
+        .enumerate()
+        .find(|(_, x)| !x.is_finite())
+    {
+        return Err(FitError::NonFinite {
+            segment: sample / 3,
+            value: *value,
+        });
+    }
+    Ok(())
+}
+
+/// The largest |axis| of the record, and the sample; refused near the range.
+fn check_range(record: &Record, full_scale: f64) -> Result<f64, FitError> {
+    if !(full_scale > 0.0 && full_scale.is_finite()) {
+        return Err(FitError::InvalidFullScale { value: full_scale });
+    }
+    let (sample, peak) = record
+        .gyro
+        .iter()
+        .map(|w| w.iter().fold(0.0f64, |a, x| a.max(x.abs())))
+        .enumerate()
+        .fold(
+            (0, 0.0f64),
+            |best, (i, x)| if x > best.1 { (i, x) } else { best },
+        );
+    if peak > MAX_RANGE_FRACTION * full_scale {
+        return Err(FitError::GyroNearRange {
+            sample,
+            rate: peak,
+            full_scale,
+            fraction: MAX_RANGE_FRACTION,
+        });
+    }
+    Ok(peak)
+}
+
+/// Mean and standard error (s/√n) of each axis of `samples` (n ≥ 2).
+fn mean_and_error(samples: &[[f64; 3]]) -> ([f64; 3], [f64; 3]) {
+    let mean = super::static_segments::mean(samples);
+    let sd = super::static_segments::standard_deviation(samples);
+    (mean, sd.map(|s| s / libm::sqrt(samples.len() as f64)))
+}
+
+/// The bias (mean of the poses' gyro means) and its σ, after checking each
+/// pose against the mean of the others.
+fn bias_of_poses(
+    record: &Record,
+    poses: &[Segment],
+) -> Result<([f64; 3], Option<[f64; 3]>), FitError> {
+    let n = poses.len() as f64;
+    let mut sum = [0.0; 3];
+    for s in poses {
+        let (m, _) = mean_and_error(&record.gyro[s.start..s.end]);
+        for i in 0..3 {
+            sum[i] += m[i];
+        }
+    }
+    let mut sum_sq = [0.0; 3];
+    let bias = sum.map(|x| x / n);
+    for (pose, s) in poses.iter().enumerate() {
+        let (m, se) = mean_and_error(&record.gyro[s.start..s.end]);
+        for i in 0..3 {
+            sum_sq[i] += (m[i] - bias[i]) * (m[i] - bias[i]);
+            if poses.len() < 2 {
+                continue;
+            }
+            let others = (sum[i] - m[i]) / (n - 1.0);
+            let limit = (STILL_SIGMAS * se[i]).max(STILL_FLOOR);
+            let rate = (m[i] - others).abs();
+            if rate > limit {
+                return Err(FitError::PoseNotStatic { pose, rate, limit });
+            }
+        }
+    }
+    let sigma = (poses.len() >= 2).then(|| sum_sq.map(|s| libm::sqrt(s / (n - 1.0) / n)));
+    Ok((bias, sigma))
+}
+
+/// The largest rotation between two samples of the moves (rad), and where.
+fn fastest_step(record: &Record, poses: &[Segment], bias: &[f64; 3]) -> (usize, f64) {
+    let mut worst = (0, 0.0f64);
+    for pair in poses.windows(2) {
+        for i in pair[0].end - 1..pair[1].start {
+            let w = record.gyro[i];
+            let d = [w[0] - bias[0], w[1] - bias[1], w[2] - bias[2]];
+            let angle = libm::sqrt(dot(&d, &d)) * (record.t[i + 1] - record.t[i]);
+            if angle > worst.1 {
+                worst = (i, angle);
+            }
+        }
+    }
+    worst
+}
+
+/// The turns (moves of ≥ [`MIN_TURN_DEG`] with (I+Σ) = I) and the smallest
+/// and middle eigenvalues of their axes' scatter.
+fn axis_spread(record: &Record, poses: &[Segment], bias: &[f64; 3]) -> (usize, [f64; 2]) {
+    let mut scatter = [[0.0; 3]; 3];
+    let mut turns = 0;
+    for pair in poses.windows(2) {
+        let q = integrate(record, &pair[0], &pair[1], &matrix::IDENTITY, bias);
+        let phi = quaternion::to_rotation_vector(&q);
+        let angle = libm::sqrt(dot(&phi, &phi));
+        if angle < MIN_TURN_DEG.to_radians() {
+            continue;
+        }
+        turns += 1;
+        let a = phi.map(|x| x / angle);
+        for (i, row) in scatter.iter_mut().enumerate() {
+            for (j, s) in row.iter_mut().enumerate() {
+                *s += a[i] * a[j];
+            }
+        }
+    }
+    if turns == 0 {
+        return (0, [0.0; 2]);
+    }
+    let e = symmetric_eigenvalues(&scatter.map(|row| row.map(|x| x / turns as f64)));
+    (turns, [e[0], e[1]])
+}
+
+/// The variance each entry of (I+Σ) inherits from the accelerometer fit
+/// (`accel_cov`, its parameters' covariance): the solution moves by
+/// dp = G·da with G = −(J_gᵀJ_g)⁻¹·J_gᵀ·J_a (implicit function theorem at
+/// the minimum; `inv` = (J_gᵀJ_g)⁻¹), so its covariance is G·C_a·Gᵀ.
+fn carried_variance(
+    problem: &Moves,
+    p: &[f64; 9],
+    inv: &[[f64; 9]; 9],
+    accel_cov: &[[f64; 9]; 9],
+) -> [f64; 9] {
+    let mut jtj_a = [[0.0; 9]; 9];
+    for j in 0..problem.moves() {
+        let jg = problem.jacobian(j, p, true);
+        let ja = problem.jacobian(j, p, false);
+        for c in 0..2 {
+            for (row, g) in jtj_a.iter_mut().zip(jg[c]) {
+                for (x, a) in row.iter_mut().zip(ja[c]) {
+                    *x += g * a;
+                }
+            }
+        }
+    }
+    let g: [[f64; 9]; 9] = core::array::from_fn(|i| {
+        core::array::from_fn(|k| -(0..9).map(|m| inv[i][m] * jtj_a[m][k]).sum::<f64>())
+    });
+    core::array::from_fn(|i| {
+        (0..9)
+            .flat_map(|k| (0..9).map(move |l| (k, l)))
+            .map(|(k, l)| g[i][k] * accel_cov[k][l] * g[i][l])
+            .sum::<f64>()
+            .max(0.0)
+    })
+}
+
+/// Fits the gyro's (I+Σ) and b to `record` given its static `poses` (in
+/// order), the accelerometer means of those poses and the accelerometer fit
+/// made from them; `full_scale` is the gyro's range, rad/s.
+pub fn fit(
+    record: Record,
+    poses: &[Segment],
+    accel_means: &[[f64; 3]],
+    accel: &AccelFit,
+    full_scale: f64,
+) -> Result<RigFreeGyroFit, FitError> {
+    check_poses(&record, poses, accel_means)?;
+    let peak_rate = check_range(&record, full_scale)?;
+    let rotations = poses.len().saturating_sub(1);
+    if rotations < MIN_ROTATIONS {
+        return Err(FitError::TooFewRotations {
+            rotations,
+            turns: rotations,
+            needed: MIN_ROTATIONS,
+        });
+    }
+    let (bias, sigma_bias) = bias_of_poses(&record, poses)?;
+    let (sample, step) = fastest_step(&record, poses, &bias);
+    let limit = MAX_ROTATION_PER_SAMPLE_DEG.to_radians();
+    if step > limit {
+        return Err(FitError::TooFastForRate {
+            sample,
+            rotation_deg: step.to_degrees(),
+            limit_deg: MAX_ROTATION_PER_SAMPLE_DEG,
+            rate_hz: 1.0 / (record.t[sample + 1] - record.t[sample]),
+        });
+    }
+    let (turns, spread) = axis_spread(&record, poses, &bias);
+    if turns < MIN_ROTATIONS {
+        return Err(FitError::TooFewRotations {
+            rotations,
+            turns,
+            needed: MIN_ROTATIONS,
+        });
+    }
+    if spread[0].is_nan() || spread[0] < MIN_AXIS_SPREAD {
+        return Err(FitError::RotationAxesDegenerate {
+            turns,
+            spread,
+            needed: MIN_AXIS_SPREAD,
+        });
+    }
+    let problem = Moves {
+        record,
+        poses,
+        accel_means,
+        accel,
+        bias,
+    };
+    let start = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
+    let (p, iterations) = levenberg_marquardt::minimise(&problem, start, MAX_ITERATIONS)?;
+    let mut ls = GivensLs::<9>::new();
+    let mut sum_sq = 0.0;
+    let mut worst = 0.0f64;
+    problem.rows(&p, &mut |grad, r| {
+        ls.add_row(grad, -r);
+        sum_sq += r * r;
+        worst = worst.max(r.abs());
+    });
+    let condition = ls.scaled_condition();
+    if condition.is_nan() || condition > MAX_CONDITION {
+        return Err(FitError::IllConditioned {
+            condition,
+            limit: MAX_CONDITION,
+        });
+    }
+    let residuals = 2 * rotations;
+    let gyro_dof = residuals - 9;
+    let (sigma_scale_misalignment, dof_entries) = match (gyro_dof, accel.covariance) {
+        (1.., Some(accel_cov)) => {
+            let inv = ls.inverse_normal_matrix()?;
+            let s2 = sum_sq / gyro_dof as f64;
+            let own: [f64; 9] = core::array::from_fn(|k| s2 * inv[k][k]);
+            let carried = carried_variance(&problem, &p, &inv, &accel_cov);
+            let var: [f64; 9] = core::array::from_fn(|k| own[k] + carried[k]);
+            // Welch–Satterthwaite: the degrees of freedom of a sum of two
+            // variance estimates with ν_g and ν_a.
+            let dof: [f64; 9] = core::array::from_fn(|k| {
+                var[k] * var[k]
+                    / (own[k] * own[k] / gyro_dof as f64
+                        + carried[k] * carried[k] / accel.dof as f64)
+            });
+            (Some(matrix_of(&var.map(libm::sqrt))), Some(matrix_of(&dof)))
+        }
+        _ => (None, None),
+    };
+    let dof = dof_entries.map_or(0, |d| {
+        d.iter().flatten().fold(f64::INFINITY, |a, &x| a.min(x)) as usize
+    });
+    Ok(RigFreeGyroFit {
+        scale_misalignment: matrix_of(&p),
+        bias,
+        sigma_scale_misalignment,
+        sigma_bias,
+        segments: poses.len(),
+        rotations,
+        turns,
+        dof,
+        dof_entries,
+        gyro_dof,
+        bias_dof: poses.len() - 1,
+        residual_rms: libm::sqrt(sum_sq / residuals as f64),
+        residual_max: worst,
+        condition,
+        iterations,
+        axis_spread: spread,
+        max_rotation_per_sample_deg: step.to_degrees(),
+        peak_rate,
+    })
+}
