@@ -23,7 +23,7 @@ use std::process::ExitCode;
 
 use triad::model::{Calibration, Orientation, Triad, TriadCalibration};
 
-use super::{fit_accel, fit_gyro, Ranges};
+use super::{fit_accel, fit_gyro, fit_imu, Ranges};
 use crate::calib_file;
 use crate::distinct::{self, named, Named};
 use crate::input;
@@ -43,6 +43,10 @@ enum FitCommand {
     Accel(fit_accel::AccelArgs),
     /// Gyroscope (I+Σ) and b from rate-table runs, or its bias from a static record.
     Gyro(fit_gyro::GyroArgs),
+    /// Both triads from one record turned by hand between static poses, no rig:
+    /// the accelerometer from the poses, the gyroscope by integrating it
+    /// between them (Tedaldi, Pretto and Menegatti, ICRA 2014).
+    Imu(fit_imu::ImuArgs),
 }
 
 /// Where the result goes and what it starts from.
@@ -86,6 +90,7 @@ pub fn run(args: FitArgs) -> anyhow::Result<ExitCode> {
     match args.command {
         FitCommand::Accel(a) => fit_accel::run(a),
         FitCommand::Gyro(g) => fit_gyro::run(g),
+        FitCommand::Imu(i) => fit_imu::run(i),
     }
 }
 
@@ -131,6 +136,21 @@ pub struct Base {
 }
 
 impl Base {
+    /// The base with `triad` already fitted as `fitted` and its statistics
+    /// `fit_table` (a fit of both triads writes the second through
+    /// [`write_calibration`] on this).
+    pub fn with_fitted(
+        mut self,
+        triad: Triad,
+        fitted: TriadCalibration,
+        fit_table: toml::Table,
+    ) -> Base {
+        self.calibration = with_triad(self.calibration, triad, fitted);
+        self.fit_meta
+            .insert(triad.name().into(), toml::Value::Table(fit_table));
+        self
+    }
+
     /// The calibration read from `path` (`--base`), or the identity.
     fn of(path: Option<&Path>) -> anyhow::Result<Base> {
         let Some(path) = path else {

@@ -7,6 +7,7 @@ pub mod fit;
 pub mod fit_accel;
 pub mod fit_csv;
 pub mod fit_gyro;
+pub mod fit_imu;
 pub mod report;
 pub mod segments;
 pub mod stillness;

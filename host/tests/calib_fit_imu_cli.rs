@@ -1,0 +1,180 @@
+//! `triad calib fit imu`: a unit turned by hand, no rig. The gyro's (I+Σ)
+//! and b come back within their σ's of the truth, the file holds both
+//! triads and their statistics, and degenerate records are refused with
+//! what to do.
+
+mod common;
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use common::{dir, s, text, triad};
+use triad_lab::calib_fit::hand_record::{self, Axes, Script, TriadTruth, Unit};
+use triad_sim::rng::Rng;
+
+/// The unit: the accelerometer's (I+Σ) upper triangular (the fit's
+/// convention, so its corrected axes are the sensor's and the gyro's truth
+/// compares entry by entry); the gyro's full, with 2 % scale errors.
+fn unit() -> Unit {
+    Unit {
+        accel: TriadTruth {
+            scale_misalignment: [[1.01, 0.004, -0.003], [0.0, 0.99, 0.002], [0.0, 0.0, 1.015]],
+            bias: [0.1, -0.15, 0.05],
+            noise: 0.01,
+        },
+        gyro: TriadTruth {
+            scale_misalignment: [
+                [1.02, 0.006, -0.004],
+                [-0.003, 0.98, 0.005],
+                [0.002, -0.006, 1.01],
+            ],
+            bias: [0.01, -0.02, 0.015],
+            noise: 1e-3,
+        },
+        gravity: 9.80665,
+    }
+}
+
+fn script(poses: usize, axes: Axes) -> Script {
+    Script {
+        rate_hz: 100.0,
+        poses,
+        static_s: 4.0,
+        turn_s: 1.5,
+        angle_deg: (60.0, 150.0),
+        axes,
+        drift: None,
+    }
+}
+
+/// Writes the record of `script` as `triad sim` would (t, accel, gyro, SI).
+fn record(d: &Path, name: &str, script: &Script, seed: u64) -> PathBuf {
+    let mut rng = Rng::from_seed(seed);
+    let mut csv = String::from("t,ax,ay,az,gx,gy,gz\n");
+    hand_record::generate(script, &unit(), &mut || rng.uniform(), |s| {
+        let [ax, ay, az] = s.accel;
+        let [gx, gy, gz] = s.gyro;
+        writeln!(csv, "{},{ax},{ay},{az},{gx},{gy},{gz}", s.t).unwrap();
+    });
+    let path = d.join(format!("{name}.csv"));
+    std::fs::write(&path, csv).unwrap();
+    path
+}
+
+/// A 3×3 array of the file's table at `path` (e.g. gyro.scale_misalignment).
+fn matrix(table: &toml::Table, section: &str, key: &str) -> [[f64; 3]; 3] {
+    let rows = table[section][key].as_array().unwrap();
+    std::array::from_fn(|i| {
+        let row = rows[i].as_array().unwrap();
+        std::array::from_fn(|j| row[j].as_float().unwrap())
+    })
+}
+
+#[test]
+fn a_hand_turned_unit_gives_its_gyro_within_its_sigmas() {
+    let d = dir("imu");
+    let input = record(&d, "hand", &script(16, Axes::Any), 11);
+    let cal = d.join("cal.toml");
+    let o = triad(&[
+        "calib",
+        "fit",
+        "imu",
+        "--positions",
+        s(&input),
+        "--out",
+        s(&cal),
+    ]);
+    let report = text(&o.stdout);
+    assert!(o.status.success(), "{report}{}", text(&o.stderr));
+    assert!(report.contains("16 static poses"), "{report}");
+    assert!(report.contains("15 moves"), "{report}");
+    let file: toml::Table = std::fs::read_to_string(&cal).unwrap().parse().unwrap();
+    let fit = file["fit"].as_table().unwrap();
+    assert!(
+        fit.contains_key("accel") && fit.contains_key("gyro"),
+        "{fit:?}"
+    );
+    let dof = fit["gyro"]["degrees_of_freedom"].as_integer().unwrap();
+    assert!(dof > 0);
+    let m = matrix(&file, "gyro", "scale_misalignment");
+    let sigma = matrix(fit, "gyro", "sigma_scale_misalignment");
+    let truth = unit().gyro.scale_misalignment;
+    for i in 0..3 {
+        for j in 0..3 {
+            let z = (m[i][j] - truth[i][j]) / sigma[i][j];
+            // 4σ: 9 entries with a few degrees of freedom (Student-t tails);
+            // the coverage over 60 seeds is the lab's test.
+            assert!(
+                z.abs() < 4.0,
+                "({i},{j}): {} vs {} (σ {}), z {z}",
+                m[i][j],
+                truth[i][j],
+                sigma[i][j]
+            );
+            assert!(sigma[i][j] > 0.0 && sigma[i][j] < 5e-3, "σ {}", sigma[i][j]);
+        }
+    }
+    let b = file["gyro"]["bias"].as_array().unwrap();
+    for (k, truth) in unit().gyro.bias.iter().enumerate() {
+        assert!((b[k].as_float().unwrap() - truth).abs() < 2e-3, "bias {k}");
+    }
+}
+
+#[test]
+fn degenerate_records_are_refused_with_what_to_do() {
+    let d = dir("imu-refusals");
+    let out = d.join("cal.toml");
+    // Too few poses for the accelerometer.
+    let few = record(&d, "few", &script(6, Axes::Any), 3);
+    let o = triad(&[
+        "calib",
+        "fit",
+        "imu",
+        "--positions",
+        s(&few),
+        "--out",
+        s(&out),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let e = text(&o.stderr);
+    assert!(
+        e.contains("accelerometer:") && e.contains("turn the board to more orientations"),
+        "{e}"
+    );
+    // Every turn about one axis: gravity stays in one plane of the sensor,
+    // which the accelerometer fit refuses first.
+    let one_axis = record(&d, "one-axis", &script(16, Axes::One([0.0, 0.0, 1.0])), 4);
+    let o = fit_imu(&one_axis, &out);
+    assert_eq!(o.status.code(), Some(1));
+    let e = text(&o.stderr);
+    assert!(
+        e.contains("gravity directions in one plane") && e.contains("tilt the sensor"),
+        "{e}"
+    );
+    // A pose that is not static (a slow turn about the vertical, which the
+    // accelerometer cannot see): the gyroscope's fit refuses it.
+    let mut drifting = script(16, Axes::Any);
+    drifting.drift = Some((5, 0.02));
+    let drift = record(&d, "drift", &drifting, 5);
+    let o = fit_imu(&drift, &out);
+    assert_eq!(o.status.code(), Some(1));
+    let e = text(&o.stderr);
+    assert!(
+        e.contains("gyroscope: pose 6") && e.contains("hold it still at each pose"),
+        "{e}"
+    );
+    assert!(!out.exists(), "nothing written");
+}
+
+/// `triad calib fit imu --positions input --out out`.
+fn fit_imu(input: &Path, out: &Path) -> std::process::Output {
+    triad(&[
+        "calib",
+        "fit",
+        "imu",
+        "--positions",
+        s(input),
+        "--out",
+        s(out),
+    ])
+}
