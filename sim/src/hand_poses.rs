@@ -13,7 +13,7 @@ pub const MIN_HAND_POSES: u8 = 12;
 
 /// The angle, radians, the body's gravity direction is kept from every
 /// earlier pose's (20°): 24 caps of that radius cover about 70 % of the
-/// sphere, so a new direction is found within [`TRIES`] draws.
+/// sphere, so a new direction is found within a few dozen draws.
 pub const MIN_SEPARATION: f64 = 20.0 * core::f64::consts::PI / 180.0;
 
 /// Draws per pose; when none is [`MIN_SEPARATION`] away, the farthest is kept.
