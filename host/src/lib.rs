@@ -40,6 +40,7 @@ pub mod shipped;
 pub mod sim;
 pub mod stdio;
 pub mod stream_csv;
+pub mod truth_calibration;
 pub mod units;
 pub mod version;
 

@@ -1,6 +1,7 @@
 //! What the `triad` binary carries, so that an installed or copied binary
-//! needs no source checkout: the shipped scenes (every `scenes/*.toml`,
-//! embedded by `build.rs`) and the default calibration
+//! needs no source checkout: the shipped scenes, scripts and units (every
+//! `scenes/*.toml`, `scenes/scripts/*.toml`, `scenes/units/*.toml`, embedded
+//! by `build.rs`) and the default calibration
 //! (`calibrations/default.toml`); and the one rule by which a command-line
 //! argument names a file or one of these.
 //!
@@ -100,12 +101,22 @@ fn description(text: &str) -> String {
 pub fn listing() -> String {
     let width = SCENES
         .iter()
+        .chain(SCRIPTS)
+        .chain(UNITS)
         .chain(CALIBRATIONS)
         .map(|(n, _)| n.len())
         .max()
         .unwrap_or(0);
     let mut out = String::from("Scenes (triad sim --scene NAME, cargo xtask run --scene NAME):\n");
     for (name, text) in SCENES {
+        out.push_str(&format!("  {name:width$}  {}\n", description(text)));
+    }
+    out.push_str("Scripts (triad sim --unit UNIT --script NAME --record-seed K):\n");
+    for (name, text) in SCRIPTS {
+        out.push_str(&format!("  {name:width$}  {}\n", description(text)));
+    }
+    out.push_str("Units (triad sim --unit NAME --script SCRIPT --record-seed K):\n");
+    for (name, text) in UNITS {
         out.push_str(&format!("  {name:width$}  {}\n", description(text)));
     }
     let names = |names: Vec<&str>| names.join(", ");
@@ -134,10 +145,11 @@ pub fn listing() -> String {
 mod tests {
     use super::*;
 
-    /// The table build.rs writes is the scenes/ directory, every file of it.
-    #[test]
-    fn every_scene_file_is_shipped_with_its_text() {
-        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
+    /// The `*.toml` files of `scenes/` + `sub`: (name, text), sorted.
+    fn on_disk(sub: &str) -> Vec<(String, String)> {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../scenes")
+            .join(sub);
         let mut on_disk: Vec<(String, String)> = std::fs::read_dir(&dir)
             .unwrap()
             .map(|e| e.unwrap().path())
@@ -148,12 +160,25 @@ mod tests {
             })
             .collect();
         on_disk.sort();
-        let shipped: Vec<(String, String)> = SCENES
-            .iter()
-            .map(|(n, t)| (n.to_string(), t.to_string()))
-            .collect();
-        assert_eq!(shipped, on_disk);
+        on_disk
+    }
+
+    /// The tables build.rs writes are the scenes/, scenes/scripts/ and
+    /// scenes/units/ directories, every file of them.
+    #[test]
+    fn every_scene_script_and_unit_file_is_shipped_with_its_text() {
+        let owned = |table: &[(&str, &str)]| -> Vec<(String, String)> {
+            table
+                .iter()
+                .map(|(n, t)| (n.to_string(), t.to_string()))
+                .collect()
+        };
+        assert_eq!(owned(SCENES), on_disk(""));
+        assert_eq!(owned(SCRIPTS), on_disk("scripts"));
+        assert_eq!(owned(UNITS), on_disk("units"));
         assert!(SCENES.iter().any(|(n, _)| *n == "static-bench"));
+        assert!(SCRIPTS.iter().any(|(n, _)| *n == "hand-rotations"));
+        assert!(UNITS.iter().any(|(n, _)| *n == "tactical-mems"));
     }
 
     #[test]
@@ -201,7 +226,12 @@ mod tests {
     #[test]
     fn the_listing_names_every_scene_preset_and_calibration() {
         let list = listing();
-        for (name, text) in SCENES.iter().chain(CALIBRATIONS) {
+        for (name, text) in SCENES
+            .iter()
+            .chain(SCRIPTS)
+            .chain(UNITS)
+            .chain(CALIBRATIONS)
+        {
             assert!(list.contains(&format!("  {name} ")), "{name} in\n{list}");
             let d = description(text);
             assert!(list.contains(&d), "{d:?} in\n{list}");

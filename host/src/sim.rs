@@ -1,6 +1,13 @@
-//! `triad sim`: simulate what a sensor triad measures in a scene and write it
-//! as CSV (`t,ax,ay,az,gx,gy,gz,temp`, SI units), streaming in constant
-//! memory; or (`--pack`) write the scene as the blob the emulated board embeds.
+//! `triad sim`: simulate what a sensor triad measures in a scene, or what a
+//! unit measures in a script, and write it as CSV (`t,ax,ay,az,gx,gy,gz,temp`,
+//! SI units), streaming in constant memory; or (`--pack`) write the scene as
+//! the blob the emulated board embeds.
+//!
+//! A scene is a new sensor on every run (its turn-on errors drawn from
+//! `--seed`, as is its noise). A unit (`--unit`) is one sensor: its turn-on
+//! errors come from its file's `seed`, and each record of it
+//! (`--script`, `--record-seed K`) has fresh noise, from K and the unit's
+//! seed; `--truth-calib` writes what a perfect calibration of it would hold.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -16,8 +23,11 @@ use crate::interrupt;
 use crate::number::{positive, readable, RATE_WORDS};
 use crate::outfile::{self, OutFile};
 use crate::progress::{Progress, Unit};
-use crate::scene_file::{self, LoadedScene};
+use crate::scene_file::sensor_unit::{self, LoadedUnit};
+use crate::scene_file::{self, script, LoadedScene};
 use crate::stdio::note;
+use crate::truth_calibration;
+use triad_sim::rng::mix64;
 
 /// Default of `--max-samples`: 10⁸ samples, some 15 GB of CSV (rows of
 /// about 150 bytes) and a few minutes of work; above it a run is refused
@@ -29,8 +39,24 @@ pub const DEFAULT_MAX_SAMPLES: u64 = 100_000_000;
 pub struct SimArgs {
     /// A shipped scene's name (built into triad; `--list` shows them) or a
     /// scene file. An existing file of that name wins.
-    #[arg(long, value_name = "NAME|FILE", required_unless_present = "list")]
+    #[arg(long, value_name = "NAME|FILE", conflicts_with_all = ["unit", "script"])]
     pub scene: Option<String>,
+    /// A shipped unit's name or a unit file: one sensor, its turn-on errors
+    /// drawn once from the file's `seed` (needs --script and --record-seed).
+    #[arg(long, value_name = "NAME|FILE")]
+    pub unit: Option<String>,
+    /// A shipped script's name or a script file: what happens to the --unit
+    /// (motion, temperature, rate, length).
+    #[arg(long, value_name = "NAME|FILE")]
+    pub script: Option<String>,
+    /// With --unit: the seed of this record's noise (each record of a unit
+    /// its own; the turn-on errors stay the unit's).
+    #[arg(long, value_name = "K", allow_negative_numbers = true)]
+    pub record_seed: Option<u64>,
+    /// With --unit: write the unit's true (I+Σ), b and temperature terms as
+    /// a calibration file (`triad correct --calib`, `triad calib verify`).
+    #[arg(long, value_name = "CAL.toml")]
+    pub truth_calib: Option<PathBuf>,
     /// List the shipped scenes, grade presets and calibrations, and exit.
     #[arg(long, exclusive = true)]
     pub list: bool,
@@ -40,11 +66,11 @@ pub struct SimArgs {
     /// Sample rate in Hz (default: the scene's `rate_hz`).
     #[arg(long, allow_negative_numbers = true)]
     pub rate: Option<f64>,
-    /// Seed of every random stream.
-    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
-    pub seed: u64,
+    /// With --scene: the seed of every random stream [default: 1].
+    #[arg(long, allow_negative_numbers = true)]
+    pub seed: Option<u64>,
     /// The measured samples (CSV; `-`: standard output).
-    #[arg(long, required_unless_present_any = ["pack", "list"])]
+    #[arg(long)]
     pub out: Option<PathBuf>,
     /// Instead of simulating: write the scene (with --rate and --seed) as
     /// the binary blob the emulated board embeds (`cargo xtask run --scene`).
@@ -71,36 +97,128 @@ pub fn write_row(w: &mut impl Write, t: f64, s: &TrueSample) -> std::io::Result<
 
 /// Runs `triad sim`.
 pub fn run(args: SimArgs) -> anyhow::Result<ExitCode> {
-    let Some(scene) = args.scene.as_deref().filter(|_| !args.list) else {
+    if args.list {
         let listing = crate::shipped::listing();
         crate::stdio::print(&listing)?;
         return Ok(ExitCode::SUCCESS);
-    };
-    let loaded = scene_file::load(scene)?;
+    }
+    let (loaded, seed, unit) = what_to_simulate(&args)?;
     let outputs: Vec<_> = [
         ("--out", &args.out),
         ("--truth", &args.truth),
         ("--pack", &args.pack),
+        ("--truth-calib", &args.truth_calib),
     ]
     .into_iter()
     .filter_map(|(what, p)| p.as_deref().map(|p| named(what, p)))
     .collect();
-    distinct::check(&[named("--scene", &loaded.path)], &outputs)?;
+    let mut inputs = vec![named(
+        if unit.is_some() {
+            "--script"
+        } else {
+            "--scene"
+        },
+        &loaded.path,
+    )];
+    if let Some(u) = &unit {
+        inputs.push(named("--unit", &u.path));
+    }
+    distinct::check(&inputs, &outputs)?;
     let mut scene = loaded.scene;
     if let Some(rate) = args.rate {
         scene.rate_hz = positive("--rate", rate, RATE_WORDS)?;
     }
     if let Some(path) = &args.pack {
-        return pack(&scene, args.seed, path, &loaded.path);
+        return pack(&scene, seed, path, &loaded.path);
     }
     let Some(out_path) = args.out.as_ref() else {
         bail!("--out FILE: where the samples go (or --pack FILE for the firmware's blob)");
     };
     let total = sample_count(args.seconds, &loaded, scene.rate_hz, args.max_samples)?;
     let sim =
-        Simulator::new(&scene, args.seed).map_err(|e| anyhow!("{}: {e}", loaded.path.display()))?;
+        Simulator::new(&scene, seed).map_err(|e| anyhow!("{}: {e}", loaded.path.display()))?;
+    let truth_calib = match (&unit, &args.truth_calib) {
+        (Some(u), Some(path)) => Some((path, truth_calibration::render(u)?)),
+        _ => None,
+    };
     simulate(sim, total, out_path, args.truth.as_deref())?;
+    if let Some((path, text)) = truth_calib {
+        outfile::write_whole(path, text.as_bytes())?;
+    }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The scene to simulate, the seed of its random streams, and the unit
+/// when it is a unit's record: `--scene` (and `--seed`), or `--unit`,
+/// `--script` and `--record-seed` (the unit's turn-on errors are fixed
+/// already; the streams' seed mixes K with the unit's seed, so that two
+/// units given the same K do not share their noise).
+fn what_to_simulate(args: &SimArgs) -> anyhow::Result<(LoadedScene, u64, Option<LoadedUnit>)> {
+    let unit_only = |given: bool, flag: &str, why: &str| -> anyhow::Result<()> {
+        if given && args.unit.is_none() {
+            bail!("{flag} is a unit's record's option: {why}; give --unit UNIT --script SCRIPT --record-seed K");
+        }
+        Ok(())
+    };
+    unit_only(
+        args.script.is_some(),
+        "--script",
+        "a script says what happens to a unit (--unit), which it does not name",
+    )?;
+    unit_only(
+        args.record_seed.is_some(),
+        "--record-seed",
+        "a scene's streams all come from --seed",
+    )?;
+    unit_only(
+        args.truth_calib.is_some(),
+        "--truth-calib",
+        "a scene draws its turn-on errors anew from each --seed, so it has no one true calibration",
+    )?;
+    let Some(unit_name) = &args.unit else {
+        let Some(scene) = &args.scene else {
+            bail!(
+                "give --scene NAME|FILE, or --unit UNIT --script SCRIPT --record-seed K \
+                 (`triad sim --list` names the shipped ones)"
+            );
+        };
+        return Ok((scene_file::load(scene)?, args.seed.unwrap_or(1), None));
+    };
+    if args.seed.is_some() {
+        bail!(
+            "--seed is a scene's; with --unit the unit file's `seed` fixes the turn-on errors \
+             and --record-seed K the record's noise"
+        );
+    }
+    let Some(script) = &args.script else {
+        bail!(
+            "--unit needs --script: the unit is the sensor, the script what happens to it \
+             (shipped scripts: {})",
+            shipped_names(crate::shipped::SCRIPTS)
+        );
+    };
+    let Some(k) = args.record_seed else {
+        bail!(
+            "--unit needs --record-seed K: the seed of this record's noise (give each record \
+             of a unit its own K, or their noise is the same)"
+        );
+    };
+    let unit = sensor_unit::load(unit_name)?;
+    let mut loaded = script::load(script)?;
+    loaded.scene.accel = unit.accel;
+    loaded.scene.gyro = unit.gyro;
+    let seed = record_stream_seed(unit.seed, k);
+    Ok((loaded, seed, Some(unit)))
+}
+
+/// The seed of a unit's record's streams: K mixed with the unit's seed.
+fn record_stream_seed(unit_seed: u64, k: u64) -> u64 {
+    mix64(mix64(unit_seed) ^ k)
+}
+
+/// The names of shipped files, comma-separated.
+fn shipped_names(table: &[(&str, &str)]) -> String {
+    table.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ")
 }
 
 /// Samples to write: `--seconds` (else the scene's `duration_s`) at

@@ -5,6 +5,7 @@
 //! rate is on, ω_ie = Ω·(0, cos φ, sin φ) at latitude φ. R maps body to level;
 //! body quantities are Rᵀ·(level quantities) plus the motion's own terms.
 
+use super::hand_poses::hand_poses;
 use super::rotation::{self, Mat3};
 use triad::units::{EARTH_RATE, STANDARD_GRAVITY};
 
@@ -99,7 +100,45 @@ pub enum Motion {
         /// Frequency, Hz.
         frequency: f64,
     },
+    /// A board turned by hand between `poses` static poses in random
+    /// orientations drawn from `seed` ([`super::hand_poses`]): at rest for
+    /// `dwell` seconds at each, then turned to the next about the axis of
+    /// the rotation between them in `turn` seconds, the rate rising and
+    /// falling smoothly (ω ∝ 1 − cos 2πu, zero at both ends); the last pose
+    /// turns back to the first and the cycle repeats.
+    Hand {
+        /// 12 ..= 24.
+        poses: u8,
+        /// The seed of the poses.
+        seed: u64,
+        /// Rest at each pose, seconds.
+        dwell: f64,
+        /// Turn between poses, seconds.
+        turn: f64,
+    },
+    /// A rate-table set: the body axes +x, −x, +y, −y, +z, −z up on the
+    /// table in turn, each at rest for `rest` seconds (remounted, table
+    /// still) and then turning at `rate` for `run` seconds; the six runs
+    /// repeat. Run k (0..6) turns from (rest + run)·k + rest seconds on.
+    RateTableSet {
+        /// Table rate, rad/s (positive counter-clockwise seen from above).
+        rate: f64,
+        /// Each run's turning time, seconds.
+        run: f64,
+        /// The rest before each run, seconds.
+        rest: f64,
+    },
 }
+
+/// The axes a [`Motion::RateTableSet`] puts up, in order.
+pub const RATE_TABLE_SET_AXES: [Axis; 6] = [
+    Axis::PlusX,
+    Axis::MinusX,
+    Axis::PlusY,
+    Axis::MinusY,
+    Axis::PlusZ,
+    Axis::MinusZ,
+];
 
 /// Specific force and angular rate in the body frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -212,14 +251,64 @@ impl Trajectory {
                 for i in 0..n {
                     t.positions[i] = tumble_position(i);
                 }
-                for i in 0..n {
-                    let relative =
-                        rotation::transpose_mul(&t.positions[i], &t.positions[(i + 1) % n]);
-                    t.turns[i] = rotation::log(&relative);
+                t.prepare_turns(n);
+            }
+            Motion::Hand { poses, seed, .. } => {
+                let n = (poses as usize).clamp(1, MAX_POSITIONS);
+                t.positions = hand_poses(seed, n);
+                t.prepare_turns(n);
+            }
+            Motion::RateTableSet { .. } => {
+                for (i, axis) in RATE_TABLE_SET_AXES.iter().enumerate() {
+                    let (a, s) = axis.index_sign();
+                    t.positions[i] = face_up(a, s, [1.0, 0.0, 0.0]);
                 }
             }
         }
         t
+    }
+
+    /// The axis and angle of the turn from each of the first `n` positions
+    /// to the next (the last to the first).
+    fn prepare_turns(&mut self, n: usize) {
+        for i in 0..n {
+            let relative =
+                rotation::transpose_mul(&self.positions[i], &self.positions[(i + 1) % n]);
+            self.turns[i] = rotation::log(&relative);
+        }
+    }
+
+    /// Positions with turns between them (tumble, hand): at rest for
+    /// `dwell`, then turning for `turn` seconds, the turned fraction of the
+    /// angle and its rate (per second, as a fraction of the angle) given by
+    /// `profile(u)` at u = elapsed / turn.
+    fn legs(
+        &self,
+        t: f64,
+        n: u8,
+        dwell: f64,
+        turn: f64,
+        profile: fn(f64) -> (f64, f64),
+    ) -> Kinematics {
+        let n = (n as usize).clamp(1, MAX_POSITIONS);
+        let leg = dwell + turn;
+        let cycle = leg * n as f64;
+        let tc = t - cycle * libm::floor(t / cycle);
+        let i = ((tc / leg) as usize).min(n - 1);
+        let s = tc - leg * i as f64;
+        if s < dwell || turn <= 0.0 {
+            return self.body(&self.positions[i]);
+        }
+        let (axis, angle) = self.turns[i];
+        let u = ((s - dwell) / turn).clamp(0.0, 1.0);
+        let (fraction, rate) = profile(u);
+        let r = rotation::mul(&self.positions[i], &rotation::exp(&axis, fraction * angle));
+        let mut k = self.body(&r);
+        let rate = rate * angle / turn;
+        for (w, a) in k.angular_rate.iter_mut().zip(axis) {
+            *w += rate * a;
+        }
+        k
     }
 
     /// Body kinematics of a sensor at rest at attitude `r`.
@@ -257,26 +346,42 @@ impl Trajectory {
                 positions,
                 dwell,
                 transition,
-            } => {
-                let n = (positions as usize).clamp(1, MAX_POSITIONS);
-                let leg = dwell + transition;
-                let cycle = leg * n as f64;
+            } => self.legs(t, positions, dwell, transition, constant_rate),
+            Motion::Hand {
+                poses, dwell, turn, ..
+            } => self.legs(t, poses, dwell, turn, smooth_rate),
+            Motion::RateTableSet { rate, run, rest } => {
+                let leg = rest + run;
+                let cycle = 6.0 * leg;
                 let tc = t - cycle * libm::floor(t / cycle);
-                let i = ((tc / leg) as usize).min(n - 1);
+                let i = ((tc / leg) as usize).min(5);
                 let s = tc - leg * i as f64;
-                if s < dwell || transition <= 0.0 {
+                if s < rest {
                     return self.body(&self.positions[i]);
                 }
-                let (axis, angle) = self.turns[i];
-                let u = ((s - dwell) / transition).clamp(0.0, 1.0);
-                let r = rotation::mul(&self.positions[i], &rotation::exp(&axis, u * angle));
+                let r = rotation::mul(&rotation::rot_z(rate * (s - rest)), &self.positions[i]);
                 let mut k = self.body(&r);
-                let rate = angle / transition;
-                for (w, a) in k.angular_rate.iter_mut().zip(axis) {
-                    *w += rate * a;
+                {
+                    let (a, s) = RATE_TABLE_SET_AXES[i].index_sign();
+                    k.angular_rate[a] += s * rate;
                 }
                 k
             }
         }
     }
+}
+
+/// A turn at constant rate: fraction u, rate 1.
+fn constant_rate(u: f64) -> (f64, f64) {
+    (u, 1.0)
+}
+
+/// A turn whose rate rises and falls smoothly, 1 − cos 2πu (zero rate and
+/// zero angular acceleration at both ends): fraction u − sin(2πu)/2π.
+fn smooth_rate(u: f64) -> (f64, f64) {
+    let a = 2.0 * core::f64::consts::PI * u;
+    (
+        u - libm::sin(a) / (2.0 * core::f64::consts::PI),
+        1.0 - libm::cos(a),
+    )
 }

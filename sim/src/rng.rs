@@ -54,6 +54,8 @@ pub enum EffectId {
     TurnOnScale = 6,
     /// A ring laser gyro's dither: its passages and its fringe offsets.
     RingLaser = 7,
+    /// Turn-on misalignment of a unit, drawn once.
+    TurnOnMisalignment = 8,
 }
 
 /// A xoshiro256++ generator.

@@ -5,10 +5,11 @@
 
 use super::bias_instability::{BiasInstabilityParams, MAX_TERMS};
 use super::fibre_optic::FibreOpticParams;
+use super::hand_poses::MIN_HAND_POSES;
 use super::motion::{Environment, Motion, MAX_POSITIONS};
 use super::ring_laser::RingLaserParams;
 use super::temperature_dependence::TemperatureDependence;
-use super::temperature_profile::TemperatureProfile;
+use super::temperature_profile::{TemperatureProfile, MAX_SOAK_LEVELS};
 
 /// Parameters of a first-order Gauss–Markov bias, per axis.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -166,6 +167,10 @@ pub enum SceneError {
     },
     /// A tumble with a position count other than 6, 12 or 24.
     BadPositions(u8),
+    /// A hand motion with fewer than 12 or more than 24 poses.
+    BadHandPoses(u8),
+    /// A soak profile with fewer than 2 or more than 4 levels.
+    BadSoakCount(u8),
     /// g-sensitivity given for the accelerometers.
     GSensitivityOnAccel,
     /// A zero vibration direction.
@@ -374,6 +379,20 @@ impl Scene {
                 non_negative(None, "vibration amplitude", amplitude)?;
                 non_negative(None, "vibration frequency", frequency)?;
             }
+            Motion::Hand {
+                poses, dwell, turn, ..
+            } => {
+                if !(MIN_HAND_POSES..=MAX_POSITIONS as u8).contains(&poses) {
+                    return Err(SceneError::BadHandPoses(poses));
+                }
+                positive(None, "hand dwell", dwell)?;
+                positive(None, "hand turn", turn)?;
+            }
+            Motion::RateTableSet { rate, run, rest } => {
+                finite(None, "table rate", rate)?;
+                positive(None, "rate-table run", run)?;
+                non_negative(None, "rate-table rest", rest)?;
+            }
         }
         match self.temperature {
             TemperatureProfile::Constant(c) => finite(None, "temperature", c)?,
@@ -387,6 +406,17 @@ impl Scene {
                 finite(None, "temperature to", to)?;
                 non_negative(None, "ramp start", start)?;
                 non_negative(None, "ramp duration", duration)?;
+            }
+            TemperatureProfile::Soak {
+                levels,
+                count,
+                hold,
+            } => {
+                if !(2..=MAX_SOAK_LEVELS as u8).contains(&count) {
+                    return Err(SceneError::BadSoakCount(count));
+                }
+                all(None, "soak level", &levels[..count as usize], finite)?;
+                positive(None, "soak hold", hold)?;
             }
         }
         self.accel.validate(Triad::Accel)?;
@@ -420,6 +450,13 @@ impl core::fmt::Display for SceneError {
                 "bias_instability band [{tau_min}, {tau_max}] s: the longest time is below the shortest"
             ),
             SceneError::BadPositions(n) => write!(f, "tumble positions = {n}: must be 6, 12 or 24"),
+            SceneError::BadHandPoses(n) => write!(
+                f,
+                "hand poses = {n}: must be {MIN_HAND_POSES}..={MAX_POSITIONS}"
+            ),
+            SceneError::BadSoakCount(n) => {
+                write!(f, "soak levels: {n} given, must be 2..={MAX_SOAK_LEVELS}")
+            }
             SceneError::GSensitivityOnAccel => {
                 write!(f, "g_sensitivity is a gyro effect; the accelerometers cannot have it")
             }

@@ -17,7 +17,21 @@ pub enum TemperatureProfile {
         /// Length of the ramp, seconds.
         duration: f64,
     },
+    /// Soaks: the first `count` of `levels` in turn, each held for `hold`
+    /// seconds (a chamber stepped between them; the settling between soaks
+    /// is not part of the record), the last held after.
+    Soak {
+        /// The soak temperatures, °C (the first `count` are used).
+        levels: [f64; MAX_SOAK_LEVELS],
+        /// How many levels: 2 ..= [`MAX_SOAK_LEVELS`].
+        count: u8,
+        /// Each soak's length, seconds.
+        hold: f64,
+    },
 }
+
+/// The most soak levels of [`TemperatureProfile::Soak`].
+pub const MAX_SOAK_LEVELS: usize = 4;
 
 impl TemperatureProfile {
     /// The temperature at time `t`, °C.
@@ -37,6 +51,19 @@ impl TemperatureProfile {
                 } else {
                     from + (to - from) * ((t - start) / duration)
                 }
+            }
+            TemperatureProfile::Soak {
+                levels,
+                count,
+                hold,
+            } => {
+                let last = (count as usize).clamp(1, MAX_SOAK_LEVELS) - 1;
+                let i = if hold > 0.0 && t > 0.0 {
+                    ((t / hold) as usize).min(last)
+                } else {
+                    0
+                };
+                levels[i]
             }
         }
     }

@@ -10,7 +10,7 @@ use triad::model::Triad;
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
 use triad_sim::motion::Environment;
 use triad_sim::scene::{Scene, TriadEffects};
-use triad_sim::temperature_profile::TemperatureProfile;
+use triad_sim::temperature_profile::{TemperatureProfile, MAX_SOAK_LEVELS};
 
 use super::field::field;
 use super::origin::{what, Key, Origins};
@@ -60,7 +60,7 @@ impl<'a> Builder<'a> {
             .transpose()
     }
 
-    fn triad_or_none(
+    pub(super) fn triad_or_none(
         &mut self,
         t: Option<&super::parse::TriadFile>,
         triad: Triad,
@@ -131,11 +131,40 @@ impl<'a> Builder<'a> {
                     what::RAMP_DURATION,
                 )?,
             }),
+            "soak" => self.soak(t),
             other => Err(self.src.error(
                 &t.kind.span(),
-                format!("unknown temperature kind \"{other}\" (expected constant or ramp)"),
+                format!("unknown temperature kind \"{other}\" (expected constant, ramp or soak)"),
             )),
         }
+    }
+
+    /// `soak`: `levels_c` (2 to 4 temperatures), each held `hold_s`.
+    fn soak(&mut self, t: &TemperatureFile) -> anyhow::Result<TemperatureProfile> {
+        let l = t.levels_c.as_ref().ok_or_else(|| {
+            self.src
+                .error(&t.kind.span(), "temperature kind \"soak\" needs `levels_c`")
+        })?;
+        let given = l.get_ref();
+        if !(2..=MAX_SOAK_LEVELS).contains(&given.len()) {
+            bail!(self.src.error(
+                &l.span(),
+                format!(
+                    "levels_c has {} temperatures: a soak has 2..={MAX_SOAK_LEVELS}",
+                    given.len()
+                )
+            ));
+        }
+        let mut levels = [0.0; MAX_SOAK_LEVELS];
+        levels[..given.len()].copy_from_slice(given);
+        let message = "`levels_c` must be finite temperatures".to_string();
+        self.origins
+            .fixed(Key::scene(what::SOAK_LEVEL), l.span(), given, message);
+        Ok(TemperatureProfile::Soak {
+            levels,
+            count: given.len() as u8,
+            hold: self.temperature_number(t, &t.hold_s, "hold_s", what::SOAK_HOLD)?,
+        })
     }
 
     /// A number the temperature's kind needs.

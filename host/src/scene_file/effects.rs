@@ -61,6 +61,13 @@ fn grade_names(triad: Triad) -> Vec<&'static str> {
 impl Builder<'_> {
     /// The effects of `[accel]` or `[gyro]`.
     pub(super) fn effects(&mut self, t: &TriadFile, triad: Triad) -> anyhow::Result<TriadEffects> {
+        if let Some(v) = &t.turn_on_misalignment {
+            return Err(self.src.error(
+                &v.span(),
+                "`turn_on_misalignment` is a unit file's key (drawn once from the unit's seed): \
+                 a scene draws no misalignment; give it in --unit UNIT.toml",
+            ));
+        }
         let mut e = self.grade(t, triad)?;
         self.noise(t, triad, &mut e)?;
         self.scale_misalignment(t, &mut e)?;

@@ -37,6 +37,8 @@ mod motion;
 mod optics;
 mod origin;
 mod parse;
+pub mod script;
+pub mod sensor_unit;
 pub mod unit;
 
 use std::path::{Path, PathBuf};
@@ -62,19 +64,35 @@ pub struct LoadedScene {
 pub fn parse(text: &str, path: &Path) -> anyhow::Result<LoadedScene> {
     let src = Source { path, text };
     let file = src.read()?;
+    built(src, &file)
+}
+
+/// The scene of `file`, read from `src`, with its default duration.
+fn built(src: Source, file: &parse::SceneFile) -> anyhow::Result<LoadedScene> {
+    let path = src.path.to_path_buf();
     let mut builder = Builder::new(src);
-    let duration_s = builder.duration(&file)?;
-    let scene = builder.scene(&file)?;
+    let duration_s = builder.duration(file)?;
+    let scene = builder.scene(file)?;
     Ok(LoadedScene {
         scene,
         duration_s,
-        path: path.to_path_buf(),
+        path,
     })
 }
 
 /// Loads NAME (a shipped scene) or FILE, by the rule of [`crate::shipped`].
 pub fn load(name_or_file: &str) -> anyhow::Result<LoadedScene> {
-    let source = shipped::locate(Path::new(name_or_file), "scene", shipped::SCENES)?;
+    load_shipped_or_file(name_or_file, "scene", shipped::SCENES, parse)
+}
+
+/// Loads NAME (one of `table`, files of `kind`) or FILE with `parse`.
+fn load_shipped_or_file<T>(
+    name_or_file: &str,
+    kind: &str,
+    table: &[(&'static str, &'static str)],
+    parse: fn(&str, &Path) -> anyhow::Result<T>,
+) -> anyhow::Result<T> {
+    let source = shipped::locate(Path::new(name_or_file), kind, table)?;
     let text = source.text()?;
     parse(&text, &source.shown())
 }

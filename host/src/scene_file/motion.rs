@@ -5,7 +5,8 @@ use std::ops::Range;
 
 use toml::Spanned;
 use triad::units::deg_to_rad;
-use triad_sim::motion::{Axis, Motion};
+use triad_sim::hand_poses::MIN_HAND_POSES;
+use triad_sim::motion::{Axis, Motion, MAX_POSITIONS};
 
 use super::build::Builder;
 use super::field::field;
@@ -20,6 +21,8 @@ enum Kind {
     RateTable,
     Tumble,
     Vibration,
+    Hand,
+    RateTableSet,
 }
 
 impl Kind {
@@ -29,6 +32,8 @@ impl Kind {
             "rate-table" => Kind::RateTable,
             "tumble" => Kind::Tumble,
             "vibration" => Kind::Vibration,
+            "hand" => Kind::Hand,
+            "rate-table-set" => Kind::RateTableSet,
             _ => return None,
         })
     }
@@ -40,12 +45,14 @@ impl Kind {
             Kind::RateTable => &["axis", "rate"],
             Kind::Tumble => &["positions", "dwell_s", "transition_s"],
             Kind::Vibration => &["attitude_deg", "direction", "amplitude", "frequency_hz"],
+            Kind::Hand => &["poses", "seed", "dwell_s", "turn_s"],
+            Kind::RateTableSet => &["rate", "run_s", "rest_s"],
         }
     }
 }
 
 /// Each motion field and where it is, if present.
-fn present(m: &MotionFile) -> [(&'static str, Option<Range<usize>>); 9] {
+fn present(m: &MotionFile) -> [(&'static str, Option<Range<usize>>); 14] {
     [
         ("attitude_deg", m.attitude_deg.as_ref().map(|v| v.span())),
         ("axis", m.axis.as_ref().map(|v| v.span())),
@@ -56,6 +63,11 @@ fn present(m: &MotionFile) -> [(&'static str, Option<Range<usize>>); 9] {
         ("direction", m.direction.as_ref().map(|v| v.span())),
         ("amplitude", m.amplitude.as_ref().map(|v| v.span())),
         ("frequency_hz", m.frequency_hz.as_ref().map(|v| v.span())),
+        ("poses", m.poses.as_ref().map(|v| v.span())),
+        ("seed", m.seed.as_ref().map(|v| v.span())),
+        ("turn_s", m.turn_s.as_ref().map(|v| v.span())),
+        ("run_s", m.run_s.as_ref().map(|v| v.span())),
+        ("rest_s", m.rest_s.as_ref().map(|v| v.span())),
     ]
 }
 
@@ -79,7 +91,7 @@ impl Builder<'_> {
         let kind = Kind::from_name(name).ok_or_else(|| {
             self.src.error(
                 &m.kind.span(),
-                format!("unknown motion kind \"{name}\" (expected static, rate-table, tumble or vibration)"),
+                format!("unknown motion kind \"{name}\" (expected static, rate-table, tumble, vibration, hand or rate-table-set)"),
             )
         })?;
         for (field, span) in present(m) {
@@ -97,6 +109,8 @@ impl Builder<'_> {
             Kind::RateTable => self.rate_table(m),
             Kind::Tumble => self.tumble(m),
             Kind::Vibration => self.vibration(m),
+            Kind::Hand => self.hand(m),
+            Kind::RateTableSet => self.rate_table_set(m),
         }
     }
 
@@ -122,9 +136,54 @@ impl Builder<'_> {
         rad
     }
 
+    /// A table rate, `rate`, in rad/s.
+    fn table_rate(&mut self, m: &MotionFile) -> anyhow::Result<f64> {
+        let v = self.needed(m, &m.rate, "rate")?;
+        let rate = self
+            .src
+            .quantity(v, field("rate", Dim::RATE, "deg/s, rad/s, dps"))?;
+        self.origins
+            .quantity(Key::scene(what::TABLE_RATE), v, "rate", &[rate]);
+        Ok(rate)
+    }
+
+    fn hand(&mut self, m: &MotionFile) -> anyhow::Result<Motion> {
+        let p = self.needed(m, &m.poses, "poses")?;
+        let poses = *p.get_ref();
+        let message = format!(
+            "poses = {poses}: expected {}..={MAX_POSITIONS} (a rig-free fit wants at least {} gravity directions)",
+            MIN_HAND_POSES, MIN_HAND_POSES
+        );
+        self.origins.fixed(
+            Key::scene(what::HAND_POSES),
+            p.span(),
+            &[f64::from(poses)],
+            message,
+        );
+        let seed = *self.needed(m, &m.seed, "seed")?.get_ref();
+        let dwell = self.needed(m, &m.dwell_s, "dwell_s")?;
+        let turn = self.needed(m, &m.turn_s, "turn_s")?;
+        Ok(Motion::Hand {
+            poses,
+            seed,
+            dwell: self.number(dwell, "dwell_s", what::HAND_DWELL),
+            turn: self.number(turn, "turn_s", what::HAND_TURN),
+        })
+    }
+
+    fn rate_table_set(&mut self, m: &MotionFile) -> anyhow::Result<Motion> {
+        let rate = self.table_rate(m)?;
+        let run = self.needed(m, &m.run_s, "run_s")?;
+        let rest = self.needed(m, &m.rest_s, "rest_s")?;
+        Ok(Motion::RateTableSet {
+            rate,
+            run: self.number(run, "run_s", what::SET_RUN),
+            rest: self.number(rest, "rest_s", what::SET_REST),
+        })
+    }
+
     fn rate_table(&mut self, m: &MotionFile) -> anyhow::Result<Motion> {
         let axis = self.needed(m, &m.axis, "axis")?;
-        let v = self.needed(m, &m.rate, "rate")?;
         let axis = parse_axis(axis.get_ref()).ok_or_else(|| {
             self.src.error(
                 &axis.span(),
@@ -134,11 +193,7 @@ impl Builder<'_> {
                 ),
             )
         })?;
-        let rate = self
-            .src
-            .quantity(v, field("rate", Dim::RATE, "deg/s, rad/s, dps"))?;
-        self.origins
-            .quantity(Key::scene(what::TABLE_RATE), v, "rate", &[rate]);
+        let rate = self.table_rate(m)?;
         Ok(Motion::RateTable { axis, rate })
     }
 

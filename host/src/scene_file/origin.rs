@@ -29,6 +29,14 @@ pub(super) mod what {
     pub const POSITIONS: &str = "tumble positions";
     pub const DWELL: &str = "tumble dwell";
     pub const TRANSITION: &str = "tumble transition";
+    /// Hand `poses` ([`SceneError::BadHandPoses`](super::SceneError::BadHandPoses)).
+    pub const HAND_POSES: &str = "hand poses";
+    pub const HAND_DWELL: &str = "hand dwell";
+    pub const HAND_TURN: &str = "hand turn";
+    pub const SET_RUN: &str = "rate-table run";
+    pub const SET_REST: &str = "rate-table rest";
+    pub const SOAK_LEVEL: &str = "soak level";
+    pub const SOAK_HOLD: &str = "soak hold";
     pub const DIRECTION: &str = "vibration direction";
     pub const AMPLITUDE: &str = "vibration amplitude";
     pub const FREQUENCY: &str = "vibration frequency";
@@ -259,6 +267,9 @@ fn classify(e: &SceneError) -> (Option<Option<Triad>>, &'static str, Problem) {
         SceneError::BadTermCount(n) => (None, what::TERMS, Problem::Other(f64::from(n))),
         SceneError::BadBand { tau_min, .. } => (None, what::BAND, Problem::Other(tau_min)),
         SceneError::BadPositions(n) => (Some(None), what::POSITIONS, Problem::Other(f64::from(n))),
+        SceneError::BadHandPoses(n) => (Some(None), what::HAND_POSES, Problem::Other(f64::from(n))),
+        // The file's soak count is checked where it is read (build.rs).
+        SceneError::BadSoakCount(n) => (Some(None), what::SOAK_LEVEL, Problem::Other(f64::from(n))),
         SceneError::GSensitivityOnAccel => (
             Some(Some(Triad::Accel)),
             what::G_SENSITIVITY,

@@ -43,6 +43,11 @@ pub(super) struct MotionFile {
     pub direction: Option<Spanned<[f64; 3]>>,
     pub amplitude: Option<Value>,
     pub frequency_hz: Option<Spanned<f64>>,
+    pub poses: Option<Spanned<u8>>,
+    pub seed: Option<Spanned<u64>>,
+    pub turn_s: Option<Spanned<f64>>,
+    pub run_s: Option<Spanned<f64>>,
+    pub rest_s: Option<Spanned<f64>>,
 }
 
 /// `[temperature]`.
@@ -55,6 +60,8 @@ pub(super) struct TemperatureFile {
     pub to_c: Option<Spanned<f64>>,
     pub start_s: Option<Spanned<f64>>,
     pub duration_s: Option<Spanned<f64>>,
+    pub levels_c: Option<Spanned<Vec<f64>>>,
+    pub hold_s: Option<Spanned<f64>>,
 }
 
 /// `[accel]` or `[gyro]`: a grade preset and the effects that override it.
@@ -76,6 +83,9 @@ pub(super) struct TriadFile {
     /// The old name of `output_lsb`, still read.
     pub quantisation: Option<Value>,
     pub saturation: Option<Value>,
+    /// A unit file's key (σ of the misalignment drawn once from the unit's
+    /// seed); a scene refuses it.
+    pub turn_on_misalignment: Option<Value>,
     pub gauss_markov: Option<GaussMarkovFile>,
     pub bias_instability: Option<BiasInstabilityFile>,
     pub temperature: Option<TemperatureDependenceFile>,
@@ -156,9 +166,27 @@ impl Source<'_> {
 
     /// The file's fields; TOML errors (syntax, unknown keys, wrong types) at their position.
     pub fn read(&self) -> anyhow::Result<SceneFile> {
-        toml::from_str(self.text).map_err(|e| match e.span() {
-            Some(span) => self.error(&span, e.message()),
-            None => anyhow!("{}: {}", self.path.display(), e.message()),
+        self.read_as(|_| None)
+    }
+
+    /// The fields of a file of shape `T`; an unknown key's error gains
+    /// `hint(key)` when there is one (where the key belongs instead).
+    pub fn read_as<T: serde::de::DeserializeOwned>(
+        &self,
+        hint: impl Fn(&str) -> Option<&'static str>,
+    ) -> anyhow::Result<T> {
+        toml::from_str(self.text).map_err(|e| {
+            let mut message = e.message().to_string();
+            let unknown = message
+                .strip_prefix("unknown field `")
+                .and_then(|rest| rest.split('`').next());
+            if let Some(h) = unknown.and_then(&hint) {
+                message = format!("{message}; {h}");
+            }
+            match e.span() {
+                Some(span) => self.error(&span, message),
+                None => anyhow!("{}: {message}", self.path.display()),
+            }
         })
     }
 
