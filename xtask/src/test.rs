@@ -50,8 +50,13 @@ pub fn run(scope: Scope) -> Result<()> {
             "triad-lab",
             "--test",
             "allan_coverage",
+            "--test",
+            "rig_free",
         ];
-        step("cargo test --release (the Allan coverage sweep)", &sweeps)?;
+        step(
+            "cargo test --release (the Allan coverage sweep, the rig-free fit's σ coverage over 60 seeds)",
+            &sweeps,
+        )?;
         eprintln!("xtask: cargo doc (core, sim, lab)");
         embedded_checks::docs()?;
     }
