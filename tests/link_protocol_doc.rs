@@ -4,36 +4,9 @@
 use triad::link::{Command, Packet, Payload, Reply, Status, MAX_WIRE_LEN};
 use triad::stream::Decoder;
 
-const DOC: &str = include_str!("../docs/PROTOCOL.md");
+mod protocol_doc;
 
-/// Hex bytes of the fenced block that follows the line `<!-- name -->`.
-fn doc_hex(name: &str) -> Vec<u8> {
-    let marker = format!("<!-- {name} -->");
-    let start = DOC
-        .find(&marker)
-        .unwrap_or_else(|| panic!("{marker} missing from PROTOCOL.md"));
-    let rest = &DOC[start + marker.len()..];
-    let open = rest.find("```").expect("fenced block after marker");
-    let body_start = open + rest[open..].find('\n').unwrap() + 1;
-    let close = body_start + rest[body_start..].find("```").expect("closing fence");
-    rest[body_start..close]
-        .split_whitespace()
-        .map(|t| u8::from_str_radix(t, 16).unwrap_or_else(|_| panic!("bad hex {t:?}")))
-        .collect()
-}
-
-fn hex_lines(bytes: &[u8]) -> String {
-    bytes
-        .chunks(16)
-        .map(|c| {
-            c.iter()
-                .map(|b| format!("{b:02x}"))
-                .collect::<Vec<_>>()
-                .join(" ")
-        })
-        .collect::<Vec<_>>()
-        .join("\n")
-}
+use protocol_doc::{doc_hex, hex_lines};
 
 /// Checks `name-unstuffed` and `name-wire` against the packet, and that the
 /// wire bytes decode back to `expected`.

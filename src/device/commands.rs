@@ -210,7 +210,7 @@ impl<F: NorFlash> CommandHandler<F> {
         }
         let outcome = match packet.command() {
             Ok(Command::SelfTest) => {
-                self.commands = self.commands.wrapping_add(1);
+                // Counted when its reply is made (`self_test_reply`).
                 self.last = None;
                 return Handled::SelfTest {
                     sequence: packet.sequence,
@@ -303,10 +303,7 @@ impl<F: NorFlash> CommandHandler<F> {
                 ),
             )),
         };
-        let reply = self.reply(sequence, crate::link::command::code::SELF_TEST, outcome);
-        // Counted once, when the command arrived.
-        self.commands = self.commands.wrapping_sub(1);
-        reply
+        self.reply(sequence, crate::link::command::code::SELF_TEST, outcome)
     }
 
     fn run(

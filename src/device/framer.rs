@@ -20,12 +20,11 @@ impl Outgoing {
     /// length (53 bytes for a data frame, 64 for a raw one).
     pub fn to_wire(&self, out: &mut [u8; MAX_WIRE_LEN]) -> usize {
         match self {
-            Outgoing::Data(frame) => {
-                let mut wire = [0u8; MAX_ENCODED_LEN];
-                let n = encode(frame, &mut wire);
-                out[..n].copy_from_slice(&wire[..n]);
-                n
-            }
+            // Encoded in place: the wire buffer's first 53 bytes.
+            Outgoing::Data(frame) => match out.first_chunk_mut::<MAX_ENCODED_LEN>() {
+                Some(wire) => encode(frame, wire),
+                None => 0,
+            },
             Outgoing::Raw(frame) => match frame.to_packet() {
                 Ok(packet) => packet.to_wire(out),
                 Err(_) => 0,
