@@ -7,9 +7,10 @@ use triad::link::batch_frame::{to_counts, BatchFrame, MAX_BATCH};
 use triad::link::{Packet, MAX_WIRE_LEN};
 use triad::stream::{Decoder, Flags};
 
-/// Twice the LSB of a ±16 g, ±2000 °/s 16-bit chip: what the device uses.
-const ACCEL_LSB: f32 = 2.0 * 16.0 * 9.80665 / 32768.0;
-const GYRO_LSB: f32 = 2.0 * 2000.0 * (core::f32::consts::PI / 180.0) / 32768.0;
+/// The device's LSBs for a ±16 g, ±2000 °/s 16-bit chip (the powers of two
+/// at least 1.5 chip LSBs: `fixed_point_lsb`).
+const ACCEL_LSB: f32 = 1.0 / 128.0;
+const GYRO_LSB: f32 = 1.0 / 512.0;
 
 fn sample(i: usize) -> ([f32; 3], [f32; 3]) {
     let x = i as f32;
@@ -74,7 +75,10 @@ fn values_beyond_the_range_are_clipped_and_flagged_per_triad() {
     assert_eq!(to_counts(1e9, 1.0), (32767, true));
     assert_eq!(to_counts(-1e9, 1.0), (-32767, true));
     assert_eq!(to_counts(f32::NAN, 1.0), (0, true));
-    assert_eq!(to_counts(2.5, 1.0), (3, false));
+    // Ties to even, as the FPU's default rounding.
+    assert_eq!(to_counts(2.5, 1.0), (2, false));
+    assert_eq!(to_counts(-3.5, 1.0), (-4, false));
+    assert_eq!(to_counts(3.4, 1.0), (3, false));
     let mut batch = BatchFrame::new(ACCEL_LSB, GYRO_LSB);
     batch.push([0.0; 3], [1e6, 0.0, 0.0]);
     assert_eq!(batch.flags, Flags::GYRO_CLIPPED);

@@ -12,16 +12,6 @@ use triad::model::{Calibration, Corrector, FixedCorrector, Orientation, Triad, T
 use triad::sensor::{ImuScale, RawSample, TriadScale};
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
 
-fn magnitude(c: &Corrector, triad: Triad, x: [i16; 3]) -> [f64; 3] {
-    let f = c.folded(triad);
-    [0, 1, 2].map(|i| {
-        (0..3)
-            .map(|j| f.k[i][j].abs() * f64::from(x[j]).abs())
-            .sum::<f64>()
-            + f.offset[i].abs()
-    })
-}
-
 /// Checks one sample; returns the worst error in LSB.
 fn check(c: &Corrector, fixed: &FixedCorrector, raw: &RawSample) -> f64 {
     let got = fixed.correct(raw);

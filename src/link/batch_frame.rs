@@ -11,14 +11,17 @@
 //! with the header and CRC, 235 on the wire, 14.7 bytes per sample.
 //!
 //! The fixed point: each corrected value is rounded to the nearest count of
-//! its triad's `lsb` (the device uses twice the chip's own LSB, so the
-//! counts span twice the chip's range), an error of at most lsb/2 (one of
-//! the chip's LSBs); a value beyond ±32767 counts is clipped to it, and the
-//! batch's clip flag for that triad is set. Sequence numbers count packets,
+//! its triad's `lsb` (ties to even; the device uses a power of two at least
+//! 1.5 of the chip's LSBs, [`crate::model::batch_kernel::fixed_point_lsb`],
+//! so the counts span at least 1.5 × the chip's range), an error of at most
+//! lsb/2; a value beyond ±32767 counts is clipped to it, and the batch's
+//! clip flag for that triad is set. Sequence numbers count packets,
 //! one numbering with data and raw frames.
 
 use super::bytes::{Reader, Writer};
 use super::packet::{PacketBuf, PacketType, TooLong};
+use crate::model::batch_kernel::BatchKernel;
+use crate::sensor::RawSample;
 use crate::stream::{DecodeError, Flags};
 
 /// Most samples in one batch packet.
@@ -59,21 +62,7 @@ pub struct BatchFrame {
     pub samples: [[i16; 6]; MAX_BATCH],
 }
 
-/// A value in counts of `lsb`, rounded, clipped to ±32767; and whether it
-/// was clipped.
-pub fn to_counts(value: f32, lsb: f32) -> (i16, bool) {
-    let c = libm::roundf(value / lsb);
-    if c.is_nan() {
-        return (0, true);
-    }
-    if c > 32767.0 {
-        (32767, true)
-    } else if c < -32767.0 {
-        (-32767, true)
-    } else {
-        (c as i16, false)
-    }
-}
+pub use crate::model::batch_kernel::to_counts;
 
 impl BatchFrame {
     /// An empty batch.
@@ -114,6 +103,25 @@ impl BatchFrame {
         }
         self.count += 1;
         true
+    }
+
+    /// Corrects as many of `raw` as the batch has room for with `kernel`
+    /// (whose LSBs the batch was made with) and appends them; gives how many.
+    pub fn push_raw(&mut self, kernel: &BatchKernel, raw: &[RawSample]) -> usize {
+        let start = usize::from(self.count);
+        let room = self.samples.get_mut(start..).unwrap_or_default();
+        let n = raw.len().min(room.len());
+        let clip = kernel.correct(&raw[..n], &mut room[..n]);
+        self.flags.set(
+            Flags::ACCEL_CLIPPED,
+            self.flags.contains(Flags::ACCEL_CLIPPED) | clip.accel,
+        );
+        self.flags.set(
+            Flags::GYRO_CLIPPED,
+            self.flags.contains(Flags::GYRO_CLIPPED) | clip.gyro,
+        );
+        self.count += n as u8;
+        n
     }
 
     /// The samples in use.

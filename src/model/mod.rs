@@ -9,6 +9,7 @@
 //! then `corrector.correct(&raw)` per sample and `corrector.refold(t)` at a
 //! low rate when the calibration has temperature terms.
 
+pub mod batch_kernel;
 pub mod blob;
 pub mod calibration;
 pub mod corrector;
@@ -19,6 +20,7 @@ pub mod matrix;
 pub mod orientation;
 pub mod validate;
 
+pub use batch_kernel::BatchKernel;
 pub use blob::BlobError;
 pub use calibration::{Calibration, TemperatureTerms, Triad, TriadCalibration};
 pub use corrector::{ClipFlags, Corrector, ReferenceSample, Sample};

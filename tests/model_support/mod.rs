@@ -4,7 +4,9 @@
 
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
-use triad::model::{Calibration, Orientation, TemperatureTerms, TriadCalibration};
+use triad::model::{
+    Calibration, Corrector, Orientation, TemperatureTerms, Triad, TriadCalibration,
+};
 use triad::sensor::{ImuScale, RawSample, TriadScale};
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
 
@@ -123,4 +125,16 @@ pub fn random_raw(rng: &mut SmallRng) -> RawSample {
         gyro: [axis(), axis(), axis()],
         temperature: rng.random(),
     }
+}
+
+/// S_i = Σ_j |K_ij|·|x_j| + |k_i| for raw counts x: the scale of the
+/// kernels' rounding errors.
+pub fn magnitude(c: &Corrector, triad: Triad, x: [i16; 3]) -> [f64; 3] {
+    let f = c.folded(triad);
+    [0, 1, 2].map(|i| {
+        (0..3)
+            .map(|j| f.k[i][j].abs() * f64::from(x[j]).abs())
+            .sum::<f64>()
+            + f.offset[i].abs()
+    })
 }
