@@ -1,6 +1,9 @@
-//! Checks that the features name one board and at most one bus, and embeds the calibration blob chosen at build time
-//! (TRIAD_CALIBRATION, default calibrations/default.bin). The board crate puts
-//! its memory map on the linker path.
+//! Checks that the features name one board and at most one bus, embeds the calibration blob chosen at build time
+//! (TRIAD_CALIBRATION, default calibrations/default.bin), and writes the
+//! sampling settings chosen at build time: TRIAD_SAMPLE_RATE_HZ (the chip's
+//! output data rate, default the driver's) and TRIAD_FIFO_WATERMARK (samples
+//! per interrupt, 1..=32, default 1: no FIFO). The board crate puts its
+//! memory map on the linker path.
 
 use std::{env, fs, path::PathBuf};
 
@@ -28,6 +31,33 @@ fn main() {
     });
     fs::write(out.join("calibration.bin"), blob).expect("write calibration.bin");
     println!("cargo:rerun-if-changed={}", calibration.display());
+
+    let rate = number("TRIAD_SAMPLE_RATE_HZ", 1..=32_000);
+    let watermark = number("TRIAD_FIFO_WATERMARK", 1..=32).unwrap_or(1);
+    let rate = rate.map_or("None".to_string(), |hz| format!("Some({hz})"));
+    fs::write(
+        out.join("settings.rs"),
+        format!(
+            "/// From TRIAD_SAMPLE_RATE_HZ and TRIAD_FIFO_WATERMARK at build.\n\
+             pub const SETTINGS: triad::sensor::Settings = triad::sensor::Settings {{ rate_hz: {rate}, watermark: {watermark} }};\n"
+        ),
+    )
+    .expect("write settings.rs");
+}
+
+/// The whole number in the environment variable `name`, within `range`;
+/// `None` when unset; anything else stops the build naming the value.
+fn number(name: &str, range: std::ops::RangeInclusive<u32>) -> Option<u32> {
+    println!("cargo:rerun-if-env-changed={name}");
+    let text = env::var(name).ok()?;
+    match text.trim().parse::<u32>() {
+        Ok(n) if range.contains(&n) => Some(n),
+        _ => panic!(
+            "{name}={text:?}: not a whole number in {}..={}",
+            range.start(),
+            range.end()
+        ),
+    }
 }
 
 /// Which of the features `<group>-<name>` is on (Cargo.toml lists them; this

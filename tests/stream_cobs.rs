@@ -2,7 +2,9 @@
 //! and random round trips.
 
 use rand::{rngs::SmallRng, Rng, SeedableRng};
-use triad::stream::cobs::{max_stuffed_len, stuff, stuff_short, CobsError, Unstuffer};
+use triad::stream::cobs::{
+    max_stuffed_len, stuff, stuff_block, stuff_short, CobsError, Unstuffer, MAX_BLOCK,
+};
 
 fn stuffed(data: &[u8]) -> Vec<u8> {
     let mut out = vec![0xAA; max_stuffed_len(data.len())];
@@ -128,4 +130,27 @@ fn short_form_equals_the_general_form_on_frame_sized_blocks() {
     check::<51, 52>(&mut rng);
     check::<1, 2>(&mut rng);
     check::<253, 254>(&mut rng);
+}
+
+#[test]
+fn the_block_form_equals_the_general_one_up_to_253_bytes_and_refuses_more() {
+    let mut rng = SmallRng::seed_from_u64(0xB10C);
+    for len in 0..=MAX_BLOCK {
+        // Dense zeros, sparse zeros and none: every block shape.
+        for zero_one_in in [2u32, 17, u32::MAX] {
+            let data: Vec<u8> = (0..len)
+                .map(|_| match rng.random_ratio(1, zero_one_in) {
+                    true => 0,
+                    false => rng.random_range(1..=255),
+                })
+                .collect();
+            let mut out = vec![0xAA; len + 1];
+            let n = stuff_block(&data, &mut out).expect("fits");
+            assert_eq!(out[..n], stuffed(&data)[..], "{len} bytes");
+        }
+    }
+    let long = [7u8; MAX_BLOCK + 1];
+    let mut out = [0u8; MAX_BLOCK + 3];
+    assert!(stuff_block(&long, &mut out).is_err());
+    assert!(stuff_block(&[1, 2, 3], &mut [0u8; 3]).is_err());
 }

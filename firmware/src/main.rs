@@ -11,7 +11,10 @@
 //!   a queue; never waits.
 //! - `data_ready` (EXTI0, priority 2): applies the command handler's pending
 //!   changes, then reads, corrects, averages and frames one sample; queues
-//!   the frame (dropping and counting it when the queue is full).
+//!   the frame (dropping and counting it when the queue is full). Built with
+//!   a FIFO watermark W > 1 (`TRIAD_FIFO_WATERMARK`), the chip's interrupt
+//!   signals W samples waiting, and the task drains the FIFO into batch
+//!   frames (or per-sample frames in raw mode or when averaging).
 //! - `link` (EXTI1, priority 1): decodes received commands and answers each
 //!   through the core's `CommandHandler`, and sends queued frames. It runs
 //!   below `data_ready`, which preempts it: the sampling task never waits on
@@ -25,6 +28,10 @@ use triad_board_nucleo_f401re as board;
 use triad_board_qemu as board;
 
 use triad::device::SharedCounters;
+
+// The sampling settings chosen at build time (`TRIAD_SAMPLE_RATE_HZ`,
+// `TRIAD_FIFO_WATERMARK`, see build.rs): `SETTINGS`.
+include!(concat!(env!("OUT_DIR"), "/settings.rs"));
 
 /// The calibration chosen at build time (`TRIAD_CALIBRATION`, see build.rs).
 static CALIBRATION_BLOB: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/calibration.bin"));
@@ -56,12 +63,12 @@ mod start;
 
 #[rtic::app(device = crate::board::pac, dispatchers = [EXTI3])]
 mod app {
-    use crate::{board, COUNTERS, QUEUE_LEN, RX_QUEUE_LEN};
+    use crate::{board, COUNTERS, QUEUE_LEN, RX_QUEUE_LEN, SETTINGS};
     use heapless::spsc::{Consumer, Producer, Queue};
     use triad::device::board::{LinkRx, LinkTx};
     use triad::device::{
-        on_data_ready, CommandHandler, Control, Handled, LoadWindow, Outgoing, Sampler, Stepped,
-        Task,
+        on_data_ready, on_fifo_ready, CommandHandler, Control, Handled, LoadWindow, Outgoing,
+        Sampler, Stepped, Task,
     };
     use triad::link::MAX_WIRE_LEN;
     use triad::sensor::{SelfTestError, SelfTestReport};
@@ -114,7 +121,7 @@ mod app {
         self_tests_done: Queue<SelfTestDone, 2> = Queue::new(),
     ])]
     fn init(cx: init::Context) -> (Shared, Local) {
-        let b = board::init(cx.device);
+        let b = board::init(cx.device, &SETTINGS);
         let started = crate::start::start(b.sensor_bus, b.flash);
         let (frames_in, frames_out) = cx.local.frames.split();
         let (rx_in, rx_out) = cx.local.rx.split();
@@ -163,27 +170,45 @@ mod app {
         let run = crate::run_time::begin();
         let model = board::model_cycles();
         let l = cx.local;
-        if let Some(shares) = l
+        // The window closes here; its log waits until the sample is read,
+        // so that writing it does not delay the step's timestamp.
+        let closed = l
             .load_window
-            .tick(run.start(), board::CYCLES_HZ, &COUNTERS.load)
-        {
+            .tick(run.start(), board::CYCLES_HZ, &COUNTERS.load);
+        if closed.is_some() {
             *l.windows += 1;
-            if *l.windows % LOG_LOAD_EVERY == 0 {
-                defmt::info!(
-                    "load ‰: data-ready {}, link {}, receive {}, chip model {}",
-                    shares[0],
-                    shares[1],
-                    shares[2],
-                    shares[3]
-                );
-            }
         }
+        // The second window first (the first full second of steady
+        // sampling: `cargo xtask bench` reads it), then every tenth.
+        let log = closed.filter(|_| *l.windows % LOG_LOAD_EVERY == 2);
         step(l);
+        if let Some(shares) = log {
+            let load = COUNTERS.load.load(board::CYCLES_HZ);
+            defmt::info!(
+                "load ‰: data-ready {}, link {}, receive {}, chip model {}",
+                shares[0],
+                shares[1],
+                shares[2],
+                shares[3]
+            );
+            defmt::info!(
+                "load cycles in {=u32} at {=u32} Hz: data-ready {=u32}, link {=u32}, receive {=u32}, chip model {=u32}",
+                load.window_cycles,
+                load.cycles_hz,
+                load.busy_cycles[0],
+                load.busy_cycles[1],
+                load.busy_cycles[2],
+                load.busy_cycles[3]
+            );
+        }
         let model = board::model_cycles().wrapping_sub(model);
         crate::run_time::end_with_model(run, Task::DataReady, model);
     }
 
     /// The data-ready task's work.
+    // heapless's `enqueue` gives a frame back when the queue is full (the
+    // sampler counts it dropped from it): the large `Err` is that frame.
+    #[allow(clippy::result_large_err)]
     fn step(l: data_ready::LocalResources<'_>) {
         // The handler's changes take effect here, between two samples.
         while let Some(control) = l.controls_out.dequeue() {
@@ -198,7 +223,7 @@ mod app {
                 ..
             }) = result
             {
-                if l.sensor.start(&mut board::Delay).is_err() {
+                if l.sensor.start_with(&mut board::Delay, &SETTINGS).is_err() {
                     defmt::error!("the chip did not restart after its self-test");
                 }
             }
@@ -208,12 +233,30 @@ mod app {
             return;
         }
         let frames_in = l.frames_in;
+        if SETTINGS.watermark > 1 {
+            let stepped = on_fifo_ready(
+                l.sample_line,
+                l.clock,
+                l.sensor,
+                l.sampler,
+                |sensor| board::data_ready(sensor, SETTINGS.watermark),
+                |frame| frames_in.enqueue(frame).is_ok(),
+            );
+            COUNTERS.publish(l.sampler.totals(), l.sampler.uptime_ms());
+            if stepped.queued > 0 {
+                cortex_m::peripheral::NVIC::pend(LINK_TASK);
+            }
+            if let Some(error) = stepped.read_failed {
+                defmt::warn!("FIFO read failed: {}", defmt::Debug2Format(&error));
+            }
+            return;
+        }
         let stepped = on_data_ready(
             l.sample_line,
             l.clock,
             l.sensor,
             l.sampler,
-            board::data_ready,
+            |sensor| board::data_ready(sensor, 1),
             |frame| frames_in.enqueue(frame),
         );
         COUNTERS.publish(l.sampler.totals(), l.sampler.uptime_ms());

@@ -4,7 +4,7 @@
 //! sampler and the command handler on that choice. Every failure that
 //! leaves nothing to stream stops the board with the reason in the log.
 
-use crate::{board, BUS, CALIBRATION_BLOB};
+use crate::{board, BUS, CALIBRATION_BLOB, SETTINGS};
 use triad::device::startup::load_stored;
 use triad::device::{start_calibration, CalibrationStore, CommandHandler, DeviceFacts, Sampler};
 use triad::link::StoredState;
@@ -32,7 +32,7 @@ pub fn start(
             board::exit(false)
         }
     };
-    if let Err(error) = sensor.start(&mut board::Delay) {
+    if let Err(error) = sensor.start_with(&mut board::Delay, &SETTINGS) {
         defmt::error!(
             "{} initialisation failed: {}",
             sensor.name(),
@@ -43,9 +43,10 @@ pub fn start(
     let rate_hz = sensor.sample_rate_hz();
     let description = board::DESCRIPTION;
     defmt::info!(
-        "triad firmware: {} at {} Hz, decimation {}",
+        "triad firmware: {} at {} Hz, {} per interrupt, decimation {}",
         sensor.name(),
         rate_hz as u32,
+        SETTINGS.watermark,
         description.decimation
     );
 

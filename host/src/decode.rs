@@ -88,7 +88,7 @@ pub fn run(args: DecodeArgs) -> anyhow::Result<ExitCode> {
     }
     let outcome = outcome.report("triad decode")?;
     let s = &outcome.stats;
-    if s.frames == 0 && s.raw_frames == 0 && limits.max_frames != Some(0) {
+    if s.frames == 0 && s.raw_frames == 0 && s.batch_frames == 0 && limits.max_frames != Some(0) {
         bail!(
             "no frame decoded from {} bytes: not a triad stream (docs/PROTOCOL.md), or the wrong port or baud rate",
             s.bytes

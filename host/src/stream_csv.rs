@@ -317,15 +317,20 @@ pub fn summary(outcome: &Outcome, command: &str) -> String {
         "{command}: stopped at {why}\n\
          frames: {} ({} stored as CSV rows)\n\
          raw frames: {} (of those frames)\n\
+         batch frames: {} (of those frames; {} samples)\n\
          messages: {} (replies and commands: counted, not printed)\n\
          crc errors: {}\n\
          malformed: {}\n\
          sequence gaps: {} ({} frames lost)\n\
          sequence restarts: {}\n\
          bytes: {} ({} skipped)\n",
-        s.frames.saturating_add(s.raw_frames),
+        s.frames
+            .saturating_add(s.raw_frames)
+            .saturating_add(s.batch_frames),
         outcome.rows,
         s.raw_frames,
+        s.batch_frames,
+        s.batch_samples,
         s.messages,
         s.crc_errors,
         s.malformed,

@@ -178,7 +178,8 @@ fn an_upload_changes_the_streams_calibration_to_triad_corrects_values() {
         .collect();
     // The file's (I+Σ)⁻¹ has absolute row sums below 1.02 and |b| below
     // 0.4 SI units: the bound's premise holds.
-    let worst = triad_correct::agrees_with_firmware(&file, &raws, &times_s, &scale, &streamed);
+    let worst =
+        triad_correct::agrees_with_firmware(&file, &raws, &times_s, &scale, &streamed, [0.0; 2]);
     println!(
         "upload: {} frames with the new id equal the host's correction bit for bit; \
          triad correct within {worst:.3} of the f32 bound",

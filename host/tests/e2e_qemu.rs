@@ -200,6 +200,7 @@ fn triad_correct_on_the_same_samples_agrees_within_f32_rounding() {
         &times_s,
         &sensor.scale(),
         &streamed,
+        [0.0; 2],
     );
     println!("triad correct vs firmware: worst |Δ| is {worst:.3} of the bound");
 }

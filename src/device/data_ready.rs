@@ -1,12 +1,15 @@
 //! The data-ready step as the firmware's highest-priority task runs it, on
 //! any board: acknowledge, timestamp, read-correct-average-frame, queue the
 //! frame for the link (counting it dropped when the queue is full), and
-//! notice when the step overran into the next one.
+//! notice when the step overran into the next one. With the chip's FIFO on,
+//! the same for a watermark interrupt ([`on_fifo_ready`]): every sample
+//! waiting, in batch frames.
 
 use super::board::{DataReadyLine, MicrosecondClock};
 use super::framer::Outgoing;
+use super::sampler::FifoStepped;
 use super::{Sampler, StepOutcome};
-use crate::sensor::Imu;
+use crate::sensor::{FifoImu, Imu};
 
 /// What one data-ready step did, for the caller to log or to wake the sender.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -56,4 +59,28 @@ where
         sampler.overran();
     }
     stepped
+}
+
+/// One FIFO watermark step: acknowledge, timestamp, let the board do its
+/// work at the edge (`edge`, as for [`on_data_ready`]), then drain the FIFO
+/// into frames ([`Sampler::step_fifo`]). A late interrupt loses nothing
+/// (the samples wait in the FIFO; an overflow is flagged and counted by the
+/// sampler), so no overrun is counted here.
+pub fn on_fifo_ready<L, C, I>(
+    line: &mut L,
+    clock: &C,
+    imu: &mut I,
+    sampler: &mut Sampler,
+    edge: impl FnOnce(&mut I),
+    enqueue: impl FnMut(Outgoing) -> bool,
+) -> FifoStepped<I::Error>
+where
+    L: DataReadyLine,
+    C: MicrosecondClock,
+    I: FifoImu,
+{
+    line.acknowledge();
+    let now_us = clock.now_us();
+    edge(imu);
+    sampler.step_fifo(imu, now_us, enqueue)
 }

@@ -1,8 +1,9 @@
 //! Turning corrected samples into stream frames, with the counters and flags
 //! of everything that went wrong since the previous frame.
 
-use crate::link::{RawFrame, RawScale, MAX_WIRE_LEN};
-use crate::model::Sample;
+use crate::link::{BatchFrame, RawFrame, RawScale, MAX_WIRE_LEN};
+use crate::model::{BatchKernel, Sample};
+use crate::sensor::RawSample;
 use crate::stream::{encode, Flags, Frame, MAX_ENCODED_LEN};
 
 /// A frame for the link: corrected (calibrated mode) or raw.
@@ -13,11 +14,52 @@ pub enum Outgoing {
     Data(Frame),
     /// A raw frame (version 2).
     Raw(RawFrame),
+    /// W corrected samples in fixed point (version 2).
+    Batch(BatchFrame),
+}
+
+/// What a frame carries of the framer's numbering and counters: what must
+/// move to the next frame when it is dropped.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Events {
+    /// Its sequence number (given back to the next frame).
+    pub sequence: u32,
+    /// Frames dropped before it.
+    pub dropped: u16,
+    /// Steps lost before it.
+    pub overruns: u16,
+    /// Its flags.
+    pub flags: Flags,
 }
 
 impl Outgoing {
+    /// The numbering and counters the frame carries.
+    pub fn events(&self) -> Events {
+        let (sequence, dropped, overruns, flags) = match self {
+            Outgoing::Data(f) => (f.sequence, f.dropped, f.overruns, f.flags),
+            Outgoing::Raw(f) => (f.sequence, f.dropped, f.overruns, f.flags),
+            Outgoing::Batch(f) => (f.sequence, f.dropped, f.overruns, f.flags),
+        };
+        Events {
+            sequence,
+            dropped,
+            overruns,
+            flags,
+        }
+    }
+
+    /// The frame's sequence number.
+    pub fn sequence(&self) -> u32 {
+        match self {
+            Outgoing::Data(f) => f.sequence,
+            Outgoing::Raw(f) => f.sequence,
+            Outgoing::Batch(f) => f.sequence,
+        }
+    }
+
     /// The frame on the wire (stuffed, delimited) into `out`; returns its
-    /// length (53 bytes for a data frame, 64 for a raw one).
+    /// length (53 bytes for a data frame, 64 for a raw one, 53 + 12·W for a
+    /// batch of W).
     pub fn to_wire(&self, out: &mut [u8; MAX_WIRE_LEN]) -> usize {
         match self {
             // Encoded in place: the wire buffer's first 53 bytes.
@@ -26,6 +68,10 @@ impl Outgoing {
                 None => 0,
             },
             Outgoing::Raw(frame) => match frame.to_packet() {
+                Ok(packet) => packet.to_wire(out),
+                Err(_) => 0,
+            },
+            Outgoing::Batch(frame) => match frame.to_packet() {
                 Ok(packet) => packet.to_wire(out),
                 Err(_) => 0,
             },
@@ -87,14 +133,19 @@ impl Framer {
     /// counted as dropped, and the events it carried move to the next frame
     /// so that no count is lost with it.
     pub fn frame_dropped(&mut self, frame: &Outgoing) {
-        let (sequence, dropped, overruns, flags) = match frame {
-            Outgoing::Data(f) => (f.sequence, f.dropped, f.overruns, f.flags),
-            Outgoing::Raw(f) => (f.sequence, f.dropped, f.overruns, f.flags),
-        };
-        self.sequence = sequence;
-        self.dropped = self.dropped.saturating_add(dropped).saturating_add(1);
-        self.overruns = self.overruns.saturating_add(overruns);
-        self.fifo_overflow |= flags.contains(Flags::FIFO_OVERFLOW);
+        self.events_dropped(frame.events());
+    }
+
+    /// A frame that carried `events` could not be queued (see
+    /// [`Framer::frame_dropped`]).
+    pub fn events_dropped(&mut self, events: Events) {
+        self.sequence = events.sequence;
+        self.dropped = self
+            .dropped
+            .saturating_add(events.dropped)
+            .saturating_add(1);
+        self.overruns = self.overruns.saturating_add(events.overruns);
+        self.fifo_overflow |= events.flags.contains(Flags::FIFO_OVERFLOW);
     }
 
     /// The next frame: `sample` at `timestamp_us`, with the events pending
@@ -133,6 +184,35 @@ impl Framer {
             temperature: counts.temperature,
             scale,
         };
+        self.next();
+        frame
+    }
+
+    /// The next batch: `raw` (at most [`crate::link::batch_frame::MAX_BATCH`]
+    /// samples; the rest are left out) corrected by `kernel`, the first at
+    /// `timestamp_us` and the others `period_ns` apart, at
+    /// `temperature` °C, with the events pending since the previous frame,
+    /// which are then cleared.
+    pub fn batch_frame(
+        &mut self,
+        kernel: &BatchKernel,
+        raw: &[RawSample],
+        timestamp_us: u32,
+        period_ns: u32,
+        temperature: f32,
+    ) -> BatchFrame {
+        let mut frame = BatchFrame::new(kernel.accel_lsb(), kernel.gyro_lsb());
+        frame.push_raw(kernel, raw);
+        let mut flags = self.pending_flags(&Sample::default()) | frame.flags;
+        flags.set(Flags::UNCALIBRATED, !self.calibrated);
+        frame.sequence = self.sequence;
+        frame.timestamp_us = timestamp_us;
+        frame.period_ns = period_ns;
+        frame.flags = flags;
+        frame.overruns = self.overruns;
+        frame.dropped = self.dropped;
+        frame.calibration_id = self.calibration_id;
+        frame.temperature = temperature;
         self.next();
         frame
     }

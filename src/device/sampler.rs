@@ -4,11 +4,11 @@
 //! on the same chip model, so the host computes exactly the device's numbers.
 
 use super::counters::SamplerTotals;
-use super::framer::Outgoing;
+use super::framer::{Events, Outgoing};
 use super::{Control, Decimator, Framer, StepMonitor};
-use crate::link::{Mode, RawScale};
-use crate::model::{ClipFlags, Corrector, Sample};
-use crate::sensor::{Imu, RawSample};
+use crate::link::{Mode, RawScale, MAX_BATCH};
+use crate::model::{BatchKernel, ClipFlags, Corrector, Sample};
+use crate::sensor::{FifoImu, Imu, RawSample};
 use crate::stream::TimestampUnwrapper;
 
 /// Temperature terms change slower than this: re-folding ten times a second
@@ -22,7 +22,32 @@ pub fn sample_period_us(rate_hz: f64) -> u32 {
     libm::round(1e6 / rate_hz) as u32
 }
 
+/// Most samples one FIFO read takes: the largest watermark the firmware
+/// offers. More waiting are read by a further read in the same step.
+pub const FIFO_READ_MAX: usize = 32;
+
+/// FIFO reads one step makes at most: a step that finds the FIFO still not
+/// empty after them leaves the rest for the next interrupt, so a stuck chip
+/// cannot hold the task.
+const FIFO_READS_PER_STEP: usize = 4;
+
+/// What a FIFO step did: frames queued and dropped, and a read that failed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FifoStepped<E> {
+    /// Frames handed to the link.
+    pub queued: u16,
+    /// Frames the link's queue had no room for (counted in the next frame).
+    pub dropped: u16,
+    /// Samples read from the FIFO.
+    pub samples: u16,
+    /// The FIFO could not be read: the error (counted as a read failure).
+    pub read_failed: Option<E>,
+}
+
 /// What a step produced.
+// A frame is moved into the link's queue at once, never kept: its size
+// (a batch's 232 bytes) is what the queue's slots hold anyway.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum StepOutcome<E> {
     /// A frame to stream.
@@ -47,6 +72,8 @@ pub struct Sampler {
     totals: SamplerTotals,
     clock: TimestampUnwrapper,
     uptime_us: u64,
+    kernel: BatchKernel,
+    period_ns: u32,
 }
 
 impl Sampler {
@@ -63,7 +90,10 @@ impl Sampler {
     ) -> Self {
         let framer = Framer::new(corrector.calibration_id(), calibrated);
         let raw_scale = RawScale::of(corrector.scale());
+        let kernel = BatchKernel::new(&corrector);
         Self {
+            kernel,
+            period_ns: period_us.saturating_mul(1000),
             corrector,
             decimator: Decimator::new(decimation),
             framer,
@@ -84,7 +114,9 @@ impl Sampler {
     pub fn at_rate(corrector: Corrector, calibrated: bool, decimation: u16, rate_hz: f64) -> Self {
         let period_us = sample_period_us(rate_hz);
         let refold_every = libm::round(rate_hz / REFOLDS_PER_SECOND) as u32;
-        Self::new(corrector, calibrated, decimation, period_us, refold_every)
+        let mut sampler = Self::new(corrector, calibrated, decimation, period_us, refold_every);
+        sampler.period_ns = libm::round(1e9 / rate_hz) as u32;
+        sampler
     }
 
     /// One step that started at `now_us`: reads `imu`, corrects, averages and
@@ -102,28 +134,160 @@ impl Sampler {
                 return StepOutcome::ReadFailed(error);
             }
         };
+        match self.process(&raw, now_us) {
+            Some(frame) => StepOutcome::Frame(frame),
+            None => StepOutcome::Averaging,
+        }
+    }
+
+    /// One sample through the per-sample pipeline: corrected (or counted in
+    /// raw mode), the temperature terms re-folded when due, averaged, and
+    /// framed at `timestamp_us` when the average is complete.
+    fn process(&mut self, raw: &RawSample, timestamp_us: u32) -> Option<Outgoing> {
         let sample = match self.mode {
-            Mode::Calibrated => self.corrector.correct(&raw),
-            Mode::Raw => counts(&raw),
+            Mode::Calibrated => self.corrector.correct(raw),
+            Mode::Raw => counts(raw),
         };
-        self.steps_since_refold += 1;
-        if self.refold_every != 0 && self.steps_since_refold >= self.refold_every {
-            self.steps_since_refold = 0;
+        if self.refold_due(1) {
             let temperature_c = match self.mode {
                 Mode::Calibrated => f64::from(sample.temperature),
                 Mode::Raw => self.corrector.scale().temperature_c(raw.temperature),
             };
-            // A non-finite temperature is refused and the current fold stays.
-            let _ = self.corrector.refold(temperature_c);
+            self.refold(temperature_c);
         }
-        let Some(average) = self.decimator.push(&sample) else {
-            return StepOutcome::Averaging;
-        };
+        let average = self.decimator.push(&sample)?;
         self.totals.frames_sent = self.totals.frames_sent.wrapping_add(1);
-        StepOutcome::Frame(match self.mode {
-            Mode::Calibrated => Outgoing::Data(self.framer.frame(&average, now_us)),
-            Mode::Raw => Outgoing::Raw(self.framer.raw_frame(&average, now_us, self.raw_scale)),
+        Some(match self.mode {
+            Mode::Calibrated => Outgoing::Data(self.framer.frame(&average, timestamp_us)),
+            Mode::Raw => Outgoing::Raw(self.framer.raw_frame(
+                &average,
+                timestamp_us,
+                self.raw_scale,
+            )),
         })
+    }
+
+    /// Counts `samples` toward the next re-fold of the temperature terms;
+    /// true when one is due (the count then restarts).
+    fn refold_due(&mut self, samples: u32) -> bool {
+        self.steps_since_refold += samples;
+        let due = self.refold_every != 0 && self.steps_since_refold >= self.refold_every;
+        if due {
+            self.steps_since_refold = 0;
+        }
+        due
+    }
+
+    /// Re-folds the temperature terms at `temperature_c`, the batch kernel
+    /// with them. A non-finite temperature is refused and the fold stays.
+    fn refold(&mut self, temperature_c: f64) {
+        if self.corrector.refold(temperature_c).is_ok() {
+            self.kernel = BatchKernel::new(&self.corrector);
+        }
+    }
+
+    /// One FIFO watermark interrupt at `now_us`: drains the FIFO and frames
+    /// every sample, offering each frame to `enqueue` (false when the link's
+    /// queue is full: the frame is then counted dropped). In
+    /// calibrated mode without averaging the samples go out in batch frames
+    /// of up to [`MAX_BATCH`]; otherwise each goes through the per-sample
+    /// pipeline (raw frames, or averages in data frames).
+    ///
+    /// Timestamps: the newest sample in the FIFO is taken to have arrived at
+    /// `now_us` and the others one chip period apart before it (the
+    /// interrupt's time and the ODR, not the chip's FIFO timestamps). The
+    /// error is the interrupt's latency (the task's entry, and any
+    /// higher-priority work before it) plus at most one period when a
+    /// sample arrived between the interrupt and the FIFO count's read, and
+    /// the chip's clock error over one batch. A FIFO overflow sets
+    /// FIFO_OVERFLOW and counts the samples lost as overruns.
+    pub fn step_fifo<I: FifoImu>(
+        &mut self,
+        imu: &mut I,
+        now_us: u32,
+        mut enqueue: impl FnMut(Outgoing) -> bool,
+    ) -> FifoStepped<I::Error> {
+        self.uptime_us = self.clock.unwrap(now_us);
+        let mut stepped = FifoStepped {
+            queued: 0,
+            dropped: 0,
+            samples: 0,
+            read_failed: None,
+        };
+        let mut buffer = [RawSample::default(); FIFO_READ_MAX];
+        for _ in 0..FIFO_READS_PER_STEP {
+            let read = match imu.read_fifo(&mut buffer) {
+                Ok(read) => read,
+                Err(error) => {
+                    self.totals.read_failures = self.totals.read_failures.wrapping_add(1);
+                    stepped.read_failed = Some(error);
+                    break;
+                }
+            };
+            if read.overflowed {
+                self.framer.fifo_overflowed();
+                self.steps_lost(read.lost);
+            }
+            let samples = &buffer[..read.samples.min(FIFO_READ_MAX)];
+            stepped.samples = stepped.samples.saturating_add(samples.len() as u16);
+            // Samples before the newest, which arrived at now_us.
+            let behind = (samples.len() + usize::from(read.remaining)).saturating_sub(1);
+            let first_us = now_us.wrapping_sub(self.span_us(behind));
+            let mut offer = |frame: Outgoing, sampler: &mut Self| {
+                let events = frame.events();
+                if enqueue(frame) {
+                    stepped.queued = stepped.queued.saturating_add(1);
+                } else {
+                    sampler.events_dropped(events);
+                    stepped.dropped = stepped.dropped.saturating_add(1);
+                }
+            };
+            if self.mode == Mode::Calibrated && self.decimator.factor() == 1 {
+                for (i, chunk) in samples.chunks(MAX_BATCH).enumerate() {
+                    let timestamp = first_us.wrapping_add(self.span_us(i * MAX_BATCH));
+                    let frame = self.batch(chunk, timestamp);
+                    offer(frame, self);
+                }
+            } else {
+                for (i, raw) in samples.iter().enumerate() {
+                    let timestamp = first_us.wrapping_add(self.span_us(i));
+                    if let Some(frame) = self.process(raw, timestamp) {
+                        offer(frame, self);
+                    }
+                }
+            }
+            if read.remaining == 0 {
+                break;
+            }
+        }
+        stepped
+    }
+
+    /// `samples` chip periods, µs (rounded down).
+    fn span_us(&self, samples: usize) -> u32 {
+        (samples as u64 * u64::from(self.period_ns) / 1000) as u32
+    }
+
+    /// One batch frame of `chunk` (≤ [`MAX_BATCH`] samples) at `timestamp_us`.
+    fn batch(&mut self, chunk: &[RawSample], timestamp_us: u32) -> Outgoing {
+        // The mean in f32: one f64 operation per batch would be a library
+        // call on the Cortex-M4F.
+        let sum: i32 = chunk.iter().map(|r| i32::from(r.temperature)).sum();
+        let mean_counts = sum as f32 / chunk.len().max(1) as f32;
+        let scale = self.corrector.scale();
+        let temperature_c =
+            mean_counts * scale.temperature_per_lsb as f32 + scale.temperature_offset as f32;
+        if self.refold_due(chunk.len() as u32) {
+            self.refold(f64::from(temperature_c));
+        }
+        self.totals.frames_sent = self.totals.frames_sent.wrapping_add(1);
+        Outgoing::Batch(self.framer.batch_frame(
+            &self.kernel,
+            chunk,
+            timestamp_us,
+            self.period_ns,
+            temperature_c,
+        ))
     }
 
     /// Applies a change from the command handler; call it between two
@@ -135,6 +299,7 @@ impl Sampler {
             Control::Calibrate(corrector) => {
                 self.framer
                     .set_calibration(corrector.calibration_id(), true);
+                self.kernel = BatchKernel::new(&corrector);
                 self.corrector = corrector;
                 self.steps_since_refold = self.refold_every;
                 self.decimator = Decimator::new(self.decimator.factor());
@@ -180,7 +345,12 @@ impl Sampler {
 
     /// `frame` could not be queued for the link; see [`Framer::frame_dropped`].
     pub fn frame_dropped(&mut self, frame: &Outgoing) {
-        self.framer.frame_dropped(frame);
+        self.events_dropped(frame.events());
+    }
+
+    /// A frame carrying `events` could not be queued for the link.
+    fn events_dropped(&mut self, events: Events) {
+        self.framer.events_dropped(events);
         self.totals.frames_sent = self.totals.frames_sent.wrapping_sub(1);
         self.totals.frames_dropped = self.totals.frames_dropped.wrapping_add(1);
     }

@@ -35,6 +35,7 @@ pub const BATCH_SAMPLE_LEN: usize = 12;
 
 /// W corrected samples.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct BatchFrame {
     /// Packet number, one numbering with data and raw frames.
     pub sequence: u32,
@@ -170,30 +171,29 @@ impl BatchFrame {
         Ok(b)
     }
 
-    /// The batch as a sealed packet.
+    /// The batch as a sealed packet, written in place: the header field by
+    /// field, then the counts (little-endian i16) straight from the array.
     pub fn to_packet(&self) -> Result<PacketBuf, TooLong> {
-        let mut body = [0u8; BATCH_HEADER_LEN + MAX_BATCH * BATCH_SAMPLE_LEN];
-        let mut w = Writer::new(&mut body);
-        w.u32(self.sequence)
-            .u32(self.timestamp_us)
-            .u32(self.period_ns)
-            .u16(self.flags.bits())
-            .u16(self.overruns)
-            .u16(self.dropped)
-            .u32(self.calibration_id)
-            .f32(self.accel_lsb)
-            .f32(self.gyro_lsb)
-            .f32(self.temperature)
-            .u8(self.count);
-        for s in self.samples() {
-            for v in s {
-                w.u16(*v as u16);
+        PacketBuf::with_body(PacketType::Batch, |body| {
+            let (header, samples) = body.split_at_mut_checked(BATCH_HEADER_LEN)?;
+            let mut w = Writer::new(header);
+            w.u32(self.sequence)
+                .u32(self.timestamp_us)
+                .u32(self.period_ns)
+                .u16(self.flags.bits())
+                .u16(self.overruns)
+                .u16(self.dropped)
+                .u32(self.calibration_id)
+                .f32(self.accel_lsb)
+                .f32(self.gyro_lsb)
+                .f32(self.temperature)
+                .u8(self.count);
+            let counts = self.samples().as_flattened();
+            let room = samples.get_mut(..counts.len() * 2)?;
+            for (bytes, count) in room.chunks_exact_mut(2).zip(counts) {
+                bytes.copy_from_slice(&count.to_le_bytes());
             }
-        }
-        if w.overflowed() {
-            return Err(TooLong);
-        }
-        let n = w.len();
-        PacketBuf::new(PacketType::Batch, &body[..n])
+            (!w.overflowed()).then_some(BATCH_HEADER_LEN + room.len())
+        })
     }
 }

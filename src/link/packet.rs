@@ -13,7 +13,7 @@ use super::command::CommandPacket;
 use super::raw_frame::RawFrame;
 use super::reply::Reply;
 use crate::crc32c::crc32c;
-use crate::stream::cobs::{max_stuffed_len, stuff};
+use crate::stream::cobs::{max_stuffed_len, stuff_block};
 use crate::stream::{DecodeError, Frame, DELIMITER, FRAME_LEN};
 
 /// Byte 0 of every packet this version adds.
@@ -153,14 +153,29 @@ pub struct TooLong;
 impl PacketBuf {
     /// The packet of `kind` with `body`, sealed with its CRC.
     pub fn new(kind: PacketType, body: &[u8]) -> Result<PacketBuf, TooLong> {
-        let len = HEADER_LEN + body.len() + CRC_LEN;
-        if len > MAX_PACKET_LEN {
-            return Err(TooLong);
-        }
+        Self::with_body(kind, |room| {
+            let slot = room.get_mut(..body.len())?;
+            slot.copy_from_slice(body);
+            Some(body.len())
+        })
+    }
+
+    /// A sealed packet whose body `write` puts in place: it gets the room
+    /// for the longest body and returns the length it wrote (`None`: it did
+    /// not fit). No copy of the body: the encoders of long packets use it.
+    #[inline]
+    pub fn with_body(
+        kind: PacketType,
+        write: impl FnOnce(&mut [u8]) -> Option<usize>,
+    ) -> Result<PacketBuf, TooLong> {
         let mut bytes = [0u8; MAX_PACKET_LEN];
         bytes[0] = VERSION;
         bytes[1] = kind as u8;
-        bytes[HEADER_LEN..HEADER_LEN + body.len()].copy_from_slice(body);
+        let body_len = write(&mut bytes[HEADER_LEN..MAX_PACKET_LEN - CRC_LEN]).ok_or(TooLong)?;
+        let len = HEADER_LEN + body_len + CRC_LEN;
+        if len > MAX_PACKET_LEN {
+            return Err(TooLong);
+        }
         let crc_at = len - CRC_LEN;
         let crc = crc32c(&bytes[..crc_at]);
         bytes[crc_at..len].copy_from_slice(&crc.to_le_bytes());
@@ -178,7 +193,7 @@ impl PacketBuf {
         let (stuffed, _) = out.split_at_mut(MAX_WIRE_LEN - 1);
         // The packet is never longer than MAX_PACKET_LEN, which the buffer
         // is sized for, so stuffing cannot fail.
-        let n = stuff(self.as_bytes(), stuffed).unwrap_or(0);
+        let n = stuff_block(self.as_bytes(), stuffed).unwrap_or(0);
         out[n] = DELIMITER;
         n + 1
     }

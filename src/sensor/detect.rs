@@ -5,9 +5,11 @@
 //! [`for_each_chip!`](crate::for_each_chip) is the one list of chips. A chip
 //! module (e.g. [`super::icm42688`]) offers `NAME`, `IDENTITY`, `SPI_MAX_HZ`,
 //! `I2C_ADDRESSES`, `identify` (a read of the identity register that changes
-//! nothing on any listed chip), `Config: Default` with `sample_rate_hz`, and
+//! nothing on any listed chip), `Config: Default` with `sample_rate_hz` and
+//! pub `odr` and `fifo`, `Odr::of_hz`, and
 //! a driver with `new`, `init`, `config`, `interface_mut`, `bus`, `bus_mut`,
-//! `self_test` (with `self_test_max_duration_ms` beside it) and [`Imu`]:
+//! `self_test` (with `self_test_max_duration_ms` beside it), [`Imu`] and
+//! [`FifoImu`]:
 //! adding a chip is that module, its chip model in the simulator, and one
 //! line in the list.
 
@@ -15,8 +17,10 @@ use embedded_hal::delay::DelayNs;
 use embedded_hal::i2c::I2c;
 
 use super::error::Error;
+use super::fifo::{FifoImu, FifoRead};
 use super::interface::{I2cInterface, RegisterInterface};
 use super::self_test::{SelfTestError, SelfTestReport};
+use super::settings::Settings;
 use super::{icm42688, lsm6dsox, Imu, ImuScale, RawSample};
 
 /// Calls `$callback! { module::Driver, ... }` with every chip triad drives,
@@ -137,6 +141,29 @@ macro_rules! define_any_chip {
                 }
             }
 
+            /// As [`Self::start`], with `settings`' rate and FIFO watermark in
+            /// place of the default's; a rate the chip does not have is
+            /// refused (`InvalidConfig`, with the rate) before any write.
+            pub fn start_with(
+                &mut self,
+                delay: &mut impl DelayNs,
+                settings: &Settings,
+            ) -> Result<(), Error<I::BusError>> {
+                match self {
+                    $(Self::$driver(chip) => {
+                        let mut config = $module::Config::default();
+                        if let Some(hz) = settings.rate_hz {
+                            config.odr = $module::Odr::of_hz(hz).ok_or(Error::InvalidConfig {
+                                what: "output data rate, Hz (not one of this chip's rates)",
+                                value: hz,
+                            })?;
+                        }
+                        config.fifo = settings.fifo();
+                        chip.init(delay, &config)
+                    })+
+                }
+            }
+
             /// The output data rate of the configuration applied, Hz.
             pub fn sample_rate_hz(&self) -> f64 {
                 match self {
@@ -223,6 +250,20 @@ macro_rules! define_any_chip {
             fn scale(&self) -> ImuScale {
                 match self {
                     $(Self::$driver(chip) => chip.scale(),)+
+                }
+            }
+        }
+
+        impl<I: RegisterInterface> FifoImu for AnyChip<I> {
+            fn read_fifo(&mut self, out: &mut [RawSample]) -> Result<FifoRead, Self::Error> {
+                match self {
+                    $(Self::$driver(chip) => chip.read_fifo(out),)+
+                }
+            }
+
+            fn reset_fifo(&mut self) -> Result<(), Self::Error> {
+                match self {
+                    $(Self::$driver(chip) => chip.reset_fifo(),)+
                 }
             }
         }

@@ -9,12 +9,14 @@ pub mod interface;
 pub mod interrupt;
 pub mod lsm6dsox;
 pub mod self_test;
+pub mod settings;
 
 pub use detect::{AnyChip, DetectError, Undetected, CHIP_NAMES};
 pub use error::Error;
 pub use fifo::{FifoConfig, FifoImu, FifoMode, FifoRead};
 pub use interrupt::InterruptPin;
 pub use self_test::{Axis, ChipLeft, SelfTestError, SelfTestReport};
+pub use settings::Settings;
 
 /// One raw reading of both triads, in the chip's own counts (LSB).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

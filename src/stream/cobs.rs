@@ -81,6 +81,14 @@ pub fn stuff(data: &[u8], out: &mut [u8]) -> Result<usize, CobsError> {
 #[inline]
 pub fn stuff_short<const N: usize, const M: usize>(data: &[u8; N], out: &mut [u8; M]) {
     const { assert!(N < 254 && M == N + 1) };
+    stuff_exact(data, out);
+}
+
+/// Stuffs `data` (under 254 bytes) into `out`, exactly one byte longer:
+/// each byte one copy and one test for zero. Inlined, so that a caller with
+/// array lengths known at build time gets no bounds checks.
+#[inline(always)]
+fn stuff_exact(data: &[u8], out: &mut [u8]) {
     let mut code_at = 0;
     for (i, &byte) in data.iter().enumerate() {
         out[i + 1] = byte;
@@ -90,7 +98,31 @@ pub fn stuff_short<const N: usize, const M: usize>(data: &[u8; N], out: &mut [u8
             code_at = i + 1;
         }
     }
-    out[code_at] = (N + 1 - code_at) as u8;
+    out[code_at] = (data.len() + 1 - code_at) as u8;
+}
+
+/// Longest block [`stuff_block`] takes: a 254-byte run would need a 0xFF code.
+pub const MAX_BLOCK: usize = 253;
+
+/// [`stuff`] for at most [`MAX_BLOCK`] bytes into `out` (N + 1 bytes): no
+/// block reaches the 254-byte run that needs a 0xFF code, so each byte is
+/// one copy and one test for zero, as in [`stuff_short`] (a word-at-a-time
+/// form and a run-by-run copy were both measured no faster on the emulated
+/// Cortex-M4F: the stream's counts hold many zero bytes). The length is
+/// runtime: the packets of protocol v2 (at most 240 bytes) use it.
+/// Fails only when `data` is longer than [`MAX_BLOCK`] or `out` shorter
+/// than `data.len() + 1`.
+#[inline]
+pub fn stuff_block(data: &[u8], out: &mut [u8]) -> Result<usize, CobsError> {
+    let needed = data.len() + 1;
+    if data.len() > MAX_BLOCK || out.len() < needed {
+        return Err(CobsError::BufferTooSmall {
+            needed: max_stuffed_len(data.len()),
+            available: out.len(),
+        });
+    }
+    stuff_exact(data, &mut out[..needed]);
+    Ok(needed)
 }
 
 /// Undoes stuffing one byte at a time, with no buffer of its own: the caller

@@ -65,6 +65,18 @@ pub struct Firmware {
     /// The emulated board's chip model (one of `triad::sensor::CHIP_NAMES`);
     /// `None` on hardware, where the firmware finds whichever chip is fitted.
     pub emulated_chip: Option<&'static str>,
+    /// The sample rate and FIFO watermark the firmware asks of the chip.
+    pub sampling: Sampling,
+}
+
+/// The firmware's sampling settings at build (firmware/build.rs):
+/// `TRIAD_SAMPLE_RATE_HZ` and `TRIAD_FIFO_WATERMARK`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct Sampling {
+    /// The chip's output data rate, Hz; `None`: the driver's default.
+    pub rate_hz: Option<u32>,
+    /// Samples per interrupt; `None` (or 1): one, FIFO off.
+    pub watermark: Option<u16>,
 }
 
 impl Firmware {
@@ -80,6 +92,7 @@ impl Firmware {
                     board,
                     bus,
                     emulated_chip,
+                    sampling: Sampling::default(),
                 })
             })
         })
@@ -91,6 +104,7 @@ impl Firmware {
             board: Board::Qemu,
             bus: Bus::Spi,
             emulated_chip: Some(CHIP_NAMES[0]),
+            sampling: Sampling::default(),
         }
     }
 
@@ -100,11 +114,18 @@ impl Firmware {
     }
 
     /// The environment the build reads besides its features.
-    pub fn build_env(self) -> Vec<(&'static str, &'static str)> {
-        self.emulated_chip
-            .map(|chip| ("TRIAD_EMULATED_CHIP", chip))
-            .into_iter()
-            .collect()
+    pub fn build_env(self) -> Vec<(&'static str, String)> {
+        let mut env = Vec::new();
+        if let Some(chip) = self.emulated_chip {
+            env.push(("TRIAD_EMULATED_CHIP", chip.to_string()));
+        }
+        if let Some(hz) = self.sampling.rate_hz {
+            env.push(("TRIAD_SAMPLE_RATE_HZ", hz.to_string()));
+        }
+        if let Some(w) = self.sampling.watermark {
+            env.push(("TRIAD_FIFO_WATERMARK", w.to_string()));
+        }
+        env
     }
 
     /// A short name: `qemu/lsm6dsox/i2c`, `nucleo-f401re/spi`.
@@ -115,12 +136,20 @@ impl Firmware {
         }
     }
 
-    /// A file-name stem for this build's artefacts: `lsm6dsox-i2c`, `spi`.
+    /// A file-name stem for this build's artefacts: `lsm6dsox-i2c`, `spi`,
+    /// `icm42688-spi-8000hz-w32` with sampling settings.
     pub fn stem(self) -> String {
-        match self.emulated_chip {
+        let mut stem = match self.emulated_chip {
             Some(chip) => format!("{chip}-{}", self.bus.name()),
             None => self.bus.name().to_owned(),
+        };
+        if let Some(hz) = self.sampling.rate_hz {
+            stem += &format!("-{hz}hz");
         }
+        if let Some(w) = self.sampling.watermark {
+            stem += &format!("-w{w}");
+        }
+        stem
     }
 }
 
@@ -141,6 +170,7 @@ mod tests {
             board: Board::Qemu,
             bus: Bus::I2c,
             emulated_chip: Some("lsm6dsox"),
+            sampling: Sampling::default(),
         }));
         assert_eq!(
             all[0],
@@ -148,7 +178,10 @@ mod tests {
             "the default comes first"
         );
         assert_eq!(all[0].features(), "board-qemu,bus-spi");
-        assert_eq!(all[0].build_env(), [("TRIAD_EMULATED_CHIP", "icm42688")]);
+        assert_eq!(
+            all[0].build_env(),
+            [("TRIAD_EMULATED_CHIP", "icm42688".to_string())]
+        );
         let hardware = all.iter().find(|f| f.board == Board::NucleoF401re).unwrap();
         assert!(
             hardware.build_env().is_empty(),

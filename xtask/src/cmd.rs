@@ -257,7 +257,7 @@ mod tests {
             env("CARGO_TARGET_DIR"),
             Some(root().join("target/firmware/qemu").as_os_str())
         );
-        let chip = firmware.build_env()[0];
-        assert_eq!(env(chip.0), Some(OsStr::new(chip.1)));
+        let (key, chip) = &firmware.build_env()[0];
+        assert_eq!(env(key), Some(OsStr::new(chip)));
     }
 }

@@ -3,8 +3,24 @@
 
 use std::io::Read;
 
-/// Decodes the defmt stream from `log` until it closes.
-pub fn print(elf: &[u8], mut log: impl Read) {
+/// Decodes the defmt stream from `log` until it closes, printing each line.
+pub fn print(elf: &[u8], log: impl Read) {
+    each_line(elf, log, |line| eprintln!("firmware: {line}"));
+}
+
+/// Decodes the defmt stream from `log` until it closes; returns its lines
+/// (and prints them, as [`print`] does).
+pub fn collect(elf: &[u8], log: impl Read) -> Vec<String> {
+    let mut lines = Vec::new();
+    each_line(elf, log, |line| {
+        eprintln!("firmware: {line}");
+        lines.push(line);
+    });
+    lines
+}
+
+/// Calls `line` with each decoded log line of `log` until it closes.
+fn each_line(elf: &[u8], mut log: impl Read, mut line: impl FnMut(String)) {
     let table = match defmt_decoder::Table::parse(elf) {
         Ok(Some(table)) => table,
         Ok(None) => return eprintln!("firmware: the ELF has no defmt table; log not shown"),
@@ -20,7 +36,7 @@ pub fn print(elf: &[u8], mut log: impl Read) {
         decoder.received(&buffer[..n]);
         loop {
             match decoder.decode() {
-                Ok(frame) => eprintln!("firmware: {}", frame.display(false)),
+                Ok(frame) => line(frame.display(false).to_string()),
                 Err(defmt_decoder::DecodeError::UnexpectedEof) => break,
                 Err(defmt_decoder::DecodeError::Malformed) => {
                     eprintln!("firmware: malformed defmt frame skipped");

@@ -52,6 +52,10 @@ enum Command {
         /// Print the rows as a JSON array instead of a table.
         #[arg(long)]
         json: bool,
+        /// Only the whole firmware (every rate and watermark, and the long
+        /// run): print its section, leave docs/BENCHMARKS.md as it is.
+        #[arg(long, conflicts_with = "json")]
+        whole_firmware: bool,
     },
     /// Serve the emulated board like hardware: QEMU in real time, its link on
     /// a pseudo-terminal whose path is the first line on stdout; runs until killed.
@@ -95,6 +99,14 @@ pub struct FirmwareArgs {
     /// Seed of the scene's random streams (with --scene).
     #[arg(long, default_value_t = 1, requires = "scene")]
     seed: u64,
+    /// The chip's output data rate, Hz (one the chip has, e.g. 1000, 8000
+    /// for the ICM-42688-P); default the driver's.
+    #[arg(long, value_name = "HZ")]
+    rate: Option<u32>,
+    /// Samples per interrupt from the chip's FIFO (1..=32), streamed in batch
+    /// frames; default 1 (FIFO off, one data frame per sample).
+    #[arg(long, value_name = "W", value_parser = clap::value_parser!(u16).range(1..=32))]
+    watermark: Option<u16>,
 }
 
 /// Arguments of `cargo xtask run`.
@@ -148,7 +160,13 @@ fn main() -> std::process::ExitCode {
             (_, true) => test::Scope::FirstRun,
             _ => test::Scope::All,
         }),
-        Command::Bench { json } => setup::ensure_all().and_then(|()| bench::run(json)),
+        Command::Bench {
+            json,
+            whole_firmware,
+        } => setup::ensure_all().and_then(|()| match whole_firmware {
+            true => bench::run_whole_firmware(),
+            false => bench::run(json),
+        }),
         Command::Setup => setup::ensure_all(),
         Command::Man { dir } => man(&dir),
         Command::Log { elf, log } => defmt_log::print_file(&elf, &log),
@@ -234,6 +252,10 @@ fn build(args: &FirmwareArgs) -> anyhow::Result<(std::path::PathBuf, std::path::
         board: args.board,
         bus: args.bus,
         emulated_chip,
+        sampling: board::Sampling {
+            rate_hz: args.rate,
+            watermark: args.watermark,
+        },
     };
     eprintln!("xtask: firmware for {}", firmware.label());
     let elf = match &args.scene {

@@ -111,10 +111,20 @@ fn unique() -> u64 {
 /// Runs `elf` on QEMU until `triad decode` stops at `stop`, then stops QEMU.
 /// Returns the decoder's exit status.
 pub fn stream_to_decoder(elf: &Path, triad: &Path, stop: Stop, sink: Sink) -> Result<ExitStatus> {
+    stream_with_log(elf, triad, stop, sink).map(|(status, _)| status)
+}
+
+/// As [`stream_to_decoder`], and the firmware's log lines (printed too).
+pub fn stream_with_log(
+    elf: &Path,
+    triad: &Path,
+    stop: Stop,
+    sink: Sink,
+) -> Result<(ExitStatus, Vec<String>)> {
     let mut board = Board::start(elf, Clock::Deterministic, &[])?;
     let elf_bytes = std::fs::read(elf).with_context(|| format!("reading {}", elf.display()))?;
     let log = board.take_log()?;
-    let log_thread = std::thread::spawn(move || defmt_log::print(&elf_bytes, log));
+    let log_thread = std::thread::spawn(move || defmt_log::collect(&elf_bytes, log));
 
     let mut serial = board.link.try_clone().context("cloning the link socket")?;
     let (mut decoder_cmd, raw_file) = match &sink {
@@ -154,7 +164,7 @@ pub fn stream_to_decoder(elf: &Path, triad: &Path, stop: Stop, sink: Sink) -> Re
     let status = decoder.wait().context("waiting for triad decode")?;
     let qemu_status = board.stop();
     let _ = pump.join();
-    let _ = log_thread.join();
+    let lines = log_thread.join().unwrap_or_default();
     if let Some(qemu_status) = qemu_status {
         // QEMU exits on its own only through a semihosting exit: the firmware
         // ended the run early (a fatal error or a panic).
@@ -162,7 +172,7 @@ pub fn stream_to_decoder(elf: &Path, triad: &Path, stop: Stop, sink: Sink) -> Re
             bail!("the firmware stopped QEMU with {qemu_status} before {stop:?} streamed");
         }
     }
-    Ok(status)
+    Ok((status, lines))
 }
 
 /// QEMU on `machine` running `elf` deterministically: no display or

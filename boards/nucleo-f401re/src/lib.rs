@@ -25,7 +25,6 @@ mod dma_ring;
 mod flash;
 mod serial_rx;
 mod serial_tx;
-mod tx_ring;
 pub use flash::{Flash, FlashError, StorageUnavailable, STORAGE_SLOTS};
 pub use serial_rx::SerialRx;
 pub use serial_tx::{Serial, TX_BUFFER_LEN};
@@ -87,8 +86,10 @@ pub struct Board {
 /// The self-test's delay: the plain busy-wait.
 pub type SelfTestDelay = Delay;
 
-/// Brings up clocks and peripherals.
-pub fn init(dp: pac::Peripherals) -> Board {
+/// Brings up clocks and peripherals. The sampling settings are the chip's
+/// own business here (its INT1 pin, on EXTI0, signals data ready or the
+/// FIFO watermark alike).
+pub fn init(dp: pac::Peripherals, _settings: &triad::sensor::Settings) -> Board {
     // SAFETY: init runs once, before any task; only the trace enable, the
     // cycle counter's enable bit (RTIC uses neither) and the priority of
     // DMA1_STREAM6, an interrupt RTIC does not bind, are written.
@@ -277,8 +278,9 @@ fn i2c_bus(i2c: pac::I2C1, (scl, sda): (gpio::PB8, gpio::PB9), rcc: &mut Rcc) ->
     i2c.i2c(pins, Hertz::kHz(400), rcc)
 }
 
-/// Nothing to do on hardware: the chip raises INT1 by itself.
-pub fn data_ready(_sensor: &mut Sensor) {}
+/// Nothing to do on hardware: the chip raises INT1 by itself (`_samples`
+/// is the emulated board's: how far its chip model runs per edge).
+pub fn data_ready(_sensor: &mut Sensor, _samples: u16) {}
 
 /// The IMU's INT1 on PB0 → EXTI0, rising edge. PB0 is pulled down so that
 /// a missing or not yet configured chip leaves the line low, not floating.

@@ -1,5 +1,5 @@
 //! USART2's transmitter (PA2, to the ST-LINK's virtual COM port) by DMA:
-//! the link task copies bytes into [`BUFFER`], a ring ([`crate::tx_ring`]),
+//! the link task copies bytes into [`BUFFER`], a ring ([`triad::device::tx_ring`]),
 //! and DMA1 stream 6, channel 4 (RM0368 Table 28: USART2_TX) sends them to
 //! DR, one run of consecutive bytes at a time, paced by the USART's TXE
 //! requests (CR3's DMAT).
@@ -34,7 +34,7 @@ use stm32f4xx_hal::{ClearFlags as _, Listen as _, ReadFlags as _};
 use triad::device::board::LinkTx;
 
 use crate::pac;
-use crate::tx_ring::TxRing;
+use triad::device::tx_ring::TxRing;
 
 /// The ring's length: four longest packets (a reply is at most
 /// [`triad::link::MAX_WIRE_LEN`] = 242 bytes), about 19 stream frames of 53

@@ -40,27 +40,32 @@ pub struct Board {
     pub self_test_delay: SelfTestDelay,
 }
 
-/// Brings up the peripherals. No clock tree set-up: QEMU's RCC is a stub.
-pub fn init(dp: pac::Peripherals) -> Board {
+/// Brings up the peripherals for the firmware's sampling `settings` (the
+/// chip model's rate, and one data-ready edge per `watermark` samples). No
+/// clock tree set-up: QEMU's RCC is a stub.
+pub fn init(dp: pac::Peripherals, settings: &Settings) -> Board {
     dp.RCC.apb1enr().modify(|_, w| {
         w.tim2en().set_bit();
         w.tim4en().set_bit();
         w.tim5en().set_bit()
     });
     dp.RCC.apb1enr().modify(|_, w| w.usart2en().set_bit());
-    let chip = emulated_chip();
+    let chip = emulated_chip(settings.rate_hz);
+    // emulated_chip() stopped the board if the chip has no such rate.
+    let rate_hz = EmulatedChip::rate_hz(EMULATED_CHIP, settings.rate_hz).unwrap_or(1.0);
     let sensor_bus = SensorBus(SharedBus(chip));
-    let tx_queue = cortex_m::singleton!(: Queue<u8, TX_QUEUE_LEN> = Queue::new())
-        .unwrap_or_else(|| exit(false));
-    let (tx_in, tx_out) = tx_queue.split();
-    let serial = Serial::new(dp.USART2, USART_DIV_X16, tx_in);
+    let (serial, tx_drain) = Serial::new(dp.USART2, USART_DIV_X16);
     // SAFETY: the interrupt side reads SR/DR, writes DR and sets or clears
     // CR1's RE, RXNEIE and TXEIE; the link task's side sets TXEIE (a
     // read-modify-write the interrupt may preempt: both leave the other
     // bits as they were).
-    let serial_rx = SerialRx::new(unsafe { pac::USART2::steal() }, TxDrain::new(tx_out));
+    let serial_rx = SerialRx::new(unsafe { pac::USART2::steal() }, tx_drain);
     Board {
-        sample_line: SampleLine::new(dp.TIM2, &dp.TIM4, chip.borrow().sample_rate_hz()),
+        sample_line: SampleLine::new(
+            dp.TIM2,
+            &dp.TIM4,
+            rate_hz / f64::from(settings.watermark.max(1)),
+        ),
         clock: MicrosecondClock::new(dp.TIM5, TIMER_CLOCK_HZ),
         serial,
         serial_rx,
@@ -75,8 +80,9 @@ pub fn init(dp: pac::Peripherals) -> Board {
 pub const STORAGE_SLOTS: (u32, u32) = (0, 16 * 1024);
 
 /// The data-ready line: TIM2's update interrupt pends EXTI0 (the line's
-/// interrupt on real boards) once per sample, so the application's
-/// data-ready task is the same on every board.
+/// interrupt on real boards) once per sample, or once per FIFO watermark's
+/// worth of samples (the chip's INT1 then signals the watermark), so the
+/// application's data-ready task is the same on every board.
 ///
 /// QEMU 7.2's STM32 timer model (hw/timer/stm32f2xx_timer.c) does not count
 /// from the enable: every update period is (ARR + offset) ticks, where the
@@ -87,7 +93,8 @@ pub const STORAGE_SLOTS: (u32, u32) = (0, 16 * 1024);
 pub struct SampleLine(pac::TIM2);
 
 impl SampleLine {
-    /// TIM2 pending EXTI0 every sample period of `rate_hz`, to the microsecond.
+    /// TIM2 pending EXTI0 at `rate_hz` (the sample rate over the watermark),
+    /// to the microsecond.
     fn new(tim: pac::TIM2, virtual_ns: &pac::TIM4, rate_hz: f64) -> Self {
         let period_us = triad::device::sample_period_us(rate_hz);
         let ticks_now = || virtual_ns.cnt().read().bits() / (TIMER_CLOCK_HZ / 1_000_000);
@@ -143,8 +150,6 @@ pub use microsecond_clock::MicrosecondClock;
 mod semihosting_flash;
 mod serial_rx;
 mod serial_tx;
-use heapless::spsc::Queue;
-use serial_tx::{TxDrain, TX_QUEUE_LEN};
 
 /// The stream's link: USART2's transmitter, 8N1. USART2, as on the
 /// NUCLEO (its ST-LINK virtual COM port), so that both boards' firmware
@@ -230,7 +235,7 @@ impl spi::SpiDevice for SensorBus {
         &mut self,
         operations: &mut [spi::Operation<'_, u8>],
     ) -> Result<(), Self::Error> {
-        self.0.transaction(operations)
+        in_model(|| self.0.transaction(operations))
     }
 }
 
@@ -296,11 +301,19 @@ pub fn find_sensor(bus: SensorBus) -> Result<Sensor, DetectError<i2c::ErrorKind>
     AnyChip::detect_i2c(bus).map_err(|undetected| undetected.reason)
 }
 
-/// The chip model serving `model_source()` at the chip's rate (build.rs
-/// admitted only listed names; any other stops the board), in a static
-/// cell the driver's bus and the self-test's delay share.
-fn emulated_chip() -> &'static RefCell<EmulatedChip> {
-    let chip = EmulatedChip::named(EMULATED_CHIP, model_source).unwrap_or_else(|| exit(false));
+/// The chip model serving `model_source()` at `rate_hz` (the driver's
+/// default when `None`; build.rs admitted only listed names, and any other
+/// stops the board), in a static cell the driver's bus and the self-test's
+/// delay share.
+fn emulated_chip(rate_hz: Option<u32>) -> &'static RefCell<EmulatedChip> {
+    let Some(chip) = EmulatedChip::named_at(EMULATED_CHIP, rate_hz, model_source) else {
+        defmt::error!(
+            "the {} model has no output data rate of {} Hz",
+            EMULATED_CHIP,
+            rate_hz
+        );
+        exit(false)
+    };
     cortex_m::singleton!(: RefCell<EmulatedChip> = RefCell::new(chip))
         .unwrap_or_else(|| exit(false))
 }
@@ -327,9 +340,15 @@ fn model_source(rate_hz: f64) -> source::Source {
 }
 
 /// The data-ready line: on this board the timer interrupt stands in for it,
-/// and the chip model's clock advances to its next sample.
-pub fn data_ready(sensor: &mut Sensor) {
-    in_model(|| sensor.bus_mut().chip().advance_one_sample());
+/// and the chip model's clock advances by `samples` samples (the FIFO
+/// watermark; 1 without the FIFO).
+pub fn data_ready(sensor: &mut Sensor, samples: u16) {
+    in_model(|| {
+        let mut chip = sensor.bus_mut().chip();
+        for _ in 0..samples {
+            chip.advance_one_sample();
+        }
+    });
 }
 
 /// The self-test's delay: each wait lets the chip model's time pass by as
@@ -360,4 +379,4 @@ use triad::device::board::DataReadyLine;
 use triad::sensor::interface::I2cInterface;
 #[cfg(not(feature = "bus-i2c"))]
 use triad::sensor::interface::SpiInterface;
-use triad::sensor::{AnyChip, DetectError};
+use triad::sensor::{AnyChip, DetectError, Settings};

@@ -132,10 +132,7 @@ fn logged(device: &FakeDevice, seq: u32) -> (Outgoing, triad::sensor::RawSample)
     let log = device.log.lock().unwrap();
     *log.frames
         .iter()
-        .find(|(f, _)| match f {
-            Outgoing::Data(d) => d.sequence == seq,
-            Outgoing::Raw(r) => r.sequence == seq,
-        })
+        .find(|(f, _)| f.sequence() == seq)
         .unwrap_or_else(|| panic!("frame {seq} was not sent"))
 }
 

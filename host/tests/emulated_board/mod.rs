@@ -9,7 +9,7 @@ pub mod decoded_csv;
 pub mod triad_correct;
 
 use triad::sensor::interface::{I2cInterface, SpiInterface};
-use triad::sensor::{AnyChip, Imu, ImuScale, RawSample, CHIP_NAMES};
+use triad::sensor::{AnyChip, FifoImu, FifoRead, Imu, ImuScale, RawSample, Settings, CHIP_NAMES};
 
 /// The emulated board's chip models: the very code the firmware builds.
 use triad_sim::emulated_board::{source, EmulatedChip};
@@ -52,24 +52,36 @@ macro_rules! each_bus {
 }
 
 impl HostSensor {
-    /// The chip model and bus the firmware under test was built with.
+    /// The chip model, bus and sampling settings the firmware under test
+    /// was built with (TRIAD_SAMPLE_RATE_HZ and TRIAD_FIFO_WATERMARK, as
+    /// firmware/build.rs reads them).
     pub fn from_env() -> Self {
         let chip = std::env::var("TRIAD_EMULATED_CHIP").unwrap_or_else(|_| CHIP_NAMES[0].into());
         let bus = std::env::var("TRIAD_E2E_BUS").unwrap_or_else(|_| "spi".into());
-        Self::new(&chip, &bus)
+        Self::with_settings(&chip, &bus, &settings_from_env())
     }
 
     /// The model of `chip` on `bus` (spi, i2c), found and started as the firmware does.
     pub fn new(chip: &str, bus: &str) -> Self {
-        let model = EmulatedChip::named(chip, model_source)
-            .unwrap_or_else(|| panic!("{chip:?}: not one of {CHIP_NAMES:?}"));
+        Self::with_settings(chip, bus, &Settings::DEFAULT)
+    }
+
+    /// As [`Self::new`], started with `settings` (rate and FIFO watermark).
+    pub fn with_settings(chip: &str, bus: &str, settings: &Settings) -> Self {
+        let model =
+            EmulatedChip::named_at(chip, settings.rate_hz, model_source).unwrap_or_else(|| {
+                panic!(
+                    "{chip:?} at {:?} Hz: not one of {CHIP_NAMES:?} or not its rate",
+                    settings.rate_hz
+                )
+            });
         let mut sensor = match bus {
             "spi" => Self::Spi(AnyChip::detect(SpiInterface::new(model)).expect("found on SPI")),
             "i2c" => Self::I2c(AnyChip::detect_i2c(model).expect("found on I²C")),
             other => panic!("TRIAD_E2E_BUS {other:?}: expected spi or i2c"),
         };
         assert_eq!(each_bus!(&sensor, s => s.name()), chip, "the chip found");
-        each_bus!(&mut sensor, s => s.start(&mut NoDelay).expect("the chip model starts"));
+        each_bus!(&mut sensor, s => s.start_with(&mut NoDelay, settings).expect("the chip model starts"));
         sensor
     }
 
@@ -85,7 +97,35 @@ impl HostSensor {
 
     /// What the emulated board's `data_ready` does: the model's clock moves to its next sample.
     pub fn data_ready(&mut self) {
-        each_bus!(self, s => s.bus_mut().advance_one_sample())
+        self.advance(1)
+    }
+
+    /// The emulated board's `data_ready` with a FIFO watermark of `samples`.
+    pub fn advance(&mut self, samples: u16) {
+        each_bus!(self, s => (0..samples).for_each(|_| s.bus_mut().advance_one_sample()))
+    }
+}
+
+/// The firmware build's sampling settings, from the variables firmware/build.rs reads.
+pub fn settings_from_env() -> Settings {
+    let number = |name: &str| {
+        std::env::var(name)
+            .ok()
+            .map(|v| v.parse::<u32>().unwrap_or_else(|_| panic!("{name}={v:?}")))
+    };
+    Settings {
+        rate_hz: number("TRIAD_SAMPLE_RATE_HZ"),
+        watermark: number("TRIAD_FIFO_WATERMARK").map_or(1, |w| w as u16),
+    }
+}
+
+impl FifoImu for HostSensor {
+    fn read_fifo(&mut self, out: &mut [RawSample]) -> Result<FifoRead, String> {
+        each_bus!(self, s => s.read_fifo(out).map_err(|e| format!("{e:?}")))
+    }
+
+    fn reset_fifo(&mut self) -> Result<(), String> {
+        each_bus!(self, s => s.reset_fifo().map_err(|e| format!("{e:?}")))
     }
 }
 

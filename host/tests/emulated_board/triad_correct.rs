@@ -21,8 +21,10 @@ fn correct_bound(magnitude: f64) -> f64 {
 
 /// Runs `triad correct --calib CALIBRATION` on `raws` (read at `times_s`,
 /// scaled by `scale`) and checks each row's six values against the
-/// firmware's `streamed` (accel then gyro) within [`correct_bound`]; returns
-/// the worst |Δ| as a fraction of its bound.
+/// firmware's `streamed` (accel then gyro) within [`correct_bound`] plus
+/// half of `quantum` (the accelerometer's and gyroscope's: the step the
+/// firmware rounded its values to, 0 for f32 values); returns the worst |Δ|
+/// as a fraction of its bound.
 ///
 /// The bound's magnitude is 1.1·Σ_j |m̂_j| + 1, which holds for a calibration
 /// whose (I+Σ)⁻¹ has absolute row sums below 1.1 and whose |(I+Σ)⁻¹·b| is
@@ -33,6 +35,7 @@ pub fn agrees_with_firmware(
     times_s: &[f64],
     scale: &ImuScale,
     streamed: &[[f32; 6]],
+    quantum: [f64; 2],
 ) -> f64 {
     assert_eq!(
         raws.len(),
@@ -86,7 +89,7 @@ pub fn agrees_with_firmware(
             v[1..7].iter().zip(firmware).zip(magnitudes).enumerate()
         {
             let fw = f64::from(fw);
-            let bound = correct_bound(magnitude);
+            let bound = correct_bound(magnitude) + 0.5 * quantum[axis / 3];
             let diff = (host - fw).abs();
             worst = worst.max(diff / bound);
             assert!(

@@ -22,21 +22,40 @@ macro_rules! define_emulated_chip {
         }
 
         impl EmulatedChip {
-            /// The model's output data rate (its driver's default
-            /// configuration, which the firmware applies), Hz.
-            pub fn sample_rate_hz(&self) -> f64 {
-                match self {
-                    $(Self::$driver(_) => triad::sensor::$module::Config::default().sample_rate_hz(),)+
-                }
+            /// The output data rate, Hz, of the chip named `name` asked
+            /// for `rate_hz` whole hertz (the driver's default for `None`):
+            /// the rate its driver configures. `None` for a name not listed
+            /// or a rate the chip does not have.
+            pub fn rate_hz(name: &str, rate_hz: Option<u32>) -> Option<f64> {
+                $(
+                    if name == triad::sensor::$module::NAME {
+                        return match rate_hz {
+                            Some(hz) => Some(triad::sensor::$module::config::Odr::of_hz(hz)?.hz()),
+                            None => Some(triad::sensor::$module::Config::default().sample_rate_hz()),
+                        };
+                    }
+                )+
+                None
             }
 
             /// The model of the chip named `name` (one of
             /// `triad::sensor::CHIP_NAMES`) serving `source`, which is built at
             /// that chip's rate; `None` for a name not listed.
             pub fn named(name: &str, source: impl FnOnce(f64) -> Source) -> Option<Self> {
+                Self::named_at(name, None, source)
+            }
+
+            /// As [`Self::named`], the source built at `rate_hz` (the rate
+            /// the firmware will configure; the driver's default for
+            /// `None`). `None` also for a rate the chip does not have.
+            pub fn named_at(
+                name: &str,
+                rate_hz: Option<u32>,
+                source: impl FnOnce(f64) -> Source,
+            ) -> Option<Self> {
+                let rate_hz = Self::rate_hz(name, rate_hz)?;
                 $(
                     if name == triad::sensor::$module::NAME {
-                        let rate_hz = triad::sensor::$module::Config::default().sample_rate_hz();
                         return Some(Self::$driver($module::model(source(rate_hz))));
                     }
                 )+

@@ -177,6 +177,12 @@ pub enum Odr {
 }
 
 impl Odr {
+    /// The rate whose whole number of hertz is `hz` (833 for 833 Hz, 12
+    /// for 12.5 Hz), if the chip has it.
+    pub fn of_hz(hz: u32) -> Option<Self> {
+        Self::ALL.into_iter().find(|r| r.hz() as u32 == hz)
+    }
+
     /// All rates, slowest first.
     pub const ALL: [Odr; 10] = [
         Self::Hz12_5,

@@ -10,11 +10,26 @@ mod cores;
 mod host;
 mod plot;
 mod report;
+mod whole_firmware;
+mod whole_firmware_report;
 
 pub use cores::{bench_cargo, check_firmware_outputs, Core};
 
 use anyhow::Result;
 use triad_bench::Variant;
+
+/// The whole firmware's measurements alone, printed as their section.
+pub fn run_whole_firmware() -> Result<()> {
+    let triad = crate::cmd::build_host_tool()?;
+    let calibration = crate::cmd::pack_calibration(&triad, None)?;
+    let rows = whole_firmware::measure(&triad, &calibration)?;
+    let long_run = whole_firmware::long_run(&triad, &calibration)?;
+    print!(
+        "{}",
+        whole_firmware_report::markdown(&rows, &long_run, None)
+    );
+    Ok(())
+}
 
 /// One row of the report: a variant on a core.
 #[derive(Clone, Debug)]
@@ -62,6 +77,14 @@ pub fn run(json: bool) -> Result<()> {
         }
     }
     let host = host::measure()?;
+    let triad = crate::cmd::build_host_tool()?;
+    let calibration = crate::cmd::pack_calibration(&triad, None)?;
+    let firmware_rows = whole_firmware::measure(&triad, &calibration)?;
+    let long_run = whole_firmware::long_run(&triad, &calibration)?;
+    let fusion = rows
+        .iter()
+        .find(|r| r.core == Core::CortexM4F && r.variant.name() == "fusion_f32")
+        .map(|r| r.instructions_per_sample);
     if json {
         println!("{}", report::json(&rows));
     } else {
@@ -70,10 +93,10 @@ pub fn run(json: bool) -> Result<()> {
     let docs = crate::cmd::root().join("docs");
     let svg = plot::svg(&rows).map_err(|e| anyhow::anyhow!("plotting: {e}"))?;
     std::fs::write(docs.join("benchmarks.svg"), svg)?;
-    std::fs::write(
-        docs.join("BENCHMARKS.md"),
-        report::markdown(&rows, &command_rows, &host)?,
-    )?;
+    let mut markdown = report::markdown(&rows, &command_rows, &host)?;
+    markdown += "\n";
+    markdown += &whole_firmware_report::markdown(&firmware_rows, &long_run, fusion);
+    std::fs::write(docs.join("BENCHMARKS.md"), markdown)?;
     eprintln!("xtask: wrote docs/BENCHMARKS.md and docs/benchmarks.svg");
     Ok(())
 }

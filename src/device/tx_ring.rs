@@ -1,5 +1,6 @@
 //! The transmit ring's arithmetic, apart from the registers that drive it
-//! ([`crate::serial_tx`] holds the bytes and the DMA stream).
+//! (each board's `serial_tx` holds the bytes and drains them: by DMA on the
+//! NUCLEO, from the USART's interrupt on the emulated board).
 //!
 //! Two counters describe a `LEN`-byte ring: `written`, the bytes ever queued
 //! (advanced by the link task), and `released`, the bytes ever sent (advanced
@@ -53,5 +54,30 @@ impl<const LEN: usize> TxRing<LEN> {
         let to_end = LEN - start;
         let len = if pending < to_end { pending } else { to_end };
         Some(Run { start, len })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    type Ring = TxRing<8>;
+
+    #[test]
+    fn runs_stop_at_the_end_of_the_ring_and_wrap() {
+        assert_eq!(Ring::next_run(0, 0), None);
+        assert_eq!(Ring::free(0, 0), 8);
+        // 6 queued from index 5: 3 to the ring's end, then 3 from 0.
+        assert_eq!(Ring::next_run(11, 5), Some(Run { start: 5, len: 3 }));
+        assert_eq!(Ring::next_run(11, 8), Some(Run { start: 0, len: 3 }));
+        assert_eq!(Ring::free(11, 5), 2);
+        // Across the counters' own wrap.
+        let written = 2usize;
+        let released = usize::MAX - 1;
+        assert_eq!(Ring::used(written, released), 4);
+        assert_eq!(
+            Ring::next_run(written, released),
+            Some(Run { start: 6, len: 2 })
+        );
     }
 }

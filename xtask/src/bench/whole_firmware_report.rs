@@ -1,0 +1,108 @@
+//! The whole firmware's section of docs/BENCHMARKS.md.
+
+use std::fmt::Write;
+
+use super::whole_firmware::{FirmwareRow, LongRun, LONG_RUN_SAMPLES};
+
+/// The all-in target at 8 kHz with W = 32: 5 % of an 84 MHz core.
+const TARGET_INSTRUCTIONS: f64 = 525.0;
+
+/// Bauds the "highest rate" columns are given for: the firmware's link
+/// (921600) and the NUCLEO's ST-LINK virtual COM port's top rate.
+const BAUDS: [u32; 2] = [921_600, 2_000_000];
+
+const METHOD: &str = "\
+The real firmware (firmware/src/main.rs) on the emulated board, built for
+the ICM-42688-P model on SPI at each sample rate (`TRIAD_SAMPLE_RATE_HZ`)
+and FIFO watermark W (`TRIAD_FIFO_WATERMARK`; W = 1 is the chip's
+data-ready interrupt and one data frame per sample, W > 1 the FIFO
+watermark interrupt and batch frames of up to 16 samples), streaming the
+demo motion corrected by the default calibration. QEMU runs with
+`-icount shift=0`, so the firmware's own load measurement (src/device/load.rs:
+each task's cycles less its preemptions, on TIM4 counting virtual
+nanoseconds) counts instructions; the figures are its second full
+one-second window, logged over defmt, over the samples of that window.
+Columns: `data-ready` the task that reads the chip (the driver's SPI
+transactions), corrects (the batch kernel at W > 1), frames and queues;
+`link` the task that encodes each frame to the wire (CRC-32C, COBS) and
+queues it for the transmitter; `TX drain` the USART2 interrupt, which on
+this board also moves the transmit queue into the data register (QEMU's
+STM32 USART has no DMA; on the NUCLEO DMA does it, and this column is the
+receive interrupt alone); `all-in` their sum. `chip model` is the
+emulated chip's own cost (its SPI answers and its simulation), counted
+apart and not in `all-in`; no chip costs the MCU that. Not counted: the
+timer interrupt that stands in for the chip's INT1 line (a dozen
+instructions per interrupt) and exception entry. Wire bytes are the
+captured stream's bytes over its samples.";
+
+/// The section.
+pub fn markdown(rows: &[FirmwareRow], long: &LongRun, fusion_ported: Option<f64>) -> String {
+    let mut md = String::new();
+    let _ = writeln!(md, "## The whole firmware\n\n{METHOD}\n");
+    let _ = write!(
+        md,
+        "| rate | W | data-ready | link | TX drain | all-in instr. / sample | chip model | wire bytes / sample |"
+    );
+    for baud in BAUDS {
+        let _ = write!(md, " highest rate at {baud} baud |");
+    }
+    let _ = writeln!(md);
+    let _ = writeln!(md, "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    if let Some(fusion) = fusion_ported {
+        let _ = writeln!(
+            md,
+            "| (anchor) | – | Fusion's inertial model alone, ported (fusion_f32 above) | | | {fusion:.1} | | | | |"
+        );
+    }
+    for r in rows {
+        let _ = write!(
+            md,
+            "| {} Hz | {} | {:.1} | {:.1} | {:.1} | **{:.1}** | {:.0} | {:.2} |",
+            r.rate_hz,
+            r.watermark,
+            r.per_sample[0],
+            r.per_sample[1],
+            r.per_sample[2],
+            r.all_in(),
+            r.per_sample[3],
+            r.wire_bytes_per_sample
+        );
+        for baud in BAUDS {
+            // 10 bits per byte on the wire (8N1).
+            let _ = write!(
+                md,
+                " {:.0} Hz |",
+                f64::from(baud) / 10.0 / r.wire_bytes_per_sample
+            );
+        }
+        let _ = writeln!(md);
+    }
+    let _ = writeln!(md);
+    if let Some(r) = rows.iter().find(|r| r.rate_hz == 8000 && r.watermark == 32) {
+        let verdict = if r.all_in() <= TARGET_INSTRUCTIONS {
+            "within".to_string()
+        } else {
+            format!(
+                "{:.0} % above",
+                (r.all_in() / TARGET_INSTRUCTIONS - 1.0) * 100.0
+            )
+        };
+        let _ = writeln!(
+            md,
+            "- At 8 kHz with W = 32 the firmware costs **{:.1} instructions per sample**, {verdict} the target of {TARGET_INSTRUCTIONS} (5 % of an 84 MHz Cortex-M4F at one instruction per cycle).",
+            r.all_in()
+        );
+    }
+    let _ = writeln!(
+        md,
+        "- The long run: {} of {LONG_RUN_SAMPLES} samples at 8 kHz with W = 32 decoded ({:.0} s of host time), {} lost on the wire (sequence gaps, CRC errors, malformed packets, bytes skipped), {} lost or dropped on the device (its overrun and drop counters). QEMU's USART and socket ignore the baud rate: on hardware this stream needs {:.0} baud.",
+        long.samples,
+        long.host_seconds,
+        long.wire_losses,
+        long.device_losses,
+        rows.iter()
+            .find(|r| r.rate_hz == 8000 && r.watermark == 32)
+            .map_or(0.0, |r| r.wire_bytes_per_sample * 8000.0 * 10.0)
+    );
+    md
+}
