@@ -52,9 +52,11 @@ pub fn run(scope: Scope) -> Result<()> {
             "allan_coverage",
             "--test",
             "rig_free",
+            "--test",
+            "thermal_fit",
         ];
         step(
-            "cargo test --release (the Allan coverage sweep, the rig-free fit's σ coverage over 60 seeds)",
+            "cargo test --release (the Allan coverage sweep, the rig-free and thermal fits' σ coverage over 60 seeds)",
             &sweeps,
         )?;
         eprintln!("xtask: cargo doc (core, sim, lab)");
