@@ -346,7 +346,7 @@ impl fmt::Display for FitError {
                  orientations colder than the reference {reference_c:.1} °C and ≥ {needed} warmer; found \
                  {colder} colder and {warmer} warmer (a static record sees one direction, where the bias \
                  and (I+Σ)·g cannot be told apart): add a multi-position record at each end of the range \
-                 (e.g. the tumble-soak script), or fit the biases only (--bias-only)"
+                 (e.g. the hand-soak script), or fit only the gyroscope's bias (--gyro-only)"
             ),
             FitError::TooManySegments { capacity } => {
                 write!(f, "more than {capacity} static segments")
