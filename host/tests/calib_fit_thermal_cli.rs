@@ -76,8 +76,11 @@ fn upper_at(truth: &toml::Table, t: f64) -> Mat3 {
 }
 
 /// Per static pose of a corrected record (the truth's gyro exactly zero):
-/// |mean accel| − g and the mean gyro, the worst over the poses.
-fn worst_pose_errors(corrected: &str, truth_csv: &Path) -> (f64, f64) {
+/// |mean accel| − g and the mean gyro, the worst over the poses; and over
+/// the turns (true rate > 0.5 rad/s) the mean relative error of |ω|, the
+/// gyro's scale (a rotation of the frame, which the accelerometer's
+/// convention leaves free, does not change it).
+fn pose_and_turn_errors(corrected: &str, truth_csv: &Path) -> (f64, f64, f64) {
     let rows = |t: &str| -> Vec<Vec<f64>> {
         t.lines()
             .skip(1)
@@ -89,6 +92,13 @@ fn worst_pose_errors(corrected: &str, truth_csv: &Path) -> (f64, f64) {
         rows(&std::fs::read_to_string(truth_csv).unwrap()),
     );
     let (mut accel, mut gyro) = (0.0f64, 0.0f64);
+    let norm = |r: &[f64]| (r[4] * r[4] + r[5] * r[5] + r[6] * r[6]).sqrt();
+    let turning: Vec<usize> = (0..t.len()).filter(|&k| norm(&t[k]) > 0.5).collect();
+    let scale = turning
+        .iter()
+        .map(|&k| norm(&c[k]) / norm(&t[k]) - 1.0)
+        .sum::<f64>()
+        / turning.len() as f64;
     let mut i = 0;
     while i < t.len() {
         let still = |k: usize| t[k][4..7].iter().all(|&w| w == 0.0);
@@ -106,7 +116,7 @@ fn worst_pose_errors(corrected: &str, truth_csv: &Path) -> (f64, f64) {
         accel = accel.max(((a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt() - G).abs());
         gyro = gyro.max((4..7).map(|k| mean(k).abs()).fold(0.0, f64::max));
     }
-    (accel, gyro)
+    (accel, gyro, scale)
 }
 
 #[test]
@@ -177,6 +187,54 @@ fn a_unit_at_three_soaks_gives_back_its_temperature_terms_and_corrects_a_fourth_
             );
         }
     }
+    // The gyro's (I+Σ)(T) in the accelerometer's corrected frame at T.
+    let gyro_truth = |t: f64| -> Mat3 {
+        let (a, g) = (&truth["accel"], &truth["gyro"]);
+        let at = |x: &toml::Value| {
+            let (m, d) = (
+                matrix_of(&x["scale_misalignment"]),
+                matrix_of(&x["temperature"]["scale_misalignment_per_c"]),
+            );
+            let delta = t - x["temperature"]["reference_c"].as_float().unwrap();
+            let m: Mat3 =
+                std::array::from_fn(|i| std::array::from_fn(|j| m[i][j] + delta * d[i][j]));
+            m
+        };
+        let inv = matrix::inverse(&at(a)).unwrap();
+        let t_u = cholesky_upper(&gram(&inv)).unwrap();
+        matrix::mul(&at(g), &matrix::mul(&inv, &matrix::inverse(&t_u).unwrap()))
+    };
+    let (g0, g_plus, g_minus) = (gyro_truth(25.0), gyro_truth(26.0), gyro_truth(24.0));
+    let gs = &fit["fit"]["gyro"];
+    let (m, sm) = (
+        matrix_of(&fit["gyro"]["scale_misalignment"]),
+        matrix_of(&gs["sigma_scale_misalignment"]),
+    );
+    let (dm, sd) = (
+        matrix_of(&fit["gyro"]["temperature"]["scale_misalignment_per_c"]),
+        matrix_of(&gs["sigma_scale_misalignment_per_c"]),
+    );
+    for i in 0..3 {
+        for j in 0..3 {
+            let d = (g_plus[i][j] - g_minus[i][j]) / 2.0;
+            assert!(
+                (m[i][j] - g0[i][j]).abs() <= 3.0 * sm[i][j],
+                "gyro (I+Σ)[{i}][{j}] {} vs {}",
+                m[i][j],
+                g0[i][j]
+            );
+            assert!(
+                (dm[i][j] - d).abs() <= 3.0 * sd[i][j],
+                "gyro D[{i}][{j}] {} vs {d}",
+                dm[i][j]
+            );
+        }
+    }
+    assert_eq!(
+        gs["moves"].as_integer(),
+        Some(69),
+        "72 poses, 2 chamber steps"
+    );
     for triad_name in ["accel", "gyro"] {
         let (f, t, st) = (
             &fit[triad_name],
@@ -233,10 +291,12 @@ fn a_unit_at_three_soaks_gives_back_its_temperature_terms_and_corrects_a_fourth_
         "{}",
         text(&o.stderr)
     );
-    let (accel, gyro) = worst_pose_errors(&text(&o.stdout), &truth45);
+    // The gyro's scale at 45 °C: σ ≈ 1.3e-5 + 20·4.5e-7 ≈ 2e-5, noise over
+    // the turns' samples far less; 1e-4 is ≥ 4σ. Without D: −100 ppm/°C × 20 °C.
+    let (accel, gyro, scale) = pose_and_turn_errors(&text(&o.stdout), &truth45);
     assert!(
-        accel < 1e-3 && gyro < 1e-4,
-        "|f| − g {accel:.2e} m/s², rate {gyro:.2e} rad/s"
+        accel < 1e-3 && gyro < 1e-4 && scale.abs() < 1e-4,
+        "|f| − g {accel:.2e} m/s², rate {gyro:.2e} rad/s, |ω| {scale:.2e}"
     );
     let mut no_terms = fit.clone();
     for t in ["accel", "gyro"] {
@@ -245,10 +305,10 @@ fn a_unit_at_three_soaks_gives_back_its_temperature_terms_and_corrects_a_fourth_
     let bare = d.join("bare.toml");
     std::fs::write(&bare, toml::to_string(&no_terms).unwrap()).unwrap();
     let o = triad(&["correct", "--calib", s(&bare), s(&rec45)]);
-    let (accel, gyro) = worst_pose_errors(&text(&o.stdout), &truth45);
+    let (accel, gyro, scale) = pose_and_turn_errors(&text(&o.stdout), &truth45);
     assert!(
-        accel > 5e-3 && gyro > 1e-3,
-        "without the terms: {accel:.2e}, {gyro:.2e}"
+        accel > 5e-3 && gyro > 1e-3 && scale.abs() > 1e-3,
+        "without the terms: {accel:.2e}, {gyro:.2e}, {scale:.2e}"
     );
 
     // At 70 °C every sample is outside the range: counted and said.

@@ -54,6 +54,8 @@ pub fn run(scope: Scope) -> Result<()> {
             "rig_free",
             "--test",
             "thermal_fit",
+            "--test",
+            "thermal_gyro",
         ];
         step(
             "cargo test --release (the Allan coverage sweep, the rig-free and thermal fits' σ coverage over 60 seeds)",

@@ -10,9 +10,11 @@
 //!   over every segment in unknown orientations ([`thermal_accel`]);
 //!   upper triangular by convention, as `calib fit accel`.
 //! - Gyroscope: its bias against temperature from the segments' means
-//!   ([`bias_polynomial`]; the Earth's rate is not removed). Its (I+Σ) is
-//!   `--base`'s (identity without): this fit does not find the gyro's (I+Σ)
-//!   against temperature, whose D is written as zero and said so.
+//!   ([`bias_polynomial`]; the Earth's rate is not removed), then its
+//!   (I+Σ)₀ + ΔT·D from the turns between consecutive poses of each record
+//!   ([`thermal_gyro`], the rig-free method at each move's temperature),
+//!   when ≥ 5 turns lie both colder and warmer than the reference; else
+//!   its (I+Σ) is `--base`'s (identity without) and D zero, said so.
 //! - Which terms are fitted is decided by the temperatures alone
 //!   ([`thermal_coverage`]): swing ≥ 10 °C per order and order + 1 distinct
 //!   levels for the bias; for the accelerometer's D ≥ 9 orientations both
@@ -29,14 +31,17 @@ use std::process::ExitCode;
 
 use anyhow::{anyhow, bail};
 use triad::model::{TemperatureTerms, Triad, TriadCalibration};
-use triad::units::STANDARD_GRAVITY;
+use triad::units::{deg_to_rad, STANDARD_GRAVITY};
 use triad_lab::calib_fit::bias_polynomial::{self, BiasPolynomial, StaticMean};
+use triad_lab::calib_fit::rig_free::Record;
 use triad_lab::calib_fit::static_segments::Segment;
 use triad_lab::calib_fit::thermal_accel::{self, Terms, ThermalAccelFit};
 use triad_lab::calib_fit::thermal_coverage::{self, Coverage, LEVEL_C, MIN_SWING_C};
+use triad_lab::calib_fit::thermal_gyro::{self, Poses, ThermalGyroFit};
+use triad_lab::calib_fit::FitError;
 
 use super::fit::{file_list, inputs, write_calibration, Output};
-use super::fit_csv::{self, Record};
+use super::fit_csv;
 use super::report::{matrix_rows, method_table, print_vector};
 use super::segments::{check_pose_options, detector, stat};
 use crate::calib_file::vector;
@@ -73,9 +78,9 @@ pub struct ThermalArgs {
 
 /// One record: accelerometer, gyroscope, temperature.
 struct Channels {
-    accel: Record,
-    gyro: Record,
-    temp: Record,
+    accel: fit_csv::Record,
+    gyro: fit_csv::Record,
+    temp: fit_csv::Record,
 }
 
 fn read(path: &std::path::Path) -> anyhow::Result<Channels> {
@@ -122,11 +127,20 @@ fn cut(temp: &[[f64; 3]], segment: Segment, min_len: usize, out: &mut Vec<Segmen
 }
 
 /// Both triads' static means at every segment of every record.
+/// A record's static poses (uncut), their accelerometer means and temperatures.
+struct RecordPoses {
+    segments: Vec<Segment>,
+    accel_means: Vec<[f64; 3]>,
+    temperatures: Vec<f64>,
+}
+
+/// Both triads' static means at every (cut) segment of every record, and
+/// each record's whole poses for the gyro's turns.
 fn static_means(
     records: &[Channels],
     min_static: f64,
-) -> anyhow::Result<(Vec<StaticMean>, Vec<StaticMean>)> {
-    let (mut accel, mut gyro) = (Vec::new(), Vec::new());
+) -> anyhow::Result<(Vec<StaticMean>, Vec<StaticMean>, Vec<RecordPoses>)> {
+    let (mut accel, mut gyro, mut poses) = (Vec::new(), Vec::new(), Vec::new());
     for (file, r) in records.iter().enumerate() {
         let name = crate::input::name(&r.accel.path);
         let d = detector(r.accel.rate_hz()?, min_static);
@@ -134,6 +148,18 @@ fn static_means(
         let n = d
             .detect(&r.accel.samples, &mut buffer)
             .map_err(|e| anyhow!("{name}: {e}"))?;
+        let segments = buffer[..n].to_vec();
+        poses.push(RecordPoses {
+            accel_means: segments
+                .iter()
+                .map(|p| stat(&r.accel, file, p.start..p.end).mean)
+                .collect(),
+            temperatures: segments
+                .iter()
+                .map(|p| stat(&r.temp, file, p.start..p.end).mean[0])
+                .collect(),
+            segments,
+        });
         let mut pieces = Vec::new();
         for s in &buffer[..n] {
             cut(&r.temp.samples, *s, d.block * d.min_blocks, &mut pieces);
@@ -150,7 +176,7 @@ fn static_means(
             }
         }
     }
-    Ok((accel, gyro))
+    Ok((accel, gyro, poses))
 }
 
 /// The terms not fitted and why, for the report and `not_fitted`.
@@ -227,19 +253,54 @@ pub fn run(args: ThermalArgs) -> anyhow::Result<ExitCode> {
         .iter()
         .map(|p| read(p))
         .collect::<anyhow::Result<_>>()?;
-    let (accel_means, gyro_means) = static_means(&records, args.min_static)?;
+    let (accel_means, gyro_means, poses) = static_means(&records, args.min_static)?;
     let temps: Vec<f64> = accel_means.iter().map(|m| m.temperature_c).collect();
     let coverage = thermal_coverage::coverage(&temps).map_err(|e| anyhow!("{names}: {e}"))?;
     let order = coverage.bias_order();
     let accel = fit_accel(&args, &names, &accel_means, &coverage)?;
     let gyro = bias_polynomial::fit(&gyro_means, coverage.reference_c, order)
         .map_err(|e| anyhow!("{names}: gyroscope bias: {e}"))?;
-    let gyro_not = not_fitted(
+    let (gyro_scale, scale_why) = match &accel {
+        None => (
+            None,
+            Some(
+                "needs the accelerometer's fit (--gyro-only): (I+Σ) from --base, D left zero"
+                    .to_string(),
+            ),
+        ),
+        Some((accel_fit, _)) => {
+            let sets: Vec<Poses> = records
+                .iter()
+                .zip(&poses)
+                .map(|(r, p)| Poses {
+                    record: Record {
+                        t: &r.gyro.t,
+                        gyro: &r.gyro.samples,
+                    },
+                    segments: &p.segments,
+                    accel_means: &p.accel_means,
+                    temperatures: &p.temperatures,
+                })
+                .collect();
+            let full_scale = deg_to_rad(args.output.ranges.gyro_range_dps);
+            match thermal_gyro::fit(&sets, accel_fit, &gyro, full_scale) {
+                Ok(fit) => (Some(fit), None),
+                Err(e @ FitError::TooFewTurnsForScale { .. }) => {
+                    (None, Some(format!("{e}; (I+Σ) from --base, D left zero")))
+                }
+                Err(e) => bail!("{names}: gyroscope (I+Σ) against temperature: {e}"),
+            }
+        }
+    };
+    let gyro_not = not_fitted(&coverage, order, scale_why.as_deref());
+    let report = report(
+        &names,
         &coverage,
-        order,
-        Some("not fitted by this tool (the gyro's (I+Σ) against temperature): left zero"),
+        accel.as_ref(),
+        &gyro,
+        gyro_scale.as_ref(),
+        &gyro_not,
     );
-    let report = report(&names, &coverage, accel.as_ref(), &gyro, &gyro_not);
 
     let range = toml::Value::Array(vec![
         toml::Value::Float(coverage.min_c),
@@ -294,16 +355,26 @@ pub fn run(args: ThermalArgs) -> anyhow::Result<ExitCode> {
         };
         base = base.with_fitted(Triad::Accel, triad, table);
     }
-    let mut gyro_table = method_table(
-        "thermal: bias polynomial in ΔT from the static segments' means (weighted least squares; the Earth's rate not removed)",
-        Some("(I+Σ) from --base (identity without), not fitted here"),
-    );
+    let mut gyro_table = match &gyro_scale {
+        Some(_) => method_table(
+            "thermal: bias polynomial in ΔT from the static segments' means (weighted least squares; the Earth's rate not removed); (I+Σ)₀ + ΔT·D by integrating the gyro between consecutive poses and matching the gravity direction (rig-free, Tedaldi, Pretto, Menegatti 2014), each move at its temperature",
+            Some("(I+Σ) maps the accelerometer's corrected axes (at each temperature) to the gyro's sensing axes"),
+        ),
+        None => method_table(
+            "thermal: bias polynomial in ΔT from the static segments' means (weighted least squares; the Earth's rate not removed)",
+            Some("(I+Σ) from --base (identity without), not fitted here"),
+        ),
+    };
     common(&mut gyro_table, &gyro_not);
-    insert_gyro_statistics(&mut gyro_table, &gyro);
+    insert_gyro_statistics(&mut gyro_table, &gyro, gyro_scale.as_ref());
+    let (gyro_matrix, gyro_d) = match &gyro_scale {
+        Some(fit) => (fit.scale_misalignment, fit.scale_misalignment_per_c),
+        None => (base.calibration.gyro.scale_misalignment, [[0.0; 3]; 3]),
+    };
     let gyro_triad = TriadCalibration {
-        scale_misalignment: base.calibration.gyro.scale_misalignment,
+        scale_misalignment: gyro_matrix,
         bias: gyro.bias,
-        temperature: Some(terms_of(gyro.coefficients, [[0.0; 3]; 3])),
+        temperature: Some(terms_of(gyro.coefficients, gyro_d)),
     };
     let header = format!(
         "Temperature terms fitted by `triad calib fit thermal` from {names}{}:\n\
@@ -357,20 +428,51 @@ fn insert_accel_statistics(table: &mut toml::Table, fit: &ThermalAccelFit) {
     }
 }
 
-fn insert_gyro_statistics(table: &mut toml::Table, fit: &BiasPolynomial) {
-    let entries = [
-        (
-            "segments",
-            toml::Value::Integer((fit.dof + fit.order + 1) as i64),
-        ),
-        ("degrees_of_freedom", toml::Value::Integer(fit.dof as i64)),
-        ("residual_rms", vector(&fit.residual_rms)),
+/// The gyro's statistics: `degrees_of_freedom` is the smallest of every σ
+/// in the table (the bias's and, when fitted, each (I+Σ) entry's effective
+/// one, also given per entry).
+fn insert_gyro_statistics(
+    table: &mut toml::Table,
+    fit: &BiasPolynomial,
+    scale: Option<&ThermalGyroFit>,
+) {
+    let integer = |n: usize| toml::Value::Integer(n as i64);
+    let smallest = scale.map_or(fit.dof, |s| s.dof.min(fit.dof));
+    let mut entries = vec![
+        ("segments", integer(fit.dof + fit.order + 1)),
+        ("degrees_of_freedom", integer(smallest)),
+        ("bias_degrees_of_freedom", integer(fit.dof)),
+        ("bias_residual_rms", vector(&fit.residual_rms)),
         ("sigma_bias", vector(&fit.sigma_bias)),
         (
             "sigma_bias_coefficients",
             matrix_value(&fit.sigma_coefficients),
         ),
     ];
+    if let Some(s) = scale {
+        entries.extend([
+            ("moves", integer(s.moves)),
+            ("residual_rms", toml::Value::Float(s.residual_rms)),
+            ("residual_max", toml::Value::Float(s.residual_max)),
+            ("condition_number", toml::Value::Float(s.condition)),
+            (
+                "sigma_scale_misalignment",
+                matrix_value(&s.sigma_scale_misalignment),
+            ),
+            (
+                "sigma_scale_misalignment_per_c",
+                matrix_value(&s.sigma_scale_misalignment_per_c),
+            ),
+            (
+                "scale_misalignment_degrees_of_freedom",
+                matrix_value(&s.dof_entries[0]),
+            ),
+            (
+                "scale_misalignment_per_c_degrees_of_freedom",
+                matrix_value(&s.dof_entries[1]),
+            ),
+        ]);
+    }
     for (k, v) in entries {
         table.insert(k.into(), v);
     }
@@ -382,6 +484,7 @@ fn report(
     coverage: &Coverage,
     accel: Option<&(ThermalAccelFit, Vec<String>)>,
     gyro: &BiasPolynomial,
+    gyro_scale: Option<&ThermalGyroFit>,
     gyro_not: &[String],
 ) -> String {
     let mut out = String::new();
@@ -463,6 +566,43 @@ fn report(
         &gyro.sigma_coefficients,
     );
     coverage_note(&mut out, gyro.dof);
+    if let Some(g) = gyro_scale {
+        outln!(
+            out,
+            "gyroscope (I+Σ) (integrated over {} moves between poses, gravity direction matched; turns colder/warmer {}/{}):",
+            g.moves,
+            g.turns[0],
+            g.turns[1]
+        );
+        outln!(
+            out,
+            "  I+Σ at {:.1} °C (in the accelerometer's corrected axes):",
+            coverage.reference_c
+        );
+        for line in matrix_rows(&g.scale_misalignment, Some(&g.sigma_scale_misalignment)) {
+            outln!(out, "    {line}");
+        }
+        outln!(out, "  D = d(I+Σ)/dT (1/°C):");
+        for line in matrix_rows(
+            &g.scale_misalignment_per_c,
+            Some(&g.sigma_scale_misalignment_per_c),
+        ) {
+            outln!(out, "    {line}");
+        }
+        coverage_note(&mut out, g.dof);
+        outln!(
+            out,
+            "  (the smallest effective degrees of freedom of the entries: the moves' own {} and the accelerometer fit's, combined)",
+            g.gyro_dof
+        );
+        outln!(
+            out,
+            "  residual of the gravity direction RMS {:.3e} rad, max {:.3e}; condition number {:.1}",
+            g.residual_rms,
+            g.residual_max,
+            g.condition
+        );
+    }
     let accel_not = accel.map(|(_, not)| not.as_slice()).unwrap_or_default();
     for (triad, list) in [("accelerometer", accel_not), ("gyroscope", gyro_not)] {
         for line in list {

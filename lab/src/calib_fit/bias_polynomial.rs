@@ -48,6 +48,17 @@ pub struct BiasPolynomial {
     pub residual_rms: [f64; 3],
 }
 
+impl BiasPolynomial {
+    /// b at `temperature_c`.
+    pub fn at(&self, temperature_c: f64) -> [f64; 3] {
+        let p = powers(temperature_c - self.reference_c, self.order);
+        core::array::from_fn(|i| {
+            let c = &self.coefficients[i];
+            self.bias[i] + p[1] * c[0] + p[2] * c[1] + p[3] * c[2]
+        })
+    }
+}
+
 /// Fits the polynomial of `order` (1..=[`MAX_BIAS_ORDER`]) about `reference_c`.
 pub fn fit(
     means: &[StaticMean],

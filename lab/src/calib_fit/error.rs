@@ -193,6 +193,18 @@ pub enum FitError {
         /// The minimum on each side.
         needed: usize,
     },
+    /// The gyro's (I+Σ) against temperature needs turns both colder and
+    /// warmer than the reference temperature.
+    TooFewTurnsForScale {
+        /// Turns of ≥ 10° colder than the reference.
+        colder: usize,
+        /// Warmer.
+        warmer: usize,
+        /// The reference temperature, °C.
+        reference_c: f64,
+        /// The minimum on each side.
+        needed: usize,
+    },
     /// A static-segment buffer is too small for the segments found.
     TooManySegments {
         /// The buffer's capacity.
@@ -347,6 +359,13 @@ impl fmt::Display for FitError {
                  {colder} colder and {warmer} warmer (a static record sees one direction, where the bias \
                  and (I+Σ)·g cannot be told apart): add a multi-position record at each end of the range \
                  (e.g. the hand-soak script), or fit only the gyroscope's bias (--gyro-only)"
+            ),
+            FitError::TooFewTurnsForScale { colder, warmer, reference_c, needed } => write!(
+                f,
+                "the gyro's (I+Σ) against temperature needs ≥ {needed} turns of ≥ {} degrees between static \
+                 poses both colder and warmer than the reference {reference_c:.1} °C; found {colder} colder and \
+                 {warmer} warmer: turn the unit by hand between poses at each end of the range (the hand-soak script)",
+                super::rig_free::MIN_TURN_DEG
             ),
             FitError::TooManySegments { capacity } => {
                 write!(f, "more than {capacity} static segments")

@@ -16,7 +16,9 @@
 //!   and which terms the temperatures support), [`thermal_accel`] (the
 //!   accelerometer's (I+Σ) linear and b cubic in ΔT from poses in unknown
 //!   orientations at several temperatures), [`bias_polynomial`] (a bias
-//!   against temperature from static means, for the gyroscope).
+//!   against temperature from static means, for the gyroscope),
+//!   [`thermal_gyro`] (the gyroscope's (I+Σ) linear in ΔT from hand turns
+//!   at several temperatures).
 //! - [`levenberg_marquardt`]: the nonlinear fits' minimiser; [`quaternion`]:
 //!   attitude integration.
 //! - [`qr`]: the least-squares solver both use (Givens QR, fixed size);
@@ -39,5 +41,6 @@ pub mod small3;
 pub mod static_segments;
 pub mod thermal_accel;
 pub mod thermal_coverage;
+pub mod thermal_gyro;
 
 pub use error::FitError;

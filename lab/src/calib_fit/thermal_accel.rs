@@ -109,6 +109,25 @@ pub struct ThermalAccelFit {
     pub condition: f64,
     /// Levenberg–Marquardt iterations.
     pub iterations: u32,
+    /// The 24 parameters ((I+Σ)₀, D, b₀, c), zero where not fitted.
+    pub params: [f64; PARAMETERS],
+    /// Their covariance s²·(JᵀJ)⁻¹ (zero rows and columns where not fitted).
+    pub covariance: [[f64; PARAMETERS]; PARAMETERS],
+}
+
+/// The unit gravity direction of a static mean (m/s²) at `temperature_c`
+/// in the accelerometer's corrected frame, for parameters `p` about
+/// `reference_c`: (I+Σ)(ΔT)⁻¹(f̂ − b(ΔT)), normalised.
+pub fn up(
+    p: &[f64; PARAMETERS],
+    reference_c: f64,
+    mean: &[f64; 3],
+    temperature_c: f64,
+) -> [f64; 3] {
+    let (m, b) = at(p, temperature_c - reference_c);
+    let v = [0, 1, 2].map(|i| mean[i] - b[i]);
+    let u = matrix::solve(&m, &v).unwrap_or([f64::NAN; 3]);
+    super::rig_free::unit(u)
 }
 
 /// Which parameters `terms` fits.
@@ -315,5 +334,15 @@ pub fn fit(
         variance_factor: s2,
         condition,
         iterations,
+        params: p,
+        covariance: core::array::from_fn(|i| {
+            core::array::from_fn(|j| {
+                if active[i] && active[j] {
+                    s2 * inv[i][j]
+                } else {
+                    0.0
+                }
+            })
+        }),
     })
 }
