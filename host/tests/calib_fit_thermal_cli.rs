@@ -311,6 +311,17 @@ fn a_unit_at_three_soaks_gives_back_its_temperature_terms_and_corrects_a_fourth_
         "without the terms: {accel:.2e}, {gyro:.2e}, {scale:.2e}"
     );
 
+    // `calib verify` reads the thermal fit's statistics (21 parameters, one
+    // magnitude per segment) and passes a fresh record at the reference.
+    let fresh = simulate(&d, "fresh", "hand-rotations", "2", None);
+    let o = triad(&["calib", "verify", s(&cal), s(&fresh)]);
+    let out = text(&o.stdout);
+    assert!(o.status.success(), "{out}{}", text(&o.stderr));
+    assert!(
+        out.contains("p = 21, N = 72") && out.contains("verdict: PASS"),
+        "{out}"
+    );
+
     // At 70 °C every sample is outside the range: counted and said.
     let h70 = hand_script(&d, "hand-70", "kind = \"constant\"\ncelsius = 70.0");
     let rec70 = simulate(&d, "h70", s(&h70), "98", None);
