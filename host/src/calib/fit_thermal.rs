@@ -652,3 +652,31 @@ fn print_bias(
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A temperature series as the record's `temp` column.
+    fn temps(values: &[f64]) -> Vec<[f64; 3]> {
+        values.iter().map(|&t| [t; 3]).collect()
+    }
+
+    #[test]
+    fn a_ramp_is_cut_every_half_degree_and_a_soak_is_not() {
+        // 0.1 °C a sample: a cut every 5 samples; the last 2 join the previous.
+        let ramp = temps(&(0..22).map(|i| 0.1 * i as f64).collect::<Vec<_>>());
+        let mut out = Vec::new();
+        cut(&ramp, Segment { start: 0, end: 22 }, 3, &mut out);
+        let bounds: Vec<(usize, usize)> = out.iter().map(|s| (s.start, s.end)).collect();
+        assert_eq!(bounds, [(0, 5), (5, 10), (10, 15), (15, 22)]);
+        let soak = temps(&[25.0; 40]);
+        let mut out = Vec::new();
+        cut(&soak, Segment { start: 3, end: 40 }, 3, &mut out);
+        assert_eq!(out, [Segment { start: 3, end: 40 }]);
+        // Shorter than the shortest piece: kept whole (the detector's own minimum).
+        let mut out = Vec::new();
+        cut(&ramp, Segment { start: 0, end: 2 }, 3, &mut out);
+        assert_eq!(out, [Segment { start: 0, end: 2 }]);
+    }
+}
