@@ -184,6 +184,31 @@ pub fn parse(text: &str, path: &Path) -> anyhow::Result<CalibFile> {
     })
 }
 
+impl CalibFile {
+    /// The temperature range its terms were fitted over: the intersection of
+    /// `temperature_range_c` = [lo, hi] of `[fit.accel]` and `[fit.gyro]`
+    /// (`triad calib fit thermal` writes them), or `None` without one.
+    pub fn fitted_temperature_range(&self) -> Option<[f64; 2]> {
+        let ranges: Vec<[f64; 2]> = ["accel", "gyro"]
+            .iter()
+            .filter_map(|triad| {
+                let r = self
+                    .fit
+                    .get(*triad)?
+                    .get("temperature_range_c")?
+                    .as_array()?;
+                match r.as_slice() {
+                    [lo, hi] => Some([lo.as_float()?, hi.as_float()?]),
+                    _ => None,
+                }
+            })
+            .collect();
+        let lo = ranges.iter().map(|r| r[0]).reduce(f64::max)?;
+        let hi = ranges.iter().map(|r| r[1]).reduce(f64::min)?;
+        Some([lo, hi])
+    }
+}
+
 fn parse_orientation(value: &toml::Value) -> Result<Orientation, String> {
     match value {
         toml::Value::String(name) => Orientation::from_name(name)

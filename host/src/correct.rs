@@ -10,6 +10,10 @@
 //! reads back to the same f32 (or f64), every other cell copied as written.
 //! With a `temp` column and temperature terms, the coefficients are refolded
 //! whenever the temperature changes (clamped to the validated range).
+//! When the file records the temperature range its terms were fitted over
+//! (`temperature_range_c` of `[fit.accel]`/`[fit.gyro]`, written by `triad
+//! calib fit thermal`), the samples outside it are counted and reported on
+//! stderr: there the terms extrapolate.
 
 use std::io::{self, BufRead, BufWriter, Write};
 use std::path::PathBuf;
@@ -48,18 +52,40 @@ pub fn run(args: CorrectArgs) -> anyhow::Result<ExitCode> {
     let mut corrector = si_corrector(&file, &args.ranges)?;
     let has_terms =
         file.calibration.accel.temperature.is_some() || file.calibration.gyro.temperature.is_some();
+    let fitted_range = file.fitted_temperature_range();
     let input = input::open(&args.input, 1 << 16)?;
     let mut out = BufWriter::with_capacity(1 << 16, stdio::raw_stdout()?);
-    correct_stream(
+    let outside = correct_stream(
         input.reader,
         &mut out,
         &input.name,
         &mut corrector,
         has_terms,
         args.exact,
+        fitted_range,
     )?;
     out.flush().map_err(stdio::stdout_error)?;
+    if let (Some([lo, hi]), Outside { outside: 1.., rows }) = (fitted_range, outside) {
+        stdio::note!(
+            "{}: {} of {rows} samples lie outside {lo:.1}..{hi:.1} °C, the range {} was fitted over: \
+             there its temperature terms extrapolate (the cubic bias and the linear (I+Σ) as fitted; \
+             the coefficients are clamped only to {}..{} °C)",
+            input.name,
+            outside.outside,
+            args.calib.display(),
+            triad::model::validate::TEMPERATURE_RANGE_C.0,
+            triad::model::validate::TEMPERATURE_RANGE_C.1
+        );
+    }
     Ok(ExitCode::SUCCESS)
+}
+
+/// How many rows were corrected, and how many of them had a temperature
+/// outside the fitted range.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Outside {
+    rows: usize,
+    outside: usize,
 }
 
 /// Where the columns are: the cell index of `t`, the six values and `temp`.
@@ -229,7 +255,12 @@ fn correct_stream(
     corrector: &mut Corrector,
     has_terms: bool,
     exact: bool,
-) -> anyhow::Result<()> {
+    fitted_range: Option<[f64; 2]>,
+) -> anyhow::Result<Outside> {
+    let mut count = Outside {
+        rows: 0,
+        outside: 0,
+    };
     let mut lines = Lines {
         input,
         name: name.to_string(),
@@ -245,7 +276,7 @@ fn correct_stream(
             .next()
             .with_context(|| format!("{name}: read error at line {}", lines.number))?;
         if !more {
-            return Ok(());
+            return Ok(count);
         }
         let text = lines.line.trim();
         if text.is_empty() {
@@ -274,6 +305,10 @@ fn correct_stream(
             }
         }
         correct_row(out, corrector, at, &fields, &header, temperature, exact)?;
+        count.rows += 1;
+        if let (Some(t), Some([lo, hi])) = (temperature, fitted_range) {
+            count.outside += usize::from(!(lo..=hi).contains(&t));
+        }
     }
 }
 
@@ -352,7 +387,15 @@ mod tests {
     fn corrected(input: &str, exact: bool) -> anyhow::Result<String> {
         let mut out = Vec::new();
         let mut c = identity();
-        correct_stream(input.as_bytes(), &mut out, "in.csv", &mut c, false, exact)?;
+        correct_stream(
+            input.as_bytes(),
+            &mut out,
+            "in.csv",
+            &mut c,
+            false,
+            exact,
+            None,
+        )?;
         Ok(String::from_utf8(out).unwrap())
     }
 

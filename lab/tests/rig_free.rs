@@ -17,18 +17,9 @@ use triad_sim::rng::Rng;
 const G: f64 = 9.80665;
 const FULL_SCALE: f64 = 2000.0 * core::f64::consts::PI / 180.0;
 
-/// A hand session: 14 poses of 4 s at 100 Hz, turns of 60..150° in 1.5 s
-/// (peak 200 °/s, 2° per sample) about any axis.
+/// A hand session ([`hand_record::SESSION`]).
 fn script() -> Script {
-    Script {
-        rate_hz: 100.0,
-        poses: 14,
-        static_s: 4.0,
-        turn_s: 1.5,
-        angle_deg: (60.0, 150.0),
-        axes: Axes::Any,
-        drift: None,
-    }
+    hand_record::SESSION
 }
 
 /// A consumer-grade unit drawn from `rng`: scale errors up to 3 %,

@@ -58,9 +58,13 @@ pub fn run(scope: Scope) -> Result<()> {
             "allan_coverage",
             "--test",
             "rig_free",
+            "--test",
+            "thermal_fit",
+            "--test",
+            "thermal_gyro",
         ];
         step(
-            "cargo test --release (the Allan coverage sweep, the rig-free fit's σ coverage over 60 seeds)",
+            "cargo test --release (the Allan coverage sweep, the rig-free and thermal fits' σ coverage over 60 seeds)",
             &sweeps,
         )?;
         eprintln!("xtask: cargo doc (core, sim, lab)");

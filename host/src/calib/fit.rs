@@ -8,6 +8,7 @@
 //! triad calib fit gyro --rate-table IN.csv [...] --rates "z:+30,z:-30,x:+30,y:+30"
 //!                       [--segments ...] [--base CAL.toml] --out CAL.toml
 //! triad calib fit gyro --static IN.csv [--latitude DEG] [--base CAL.toml] --out CAL.toml
+//! triad calib fit thermal REC.csv [REC2.csv ...] [--bias-only] [--base CAL.toml] --out CAL.toml
 //! ```
 //!
 //! The fitted triad replaces the one in `--base` (default: identity); the
@@ -23,7 +24,7 @@ use std::process::ExitCode;
 
 use triad::model::{Calibration, Orientation, Triad, TriadCalibration};
 
-use super::{fit_accel, fit_gyro, fit_imu, Ranges};
+use super::{fit_accel, fit_gyro, fit_imu, fit_thermal, Ranges};
 use crate::calib_file;
 use crate::distinct::{self, named, Named};
 use crate::input;
@@ -47,6 +48,10 @@ enum FitCommand {
     /// the accelerometer from the poses, the gyroscope by integrating it
     /// between them (Tedaldi, Pretto and Menegatti, ICRA 2014).
     Imu(fit_imu::ImuArgs),
+    /// Both triads' temperature terms from records over a temperature range:
+    /// the accelerometer's (I+Σ) linear and b cubic in ΔT from poses in
+    /// unknown orientations, the gyroscope's bias cubic in ΔT.
+    Thermal(fit_thermal::ThermalArgs),
 }
 
 /// Where the result goes and what it starts from.
@@ -91,6 +96,7 @@ pub fn run(args: FitArgs) -> anyhow::Result<ExitCode> {
         FitCommand::Accel(a) => fit_accel::run(a),
         FitCommand::Gyro(g) => fit_gyro::run(g),
         FitCommand::Imu(i) => fit_imu::run(i),
+        FitCommand::Thermal(t) => fit_thermal::run(t),
     }
 }
 

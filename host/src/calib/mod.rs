@@ -1,5 +1,5 @@
 //! `triad calib`: check and pack calibration files ([`check`], `pack`), and
-//! fit them to recorded data ([`fit`]: [`fit_accel`], [`fit_gyro`], from the
+//! fit them to recorded data ([`fit`]: [`fit_accel`], [`fit_gyro`], [`fit_imu`], [`fit_thermal`], from the
 //! records of [`fit_csv`] cut into [`segments`], reported by [`report`]).
 
 pub mod check;
@@ -8,6 +8,7 @@ pub mod fit_accel;
 pub mod fit_csv;
 pub mod fit_gyro;
 pub mod fit_imu;
+pub mod fit_thermal;
 pub mod report;
 pub mod segments;
 pub mod stillness;

@@ -118,7 +118,7 @@ pub fn method_table(method: &str, convention: Option<&str>) -> toml::Table {
 }
 
 /// A matrix's rows, each cell with its standard deviation when known.
-fn matrix_rows(m: &[[f64; 3]; 3], sigma: Option<&[[f64; 3]; 3]>) -> Vec<String> {
+pub fn matrix_rows(m: &[[f64; 3]; 3], sigma: Option<&[[f64; 3]; 3]>) -> Vec<String> {
     m.iter()
         .enumerate()
         .map(|(i, row)| {

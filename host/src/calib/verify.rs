@@ -181,11 +181,13 @@ fn fit_scale(file: &CalibFile, triad: Triad) -> anyhow::Result<FitScale> {
         );
     }
     // The ellipsoid fit: 9 parameters, one residual (a magnitude) per
-    // segment. The linear fits (rate table, cube faces): 4 parameters per
-    // axis, three residuals per segment, and the file's degrees of freedom
-    // are one axis's.
+    // segment; the thermal fit likewise, with the parameter count it states
+    // (`parameters`). The linear fits (rate table, cube faces): 4
+    // parameters per axis, three residuals per segment, and the file's
+    // degrees of freedom are one axis's.
     let parameters = segments - dof;
-    let (residuals, dof) = if parameters == 9.0 {
+    let magnitude_fit = parameters == 9.0 || number("parameters") == Some(parameters);
+    let (residuals, dof) = if magnitude_fit {
         (segments, dof)
     } else if parameters == 4.0 {
         (3.0 * segments, 3.0 * dof)

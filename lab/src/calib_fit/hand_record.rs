@@ -65,6 +65,18 @@ pub struct Script {
     pub drift: Option<(usize, f64)>,
 }
 
+/// A typical hand session: 14 poses of 4 s at 100 Hz, turns of 60..150°
+/// in 1.5 s (peak 200 °/s, 2° per sample) about any axis.
+pub const SESSION: Script = Script {
+    rate_hz: 100.0,
+    poses: 14,
+    static_s: 4.0,
+    turn_s: 1.5,
+    angle_deg: (60.0, 150.0),
+    axes: Axes::Any,
+    drift: None,
+};
+
 /// One sample of the record.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sample {

@@ -12,6 +12,13 @@
 //! - [`rig_free`]: the gyroscope from one hand-rotated record (turns
 //!   between static poses integrated and matched to the accelerometer's
 //!   gravity directions); [`hand_record`] makes such records with known truth.
+//! - Across temperature: [`thermal_coverage`] (the range, the reference
+//!   and which terms the temperatures support), [`thermal_accel`] (the
+//!   accelerometer's (I+Σ) linear and b cubic in ΔT from poses in unknown
+//!   orientations at several temperatures), [`bias_polynomial`] (a bias
+//!   against temperature from static means, for the gyroscope),
+//!   [`thermal_gyro`] (the gyroscope's (I+Σ) linear in ΔT from hand turns
+//!   at several temperatures).
 //! - [`levenberg_marquardt`]: the nonlinear fits' minimiser; [`quaternion`]:
 //!   attitude integration.
 //! - [`qr`]: the least-squares solver both use (Givens QR, fixed size);
@@ -21,6 +28,7 @@
 
 pub mod accel_cube;
 pub mod accel_fit;
+pub mod bias_polynomial;
 pub mod ellipsoid;
 pub mod error;
 pub mod gyro_fit;
@@ -31,5 +39,8 @@ pub mod quaternion;
 pub mod rig_free;
 pub mod small3;
 pub mod static_segments;
+pub mod thermal_accel;
+pub mod thermal_coverage;
+pub mod thermal_gyro;
 
 pub use error::FitError;

@@ -141,12 +141,12 @@ fn up(a: &accel_fit::Params, mean: &[f64; 3]) -> [f64; 3] {
     unit(matrix::mul_vec(&accel_fit::t_of(a), &v))
 }
 
-fn unit(v: [f64; 3]) -> [f64; 3] {
+pub(crate) fn unit(v: [f64; 3]) -> [f64; 3] {
     let n = libm::sqrt(dot(&v, &v));
     v.map(|x| x / n)
 }
 
-fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+pub(crate) fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
@@ -159,7 +159,7 @@ fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
 }
 
 /// Two unit vectors across `u` (fixed by `u` alone, not by the parameters).
-fn across(u: &[f64; 3]) -> [[f64; 3]; 2] {
+pub(crate) fn across(u: &[f64; 3]) -> [[f64; 3]; 2] {
     let k = (0..3)
         .min_by(|&a, &b| u[a].abs().total_cmp(&u[b].abs()))
         .unwrap_or(0);
@@ -171,7 +171,13 @@ fn across(u: &[f64; 3]) -> [[f64; 3]; 2] {
 
 /// The turn from the last sample of `from` to the first of `to`, integrating
 /// (I+Σ)⁻¹(ω̂ − b) = `k`·(ω̂ − b).
-fn integrate(record: &Record, from: &Segment, to: &Segment, k: &Mat3, bias: &[f64; 3]) -> Quat {
+pub(crate) fn integrate(
+    record: &Record,
+    from: &Segment,
+    to: &Segment,
+    k: &Mat3,
+    bias: &[f64; 3],
+) -> Quat {
     let rate = |i: usize| {
         let w = record.gyro[i];
         matrix::mul_vec(k, &[w[0] - bias[0], w[1] - bias[1], w[2] - bias[2]])
@@ -315,7 +321,7 @@ fn check_poses(
 }
 
 /// The largest |axis| of the record, and the sample; refused near the range.
-fn check_range(record: &Record, full_scale: f64) -> Result<f64, FitError> {
+pub(crate) fn check_range(record: &Record, full_scale: f64) -> Result<f64, FitError> {
     if !(full_scale > 0.0 && full_scale.is_finite()) {
         return Err(FitError::InvalidFullScale { value: full_scale });
     }
@@ -382,7 +388,7 @@ fn bias_of_poses(
 }
 
 /// The largest rotation between two samples of the moves (rad), and where.
-fn fastest_step(record: &Record, poses: &[Segment], bias: &[f64; 3]) -> (usize, f64) {
+pub(crate) fn fastest_step(record: &Record, poses: &[Segment], bias: &[f64; 3]) -> (usize, f64) {
     let mut worst = (0, 0.0f64);
     for pair in poses.windows(2) {
         for i in pair[0].end - 1..pair[1].start {
