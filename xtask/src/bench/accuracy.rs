@@ -114,6 +114,11 @@ fn values(o: &Output<'_>) -> [[f64; 3]; 2] {
             [r.accel, r.gyro]
         }
         Output::F64(s) => s.triads,
+        Output::Counts(s) => {
+            let si =
+                |t: usize| [0, 1, 2].map(|k| f64::from(s.counts[3 * t + k]) * f64::from(s.lsb[t]));
+            [si(0), si(1)]
+        }
         Output::Frame(_) | Output::Raw(_) => [[f64::NAN; 3]; 2],
     }
 }
