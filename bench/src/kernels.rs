@@ -667,12 +667,10 @@ fn correct_one(c: &Corrector, raw: &RawSample) -> Sample {
     c.correct(raw)
 }
 
-/// [`FixedCorrector::correct`].
+/// [`FixedCorrector::correct_batch`]: [`FixedCorrector::correct`] of each sample.
 #[inline(never)]
 pub fn full_fixed(c: &FixedCorrector, input: &[RawSample; BATCH], out: &mut [FixedSample; BATCH]) {
-    for (o, raw) in out.iter_mut().zip(input) {
-        *o = c.correct(raw);
-    }
+    c.correct_batch(input, out);
 }
 
 /// [`BatchKernel::correct`] over FIFO batches of `w` samples, as the
