@@ -126,3 +126,58 @@ fn a_raw_axis_at_its_limit_or_a_value_beyond_the_range_flags_its_triad() {
     // Counts never take −32768, so the range is symmetric.
     assert!(out.iter().flatten().all(|&c| c >= -MAX_COUNTS));
 }
+
+/// A calibration whose correction can carry a value beyond ±MAX_COUNTS (the
+/// accelerometer's x scale 0.55: its inverse nearly doubles x): the batch's
+/// counts are still to_counts of the f32 correction, clipped where the value
+/// is beyond the range, and the accelerometer's flag is set by the range
+/// alone (no raw axis is at a limit code).
+#[test]
+fn values_beyond_the_range_clip_bit_for_bit_and_flag_their_triad() {
+    let mut rng = rng(0xC1A9);
+    let scale = triad::sensor::icm42688::config::Config::default().scale();
+    let mut cal = triad::model::Calibration {
+        id: 2,
+        accel: triad::model::TriadCalibration::IDENTITY,
+        gyro: triad::model::TriadCalibration::IDENTITY,
+    };
+    cal.accel.scale_misalignment[0][0] = 0.55;
+    let corrector = Corrector::new(&cal, &scale, Default::default()).unwrap();
+    let kernel = BatchKernel::new(&corrector);
+    let mut raw: Vec<RawSample> = (0..32)
+        .map(|_| {
+            let mut r = random_raw(&mut rng);
+            r.accel = r.accel.map(|x| x.clamp(-32767, 32766));
+            r.gyro = r.gyro.map(|x| x.clamp(-32767, 32766));
+            r
+        })
+        .collect();
+    raw[5].accel[0] = 32000;
+    let mut out = [[0i16; 6]; 32];
+    let clip = kernel.correct(&raw, &mut out);
+    let mut beyond = 0;
+    for (r, counts) in raw.iter().zip(&out) {
+        let f = corrector.correct(r);
+        for k in 0..3 {
+            let (a, a_clip) = to_counts(f.accel[k], kernel.accel_lsb());
+            let (g, g_clip) = to_counts(f.gyro[k], kernel.gyro_lsb());
+            assert_eq!((counts[k], counts[3 + k]), (a, g), "{r:?}");
+            assert!(!g_clip);
+            beyond += usize::from(a_clip);
+        }
+    }
+    assert!(beyond > 0, "sample 5's x is beyond the range");
+    assert_eq!((clip.accel, clip.gyro), (true, false));
+    // The same batch without the samples that clip is not flagged.
+    let keep: Vec<RawSample> = raw
+        .iter()
+        .filter(|r| {
+            let f = corrector.correct(r);
+            (0..3).all(|k| !to_counts(f.accel[k], kernel.accel_lsb()).1)
+        })
+        .copied()
+        .collect();
+    assert!(!keep.is_empty() && keep.len() < raw.len());
+    let clip = kernel.correct(&keep, &mut out);
+    assert_eq!((clip.accel, clip.gyro), (false, false));
+}

@@ -13,8 +13,8 @@ use super::pipeline::{EncodedFrame, PipelineBench};
 use super::sensor_reads;
 use super::{inputs, BATCH, BATCHES};
 use triad::model::{
-    Calibration, CalibrationError, ClipFlags, Corrector, FixedCorrector, FixedSample, Orientation,
-    Sample, Triad, TriadCalibration,
+    BatchKernel, Calibration, CalibrationError, ClipFlags, Corrector, FixedCorrector, FixedSample,
+    Orientation, Sample, Triad, TriadCalibration,
 };
 use triad::sensor::{ImuScale, RawSample};
 
@@ -34,6 +34,11 @@ pub enum Variant {
     FullF32PerCall,
     /// The full folded model in integer-only fixed point.
     FullFixed,
+    /// The firmware's batch path ([`BatchKernel::correct`]): FIFO batches of
+    /// 8 raw samples straight to a batch frame's counts, with clip flags.
+    BatchF32W8,
+    /// The same with batches of 32.
+    BatchF32W32,
     /// The full folded model in f64 (software floating point on both cores).
     FullF64,
     /// Temperature terms refolded (f64 inversion) before every sample, then f32.
@@ -55,13 +60,15 @@ pub enum Variant {
 
 impl Variant {
     /// Every row, in the report's order.
-    pub const ALL: [Variant; 14] = [
+    pub const ALL: [Variant; 16] = [
         Variant::BiasOnlyF32,
         Variant::DiagonalF32,
         Variant::FusionF32,
         Variant::FullF32,
         Variant::FullF32PerCall,
         Variant::FullFixed,
+        Variant::BatchF32W8,
+        Variant::BatchF32W32,
         Variant::FullF64,
         Variant::RefoldEverySample,
         Variant::RefoldLowRate,
@@ -83,6 +90,15 @@ impl Variant {
         }
     }
 
+    /// The batch size W of a batch-kernel row, `None` for the other rows.
+    pub fn batch_watermark(self) -> Option<usize> {
+        match self {
+            Variant::BatchF32W8 => Some(8),
+            Variant::BatchF32W32 => Some(32),
+            _ => None,
+        }
+    }
+
     /// The row's name in reports and in the firmware's output.
     pub fn name(self) -> &'static str {
         match self {
@@ -92,6 +108,8 @@ impl Variant {
             Variant::FullF32 => "full_f32",
             Variant::FullF32PerCall => "full_f32_per_call",
             Variant::FullFixed => "full_fixed",
+            Variant::BatchF32W8 => "batch_f32_w8",
+            Variant::BatchF32W32 => "batch_f32_w32",
             Variant::FullF64 => "full_f64",
             Variant::RefoldEverySample => "refold_every_sample",
             Variant::RefoldLowRate => "refold_low_rate",
@@ -110,6 +128,7 @@ impl Variant {
             Variant::FullF32PerCall => "correct_one",
             Variant::ReadBurst => "read_burst",
             Variant::ReadFifo1 | Variant::ReadFifo8 | Variant::ReadFifo32 => "read_fifo",
+            Variant::BatchF32W8 | Variant::BatchF32W32 => "batch_f32",
             _ => self.name(),
         }
     }
@@ -270,6 +289,9 @@ impl Bench {
             Variant::FullF32 | Variant::FullF32PerCall | Variant::FullF64 | Variant::FullFixed => {
                 self.run_full(variant, meter, sink)
             }
+            Variant::BatchF32W8 | Variant::BatchF32W32 => {
+                self.run_batch(variant.batch_watermark().unwrap_or(1), meter, sink)
+            }
             Variant::RefoldEverySample | Variant::RefoldLowRate => run_refold(variant, meter, sink),
             Variant::Pipeline => self.run_pipeline(meter, sink),
             Variant::ReadBurst | Variant::ReadFifo1 | Variant::ReadFifo8 | Variant::ReadFifo32 => {
@@ -347,6 +369,36 @@ impl Bench {
                     |o, sink| sink(Output::Fixed(o)),
                     |i, o| full_fixed(&fixed, i, o),
                 )
+            }
+        }
+        Ok(())
+    }
+
+    /// The batch kernel over each batch in FIFO batches of `w` samples (the
+    /// last one shorter when `w` does not divide [`BATCH`]); each sample's
+    /// output carries the clip flags of its FIFO batch.
+    #[inline(never)]
+    fn run_batch(
+        &self,
+        w: usize,
+        meter: &mut impl Meter,
+        sink: &mut dyn FnMut(Output<'_>),
+    ) -> Result<(), CalibrationError> {
+        let kernel = BatchKernel::new(&self.corrector()?);
+        let lsb = [kernel.accel_lsb(), kernel.gyro_lsb()];
+        let mut input = [RawSample::default(); BATCH];
+        let mut out = BatchOutput::default();
+        for batch in 0..BATCHES {
+            inputs::raw_batch(batch, &mut input);
+            meter.start();
+            batch_f32(&kernel, w, &input, &mut out);
+            meter.stop();
+            for (n, &counts) in out.counts.iter().enumerate() {
+                sink(Output::Counts(&CountsSample {
+                    counts,
+                    lsb,
+                    clip: out.clip[n / w],
+                }));
             }
         }
         Ok(())
@@ -444,6 +496,36 @@ fn batches<T: Copy + Default>(
     }
 }
 
+/// A batch-kernel row's outputs for one batch: the counts, and the clip
+/// flags of each FIFO batch (entry i for the i-th FIFO batch).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BatchOutput {
+    /// Accelerometer x y z then gyroscope x y z counts per sample.
+    pub counts: [[i16; 6]; BATCH],
+    /// Clip flags per FIFO batch.
+    pub clip: [ClipFlags; BATCH],
+}
+
+impl Default for BatchOutput {
+    fn default() -> Self {
+        BatchOutput {
+            counts: [[0; 6]; BATCH],
+            clip: [ClipFlags::default(); BATCH],
+        }
+    }
+}
+
+/// One sample of a batch-kernel row as the sink sees it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CountsSample {
+    /// Accelerometer x y z then gyroscope x y z counts.
+    pub counts: [i16; 6],
+    /// The counts' LSBs, accelerometer then gyroscope (SI units).
+    pub lsb: [f32; 2],
+    /// The clip flags of the sample's FIFO batch.
+    pub clip: ClipFlags,
+}
+
 /// The f64 variant's output: both triads and the clip flags.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct F64Sample {
@@ -462,6 +544,8 @@ pub enum Output<'a> {
     Sample(&'a Sample),
     /// The fixed-point sample.
     Fixed(&'a FixedSample),
+    /// A batch frame's counts.
+    Counts(&'a CountsSample),
     /// The f64 sample.
     F64(&'a F64Sample),
     /// An encoded frame.
@@ -487,6 +571,12 @@ impl Output<'_> {
                     .chain(&s.gyro)
                     .for_each(|&x| digest.word(x as u32));
                 digest.word(s.temperature as u32);
+                digest.word(clip(&s.clip));
+            }
+            Output::Counts(s) => {
+                s.counts
+                    .iter()
+                    .for_each(|&c| digest.word(u32::from(c as u16)));
                 digest.word(clip(&s.clip));
             }
             Output::F64(s) => {
@@ -577,11 +667,19 @@ fn correct_one(c: &Corrector, raw: &RawSample) -> Sample {
     c.correct(raw)
 }
 
-/// [`FixedCorrector::correct`].
+/// [`FixedCorrector::correct_batch`]: [`FixedCorrector::correct`] of each sample.
 #[inline(never)]
 pub fn full_fixed(c: &FixedCorrector, input: &[RawSample; BATCH], out: &mut [FixedSample; BATCH]) {
-    for (o, raw) in out.iter_mut().zip(input) {
-        *o = c.correct(raw);
+    c.correct_batch(input, out);
+}
+
+/// [`BatchKernel::correct`] over FIFO batches of `w` samples, as the
+/// firmware's data-ready task calls it once per FIFO watermark.
+#[inline(never)]
+pub fn batch_f32(k: &BatchKernel, w: usize, input: &[RawSample; BATCH], out: &mut BatchOutput) {
+    let fifo_batches = input.chunks(w).zip(out.counts.chunks_mut(w));
+    for ((raw, counts), clip) in fifo_batches.zip(out.clip.iter_mut()) {
+        *clip = k.correct(raw, counts);
     }
 }
 

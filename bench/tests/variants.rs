@@ -63,11 +63,8 @@ fn every_variant_runs_and_its_digest_depends_on_its_outputs() {
     }
 }
 
-/// The pipeline row's frames carry exactly the full_f32 row's values (the
-/// decimation is 1), with the clip flags, in sequence, with valid CRCs.
-#[test]
-fn pipeline_frames_decode_to_the_full_f32_samples() {
-    let bench = Bench::realistic();
+/// The full_f32 row's samples, in order.
+fn full_f32_samples(bench: &Bench) -> Vec<triad::model::Sample> {
     let mut samples = Vec::new();
     bench
         .each_output(Variant::FullF32, &mut NoMeter, |o| {
@@ -76,6 +73,15 @@ fn pipeline_frames_decode_to_the_full_f32_samples() {
             }
         })
         .unwrap();
+    samples
+}
+
+/// The pipeline row's frames carry exactly the full_f32 row's values (the
+/// decimation is 1), with the clip flags, in sequence, with valid CRCs.
+#[test]
+fn pipeline_frames_decode_to_the_full_f32_samples() {
+    let bench = Bench::realistic();
+    let samples = full_f32_samples(&bench);
     let mut bytes = Vec::new();
     bench
         .each_output(Variant::Pipeline, &mut NoMeter, |o| {
@@ -145,4 +151,46 @@ fn fixed_point_row_stays_within_its_bound_with_the_extreme_calibration() {
         })
         .unwrap();
     assert_eq!(n, raws.len());
+}
+
+/// The batch rows' counts are the full_f32 row's values rounded to the
+/// frame's counts, and each sample carries its FIFO batch's clip flags: the
+/// OR of the full_f32 samples' flags and of the range clips over the batch.
+#[test]
+fn batch_rows_are_the_full_f32_values_in_counts_with_their_fifo_batch_flags() {
+    use triad::model::batch_kernel::to_counts;
+    let bench = Bench::realistic();
+    let samples = full_f32_samples(&bench);
+    for v in [Variant::BatchF32W8, Variant::BatchF32W32] {
+        let w = v.batch_watermark().unwrap();
+        let mut rows = Vec::new();
+        bench
+            .each_output(v, &mut NoMeter, |o| {
+                let Output::Counts(c) = o else {
+                    panic!("counts output")
+                };
+                rows.push(*c)
+            })
+            .unwrap();
+        assert_eq!(rows.len(), samples.len());
+        for (batch_rows, batch_samples) in rows.chunks(BATCH).zip(samples.chunks(BATCH)) {
+            for (fifo_rows, fifo_samples) in batch_rows.chunks(w).zip(batch_samples.chunks(w)) {
+                let (mut accel, mut gyro) = (false, false);
+                for (c, s) in fifo_rows.iter().zip(fifo_samples) {
+                    for k in 0..3 {
+                        let (a, a_clip) = to_counts(s.accel[k], c.lsb[0]);
+                        let (g, g_clip) = to_counts(s.gyro[k], c.lsb[1]);
+                        assert_eq!((c.counts[k], c.counts[3 + k]), (a, g), "{v:?}");
+                        accel |= a_clip;
+                        gyro |= g_clip;
+                    }
+                    accel |= s.clip.accel;
+                    gyro |= s.clip.gyro;
+                }
+                for c in fifo_rows {
+                    assert_eq!((c.clip.accel, c.clip.gyro), (accel, gyro), "{v:?}");
+                }
+            }
+        }
+    }
 }

@@ -56,6 +56,25 @@ fn counts_of_scaled(scaled: f32) -> (i16, bool) {
     }
 }
 
+/// The bits of `MAX_COUNTS as f32`: for a non-NaN f32, |v| > MAX_COUNTS
+/// exactly when its bits without the sign exceed these (IEEE order).
+const LIMIT_BITS: u32 = 0x46FF_FE00;
+
+/// Added to an f32's bits `b`, sets bit 31 of `(b + OVER) ^ b` exactly when
+/// |v| > MAX_COUNTS: for b ≥ 0 the sum reaches 2³¹ exactly when b >
+/// LIMIT_BITS; for a negative v the sign bit of b is set and the sum's bit 31
+/// flips (carry out) exactly then, so the XOR with b leaves it set.
+const OVER: u32 = 0x7FFF_FFFF - LIMIT_BITS;
+
+/// The fast path holds when every corrected value is below this in counts,
+/// for any i16 input: then the magic rounding is exact (|v| < 2²²).
+const FAST_RANGE: f64 = 4_194_303.0;
+
+/// The f32 evaluation of a row is within a relative 2⁻²⁰ of its exact value
+/// (four roundings of at most 2⁻²⁴ each, of terms bounded by the bound), so
+/// a bound times this that is still within ±MAX_COUNTS proves no clip.
+const EVALUATION_MARGIN: f64 = 1.0 + 1.0 / (1u32 << 20) as f64;
+
 /// One triad's K and k scaled to counts.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct ScaledTriad {
@@ -73,8 +92,33 @@ impl ScaledTriad {
         }
     }
 
+    /// The largest |value| any i16 input can give, times
+    /// [`EVALUATION_MARGIN`]: |k_i| + 32768·Σ_j |K_ij| bounds row i exactly
+    /// (in f64, exact for these f32 terms up to one rounding), and the margin
+    /// covers the f32 evaluation. NaN or infinite for non-finite coefficients.
+    fn max_counts(&self) -> f64 {
+        let rows = self.k.iter().zip(self.offset).map(|(row, o)| {
+            let k = row.map(|c| f64::from(c).abs());
+            f64::from(o).abs() + 32768.0 * (k[0] + k[1] + k[2])
+        });
+        rows.fold(0.0, |m: f64, b| if b > m || b.is_nan() { b } else { m }) * EVALUATION_MARGIN
+    }
+
+    /// Whether every corrected value of any i16 input is below
+    /// [`FAST_RANGE`] in magnitude (false for non-finite coefficients).
+    fn fits_fast_path(&self) -> bool {
+        self.max_counts() < FAST_RANGE
+    }
+
+    /// Whether no i16 input can give a value beyond ±[`MAX_COUNTS`]: the
+    /// usual case, as the frame's LSB leaves room beyond the chip's range.
+    fn never_clips(&self) -> bool {
+        self.max_counts() <= f64::from(MAX_COUNTS)
+    }
+
     /// One raw triad to counts, in the f32 kernel's order (offset first,
     /// then the three products, left to right); true when a value clipped.
+    /// Exact for every finite input (the reference form of [`Self::pass`]).
     #[inline(always)]
     fn apply(&self, raw: &[i16; 3], out: &mut [i16]) -> bool {
         let x = raw.map(f32::from);
@@ -87,6 +131,77 @@ impl ScaledTriad {
         }
         clipped
     }
+
+    /// This triad of every sample of `raw` to counts at `out[i][AT..AT + 3]`
+    /// (AT = 0: the accelerometer, 3: the gyroscope), with the triad's clip
+    /// flag: one pass per triad, so that the 12 coefficients stay in
+    /// registers. Every value is computed as [`Self::apply`] computes it;
+    /// the rounding and the flags are integer operations on the f32's bits,
+    /// without branches, which give apply's results when
+    /// [`Self::fits_fast_path`]:
+    /// - no value is NaN: the coefficients are finite (fits_fast_path), the
+    ///   inputs are i16, and no sum of such products overflows f32;
+    /// - |v| < 2²², so the bits of v + ROUND_MAGIC are MAGIC_BITS plus v
+    ///   rounded to the nearest integer, ties to even (counts_of_scaled's
+    ///   rounding); MAGIC_BITS' low half is zero, so the low 16 bits of
+    ///   those bits are the count's whenever it is within ±MAX_COUNTS;
+    /// - the flag of a value beyond ±MAX_COUNTS is exact, from its bits
+    ///   (see [`OVER`]), and only then can a count be out of range: a pass
+    ///   with such a value is redone by `apply`, which clips (a batch that
+    ///   clips costs two passes; one that does not, one).
+    ///
+    /// Without `CHECK` the range test is left out: only for a triad that
+    /// [`Self::never_clips`].
+    #[inline(always)]
+    fn pass<const AT: usize, const CHECK: bool>(
+        &self,
+        raw: &[RawSample],
+        out: &mut [[i16; 6]],
+    ) -> bool {
+        let [[k00, k01, k02], [k10, k11, k12], [k20, k21, k22]] = self.k;
+        let [o0, o1, o2] = self.offset;
+        // Bit 15: a raw axis at a limit code (see at_limit in corrector.rs);
+        // bit 31: a value beyond ±MAX_COUNTS.
+        let (mut limit, mut over) = (0u32, 0u32);
+        for (r, o) in raw.iter().zip(out.iter_mut()) {
+            let a = if AT == 0 { &r.accel } else { &r.gyro };
+            let (a0, a1, a2) = (i32::from(a[0]), i32::from(a[1]), i32::from(a[2]));
+            let m = |x: i32| ((x ^ (x >> 15)) + 1) as u32;
+            limit |= m(a0) | m(a1) | m(a2);
+            let (x0, x1, x2) = (a0 as f32, a1 as f32, a2 as f32);
+            let v = [
+                o0 + k00 * x0 + k01 * x1 + k02 * x2,
+                o1 + k10 * x0 + k11 * x1 + k12 * x2,
+                o2 + k20 * x0 + k21 * x1 + k22 * x2,
+            ];
+            for (slot, v) in o[AT..AT + 3].iter_mut().zip(v) {
+                if CHECK {
+                    let b = v.to_bits();
+                    over |= b.wrapping_add(OVER) ^ b;
+                }
+                *slot = (v + ROUND_MAGIC).to_bits() as i16;
+            }
+        }
+        if over >> 31 != 0 {
+            for (r, o) in raw.iter().zip(out.iter_mut()) {
+                self.apply(if AT == 0 { &r.accel } else { &r.gyro }, &mut o[AT..AT + 3]);
+            }
+            return true;
+        }
+        (limit >> 15) & 1 != 0
+    }
+}
+
+/// The loop of a kernel, chosen once at construction from its coefficients.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Path {
+    /// No input can clip a value ([`ScaledTriad::never_clips`]): one pass
+    /// per triad, the flags from the raw limit codes only.
+    NeverClips,
+    /// One pass per triad with the exact range test.
+    Fast,
+    /// Sample by sample (values may reach 2²²: the magic rounding fails).
+    Exact,
 }
 
 /// A corrector's f32 kernel scaled to a batch frame's counts.
@@ -96,6 +211,8 @@ pub struct BatchKernel {
     gyro: ScaledTriad,
     accel_lsb: f32,
     gyro_lsb: f32,
+    /// Which loop [`BatchKernel::correct`] runs.
+    path: Path,
 }
 
 impl BatchKernel {
@@ -105,11 +222,20 @@ impl BatchKernel {
         let scale = corrector.scale();
         let accel_lsb = fixed_point_lsb(scale.accel.si_per_lsb);
         let gyro_lsb = fixed_point_lsb(scale.gyro.si_per_lsb);
+        let accel = ScaledTriad::new(corrector, Triad::Accel, accel_lsb);
+        let gyro = ScaledTriad::new(corrector, Triad::Gyro, gyro_lsb);
         BatchKernel {
-            accel: ScaledTriad::new(corrector, Triad::Accel, accel_lsb),
-            gyro: ScaledTriad::new(corrector, Triad::Gyro, gyro_lsb),
+            accel,
+            gyro,
             accel_lsb,
             gyro_lsb,
+            path: if accel.never_clips() && gyro.never_clips() {
+                Path::NeverClips
+            } else if accel.fits_fast_path() && gyro.fits_fast_path() {
+                Path::Fast
+            } else {
+                Path::Exact
+            },
         }
     }
 
@@ -128,6 +254,22 @@ impl BatchKernel {
     /// triad is flagged when any of its raw axes is at the chip's limit code
     /// or any corrected value clipped to ±[`MAX_COUNTS`].
     pub fn correct(&self, raw: &[RawSample], out: &mut [[i16; 6]]) -> ClipFlags {
+        match self.path {
+            Path::NeverClips => ClipFlags {
+                accel: self.accel.pass::<0, false>(raw, out),
+                gyro: self.gyro.pass::<3, false>(raw, out),
+            },
+            Path::Fast => ClipFlags {
+                accel: self.accel.pass::<0, true>(raw, out),
+                gyro: self.gyro.pass::<3, true>(raw, out),
+            },
+            Path::Exact => self.correct_each(raw, out),
+        }
+    }
+
+    /// [`Self::correct`] sample by sample, exact for any finite
+    /// coefficients: for kernels beyond the fast path's range.
+    fn correct_each(&self, raw: &[RawSample], out: &mut [[i16; 6]]) -> ClipFlags {
         let mut clip = ClipFlags::default();
         for (r, o) in raw.iter().zip(out.iter_mut()) {
             let (accel_out, gyro_out) = o.split_at_mut(3);
@@ -136,5 +278,72 @@ impl BatchKernel {
             clip.gyro |= self.gyro.apply(&r.gyro, gyro_out) | at_limit.gyro;
         }
         clip
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn triad(k: f32, offset: f32) -> ScaledTriad {
+        ScaledTriad {
+            k: [[k, 0.1, -0.2], [0.05, k, 0.3], [-0.1, 0.2, k]],
+            offset: [offset, -offset, 0.5 * offset],
+        }
+    }
+
+    fn kernel(accel: ScaledTriad) -> BatchKernel {
+        BatchKernel {
+            accel,
+            gyro: triad(0.6, 3.0),
+            accel_lsb: 1.0,
+            gyro_lsb: 1.0,
+            path: Path::Exact,
+        }
+    }
+
+    /// Each path on its own kernel gives, sample by sample, what `apply`
+    /// gives (the naive loop), flags included: the paths are chosen by the
+    /// coefficients' range, not by what they compute.
+    #[test]
+    fn every_path_computes_what_apply_computes() {
+        let raw: [RawSample; 40] = core::array::from_fn(|n| {
+            let n = n as i32;
+            let x = |m: i32| ((n * 7919 + m * 104_729) % 65_536 - 32_768) as i16;
+            RawSample {
+                accel: [x(1), x(2), if n == 9 { i16::MIN } else { x(3) }],
+                gyro: [x(4), x(5), x(6)],
+                temperature: 0,
+            }
+        });
+        let cases = [
+            (triad(0.6, 3.0), Path::NeverClips),
+            (triad(1.5, 40.0), Path::Fast),
+            (triad(200.0, 1e6), Path::Exact),
+        ];
+        for (accel, path) in cases {
+            let mut k = kernel(accel);
+            let chosen = [
+                (accel.never_clips(), Path::NeverClips),
+                (accel.fits_fast_path(), Path::Fast),
+            ]
+            .into_iter()
+            .find_map(|(holds, p)| holds.then_some(p))
+            .unwrap_or(Path::Exact);
+            assert_eq!(chosen, path);
+            k.path = path;
+            let mut fast = [[0i16; 6]; 40];
+            let mut naive = fast;
+            for w in [1, 8, 32] {
+                for (r, (f, n)) in raw
+                    .chunks(w)
+                    .zip(fast.chunks_mut(w).zip(naive.chunks_mut(w)))
+                {
+                    let got = k.correct(r, f);
+                    assert_eq!(got, k.correct_each(r, n), "{path:?} W={w}");
+                }
+                assert_eq!(fast, naive, "{path:?} W={w}");
+            }
+        }
     }
 }

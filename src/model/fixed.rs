@@ -303,6 +303,29 @@ impl FixedCorrector {
         }
     }
 
+    /// [`Self::correct`] of each sample of `raw` into the front of `out` (as
+    /// many as both hold), with the choice of form made once for the batch
+    /// rather than per sample and triad.
+    pub fn correct_batch(&self, raw: &[RawSample], out: &mut [FixedSample]) {
+        match (&self.accel, &self.gyro, &self.temperature) {
+            (Form::Narrow(accel), Form::Narrow(gyro), Form::Narrow(temperature)) => {
+                for (r, o) in raw.iter().zip(out.iter_mut()) {
+                    *o = FixedSample {
+                        accel: accel.apply(&r.accel),
+                        gyro: gyro.apply(&r.gyro),
+                        temperature: temperature.apply_one(r.temperature),
+                        clip: ClipFlags::of(r),
+                    };
+                }
+            }
+            _ => {
+                for (r, o) in raw.iter().zip(out.iter_mut()) {
+                    *o = self.correct(r);
+                }
+            }
+        }
+    }
+
     /// Per output `[accel, gyro, temperature]`: true where the 32-bit form
     /// ([`super::fixed_narrow`]) is in use, false for the i64 form.
     pub fn uses_32_bit_products(&self) -> [bool; 3] {

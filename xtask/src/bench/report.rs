@@ -171,6 +171,16 @@ pub fn markdown(rows: &[Row], commands: &[CommandRow], host: &[(Variant, f64)]) 
             per_call.instructions_per_sample
         )?;
     }
+    for v in [Variant::BatchF32W8, Variant::BatchF32W32] {
+        if let Some(batch) = find(rows, Core::CortexM4F, v) {
+            writeln!(
+                md,
+                "- The firmware's batch correction (`BatchKernel::correct`, raw FIFO samples to a batch frame's counts with clip flags) at W = {}, Cortex-M4F: **{:.1}** instructions per sample (target ≤ 64).",
+                v.batch_watermark().unwrap_or(1),
+                batch.instructions_per_sample
+            )?;
+        }
+    }
     if let (Some(f32_row), Some(fixed)) = (m0_f32, m0_fixed) {
         writeln!(
             md,
@@ -206,14 +216,27 @@ Why the targets are not all met:
   flags (an `eor` with shifted operand and an `add` per axis, two ORs, a
   bit extract and a byte store per triad), about 5 for the temperature
   channel and 4 of loop. Without clip flags and temperature the same loop is
-  the `fusion_f32` row. Closing the gap needs the DSP instructions (a QADD16
-  clip test on packed pairs), which stable Rust does not expose, or
-  hand-written assembly.
-- `full_fixed` on the Cortex-M0: it uses only 32-bit `MULS` (see
-  src/model/fixed_narrow.rs; the i64 form it replaced measured 980
-  instructions because every i64 product is a library call), but each of the
-  18 terms needs two coefficient halves and the M0's eight low registers hold
-  neither the 36 halves nor the inputs, so most terms load both from memory.
+  the `fusion_f32` row.
+- `batch_f32_w*` on the Cortex-M4F (src/model/batch_kernel.rs): one pass
+  per triad keeps its 12 coefficients in registers; LLVM unrolls it by two.
+  Per triad and sample: 3 `ldrsh`, 3 `vmov` and 3 `vcvt` for the inputs, 3
+  accumulator copies and 9 `vmla` (the f32 kernel's order, so its bits), 3
+  `vadd` of the rounding constant, 3 `vmov` and 3 `strh` (the count is the
+  low half of the sum's bits), 1.5 of loop: 33, or 66 per sample before any
+  flag. The raw limit-code flag costs 3 per axis (`eor` with shifted
+  operand, `add`, `orr`): 18 per sample, the rest is a spill and the call.
+  No range test runs when no input can clip (the usual case: the frame's
+  LSB leaves room beyond the chip's range); where one could, it costs 4 per
+  value more (`vmov`, `add`, `eor`, `orr` on the f32's bits). Reaching 64
+  needs the flag at about 1 instruction per axis: the DSP extension's
+  `uadd16`/`usub16`/`sel` test two axes in 3, which stable Rust reaches only
+  through inline assembly, and paired `vmov`s, which LLVM does not emit.
+- `full_fixed` on the Cortex-M0 (src/model/fixed_narrow.rs): only 32-bit
+  `MULS`, two per term (a coefficient's high and low halves), and each row
+  is 22 instructions of ARMv6-M assembly (LLVM keeps the coefficients as
+  loop invariants, spills them and copies an input before every multiply:
+  about 30 instructions more per sample); the clip flags (4 per axis) and
+  the temperature channel are most of the rest.
 - `pipeline` on the Cortex-M4F: after the correction, the frame's
   serialisation, CRC-32C (slicing-by-4, 47 bytes) and COBS stuffing (one copy
   and one test per byte, 51 bytes) dominate, with the driver's transaction
@@ -266,7 +289,12 @@ Rows: `bias_only_f32` m = s·raw − b; `diagonal_f32` the diagonal of (I+Σ)
 and b; `fusion_f32` Fusion's M·((u − b)⊙s) once per triad, ported to Rust;
 `full_f32` the firmware's hot path m = K·raw + k with clip flags and the
 temperature channel; `full_f32_per_call` the same called out of line once per
-sample (its flash is the called function); `full_fixed` the integer-only form; `full_f64` K·raw +
+sample (its flash is the called function); `full_fixed` the integer-only form
+(`FixedCorrector::correct_batch`); `batch_f32_w8` and `batch_f32_w32` the
+firmware's batch path, `BatchKernel::correct` over FIFO batches of 8 and 32
+raw samples into a batch frame's i16 counts with the batch's clip flags (100
+samples per timed call, so a shorter last FIFO batch; accuracy includes the
+rounding to the frame's counts, up to 1.5 chip LSBs); `full_f64` K·raw +
 k in f64 (software floating point on both cores); `refold_every_sample` and
 `refold_low_rate` the temperature terms refolded (f64 inversion) before every
 sample or once per 100 samples; `pipeline` the whole data-ready step (the
