@@ -84,21 +84,30 @@ pub fn stuff_short<const N: usize, const M: usize>(data: &[u8; N], out: &mut [u8
     stuff_exact(data, out);
 }
 
-/// Stuffs `data` (under 254 bytes) into `out`, exactly one byte longer:
-/// each byte one copy and one test for zero. Inlined, so that a caller with
-/// array lengths known at build time gets no bounds checks.
+/// Stuffs `data` (under 254 bytes, so no run reaches a 0xFF code) into
+/// `out`, exactly one byte longer: each byte one test for zero and one
+/// store. Inlined, so that a caller with array lengths known at build time
+/// gets no bounds checks.
 #[inline(always)]
 fn stuff_exact(data: &[u8], out: &mut [u8]) {
-    let mut code_at = 0;
-    for (i, &byte) in data.iter().enumerate() {
-        out[i + 1] = byte;
+    let Some((first, rest)) = out.split_first_mut() else {
+        return;
+    };
+    // The current block's code byte, written once its length is known; a
+    // zero's own slot becomes the next block's code byte.
+    let mut code = first;
+    let mut run: u8 = 1;
+    for (slot, &byte) in rest.iter_mut().zip(data) {
         if byte == 0 {
-            // The block since code_at holds i − code_at non-zero bytes.
-            out[code_at] = (i + 1 - code_at) as u8;
-            code_at = i + 1;
+            *code = run;
+            code = slot;
+            run = 1;
+        } else {
+            *slot = byte;
+            run += 1;
         }
     }
-    out[code_at] = (data.len() + 1 - code_at) as u8;
+    *code = run;
 }
 
 /// Longest block [`stuff_block`] takes: a 254-byte run would need a 0xFF code.
