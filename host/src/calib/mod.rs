@@ -10,6 +10,7 @@ pub mod fit_gyro;
 pub mod fit_imu;
 pub mod report;
 pub mod segments;
+pub mod session;
 pub mod stillness;
 pub mod verify;
 
@@ -59,6 +60,9 @@ enum CalibCommand {
     /// Apply a calibration to records its fit did not use; judge the residuals
     /// against the fit's own statistics (exit 1 when they fail).
     Verify(verify::VerifyArgs),
+    /// A guided rig-free calibration on a device: turn the board by hand as
+    /// told, then fit, upload, save and verify (`--port DEV`).
+    Session(session::SessionArgs),
 }
 
 /// The sensor's configured ranges: they bound the bias check and, for a
@@ -129,6 +133,7 @@ pub fn run(args: CalibArgs) -> anyhow::Result<ExitCode> {
         }
         CalibCommand::Fit(args) => fit::run(args),
         CalibCommand::Verify(args) => verify::run(args),
+        CalibCommand::Session(args) => session::run(args),
         CalibCommand::Pack {
             file,
             output,
