@@ -64,6 +64,7 @@ pub fn run(args: ImuArgs) -> anyhow::Result<ExitCode> {
 }
 
 /// Both triads fitted from one record, with what the file and the report say.
+#[derive(Debug)]
 pub struct ImuFit {
     /// The accelerometer's (I+Σ) (upper triangular) and b.
     pub accel: TriadCalibration,

@@ -251,13 +251,7 @@ pub fn run(args: SessionArgs) -> anyhow::Result<ExitCode> {
         FULL_SCALE_COUNTS * f64::from(scale.gyro_si_per_lsb),
     );
     let fit = fit_imu::fit_record(&accel, &gyro, args.gravity, args.min_static, full_scale.1)
-        .map_err(|e| {
-            anyhow!(
-                "the fit is refused, nothing uploaded: {e:#}\n(run the session again: more poses (--poses), \
-                 each held still for --min-static seconds, turned about different axes, not faster than \
-                 the gyro's range; --record FILE keeps the record to look at)"
-            )
-        })?;
+        .map_err(refused)?;
     let file = calibration_file(&fit, full_scale, &args)?;
     stdio::print(&fit.report)?;
     if let Some(out) = &args.out {
@@ -299,6 +293,15 @@ pub fn run(args: SessionArgs) -> anyhow::Result<ExitCode> {
     } else {
         ExitCode::FAILURE
     })
+}
+
+/// A refused fit: its reason and what to do.
+fn refused(reason: anyhow::Error) -> anyhow::Error {
+    anyhow!(
+        "the fit is refused, nothing uploaded: {reason:#}\n(run the session again: more poses (--poses), \
+         each held still for --min-static seconds, turned about different axes, not faster than \
+         the gyro's range; --record FILE keeps the record to look at)"
+    )
 }
 
 /// Collects the raw stream until enough poses are in: --poses poses and
@@ -583,4 +586,84 @@ fn gravity_residual(pose: &Pose, gravity: f64) -> (f64, f64) {
         .sum::<f64>()
         .sqrt();
     (norm - gravity, se)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use triad_lab::calib_fit::hand_record::{self, Axes, Script, TriadTruth, Unit};
+
+    /// A record of `poses` hand-turned poses of an ideal unit with a little noise.
+    fn hand(poses: usize) -> (Record, Record) {
+        let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        let triad = |noise| TriadTruth {
+            scale_misalignment: identity,
+            bias: [0.0; 3],
+            noise,
+        };
+        let unit = Unit {
+            accel: triad(0.01),
+            gyro: triad(0.001),
+            gravity: STANDARD_GRAVITY,
+        };
+        let script = Script {
+            rate_hz: 100.0,
+            poses,
+            static_s: 3.0,
+            turn_s: 1.5,
+            angle_deg: (60.0, 120.0),
+            axes: Axes::Any,
+            drift: None,
+        };
+        let mut state = 12345u64;
+        let mut uniform = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((state >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+        };
+        let (mut t, mut a, mut g) = (Vec::new(), Vec::new(), Vec::new());
+        hand_record::generate(&script, &unit, &mut uniform, |s| {
+            t.push(s.t);
+            a.push(s.accel);
+            g.push(s.gyro);
+        });
+        let path = PathBuf::from("the session on /dev/pts/9");
+        (
+            Record {
+                path: path.clone(),
+                t: t.clone(),
+                samples: a,
+            },
+            Record {
+                path,
+                t,
+                samples: g,
+            },
+        )
+    }
+
+    #[test]
+    fn a_refused_fit_says_why_that_nothing_was_uploaded_and_what_to_do() {
+        let (accel, gyro) = hand(6);
+        let full_scale = 2000f64.to_radians();
+        let e = refused(
+            fit_imu::fit_record(&accel, &gyro, STANDARD_GRAVITY, 1.0, full_scale).unwrap_err(),
+        )
+        .to_string();
+        assert!(
+            e.starts_with(
+                "the fit is refused, nothing uploaded: the session on /dev/pts/9: accelerometer: "
+            ),
+            "{e}"
+        );
+        assert!(e.contains("turn the board to more orientations"), "{e}");
+        assert!(
+            e.ends_with("--record FILE keeps the record to look at)"),
+            "{e}"
+        );
+        // Enough poses: the same record's fit is accepted.
+        let (accel, gyro) = hand(14);
+        assert!(fit_imu::fit_record(&accel, &gyro, STANDARD_GRAVITY, 1.0, full_scale).is_ok());
+    }
 }
