@@ -144,8 +144,10 @@ pub struct ServeArgs {
     /// Run QEMU with `-icount` (one instruction per virtual nanosecond, idle
     /// time skipped) instead of in real time: no overrun from the host's
     /// load, and the chip model's samples replayable on the host (the
-    /// end-to-end tests of the link).
-    #[arg(long, hide = true)]
+    /// end-to-end tests of the link). `triad calib session` needs it on a
+    /// busy machine: a board that misses sample steps during a turn makes
+    /// the fit refuse ("too fast for the sample rate").
+    #[arg(long)]
     deterministic: bool,
 }
 

@@ -11,6 +11,7 @@
 use std::collections::VecDeque;
 
 use triad::units::deg_to_rad;
+use triad_lab::calib_fit::static_segments;
 
 use crate::calib::stillness::{self, ACCEL_FLOOR, DEFAULT_MAX_BIAS_DPS, GYRO_FLOOR_DPS};
 
@@ -163,6 +164,32 @@ impl LivePoses {
         self.min_static
     }
 
+    /// Whether a sample taken after a gap in the stream (`accel`, `gyro`)
+    /// shows the board where it was: still before the gap, and the sample
+    /// within the stillness floors ([`ACCEL_FLOOR`], [`GYRO_FLOOR_DPS`]) of
+    /// the window's means. Then nothing turned during the gap (a turn
+    /// moves gravity or shows a rate), and the record can go on across it.
+    pub fn continues(&self, accel: &[f64; 3], gyro: &[f64; 3]) -> bool {
+        if self.meter > 1.0 || self.window.is_empty() {
+            return false;
+        }
+        let (a, g) = self.window_means();
+        let gyro_floor = deg_to_rad(GYRO_FLOOR_DPS);
+        (0..3)
+            .all(|k| (accel[k] - a[k]).abs() <= ACCEL_FLOOR && (gyro[k] - g[k]).abs() <= gyro_floor)
+    }
+
+    /// The window's specific forces and rates.
+    fn window_triads(&self) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
+        self.window.iter().map(|s| (s.1, s.2)).unzip()
+    }
+
+    /// The window's mean specific force and rate.
+    fn window_means(&self) -> ([f64; 3], [f64; 3]) {
+        let (accel, gyro) = self.window_triads();
+        (static_segments::mean(&accel), static_segments::mean(&gyro))
+    }
+
     /// The stillness test's ratio on the window.
     fn measure(&self) -> f64 {
         let span = match (self.window.front(), self.window.back()) {
@@ -172,11 +199,10 @@ impl LivePoses {
         if span < 0.8 * WINDOW_S {
             return f64::INFINITY;
         }
-        let accel: Vec<[f64; 3]> = self.window.iter().map(|s| s.1).collect();
-        let gyro: Vec<[f64; 3]> = self.window.iter().map(|s| s.2).collect();
+        let (accel, gyro) = self.window_triads();
         let ratio =
             |s: Option<stillness::Steadiness>| s.map_or(f64::INFINITY, |s| s.stray / s.limit);
-        let mean_rate = triad_lab::calib_fit::static_segments::mean(&gyro);
+        let mean_rate = static_segments::mean(&gyro);
         let rate_ratio = mean_rate
             .iter()
             .map(|w| w.abs() / deg_to_rad(DEFAULT_MAX_BIAS_DPS))
@@ -326,6 +352,22 @@ mod tests {
             panic!("{events:?}")
         };
         assert!(angle(&pose.up(), &[1.0, 0.0, 0.0]) < 0.01, "{pose:?}");
+    }
+
+    #[test]
+    fn after_a_gap_the_board_continues_only_if_it_was_still_and_is_where_it_was() {
+        let mut p = LivePoses::new(1.0, 10.0);
+        let level = [0.0, 0.0, G];
+        assert!(!p.continues(&level, &[0.0; 3]), "no window yet");
+        feed(&mut p, 0.0, 1.5, 100.0, [0.0, 0.0, 1.0], 0.0);
+        assert!(p.continues(&level, &[0.0; 3]));
+        // Tilted by 2° (0.34 m/s² across), or turning at 1 °/s: it moved.
+        let tilt = 2f64.to_radians();
+        assert!(!p.continues(&[G * tilt.sin(), 0.0, G * tilt.cos()], &[0.0; 3]));
+        assert!(!p.continues(&level, &[0.0, 0.0, deg_to_rad(1.0)]));
+        // While turning, nothing continues.
+        feed(&mut p, 1.5, 1.0, 100.0, [0.0, 0.0, 1.0], 30.0);
+        assert!(!p.continues(&level, &[0.0; 3]));
     }
 
     #[test]

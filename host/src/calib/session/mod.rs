@@ -121,10 +121,16 @@ struct RawRecord {
     temperature: Vec<f64>,
 }
 
+/// A raw frame's specific force and rate (SI, f64).
+fn si(frame: &RawFrame) -> ([f64; 3], [f64; 3]) {
+    let (a, g, _) = frame.to_si();
+    (a.map(f64::from), g.map(f64::from))
+}
+
 impl RawRecord {
     fn push(&mut self, t: f64, frame: &RawFrame) -> ([f64; 3], [f64; 3]) {
-        let (a, g, temp) = frame.to_si();
-        let (a, g) = (a.map(f64::from), g.map(f64::from));
+        let (a, g) = si(frame);
+        let temp = frame.to_si().2;
         self.t.push(t);
         self.accel.push(a);
         self.gyro.push(g);
@@ -276,15 +282,25 @@ pub fn run(args: SessionArgs) -> anyhow::Result<ExitCode> {
     let uploaded = transfer::upload(&mut device.link, &blob::encode(&file.calibration))?;
     device.link.command(&Command::Save)?;
     device.link.command(&Command::SetMode(Mode::Calibrated))?;
+    // Fresh poses as long as the fit's on average: their means then scatter
+    // as the fit's did, which the verdict's scale assumes.
+    let hold_s = fit
+        .poses
+        .iter()
+        .map(|p| accel.t[p.end - 1] - accel.t[p.start])
+        .sum::<f64>()
+        / fit.poses.len().max(1) as f64;
+    let hold_s = hold_s.max(args.min_static);
     stdio::print(format!(
-        "uploaded calibration {uploaded:#010x}, saved it to the device's flash; verifying on {} fresh poses\n",
+        "uploaded calibration {uploaded:#010x}, saved it to the device's flash; verifying on {} fresh poses \
+         held still for {hold_s:.1} s each (the fit's poses' mean length)\n",
         args.verify_poses
     ))?;
     let pass = verify_fresh(
         &mut device,
         &args,
         &file,
-        uploaded,
+        (uploaded, hold_s),
         &mut guide,
         &interrupted,
     )?;
@@ -320,6 +336,7 @@ fn collect<P: Read + Write>(
     let mut held = 0usize;
     let mut scale = None;
     let mut overruns = 0usize;
+    let mut lost_while_still = 0usize;
     guide.say(&format!(
         "hold the board still, then {}",
         prompt::next_turn(&coverage)
@@ -347,8 +364,18 @@ fn collect<P: Read + Write>(
                 }
                 overruns += 1;
             }
-            // Frames lost: their samples are gone, and with them how far
-            // the board turned meanwhile.
+            // Frames lost while the board stays still: nothing turned, the
+            // record goes on (the poses' means lose a few samples).
+            Some(gap) if !record.t.is_empty() && poses.continues(&si(&frame).0, &si(&frame).1) => {
+                if lost_while_still == 0 {
+                    guide.say(&format!(
+                        "at {t:.1} s {gap}, while the board was still: the record goes on across it"
+                    ));
+                }
+                lost_while_still += 1;
+            }
+            // Frames lost during a turn: their samples are gone, and with
+            // them how far the board turned meanwhile.
             Some(gap) if !record.t.is_empty() => {
                 guide.say(&format!(
                     "at {t:.1} s {gap}: the turns cannot be integrated across it, so the session starts again from here"
@@ -387,9 +414,10 @@ fn collect<P: Read + Write>(
                             coverage.missing().join(", ")
                         ));
                     }
-                    if overruns > 0 {
+                    if overruns + lost_while_still > 0 {
                         guide.say(&format!(
-                            "{overruns} frames after missed sample steps over {t:.1} s"
+                            "over {t:.1} s: {overruns} frames after missed sample steps, \
+                             {lost_while_still} gaps of lost frames while still"
                         ));
                     }
                     return Ok((record, scale.unwrap_or(frame.scale)));
@@ -447,19 +475,19 @@ fn calibration_file(
 }
 
 /// Verifies the uploaded calibration `id` on --verify-poses fresh static
-/// poses of the corrected stream; prints each pose's |f| − g and the F
+/// poses of the corrected stream, each held still for `hold_s` seconds; prints each pose's |f| − g and the F
 /// test's verdict; true when it passes.
 fn verify_fresh<P: Read + Write>(
     device: &mut Device<P>,
     args: &SessionArgs,
     file: &CalibFile,
-    id: u32,
+    (id, hold_s): (u32, f64),
     guide: &mut Guide,
     interrupted: &std::sync::atomic::AtomicBool,
 ) -> anyhow::Result<bool> {
     let scale = verify::fit_scale(file, Triad::Accel)?;
     let mut time = StreamTime::default();
-    let mut poses = LivePoses::new(args.min_static, MIN_TURN_DEG);
+    let mut poses = LivePoses::new(hold_s, MIN_TURN_DEG);
     let mut fresh: Vec<Pose> = Vec::new();
     guide.say(&format!("verifying: {FRESH_POSE}"));
     let stage = "while verifying (the calibration is uploaded and saved)";
