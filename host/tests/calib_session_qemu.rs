@@ -33,10 +33,19 @@ fn env(name: &str) -> String {
     std::env::var(name).unwrap_or_else(|_| panic!("{name} is set by cargo xtask test"))
 }
 
-/// `triad calib session --port PORT ARGS` with `stdin` as the user's answer.
+/// `triad calib session --port PORT ARGS` with `stdin` as the user's
+/// answer. A stream counts as stopped after 30 s without a frame (not the
+/// default 5 s): QEMU shares the machine with the whole test suite.
 fn session(board: &ServedBoard, args: &[&str], stdin: &str) -> Output {
     let mut child = Command::new(env!("CARGO_BIN_EXE_triad"))
-        .args(["calib", "session", "--port", board.port()])
+        .args([
+            "calib",
+            "session",
+            "--port",
+            board.port(),
+            "--stall-s",
+            "30",
+        ])
         .args(args)
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())

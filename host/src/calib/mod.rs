@@ -1,6 +1,8 @@
 //! `triad calib`: check and pack calibration files ([`check`], `pack`), and
 //! fit them to recorded data ([`fit`]: [`fit_accel`], [`fit_gyro`], from the
-//! records of [`fit_csv`] cut into [`segments`], reported by [`report`]).
+//! records of [`fit_csv`] cut into [`segments`], reported by [`report`]),
+//! verify them on fresh records ([`verify`]), and run a guided rig-free
+//! calibration on a device ([`session`]).
 
 pub mod check;
 pub mod fit;
