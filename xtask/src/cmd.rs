@@ -117,20 +117,30 @@ pub fn build_firmware_with_scene(
 /// Writes the blob of scene `name` (a scenes/ name or a file) with `seed`
 /// for the emulated board, with `triad sim --pack`; returns its path.
 pub fn pack_scene(triad: &Path, name: &str, seed: u64) -> Result<PathBuf> {
-    let blob = artefact("scene.bin")?;
+    let seed = seed.to_string();
+    pack(triad, "scene.bin", &["--scene", name, "--seed", &seed])
+}
+
+/// Writes the blob of unit `unit` doing script `script` (shipped names or
+/// files), its noise from `record_seed`, with `triad sim --pack`; returns
+/// its path.
+pub fn pack_unit(triad: &Path, unit: &str, script: &str, record_seed: u64) -> Result<PathBuf> {
+    let seed = record_seed.to_string();
+    let args = ["--unit", unit, "--script", script, "--record-seed", &seed];
+    pack(triad, "unit-scene.bin", &args)
+}
+
+/// `triad sim ARGS --pack` into the artefact `file`.
+fn pack(triad: &Path, file: &str, args: &[&str]) -> Result<PathBuf> {
+    let blob = artefact(file)?;
     let mut command = Command::new(triad);
     command
         .current_dir(root())
-        .args([
-            "sim",
-            "--scene",
-            name,
-            "--seed",
-            &seed.to_string(),
-            "--pack",
-        ])
+        .arg("sim")
+        .args(args)
+        .arg("--pack")
         .arg(&blob);
-    check(command, &format!("triad sim --scene {name} --pack"))?;
+    check(command, &format!("triad sim {} --pack", args.join(" ")))?;
     Ok(blob)
 }
 

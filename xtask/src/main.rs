@@ -96,8 +96,22 @@ pub struct FirmwareArgs {
     /// or a TOML file) simulated at the chip's rate, instead of the demo motion.
     #[arg(long, value_name = "NAME|FILE")]
     scene: Option<String>,
-    /// Seed of the scene's random streams (with --scene).
-    #[arg(long, default_value_t = 1, requires = "scene")]
+    /// Feed the chip model with this simulated unit (a scenes/units name or
+    /// a unit file: one sensor and its turn-on errors) doing --script.
+    #[arg(
+        long,
+        value_name = "NAME|FILE",
+        requires = "script",
+        conflicts_with = "scene"
+    )]
+    unit: Option<String>,
+    /// What the --unit does (a scenes/scripts name or a script file), e.g.
+    /// hand-rotations for `triad calib session`.
+    #[arg(long, value_name = "NAME|FILE", requires = "unit")]
+    script: Option<String>,
+    /// Seed of the scene's random streams (with --scene), or of the
+    /// unit's record's noise (with --unit: `triad sim --record-seed`).
+    #[arg(long, default_value_t = 1)]
     seed: u64,
     /// The chip's output data rate, Hz (one the chip has, e.g. 1000, 8000
     /// for the ICM-42688-P); default the driver's.
@@ -142,8 +156,10 @@ pub struct ServeArgs {
     /// Run QEMU with `-icount` (one instruction per virtual nanosecond, idle
     /// time skipped) instead of in real time: no overrun from the host's
     /// load, and the chip model's samples replayable on the host (the
-    /// end-to-end tests of the link).
-    #[arg(long, hide = true)]
+    /// end-to-end tests of the link). `triad calib session` needs it on a
+    /// busy machine: a board that misses sample steps during a turn makes
+    /// the fit refuse ("too fast for the sample rate").
+    #[arg(long)]
     deterministic: bool,
 }
 
@@ -258,11 +274,13 @@ fn build(args: &FirmwareArgs) -> anyhow::Result<(std::path::PathBuf, std::path::
         },
     };
     eprintln!("xtask: firmware for {}", firmware.label());
-    let elf = match &args.scene {
-        Some(name) => {
-            let blob = cmd::pack_scene(&triad, name, args.seed)?;
-            cmd::build_firmware_with_scene(firmware, &calibration, &blob)?
-        }
+    let blob = match (&args.scene, &args.unit, &args.script) {
+        (Some(name), _, _) => Some(cmd::pack_scene(&triad, name, args.seed)?),
+        (None, Some(unit), Some(script)) => Some(cmd::pack_unit(&triad, unit, script, args.seed)?),
+        _ => None,
+    };
+    let elf = match &blob {
+        Some(blob) => cmd::build_firmware_with_scene(firmware, &calibration, blob)?,
         None => cmd::build_firmware(firmware, &calibration)?,
     };
     Ok((elf, triad))

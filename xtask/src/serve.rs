@@ -4,9 +4,10 @@
 //! pseudo-terminal; the pty's path is the first line on stdout, so that
 //! `triad device --port PATH` and `triad decode --port PATH` work against it
 //! exactly as against a board. It runs until killed (Ctrl-C), or until the
-//! firmware stops. The end-to-end tests of the link serve with the hidden
-//! option `--deterministic`: QEMU's `-icount` clock, as `cargo xtask run`
-//! uses, so the host's load causes no overrun.
+//! firmware stops. With `--deterministic` (the end-to-end tests of the
+//! link, and `triad calib session` on a busy machine) it runs on QEMU's
+//! `-icount` clock, as `cargo xtask run` does, so the host's load causes
+//! no overrun.
 //!
 //! The calibration flash is the file `--storage FILE` names (created all
 //! 0xFF when missing, so it persists across runs); without it the board

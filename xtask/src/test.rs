@@ -23,6 +23,11 @@ const BATCH_WATERMARK: u16 = 32;
 /// The scene of the simulated end-to-end run, and its seed.
 const E2E_SCENE: &str = "thermal-ramp";
 const E2E_SEED: u64 = 7;
+/// The unit and script the emulated board plays for `triad calib
+/// session`'s end-to-end test, and the record's seed.
+const SESSION_UNIT: &str = "consumer-mems";
+const SESSION_SCRIPT: &str = "hand-session";
+const SESSION_SEED: u64 = 1;
 
 /// Which tests `cargo xtask test` runs.
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -137,6 +142,15 @@ pub fn run(scope: Scope) -> Result<()> {
         .find(|(f, _)| *f == firmware)
         .context("the default emulated firmware was built")?;
     served_board(*firmware, elf, &calibration)?;
+
+    // `triad calib session` on the board playing a unit turned by hand.
+    let blob = cmd::pack_unit(&triad, SESSION_UNIT, SESSION_SCRIPT, SESSION_SEED)?;
+    eprintln!(
+        "xtask: building the firmware for {} with unit {SESSION_UNIT} doing {SESSION_SCRIPT}",
+        firmware.label()
+    );
+    let elf = cmd::build_firmware_with_scene(*firmware, &calibration, &blob)?;
+    calib_session(*firmware, &elf, &calibration)?;
     eprintln!("xtask: all tests passed");
     Ok(())
 }
@@ -208,6 +222,53 @@ fn served_board(firmware: Firmware, elf: &Path, calibration: &Path) -> Result<()
          erase, bad uploads, raw mode, commands while streaming, power cuts during a save",
         firmware.label()
     );
+    let xtask = serving_xtask()?;
+    let mut command = ignored_host_tests("device_qemu", &["--test-threads=1", "--nocapture"]);
+    command
+        .env("TRIAD_SERVE_XTASK", &xtask)
+        .env("TRIAD_SERVE_ELF", elf)
+        .env("TRIAD_SERVE_BLOB", calibration)
+        .envs(firmware.build_env())
+        .env("TRIAD_E2E_BUS", firmware.bus.name());
+    check(
+        command,
+        &format!(
+            "the device link's end-to-end tests for {}",
+            firmware.label()
+        ),
+    )
+}
+
+/// Runs host/tests/calib_session_qemu.rs: `elf` (the firmware whose chip
+/// model plays SESSION_UNIT doing SESSION_SCRIPT) served by `xtask serve`,
+/// calibrated by `triad calib session`.
+fn calib_session(firmware: Firmware, elf: &Path, calibration: &Path) -> Result<()> {
+    eprintln!(
+        "xtask: end-to-end on QEMU, triad calib session on {} playing {SESSION_UNIT} doing {SESSION_SCRIPT}: \
+         a declined session, then fit, upload, save and verify against the unit's truth",
+        firmware.label()
+    );
+    let mut command =
+        ignored_host_tests("calib_session_qemu", &["--test-threads=1", "--nocapture"]);
+    command
+        .env("TRIAD_SERVE_XTASK", serving_xtask()?)
+        .env("TRIAD_SERVE_ELF", elf)
+        .env("TRIAD_SERVE_BLOB", calibration)
+        .env("TRIAD_SESSION_UNIT", SESSION_UNIT)
+        .env("TRIAD_SESSION_SCRIPT", SESSION_SCRIPT)
+        .env("TRIAD_SESSION_SEED", SESSION_SEED.to_string());
+    check(
+        command,
+        &format!(
+            "triad calib session's end-to-end test on {}",
+            firmware.label()
+        ),
+    )
+}
+
+/// A copy of this executable for the tests to run `xtask serve` with (as
+/// cargo may rebuild xtask's own while the tests run); its path.
+fn serving_xtask() -> Result<std::path::PathBuf> {
     let dir = cmd::root().join("target/e2e");
     std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
     let xtask = dir.join("xtask-serve");
@@ -224,20 +285,7 @@ fn served_board(firmware: Firmware, elf: &Path, calibration: &Path) -> Result<()
     std::fs::copy(&current, &copying)
         .and_then(|_| std::fs::rename(&copying, &xtask))
         .with_context(|| format!("copying {} to {}", current.display(), xtask.display()))?;
-    let mut command = ignored_host_tests("device_qemu", &["--test-threads=1", "--nocapture"]);
-    command
-        .env("TRIAD_SERVE_XTASK", &xtask)
-        .env("TRIAD_SERVE_ELF", elf)
-        .env("TRIAD_SERVE_BLOB", calibration)
-        .envs(firmware.build_env())
-        .env("TRIAD_E2E_BUS", firmware.bus.name());
-    check(
-        command,
-        &format!(
-            "the device link's end-to-end tests for {}",
-            firmware.label()
-        ),
-    )
+    Ok(xtask)
 }
 
 /// `cargo test` of the host's integration test `name`, its ignored tests

@@ -13,12 +13,13 @@ use std::process::ExitCode;
 use anyhow::anyhow;
 use triad::model::{Triad, TriadCalibration};
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
+use triad_lab::calib_fit::accel_fit::AccelFit;
 use triad_lab::calib_fit::rig_free::{self, RigFreeGyroFit};
 use triad_lab::calib_fit::static_segments::Segment;
 use triad_lab::calib_fit::{accel_fit, FitError};
 
 use super::fit::{file_list, inputs, write_calibration, Output};
-use super::fit_csv;
+use super::fit_csv::{self, Record};
 use super::report::{method_table, FitReport};
 use super::segments::{check_pose_options, detector, stat};
 use crate::stdio::outln;
@@ -46,11 +47,60 @@ pub fn run(args: ImuArgs) -> anyhow::Result<ExitCode> {
     check_pose_options(args.gravity, args.min_static)?;
     let paths = [args.positions.clone()];
     let base = args.output.prepare(&inputs("--positions", &paths))?;
-    let name = crate::input::name(&args.positions);
     let accel = fit_csv::read(&args.positions, fit_csv::ACCEL)?;
     let gyro = fit_csv::read(&args.positions, fit_csv::GYRO)?;
+    let full_scale = deg_to_rad(args.output.ranges.gyro_range_dps);
+    let fit = fit_record(&accel, &gyro, args.gravity, args.min_static, full_scale)?;
+    let base = base.with_fitted(Triad::Accel, fit.accel, fit.accel_table);
+    write_calibration(
+        &args.output,
+        base,
+        Triad::Gyro,
+        fit.gyro,
+        &fit.header,
+        fit.gyro_table,
+        &fit.report,
+    )
+}
+
+/// Both triads fitted from one record, with what the file and the report say.
+#[derive(Debug)]
+pub struct ImuFit {
+    /// The accelerometer's (I+Σ) (upper triangular) and b.
+    pub accel: TriadCalibration,
+    /// The gyroscope's (I+Σ) (in the accelerometer's corrected axes) and b.
+    pub gyro: TriadCalibration,
+    /// The accelerometer fit's statistics, `[fit.accel]`.
+    pub accel_table: toml::Table,
+    /// The gyroscope fit's statistics, `[fit.gyro]`.
+    pub gyro_table: toml::Table,
+    /// The file's header comment.
+    pub header: String,
+    /// The report printed for the user.
+    pub report: String,
+    /// The static poses found (sample ranges of the record).
+    pub poses: Vec<Segment>,
+    /// The accelerometer fit.
+    pub accel_fit: AccelFit,
+    /// The gyroscope fit.
+    pub gyro_fit: RigFreeGyroFit,
+}
+
+/// Fits both triads to `accel` and `gyro`, the two triads of one record
+/// (same times), whose static poses (at least `min_static` s) are found
+/// from the accelerometer; `gravity` is local gravity, `full_scale` the
+/// gyro's range (rad/s). A refusal names the record and what to do.
+pub fn fit_record(
+    accel: &Record,
+    gyro: &Record,
+    gravity: f64,
+    min_static: f64,
+    full_scale: f64,
+) -> anyhow::Result<ImuFit> {
+    let name = crate::input::name(&accel.path);
+    let paths = [accel.path.clone()];
     // The poses: the accelerometer's static stretches.
-    let d = detector(accel.rate_hz()?, args.min_static);
+    let d = detector(accel.rate_hz()?, min_static);
     let mut buffer = vec![Segment { start: 0, end: 0 }; accel.samples.len() / d.block + 1];
     let n = d
         .detect(&accel.samples, &mut buffer)
@@ -58,16 +108,15 @@ pub fn run(args: ImuArgs) -> anyhow::Result<ExitCode> {
     let poses = &buffer[..n];
     let stats: Vec<_> = poses
         .iter()
-        .map(|p| stat(&accel, 0, p.start..p.end))
+        .map(|p| stat(accel, 0, p.start..p.end))
         .collect();
     let means: Vec<[f64; 3]> = stats.iter().map(|s| s.mean).collect();
-    let accel_fit = accel_fit::fit(&means, args.gravity).map_err(|e| match e {
+    let accel_fit = accel_fit::fit(&means, gravity).map_err(|e| match e {
         FitError::TooFewOrientations { .. } | FitError::OrientationsInOnePlane { .. } => {
             anyhow!("{name}: accelerometer: {e}; turn the board to more orientations")
         }
         _ => anyhow!("{name}: accelerometer, {} static poses: {e}", means.len()),
     })?;
-    let full_scale = deg_to_rad(args.output.ranges.gyro_range_dps);
     let record = rig_free::Record {
         t: &gyro.t,
         gyro: &gyro.samples,
@@ -117,13 +166,20 @@ pub fn run(args: ImuArgs) -> anyhow::Result<ExitCode> {
         "too few moves for the 9 unknowns",
     );
     print_gyro_extras(&mut out, &gyro_fit);
+    outln!(
+        out,
+        "  frame: both (I+Σ) map the accelerometer's corrected axes (corrected z = the accelerometer's z \
+         sensing axis, x in its xz plane) to the sensing axes; a truth given in body axes B compares \
+         after rotating by R (the rotation of B's accelerometer to upper-triangular form): \
+         `accel_frame::in_accel_frame`"
+    );
 
     let mut accel_table = method_table(
         "rig-free: multi-position, unknown orientations, |(I+Σ)⁻¹(f̂ − b)| = g",
         Some("(I+Σ) upper triangular: corrected z = the z sensing axis"),
     );
     accel_table.insert("records".into(), file_list(&paths));
-    accel_table.insert("gravity".into(), toml::Value::Float(args.gravity));
+    accel_table.insert("gravity".into(), toml::Value::Float(gravity));
     accel_report.insert_statistics(&mut accel_table);
     let mut gyro_table = method_table(
         "rig-free: gyro integrated (RK4, quaternions) between static poses, predicted gravity direction matched to the measured (Tedaldi, Pretto, Menegatti 2014); bias from the poses",
@@ -146,21 +202,21 @@ pub fn run(args: ImuArgs) -> anyhow::Result<ExitCode> {
         accel_fit.residual_rms,
         gyro_fit.residual_rms
     );
-    let accel_triad = TriadCalibration {
-        scale_misalignment: accel_fit.scale_misalignment,
-        bias: accel_fit.bias,
-        temperature: None,
-    };
-    let base = base.with_fitted(Triad::Accel, accel_triad, accel_table);
-    write_calibration(
-        &args.output,
-        base,
-        Triad::Gyro,
-        gyro_report.triad(),
-        &header,
+    Ok(ImuFit {
+        accel: TriadCalibration {
+            scale_misalignment: accel_fit.scale_misalignment,
+            bias: accel_fit.bias,
+            temperature: None,
+        },
+        gyro: gyro_report.triad(),
+        accel_table,
         gyro_table,
-        &out,
-    )
+        header,
+        report: out,
+        poses: poses.to_vec(),
+        accel_fit,
+        gyro_fit,
+    })
 }
 
 /// The common report of the gyro's fit. Its σ's have the smallest of the

@@ -1,6 +1,8 @@
 //! `triad calib`: check and pack calibration files ([`check`], `pack`), and
 //! fit them to recorded data ([`fit`]: [`fit_accel`], [`fit_gyro`], [`fit_imu`], [`fit_thermal`], from the
-//! records of [`fit_csv`] cut into [`segments`], reported by [`report`]).
+//! records of [`fit_csv`] cut into [`segments`], reported by [`report`]),
+//! verify them on fresh records ([`verify`]), and run a guided rig-free
+//! calibration on a device ([`session`]).
 
 pub mod check;
 pub mod fit;
@@ -11,6 +13,7 @@ pub mod fit_imu;
 pub mod fit_thermal;
 pub mod report;
 pub mod segments;
+pub mod session;
 pub mod stillness;
 pub mod verify;
 
@@ -60,6 +63,9 @@ enum CalibCommand {
     /// Apply a calibration to records its fit did not use; judge the residuals
     /// against the fit's own statistics (exit 1 when they fail).
     Verify(verify::VerifyArgs),
+    /// A guided rig-free calibration on a device: turn the board by hand as
+    /// told, then fit, upload, save and verify (`--port DEV`).
+    Session(session::SessionArgs),
 }
 
 /// The sensor's configured ranges: they bound the bias check and, for a
@@ -130,6 +136,7 @@ pub fn run(args: CalibArgs) -> anyhow::Result<ExitCode> {
         }
         CalibCommand::Fit(args) => fit::run(args),
         CalibCommand::Verify(args) => verify::run(args),
+        CalibCommand::Session(args) => session::run(args),
         CalibCommand::Pack {
             file,
             output,

@@ -42,7 +42,7 @@ use crate::calib_file::{self, CalibFile};
 use crate::stdio::{self, outln};
 
 /// The verdict's level: a good calibration fails 1 % of the time.
-const LEVEL: f64 = 0.99;
+pub const LEVEL: f64 = 0.99;
 
 /// Arguments of `triad calib verify`.
 #[derive(clap::Args)]
@@ -81,13 +81,44 @@ struct Residual {
 }
 
 /// What the fit says about its residuals, from the calibration file.
-struct FitScale {
+pub struct FitScale {
     /// Residual mean square per degree of freedom, s².
-    mean_square: f64,
+    pub mean_square: f64,
     /// Degrees of freedom ν.
-    dof: f64,
+    pub dof: f64,
     /// Residuals the fit had, N.
-    residuals: f64,
+    pub residuals: f64,
+}
+
+/// The F test of `n` fresh residuals whose squares sum to `sum_sq`.
+pub struct Verdict {
+    /// The fit's parameters, p = N − ν.
+    pub parameters: f64,
+    /// The mean square a fresh residual is expected to have: s²·(1 + p/N).
+    pub expected: f64,
+    /// F = (Σr²/n) / expected.
+    pub f: f64,
+    /// The 99 % point of F(n, ν).
+    pub limit: f64,
+    /// F ≤ limit.
+    pub pass: bool,
+}
+
+impl FitScale {
+    /// The verdict on `n` fresh residuals with Σr² = `sum_sq`.
+    pub fn verdict(&self, sum_sq: f64, n: usize) -> Verdict {
+        let parameters = self.residuals - self.dof;
+        let expected = self.mean_square * (1.0 + parameters / self.residuals);
+        let f = sum_sq / n as f64 / expected;
+        let limit = f_dist::quantile(LEVEL, n as f64, self.dof);
+        Verdict {
+            parameters,
+            expected,
+            f,
+            limit,
+            pass: f <= limit,
+        }
+    }
 }
 
 /// Runs `triad calib verify`.
@@ -122,11 +153,13 @@ pub fn run(args: VerifyArgs) -> anyhow::Result<ExitCode> {
     if n == 0 {
         bail!("{}: no static pose or run to verify", names(&args.records));
     }
-    let parameters = fit.residuals - fit.dof;
-    let expected = fit.mean_square * (1.0 + parameters / fit.residuals);
-    let f = sum_sq / n as f64 / expected;
-    let limit = f_dist::quantile(LEVEL, n as f64, fit.dof);
-    let pass = f <= limit;
+    let Verdict {
+        parameters,
+        expected,
+        f,
+        limit,
+        pass,
+    } = fit.verdict(sum_sq, n);
     outln!(
         out,
         "residual RMS {:.3e}, the fit's prediction {:.3e} (s·√(1 + p/N), p = {parameters}, N = {})",
@@ -154,7 +187,7 @@ pub fn run(args: VerifyArgs) -> anyhow::Result<ExitCode> {
 /// The fit's residual scale, from the file's `[fit.TRIAD]` table: its
 /// residuals per segment are 1 for the ellipsoid fit (a magnitude) and 3
 /// for the linear fits (a vector), told apart by the degrees of freedom.
-fn fit_scale(file: &CalibFile, triad: Triad) -> anyhow::Result<FitScale> {
+pub fn fit_scale(file: &CalibFile, triad: Triad) -> anyhow::Result<FitScale> {
     let table = file.fit.get(triad.name()).and_then(|v| v.as_table());
     let number = |key: &str| {
         table

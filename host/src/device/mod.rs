@@ -189,7 +189,7 @@ pub fn run(args: DeviceArgs) -> anyhow::Result<ExitCode> {
 /// The first command's sequence number, from the clock: a new run does not
 /// repeat the number of the last command the device answered (which it
 /// would answer again from its last reply, without applying the command).
-fn first_sequence() -> u16 {
+pub fn first_sequence() -> u16 {
     let now = SystemTime::now()
         .duration_since(UNIX_EPOCH)
         .unwrap_or_default();

@@ -10,6 +10,8 @@ mod pipe;
 #[cfg(unix)]
 mod pty;
 mod ram_flash;
+#[cfg(unix)]
+mod session;
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};

@@ -9,6 +9,8 @@
 //!   tumble), where gravity's direction is known: full (I+Σ), linear.
 //! - [`gyro_fit`]: the gyroscope from rate-table segments with known rates,
 //!   ω̂ = (I+Σ)ω + b, by linear least squares.
+//! - [`accel_frame`]: a truth's (I+Σ) in the rig-free fits' frame (the
+//!   accelerometer's upper triangular corrected axes), for comparisons.
 //! - [`rig_free`]: the gyroscope from one hand-rotated record (turns
 //!   between static poses integrated and matched to the accelerometer's
 //!   gravity directions); [`hand_record`] makes such records with known truth.
@@ -28,6 +30,7 @@
 
 pub mod accel_cube;
 pub mod accel_fit;
+pub mod accel_frame;
 pub mod bias_polynomial;
 pub mod ellipsoid;
 pub mod error;
