@@ -7,7 +7,8 @@
 //! firmware stops. With `--deterministic` (the end-to-end tests of the
 //! link, and `triad calib session` on a busy machine) it runs on QEMU's
 //! `-icount` clock, as `cargo xtask run` does, so the host's load causes
-//! no overrun.
+//! no overrun, and a client slower than the board loses nothing: the board
+//! waits for it.
 //!
 //! The calibration flash is the file `--storage FILE` names (created all
 //! 0xFF when missing, so it persists across runs); without it the board
@@ -101,8 +102,11 @@ pub fn serve(elf: &Path, storage: Option<&Storage>, clock: qemu::Clock) -> Resul
     let mut master_out = pty.master.try_clone().context("cloning the pty")?;
     let mut master_in = pty.master.try_clone().context("cloning the pty")?;
     let unread = pty.unread()?;
-    // Device → host: when the pty is full (no client, or one not reading),
-    // what it holds unread is dropped, so the newest bytes (a reply) get in.
+    // Device → host: in real time, when the pty is full (no client, or one
+    // not reading), what it holds unread is dropped, so the newest bytes (a
+    // reply) get in. Deterministic, the pump waits for the client instead:
+    // QEMU then waits on its socket and the board's virtual time with it,
+    // so a slow host loses nothing, as the instruction clock promises.
     std::thread::spawn(move || -> Result<()> {
         let mut buffer = [0u8; 4096];
         loop {
@@ -110,7 +114,10 @@ pub fn serve(elf: &Path, storage: Option<&Storage>, clock: qemu::Clock) -> Resul
             if n == 0 {
                 return Ok(());
             }
-            to_client(&mut master_out, &unread, &buffer[..n])?;
+            match clock {
+                qemu::Clock::RealTime => to_client(&mut master_out, &unread, &buffer[..n])?,
+                qemu::Clock::Deterministic => to_client_waiting(&mut master_out, &buffer[..n])?,
+            }
         }
     });
     // Host → device.
@@ -133,6 +140,25 @@ pub fn serve(elf: &Path, storage: Option<&Storage>, clock: qemu::Clock) -> Resul
     });
     let status = board.wait()?;
     bail!("the firmware stopped QEMU ({status})")
+}
+
+/// Writes all of `chunk` into the pty's master, waiting while the pty is
+/// full (the deterministic board: nothing is dropped, the board waits).
+fn to_client_waiting(master: &mut File, chunk: &[u8]) -> Result<()> {
+    let mut rest = chunk;
+    while !rest.is_empty() {
+        match master.write(rest) {
+            Ok(n) => rest = &rest[n..],
+            Err(e) if e.kind() == ErrorKind::WouldBlock => {
+                poll(
+                    &mut [PollFd::new(master.as_fd(), PollFlags::POLLOUT)],
+                    PollTimeout::NONE,
+                )?;
+            }
+            Err(e) => return Err(e.into()),
+        }
+    }
+    Ok(())
 }
 
 /// Writes `chunk` into the pty's master. When the pty is full (no client,
