@@ -44,13 +44,42 @@ use triad::sensor::interface::I2cInterface;
 use triad::sensor::interface::SpiInterface;
 use triad::sensor::{AnyChip, DetectError};
 
-/// This board's facts that the stream depends on.
+/// This board's facts that the stream depends on. The link's baud rate is
+/// 921600 unless the build sets `TRIAD_LINK_BAUD` (e.g. 2000000, the
+/// ST-LINK virtual COM port's top rate, which 8 kHz batches need).
 pub const DESCRIPTION: BoardDescription = BoardDescription {
     name: "nucleo-f401re",
     orientation: Orientation::RotationNone,
     decimation: 1,
-    baud: 921_600,
+    baud: link_baud(option_env!("TRIAD_LINK_BAUD")),
 };
+
+/// `TRIAD_LINK_BAUD` read at build: 921600 when unset; anything but a whole
+/// number from 9600 to 5250000 (PCLK1 / 8, the USART's top rate) stops the
+/// build.
+const fn link_baud(text: Option<&str>) -> u32 {
+    let Some(text) = text else {
+        return 921_600;
+    };
+    let bytes = text.as_bytes();
+    let mut value: u64 = 0;
+    let mut i = 0;
+    if bytes.is_empty() {
+        panic!("TRIAD_LINK_BAUD is empty: give a baud rate, e.g. 2000000");
+    }
+    while i < bytes.len() {
+        let digit = bytes[i];
+        if !digit.is_ascii_digit() || value > u32::MAX as u64 {
+            panic!("TRIAD_LINK_BAUD is not a whole number of baud, e.g. 2000000");
+        }
+        value = value * 10 + (digit - b'0') as u64;
+        i += 1;
+    }
+    if value < 9_600 || value > (PCLK1_HZ / 8) as u64 {
+        panic!("TRIAD_LINK_BAUD is outside 9600..=5250000 (PCLK1 / 8)");
+    }
+    value as u32
+}
 
 /// The core clock: the most the STM32F401 allows.
 const SYSCLK_HZ: u32 = 84_000_000;

@@ -35,6 +35,28 @@ timer interrupt that stands in for the chip's INT1 line (a dozen
 instructions per interrupt) and exception entry. Wire bytes are the
 captured stream's bytes over its samples.";
 
+/// Where the instructions go at 8 kHz with W = 32, from a QEMU execution
+/// trace of the firmware (`-d in_asm,exec,nochain`, instructions per
+/// translated block × executions, by function) and the disassembly.
+const WHERE: &str = "\
+Where the instructions go at 8 kHz with W = 32 (a QEMU execution trace,
+`-d in_asm,exec,nochain`, weighted by each block's instructions, and the
+disassembly): the data-ready task is the FIFO read (the driver's two SPI
+transactions per interrupt and about 30 instructions per sample decoding
+the 16-byte packets), the batch kernel (`batch_f32_w32` above), and about
+110 per sample making frames (the 232-byte batch frame zeroed, filled,
+returned, wrapped and copied into the link queue's slot; the batch's mean
+temperature; the sampler's counters). The link task, per 235-byte packet:
+COBS about 7 instructions per byte, CRC-32C (slicing-by-4) about 3.5, the
+copy into the transmit ring about 1.8, and the packet written in place;
+the TX drain is about 8 per byte (status check, load, store, loop), work
+the NUCLEO's DMA does with no instruction per byte. Not in these figures:
+on hardware the SPI transfer itself, 16 bytes per sample, which the
+driver's blocking read waits out: about 6 µs per sample at the
+ICM-42688-P's 21 MHz (500 cycles at 84 MHz, more than the whole budget),
+24 µs at the 5.25 MHz the NUCLEO's one-build-for-every-chip SPI runs at;
+the NUCLEO needs the read by DMA to meet 5 % (boards/nucleo-f401re/README.md).";
+
 /// The section.
 pub fn markdown(rows: &[FirmwareRow], long: &LongRun, fusion_ported: Option<f64>) -> String {
     let mut md = String::new();
@@ -93,6 +115,7 @@ pub fn markdown(rows: &[FirmwareRow], long: &LongRun, fusion_ported: Option<f64>
             r.all_in()
         );
     }
+    let _ = writeln!(md, "- {}", WHERE.replace('\n', " "));
     let _ = writeln!(
         md,
         "- The long run: {} of {LONG_RUN_SAMPLES} samples at 8 kHz with W = 32 decoded ({:.0} s of host time), {} lost on the wire (sequence gaps, CRC errors, malformed packets, bytes skipped), {} lost or dropped on the device (its overrun and drop counters). QEMU's USART and socket ignore the baud rate: on hardware this stream needs {:.0} baud.",

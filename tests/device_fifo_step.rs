@@ -1,0 +1,257 @@
+//! The FIFO watermark step (`Sampler::step_fifo`) against a scripted FIFO:
+//! every sample framed once, in batches of at most 16, one chip period
+//! apart and ending at the interrupt's time; an overflow flagged and its
+//! lost samples counted as overruns; a full link queue counted dropped with
+//! the counters carried to the next frame; raw mode and averaging through
+//! the per-sample frames; a failed read counted.
+
+mod model_support;
+
+use std::collections::VecDeque;
+
+use model_support::*;
+use triad::device::{Outgoing, Sampler};
+use triad::link::{Mode, MAX_BATCH};
+use triad::model::{BatchKernel, Corrector, Orientation};
+use triad::sensor::{FifoImu, FifoRead, Imu, ImuScale, RawSample};
+use triad::stream::Flags;
+
+/// A FIFO that holds what the test puts in it, and may report an overflow
+/// or fail its next read.
+struct ScriptedFifo {
+    waiting: VecDeque<RawSample>,
+    scale: ImuScale,
+    overflow_lost: Option<u32>,
+    fail_next: bool,
+}
+
+impl Imu for ScriptedFifo {
+    type Error = &'static str;
+    fn read_sample(&mut self) -> Result<RawSample, Self::Error> {
+        Err("the FIFO step never reads the data registers")
+    }
+    fn scale(&self) -> ImuScale {
+        self.scale
+    }
+}
+
+impl FifoImu for ScriptedFifo {
+    fn read_fifo(&mut self, out: &mut [RawSample]) -> Result<FifoRead, Self::Error> {
+        if std::mem::take(&mut self.fail_next) {
+            return Err("bus error");
+        }
+        if let Some(lost) = self.overflow_lost.take() {
+            // As the ICM-42688-P driver: the FIFO reset, its content counted lost.
+            let lost = lost + self.waiting.len() as u32;
+            self.waiting.clear();
+            return Ok(FifoRead {
+                samples: 0,
+                remaining: 0,
+                overflowed: true,
+                lost,
+                lost_is_lower_bound: false,
+            });
+        }
+        let n = out.len().min(self.waiting.len());
+        for slot in &mut out[..n] {
+            *slot = self.waiting.pop_front().unwrap();
+        }
+        Ok(FifoRead {
+            samples: n,
+            remaining: self.waiting.len() as u16,
+            overflowed: false,
+            lost: 0,
+            lost_is_lower_bound: false,
+        })
+    }
+    fn reset_fifo(&mut self) -> Result<(), Self::Error> {
+        self.waiting.clear();
+        Ok(())
+    }
+}
+
+/// 8 kHz: 125 µs between samples.
+const RATE_HZ: f64 = 8000.0;
+const PERIOD_NS: u32 = 125_000;
+
+fn setup(seed: u64) -> (ScriptedFifo, Sampler, Corrector) {
+    let mut rng = rng(seed);
+    let scale = random_scale(&mut rng);
+    let cal = random_calibration(&mut rng, &scale);
+    let corrector = Corrector::new(&cal, &scale, Orientation::default()).unwrap();
+    let sampler = Sampler::at_rate(corrector.clone(), true, 1, RATE_HZ);
+    let fifo = ScriptedFifo {
+        waiting: VecDeque::new(),
+        scale,
+        overflow_lost: None,
+        fail_next: false,
+    };
+    (fifo, sampler, corrector)
+}
+
+fn fill(fifo: &mut ScriptedFifo, seed: u64, n: usize) -> Vec<RawSample> {
+    let mut rng = rng(seed);
+    let samples: Vec<RawSample> = (0..n).map(|_| random_raw(&mut rng)).collect();
+    fifo.waiting.extend(&samples);
+    samples
+}
+
+#[test]
+fn every_sample_is_framed_once_in_batches_one_period_apart() {
+    let (mut fifo, mut sampler, corrector) = setup(1);
+    let kernel = BatchKernel::new(&corrector);
+    // 70 samples waiting: more than one read of 32, and a batch of 6 last.
+    let raws = fill(&mut fifo, 2, 70);
+    let mut frames = Vec::new();
+    let now_us = 1_000_000;
+    let stepped = sampler.step_fifo(&mut fifo, now_us, |f| {
+        frames.push(f);
+        true
+    });
+    assert_eq!(stepped.samples, 70);
+    assert_eq!(stepped.queued as usize, frames.len());
+    let batches: Vec<_> = frames
+        .iter()
+        .map(|f| match f {
+            Outgoing::Batch(b) => *b,
+            other => panic!("calibrated, no averaging: batches only, got {other:?}"),
+        })
+        .collect();
+    assert!(batches.iter().all(|b| usize::from(b.count) <= MAX_BATCH));
+    let mut expected = vec![[0i16; 6]; 70];
+    kernel.correct(&raws, &mut expected);
+    let got: Vec<[i16; 6]> = batches.iter().flat_map(|b| b.samples().to_vec()).collect();
+    assert_eq!(
+        got, expected,
+        "each sample once, in order, as the kernel corrects it"
+    );
+    // Times: one period apart, the newest at the interrupt's time (to the µs).
+    let times: Vec<u64> = batches
+        .iter()
+        .flat_map(|b| {
+            (0..u64::from(b.count))
+                .map(|i| u64::from(b.timestamp_us) * 1000 + i * u64::from(PERIOD_NS))
+        })
+        .collect();
+    for pair in times.windows(2) {
+        assert_eq!(pair[1] - pair[0], u64::from(PERIOD_NS));
+    }
+    let newest = *times.last().unwrap();
+    assert!(
+        newest.abs_diff(u64::from(now_us) * 1000) < 1000,
+        "{newest} ns"
+    );
+    // Sequence numbers count packets.
+    for (n, b) in batches.iter().enumerate() {
+        assert_eq!(b.sequence, n as u32);
+    }
+}
+
+#[test]
+fn an_overflow_is_flagged_and_its_samples_counted_lost_in_the_next_batch() {
+    let (mut fifo, mut sampler, _) = setup(3);
+    fill(&mut fifo, 4, 20);
+    fifo.overflow_lost = Some(100);
+    let mut frames = Vec::new();
+    sampler.step_fifo(&mut fifo, 0, |f| {
+        frames.push(f);
+        true
+    });
+    assert!(
+        frames.is_empty(),
+        "the overflowed FIFO was reset: nothing to frame"
+    );
+    fill(&mut fifo, 5, 8);
+    sampler.step_fifo(&mut fifo, 1000, |f| {
+        frames.push(f);
+        true
+    });
+    let Outgoing::Batch(b) = frames[0] else {
+        panic!("{:?}", frames[0]);
+    };
+    assert!(b.flags.contains(Flags::FIFO_OVERFLOW));
+    assert_eq!(
+        b.overruns, 120,
+        "the 100 dropped while full and the 20 reset"
+    );
+    assert_eq!(sampler.totals().overruns, 120);
+    // Cleared once sent.
+    fill(&mut fifo, 6, 8);
+    let mut next = Vec::new();
+    sampler.step_fifo(&mut fifo, 2000, |f| {
+        next.push(f);
+        true
+    });
+    let Outgoing::Batch(b) = next[0] else {
+        panic!("{:?}", next[0]);
+    };
+    assert!(!b.flags.contains(Flags::FIFO_OVERFLOW));
+    assert_eq!(b.overruns, 0);
+}
+
+#[test]
+fn a_full_link_queue_drops_and_counts_and_the_next_frame_carries_it() {
+    let (mut fifo, mut sampler, _) = setup(7);
+    fill(&mut fifo, 8, 32);
+    let mut offered = 0;
+    let stepped = sampler.step_fifo(&mut fifo, 0, |_| {
+        offered += 1;
+        false
+    });
+    assert_eq!((stepped.queued, stepped.dropped), (0, 2));
+    assert_eq!(sampler.totals().frames_dropped, 2);
+    fill(&mut fifo, 9, 8);
+    let mut frames = Vec::new();
+    sampler.step_fifo(&mut fifo, 4000, |f| {
+        frames.push(f);
+        true
+    });
+    let Outgoing::Batch(b) = frames[0] else {
+        panic!("{:?}", frames[0]);
+    };
+    assert_eq!(b.dropped, 2);
+    assert!(b.flags.contains(Flags::DROPPED));
+    assert_eq!(b.sequence, 0, "a dropped frame gives its number back");
+}
+
+#[test]
+fn raw_mode_and_averaging_frame_each_sample_through_the_per_sample_path() {
+    let (mut fifo, mut sampler, _) = setup(11);
+    sampler.apply(triad::device::Control::SetMode(Mode::Raw));
+    let raws = fill(&mut fifo, 12, 10);
+    let mut frames = Vec::new();
+    sampler.step_fifo(&mut fifo, 10_000, |f| {
+        frames.push(f);
+        true
+    });
+    assert_eq!(frames.len(), 10);
+    for (f, raw) in frames.iter().zip(&raws) {
+        let Outgoing::Raw(r) = f else {
+            panic!("{f:?}");
+        };
+        assert_eq!(r.accel, raw.accel.map(f32::from));
+    }
+    sampler.apply(triad::device::Control::SetMode(Mode::Calibrated));
+    sampler.apply(triad::device::Control::SetDecimation(4));
+    fill(&mut fifo, 13, 10);
+    let mut averaged = Vec::new();
+    sampler.step_fifo(&mut fifo, 20_000, |f| {
+        averaged.push(f);
+        true
+    });
+    assert_eq!(averaged.len(), 2, "10 samples, averages of 4: two frames");
+    assert!(averaged.iter().all(|f| matches!(f, Outgoing::Data(_))));
+}
+
+#[test]
+fn a_failed_read_is_counted_and_reported() {
+    let (mut fifo, mut sampler, _) = setup(15);
+    fill(&mut fifo, 16, 8);
+    fifo.fail_next = true;
+    let stepped = sampler.step_fifo(&mut fifo, 0, |_| true);
+    assert_eq!(stepped.read_failed, Some("bus error"));
+    assert_eq!(sampler.totals().read_failures, 1);
+    // The samples waited in the FIFO: the next interrupt takes them.
+    let stepped = sampler.step_fifo(&mut fifo, 1000, |_| true);
+    assert_eq!(stepped.samples, 8);
+}
