@@ -322,6 +322,38 @@ fn a_unit_at_three_soaks_gives_back_its_temperature_terms_and_corrects_a_fourth_
         "{out}"
     );
 
+    // At 45 °C verify applies the terms at each pose's temperature: the
+    // fitted file passes; the same file without its terms (applied as they
+    // are, at 45 °C off by 20 °C of bias and scale) fails.
+    let o = triad(&["calib", "verify", s(&cal), s(&rec45)]);
+    let out = text(&o.stdout);
+    assert!(
+        o.status.success() && out.contains("verdict: PASS"),
+        "{out}{}",
+        text(&o.stderr)
+    );
+    let o = triad(&["calib", "verify", s(&bare), s(&rec45)]);
+    let out = text(&o.stdout);
+    assert!(
+        !o.status.success() && out.contains("verdict: FAIL"),
+        "{out}{}",
+        text(&o.stderr)
+    );
+    // A record without `temp` cannot be verified against temperature terms.
+    let no_temp = d.join("no-temp.csv");
+    let rows: String = std::fs::read_to_string(&rec45)
+        .unwrap()
+        .lines()
+        .map(|l| l.rsplit_once(',').unwrap().0.to_string() + "\n")
+        .collect();
+    std::fs::write(&no_temp, rows).unwrap();
+    let o = triad(&["calib", "verify", s(&cal), s(&no_temp)]);
+    let err = text(&o.stderr);
+    assert!(
+        !o.status.success() && err.contains("no temperature column `temp`"),
+        "{err}"
+    );
+
     // At 70 °C every sample is outside the range: counted and said.
     let h70 = hand_script(&d, "hand-70", "kind = \"constant\"\ncelsius = 70.0");
     let rec70 = simulate(&d, "h70", s(&h70), "98", None);

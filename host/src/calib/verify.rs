@@ -20,6 +20,10 @@
 //! than the fit's residuals fail. The standard error of each pose's mean is
 //! shown beside its residual.
 //!
+//! A calibration with temperature terms is applied at each pose's (or
+//! run's) mean temperature from the records' `temp` column, as the firmware
+//! and `triad correct` apply it; such a record needs that column.
+//!
 //! What the verdict assumes: that the bias holds from the fit's session to
 //! this one. The fit's σ's leave out what is common to its segments (its
 //! report says so), so a unit whose bias moves between sessions by more
@@ -131,19 +135,19 @@ pub fn run(args: VerifyArgs) -> anyhow::Result<ExitCode> {
         Triad::Accel
     };
     let fit = fit_scale(&file, triad)?;
-    let (k, b) = file
-        .calibration
-        .triad(triad)
-        .at_temperature(reference_c(&file, triad));
-    let inverse = matrix::inverse(&k).ok_or_else(|| {
-        anyhow!(
-            "{}: {} (I+Σ) is singular",
-            file.path.display(),
-            triad.name()
-        )
-    })?;
-    let correct =
-        |m: &[f64; 3]| matrix::mul_vec(&inverse, &[m[0] - b[0], m[1] - b[1], m[2] - b[2]]);
+    let temperature = AppliedAt::of(&args, &file, triad)?;
+    let cal = file.calibration.triad(triad);
+    let path = file.path.display().to_string();
+    let correct = |m: &[f64; 3], s: &Stat| -> anyhow::Result<[f64; 3]> {
+        let t = temperature.of_stat(s);
+        let (k, b) = cal.at_temperature(t);
+        let inverse = matrix::inverse(&k)
+            .ok_or_else(|| anyhow!("{path}: {} (I+Σ) is singular at {t:.1} °C", triad.name()))?;
+        Ok(matrix::mul_vec(
+            &inverse,
+            &[m[0] - b[0], m[1] - b[1], m[2] - b[2]],
+        ))
+    };
     let residuals = match triad {
         Triad::Accel => accel_residuals(&args, &correct)?,
         Triad::Gyro => gyro_residuals(&args, &correct)?,
@@ -239,25 +243,63 @@ pub fn fit_scale(file: &CalibFile, triad: Triad) -> anyhow::Result<FitScale> {
     })
 }
 
-/// The temperature the calibration is applied at: its reference (verify
-/// does not follow the record's temperature).
-fn reference_c(file: &CalibFile, triad: Triad) -> f64 {
-    file.calibration
-        .triad(triad)
-        .temperature
-        .map_or(25.0, |t| t.reference_c)
+/// A pose's or run's mean measurement corrected, at its temperature.
+type Correct<'a> = dyn Fn(&[f64; 3], &Stat) -> anyhow::Result<[f64; 3]> + 'a;
+
+/// The temperature the calibration is applied at, per pose or run.
+enum AppliedAt {
+    /// No temperature terms: (I+Σ) and b as they are.
+    Constant,
+    /// Temperature terms: each pose's or run's mean of the records' `temp`
+    /// column, as the firmware and `triad correct` apply them.
+    Record(Vec<fit_csv::Record>),
 }
 
-fn accel_residuals(
-    args: &VerifyArgs,
-    correct: &dyn Fn(&[f64; 3]) -> [f64; 3],
-) -> anyhow::Result<Vec<Residual>> {
+impl AppliedAt {
+    /// Follows the records' temperature when the calibration has
+    /// temperature terms for `triad`; they then need a `temp` column.
+    fn of(args: &VerifyArgs, file: &CalibFile, triad: Triad) -> anyhow::Result<AppliedAt> {
+        if file.calibration.triad(triad).temperature.is_none() {
+            return Ok(AppliedAt::Constant);
+        }
+        let mut temps = Vec::with_capacity(args.records.len());
+        for path in &args.records {
+            let text = fit_csv::read_text(path)?;
+            let header = text.lines().next().unwrap_or("");
+            if !header.split(',').any(|c| c.trim() == "temp") {
+                bail!(
+                    "{}: no temperature column `temp`, and {} has {} temperature terms: \
+                     verify applies them at each pose's temperature",
+                    crate::input::name(path),
+                    file.path.display(),
+                    triad.name()
+                );
+            }
+            temps.push(fit_csv::parse(&text, path, ["temp"; 3])?);
+        }
+        Ok(AppliedAt::Record(temps))
+    }
+
+    /// The temperature for `s` (°C); the reference of no temperature term
+    /// does not matter, (I+Σ) and b being constant.
+    fn of_stat(&self, s: &Stat) -> f64 {
+        match self {
+            AppliedAt::Constant => 25.0,
+            AppliedAt::Record(temps) => {
+                let during = temps[s.file].between(s.from, s.to);
+                during.iter().map(|t| t[0]).sum::<f64>() / during.len().max(1) as f64
+            }
+        }
+    }
+}
+
+fn accel_residuals(args: &VerifyArgs, correct: &Correct<'_>) -> anyhow::Result<Vec<Residual>> {
     let records = fit_csv::read_all(&args.records, fit_csv::ACCEL)?;
     let stats = segments::detected(&records, args.min_static)?;
-    Ok(stats
+    stats
         .iter()
         .map(|s| {
-            let m = correct(&s.mean);
+            let m = correct(&s.mean, s)?;
             let norm = (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt();
             // The mean's standard error along gravity's direction.
             let u = m.map(|x| x / norm);
@@ -265,19 +307,16 @@ fn accel_residuals(
                 .map(|i| (u[i] * s.standard_error[i]).powi(2))
                 .sum::<f64>()
                 .sqrt();
-            Residual {
+            Ok(Residual {
                 label: label(args, s),
                 r: vec![norm - args.gravity],
                 standard_error: vec![se],
-            }
+            })
         })
-        .collect())
+        .collect()
 }
 
-fn gyro_residuals(
-    args: &VerifyArgs,
-    correct: &dyn Fn(&[f64; 3]) -> [f64; 3],
-) -> anyhow::Result<Vec<Residual>> {
+fn gyro_residuals(args: &VerifyArgs, correct: &Correct<'_>) -> anyhow::Result<Vec<Residual>> {
     let Some(text) = &args.rates else {
         bail!(
             "--triad gyro needs --rates: the table's rate of each run, e.g. \"z:+30,z:-30\" (°/s)"
@@ -292,20 +331,20 @@ fn gyro_residuals(
         );
     }
     let records = fit_csv::read_all(&args.records, fit_csv::GYRO)?;
-    Ok(records
+    records
         .iter()
         .enumerate()
         .zip(&rates)
         .map(|((i, r), w)| {
             let s = stat(r, i, 0..r.samples.len());
-            let m = correct(&s.mean);
-            Residual {
+            let m = correct(&s.mean, &s)?;
+            Ok(Residual {
                 label: label(args, &s),
                 r: (0..3).map(|k| m[k] - w[k]).collect(),
                 standard_error: s.standard_error.to_vec(),
-            }
+            })
         })
-        .collect())
+        .collect()
 }
 
 fn label(args: &VerifyArgs, s: &Stat) -> String {
