@@ -81,13 +81,26 @@ pub fn stuff(data: &[u8], out: &mut [u8]) -> Result<usize, CobsError> {
 #[inline]
 pub fn stuff_short<const N: usize, const M: usize>(data: &[u8; N], out: &mut [u8; M]) {
     const { assert!(N < 254 && M == N + 1) };
-    stuff_exact(data, out);
+    // Indexed, not as [`stuff_exact`]: with both lengths known at build,
+    // this form is 80 instructions shorter per 53-byte frame on the
+    // emulated Cortex-M4F (the bench's `pipeline` row), the other shorter on
+    // runtime lengths.
+    let mut code_at = 0;
+    for (i, &byte) in data.iter().enumerate() {
+        out[i + 1] = byte;
+        if byte == 0 {
+            // The block since code_at holds i − code_at non-zero bytes.
+            out[code_at] = (i + 1 - code_at) as u8;
+            code_at = i + 1;
+        }
+    }
+    out[code_at] = (N + 1 - code_at) as u8;
 }
 
 /// Stuffs `data` (under 254 bytes, so no run reaches a 0xFF code) into
 /// `out`, exactly one byte longer: each byte one test for zero and one
-/// store. Inlined, so that a caller with array lengths known at build time
-/// gets no bounds checks.
+/// store, the current block's code slot carried as a reference (no index
+/// arithmetic, no bounds check per byte).
 #[inline(always)]
 fn stuff_exact(data: &[u8], out: &mut [u8]) {
     let Some((first, rest)) = out.split_first_mut() else {
