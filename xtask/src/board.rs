@@ -128,12 +128,20 @@ impl Firmware {
         env
     }
 
-    /// A short name: `qemu/lsm6dsox/i2c`, `nucleo-f401re/spi`.
+    /// A short name: `qemu/lsm6dsox/i2c`, `nucleo-f401re/spi`, and the
+    /// sampling settings when set: `qemu/icm42688/spi at 8000 Hz, W = 32`.
     pub fn label(self) -> String {
-        match self.emulated_chip {
+        let mut label = match self.emulated_chip {
             Some(chip) => format!("{}/{chip}/{}", self.board.name(), self.bus.name()),
             None => format!("{}/{}", self.board.name(), self.bus.name()),
+        };
+        if let Some(hz) = self.sampling.rate_hz {
+            label += &format!(" at {hz} Hz");
         }
+        if let Some(w) = self.sampling.watermark {
+            label += &format!(", W = {w}");
+        }
+        label
     }
 
     /// A file-name stem for this build's artefacts: `lsm6dsox-i2c`, `spi`,
