@@ -233,7 +233,7 @@ mod app {
             return;
         }
         let frames_in = l.frames_in;
-        if SETTINGS.watermark > 1 {
+        let queued = if SETTINGS.watermark > 1 {
             let stepped = on_fifo_ready(
                 l.sample_line,
                 l.clock,
@@ -242,30 +242,27 @@ mod app {
                 |sensor| board::data_ready(sensor, SETTINGS.watermark),
                 |frame| frames_in.enqueue(frame).is_ok(),
             );
-            COUNTERS.publish(l.sampler.totals(), l.sampler.uptime_ms());
-            if stepped.queued > 0 {
-                cortex_m::peripheral::NVIC::pend(LINK_TASK);
-            }
             if let Some(error) = stepped.read_failed {
                 defmt::warn!("FIFO read failed: {}", defmt::Debug2Format(&error));
             }
-            return;
-        }
-        let stepped = on_data_ready(
-            l.sample_line,
-            l.clock,
-            l.sensor,
-            l.sampler,
-            |sensor| board::data_ready(sensor, 1),
-            |frame| frames_in.enqueue(frame),
-        );
-        COUNTERS.publish(l.sampler.totals(), l.sampler.uptime_ms());
-        match stepped {
-            Stepped::Queued => cortex_m::peripheral::NVIC::pend(LINK_TASK),
-            Stepped::Dropped | Stepped::Averaging => {}
-            Stepped::ReadFailed(error) => {
-                defmt::warn!("sensor read failed: {}", defmt::Debug2Format(&error))
+            stepped.queued > 0
+        } else {
+            let stepped = on_data_ready(
+                l.sample_line,
+                l.clock,
+                l.sensor,
+                l.sampler,
+                |sensor| board::data_ready(sensor, 1),
+                |frame| frames_in.enqueue(frame),
+            );
+            if let Stepped::ReadFailed(error) = &stepped {
+                defmt::warn!("sensor read failed: {}", defmt::Debug2Format(error));
             }
+            stepped == Stepped::Queued
+        };
+        COUNTERS.publish(l.sampler.totals(), l.sampler.uptime_ms());
+        if queued {
+            cortex_m::peripheral::NVIC::pend(LINK_TASK);
         }
     }
 

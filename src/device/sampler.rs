@@ -270,13 +270,11 @@ impl Sampler {
 
     /// One batch frame of `chunk` (≤ [`MAX_BATCH`] samples) at `timestamp_us`.
     fn batch(&mut self, chunk: &[RawSample], timestamp_us: u32) -> Outgoing {
-        // The mean in f32: one f64 operation per batch would be a library
-        // call on the Cortex-M4F.
+        // The mean in f32, converted as the per-sample path converts (f64
+        // would be library calls on the Cortex-M4F).
         let sum: i32 = chunk.iter().map(|r| i32::from(r.temperature)).sum();
         let mean_counts = sum as f32 / chunk.len().max(1) as f32;
-        let scale = self.corrector.scale();
-        let temperature_c =
-            mean_counts * scale.temperature_per_lsb as f32 + scale.temperature_offset as f32;
+        let temperature_c = self.corrector.temperature_c(mean_counts);
         if self.refold_due(chunk.len() as u32) {
             self.refold(f64::from(temperature_c));
         }

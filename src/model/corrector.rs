@@ -240,10 +240,16 @@ impl Corrector {
         Sample {
             accel: self.accel.kernel.apply(f(&raw.accel)),
             gyro: self.gyro.kernel.apply(f(&raw.gyro)),
-            temperature: f32::from(raw.temperature) * self.temperature_scale
-                + self.temperature_offset,
+            temperature: self.temperature_c(f32::from(raw.temperature)),
             clip: ClipFlags::of(raw),
         }
+    }
+
+    /// A temperature reading (counts, or a mean of counts) in °C, in f32 as
+    /// the hot path converts it.
+    #[inline(always)]
+    pub fn temperature_c(&self, counts: f32) -> f32 {
+        counts * self.temperature_scale + self.temperature_offset
     }
 
     /// The same f32 kernel on inputs in SI units (for a corrector from

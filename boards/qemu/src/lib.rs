@@ -50,9 +50,7 @@ pub fn init(dp: pac::Peripherals, settings: &Settings) -> Board {
         w.tim5en().set_bit()
     });
     dp.RCC.apb1enr().modify(|_, w| w.usart2en().set_bit());
-    let chip = emulated_chip(settings.rate_hz);
-    // emulated_chip() stopped the board if the chip has no such rate.
-    let rate_hz = EmulatedChip::rate_hz(EMULATED_CHIP, settings.rate_hz).unwrap_or(1.0);
+    let (chip, rate_hz) = emulated_chip(settings.rate_hz);
     let sensor_bus = SensorBus(SharedBus(chip));
     let (serial, tx_drain) = Serial::new(dp.USART2, USART_DIV_X16);
     // SAFETY: the interrupt side reads SR/DR, writes DR and sets or clears
@@ -302,11 +300,11 @@ pub fn find_sensor(bus: SensorBus) -> Result<Sensor, DetectError<i2c::ErrorKind>
 }
 
 /// The chip model serving `model_source()` at `rate_hz` (the driver's
-/// default when `None`; build.rs admitted only listed names, and any other
-/// stops the board), in a static cell the driver's bus and the self-test's
-/// delay share.
-fn emulated_chip(rate_hz: Option<u32>) -> &'static RefCell<EmulatedChip> {
-    let Some(chip) = EmulatedChip::named_at(EMULATED_CHIP, rate_hz, model_source) else {
+/// default when `None`), in a static cell the driver's bus and the
+/// self-test's delay share, and its rate in Hz. build.rs admitted only
+/// listed names; a rate the chip does not have stops the board, saying so.
+fn emulated_chip(rate_hz: Option<u32>) -> (&'static RefCell<EmulatedChip>, f64) {
+    let Some(rate) = EmulatedChip::rate_hz(EMULATED_CHIP, rate_hz) else {
         defmt::error!(
             "the {} model has no output data rate of {} Hz",
             EMULATED_CHIP,
@@ -314,8 +312,11 @@ fn emulated_chip(rate_hz: Option<u32>) -> &'static RefCell<EmulatedChip> {
         );
         exit(false)
     };
-    cortex_m::singleton!(: RefCell<EmulatedChip> = RefCell::new(chip))
-        .unwrap_or_else(|| exit(false))
+    let chip =
+        EmulatedChip::named_at(EMULATED_CHIP, rate_hz, model_source).unwrap_or_else(|| exit(false));
+    let cell = cortex_m::singleton!(: RefCell<EmulatedChip> = RefCell::new(chip))
+        .unwrap_or_else(|| exit(false));
+    (cell, rate)
 }
 
 /// The scene embedded at build (TRIAD_SCENE, see build.rs), simulated at the

@@ -62,6 +62,24 @@ pub fn read(path: &Path, columns: [&str; 3]) -> anyhow::Result<Record> {
     parse(&read_text(path)?, path, columns)
 }
 
+/// The `temp` column (°C) of the CSV `text` read from `path`, in a record's
+/// three channels; `needed_for` says why in the error when the header has
+/// no such column.
+pub fn parse_temperature(text: &str, path: &Path, needed_for: &str) -> anyhow::Result<Record> {
+    let header = strip_bom(text)
+        .lines()
+        .find(|l| !l.trim().is_empty())
+        .unwrap_or("");
+    if !header.split(',').any(|c| c.trim() == "temp") {
+        bail!(
+            "{}: no temperature column `temp` in the header `{}`: {needed_for}",
+            input::name(path),
+            header.trim()
+        );
+    }
+    parse(text, path, ["temp"; 3])
+}
+
 /// The text of `path` (`-`: standard input), with progress for large files.
 pub fn read_text(path: &Path) -> anyhow::Result<String> {
     let mut opened = input::open(path, 1 << 20)?;

@@ -85,23 +85,16 @@ struct Channels {
 
 fn read(path: &std::path::Path) -> anyhow::Result<Channels> {
     let text = fit_csv::read_text(path)?;
-    let name = crate::input::name(path);
-    let header = text
-        .trim_start_matches('\u{feff}')
-        .lines()
-        .find(|l| !l.trim().is_empty())
-        .unwrap_or("");
-    if !header.split(',').any(|c| c.trim() == "temp") {
-        bail!(
-            "{name}: no temperature column `temp` in the header `{}`: a thermal fit needs the chip's \
-             temperature (°C) with every sample (`triad sim` and `triad decode` write it)",
-            header.trim()
-        );
-    }
+    let temp = fit_csv::parse_temperature(
+        &text,
+        path,
+        "a thermal fit needs the chip's temperature (°C) with every sample \
+         (`triad sim` and `triad decode` write it)",
+    )?;
     Ok(Channels {
         accel: fit_csv::parse(&text, path, fit_csv::ACCEL)?,
         gyro: fit_csv::parse(&text, path, fit_csv::GYRO)?,
-        temp: fit_csv::parse(&text, path, ["temp"; 3])?,
+        temp,
     })
 }
 

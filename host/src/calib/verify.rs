@@ -265,17 +265,12 @@ impl AppliedAt {
         let mut temps = Vec::with_capacity(args.records.len());
         for path in &args.records {
             let text = fit_csv::read_text(path)?;
-            let header = text.lines().next().unwrap_or("");
-            if !header.split(',').any(|c| c.trim() == "temp") {
-                bail!(
-                    "{}: no temperature column `temp`, and {} has {} temperature terms: \
-                     verify applies them at each pose's temperature",
-                    crate::input::name(path),
-                    file.path.display(),
-                    triad.name()
-                );
-            }
-            temps.push(fit_csv::parse(&text, path, ["temp"; 3])?);
+            let why = format!(
+                "{} has {} temperature terms, which verify applies at each pose's temperature",
+                file.path.display(),
+                triad.name()
+            );
+            temps.push(fit_csv::parse_temperature(&text, path, &why)?);
         }
         Ok(AppliedAt::Record(temps))
     }
