@@ -13,6 +13,7 @@ pub mod control;
 pub mod counters;
 pub mod data_ready;
 pub mod decimator;
+pub mod dma_ring;
 pub mod framer;
 pub mod load;
 pub mod sampler;

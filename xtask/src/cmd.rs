@@ -65,6 +65,10 @@ pub fn runs(program: &str) -> bool {
 
 /// Builds the `triad` host tool (release) and returns its path.
 pub fn build_host_tool() -> Result<PathBuf> {
+    eprintln!(
+        "xtask: building the triad host tool (release, fat LTO: a second when up to date, \
+         minutes the first time)"
+    );
     let mut command = cargo();
     command.args([
         "build",
@@ -182,6 +186,10 @@ fn build(firmware: Firmware, calibration: &Path, scene: Option<&Path>) -> Result
     if scene.is_some() && board != Board::Qemu {
         bail!("--scene feeds the emulated board's chip model: use it with --board qemu");
     }
+    eprintln!(
+        "xtask: building the firmware for {} (the first build for a board takes minutes)",
+        firmware.label()
+    );
     let mut command = firmware_cargo("build", firmware, calibration, scene);
     command.arg("--release");
     check(
@@ -230,6 +238,28 @@ pub fn run_on_hardware(elf: &Path, triad: &Path, port: &str, seconds: f64) -> Re
         bail!("triad decode on {port} exited with {status}");
     }
     Ok(())
+}
+
+/// A copy of this executable for the tests and `xtask hil` to run `xtask serve` with (as
+/// cargo may rebuild xtask's own while the tests run); its path.
+pub fn serving_xtask() -> Result<std::path::PathBuf> {
+    let dir = root().join("target/e2e");
+    std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+    let xtask = dir.join("xtask-serve");
+    let copying = dir.join("xtask-serve.part");
+    // By now `cargo clippy`/`cargo test` may have rebuilt xtask, replacing
+    // the file this process was started from: on Linux /proc/self/exe still
+    // opens the running image itself.
+    let proc_exe = Path::new("/proc/self/exe");
+    let current = if proc_exe.exists() {
+        proc_exe.to_path_buf()
+    } else {
+        std::env::current_exe().context("xtask's own path")?
+    };
+    std::fs::copy(&current, &copying)
+        .and_then(|_| std::fs::rename(&copying, &xtask))
+        .with_context(|| format!("copying {} to {}", current.display(), xtask.display()))?;
+    Ok(xtask)
 }
 
 #[cfg(test)]

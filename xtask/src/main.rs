@@ -19,6 +19,7 @@ mod defmt_log;
 mod elf_facts;
 mod embedded_checks;
 mod first_run;
+mod hil;
 mod pty;
 mod qemu;
 mod serve;
@@ -60,6 +61,10 @@ enum Command {
     /// Serve the emulated board like hardware: QEMU in real time, its link on
     /// a pseudo-terminal whose path is the first line on stdout; runs until killed.
     Serve(ServeArgs),
+    /// The hardware-in-the-loop procedure: build, load, identify, stream at
+    /// each sampling setting, the calibration's life (upload, save, reset,
+    /// bad upload, erase) and the self-test; writes a report.
+    Hil(hil::HilArgs),
     /// Install what the project needs (rustup targets, QEMU) and exit.
     Setup,
     /// Write the man pages of `triad` (triad.1, triad-sim.1, ...) into DIR.
@@ -183,6 +188,7 @@ fn main() -> std::process::ExitCode {
             true => bench::run_whole_firmware(),
             false => bench::run(json),
         }),
+        Command::Hil(args) => hil::run(args),
         Command::Setup => setup::ensure_all(),
         Command::Man { dir } => man(&dir),
         Command::Log { elf, log } => defmt_log::print_file(&elf, &log),
@@ -273,7 +279,6 @@ fn build(args: &FirmwareArgs) -> anyhow::Result<(std::path::PathBuf, std::path::
             watermark: args.watermark,
         },
     };
-    eprintln!("xtask: firmware for {}", firmware.label());
     let blob = match (&args.scene, &args.unit, &args.script) {
         (Some(name), _, _) => Some(cmd::pack_scene(&triad, name, args.seed)?),
         (None, Some(unit), Some(script)) => Some(cmd::pack_unit(&triad, unit, script, args.seed)?),

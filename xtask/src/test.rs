@@ -8,7 +8,7 @@
 
 use crate::board::{Board, Firmware, Sampling};
 use crate::cmd::{self, cargo, check};
-use crate::{bench, embedded_checks, first_run, qemu, setup};
+use crate::{bench, embedded_checks, first_run, hil, qemu, setup};
 use anyhow::{bail, Context, Result};
 use std::path::Path;
 
@@ -20,6 +20,8 @@ const E2E_BATCH_SAMPLES: u64 = 16_000;
 const BATCH_RATE_HZ: u32 = 8000;
 /// The FIFO build's watermark: the largest the firmware offers.
 const BATCH_WATERMARK: u16 = 32;
+/// Seconds of stream per sampling setting in the hardware-in-the-loop run.
+const HIL_SECONDS: f64 = 2.0;
 /// The scene of the simulated end-to-end run, and its seed.
 const E2E_SCENE: &str = "thermal-ramp";
 const E2E_SEED: u64 = 7;
@@ -143,6 +145,26 @@ pub fn run(scope: Scope) -> Result<()> {
         .context("the default emulated firmware was built")?;
     served_board(*firmware, elf, &calibration)?;
 
+    // The procedure a person runs on a board, against the emulated one.
+    eprintln!(
+        "xtask: the hardware-in-the-loop procedure (`cargo xtask hil`) on the emulated board"
+    );
+    hil::run(hil::HilArgs {
+        board: Board::Qemu,
+        port: None,
+        bus: firmware.bus,
+        sensor: firmware.emulated_chip.map(str::to_string),
+        sampling: vec![
+            Sampling::default(),
+            Sampling {
+                rate_hz: Some(BATCH_RATE_HZ),
+                watermark: Some(BATCH_WATERMARK),
+            },
+        ],
+        seconds: HIL_SECONDS,
+        report: None,
+    })?;
+
     // `triad calib session` on the board playing a unit turned by hand.
     let blob = cmd::pack_unit(&triad, SESSION_UNIT, SESSION_SCRIPT, SESSION_SEED)?;
     eprintln!(
@@ -222,7 +244,7 @@ fn served_board(firmware: Firmware, elf: &Path, calibration: &Path) -> Result<()
          erase, bad uploads, raw mode, commands while streaming, power cuts during a save",
         firmware.label()
     );
-    let xtask = serving_xtask()?;
+    let xtask = cmd::serving_xtask()?;
     let mut command = ignored_host_tests("device_qemu", &["--test-threads=1", "--nocapture"]);
     command
         .env("TRIAD_SERVE_XTASK", &xtask)
@@ -251,7 +273,7 @@ fn calib_session(firmware: Firmware, elf: &Path, calibration: &Path) -> Result<(
     let mut command =
         ignored_host_tests("calib_session_qemu", &["--test-threads=1", "--nocapture"]);
     command
-        .env("TRIAD_SERVE_XTASK", serving_xtask()?)
+        .env("TRIAD_SERVE_XTASK", cmd::serving_xtask()?)
         .env("TRIAD_SERVE_ELF", elf)
         .env("TRIAD_SERVE_BLOB", calibration)
         .env("TRIAD_SESSION_UNIT", SESSION_UNIT)
@@ -264,28 +286,6 @@ fn calib_session(firmware: Firmware, elf: &Path, calibration: &Path) -> Result<(
             firmware.label()
         ),
     )
-}
-
-/// A copy of this executable for the tests to run `xtask serve` with (as
-/// cargo may rebuild xtask's own while the tests run); its path.
-fn serving_xtask() -> Result<std::path::PathBuf> {
-    let dir = cmd::root().join("target/e2e");
-    std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
-    let xtask = dir.join("xtask-serve");
-    let copying = dir.join("xtask-serve.part");
-    // By now `cargo clippy`/`cargo test` may have rebuilt xtask, replacing
-    // the file this process was started from: on Linux /proc/self/exe still
-    // opens the running image itself.
-    let proc_exe = Path::new("/proc/self/exe");
-    let current = if proc_exe.exists() {
-        proc_exe.to_path_buf()
-    } else {
-        std::env::current_exe().context("xtask's own path")?
-    };
-    std::fs::copy(&current, &copying)
-        .and_then(|_| std::fs::rename(&copying, &xtask))
-        .with_context(|| format!("copying {} to {}", current.display(), xtask.display()))?;
-    Ok(xtask)
 }
 
 /// `cargo test` of the host's integration test `name`, its ignored tests

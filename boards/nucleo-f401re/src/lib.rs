@@ -21,7 +21,6 @@
 use defmt_rtt as _;
 pub use stm32f4xx_hal::pac;
 
-mod dma_ring;
 mod flash;
 mod serial_rx;
 mod serial_tx;

@@ -4,7 +4,7 @@
 //! IDLE-line interrupt (IDLEIE) wakes the firmware at the end of each burst,
 //! and its handler calls [`LinkRx::read`] until it returns `None`.
 //!
-//! Why a command cannot be lost to the ring: [`crate::dma_ring`] counts
+//! Why a command cannot be lost to the ring: [`triad::device::dma_ring`] counts
 //! exactly any run of up to `RING_LEN / 2` = 256 bytes between two drains,
 //! and a command packet is at most [`triad::link::MAX_WIRE_LEN`] = 242 bytes
 //! on the wire (checked below at compile time). The host sends one command
@@ -24,8 +24,8 @@ use stm32f4xx_hal::serial::{self, RxListen as _};
 use stm32f4xx_hal::ClearFlags as _;
 use triad::device::board::{LinkRx, RxError};
 
-use crate::dma_ring::{Boundaries, RingReader};
 use crate::pac;
+use triad::device::dma_ring::{Boundaries, RingReader};
 
 /// The ring's length: its half, which is counted exactly, holds the longest
 /// command packet (see the module's comment). NDTR takes up to 65535.

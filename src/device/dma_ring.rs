@@ -1,7 +1,9 @@
 //! The reader's side of a ring that a DMA stream fills in circles, as pure
 //! arithmetic: how far the stream has written since it was last looked at,
-//! and whether it has lapped the reader. [`crate::serial_rx`] feeds it the
-//! stream's registers.
+//! and whether it has lapped the reader. A board's receiver (the NUCLEO's
+//! `serial_rx.rs`) feeds it the stream's registers: NDTR's position and the
+//! half-transfer and transfer-complete flags. Tested on the host against a
+//! model of the DMA (tests/device_dma_ring.rs).
 //!
 //! Its position alone (from NDTR) says where the stream is, not how many
 //! times it went round. The stream also raises two flags: half transfer (HTIF)
@@ -75,6 +77,7 @@ pub struct Lapped;
 
 /// Which bytes of a `LEN`-byte ring are written and not yet read, the stream
 /// having started at position 0 with its flags clear.
+#[derive(Debug)]
 pub struct RingReader<const LEN: usize> {
     /// The stream's position at the last [`RingReader::sync`].
     stream_at: usize,
@@ -129,5 +132,11 @@ impl<const LEN: usize> RingReader<LEN> {
         self.read_at = (at + 1) % LEN;
         self.unread -= 1;
         Some(at)
+    }
+}
+
+impl<const LEN: usize> Default for RingReader<LEN> {
+    fn default() -> Self {
+        Self::new()
     }
 }
