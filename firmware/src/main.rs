@@ -6,19 +6,37 @@
 //! chip is found on that bus by its identity (`triad::sensor::AnyChip`), so
 //! nothing here names a chip and one build serves every chip triad drives.
 //!
-//! Tasks, highest priority first:
-//! - `link_rx` (USART2's interrupt, priority 3): moves received bytes into
-//!   a queue; never waits.
-//! - `data_ready` (EXTI0, priority 2): applies the command handler's pending
+//! Tasks, highest priority first (RTIC 2: every interrupt the firmware
+//! uses is bound here, so RTIC's analysis covers them all; state moves
+//! between tasks through rtic-sync channels):
+//! - the board's own interrupt, priority 4: the emulated board's sample
+//!   timer (TIM2, the chip's data-ready edge), or the NUCLEO's transmit DMA
+//!   (DMA1_STREAM6, which ends and starts runs of the transmit ring). Short,
+//!   and no shared state: it only wakes the transmitter when room was freed.
+//! - `data_ready` (EXTI0, priority 3): applies the command handler's pending
 //!   changes, then reads, corrects, averages and frames one sample; queues
-//!   the frame (dropping and counting it when the queue is full). Built with
-//!   a FIFO watermark W > 1 (`TRIAD_FIFO_WATERMARK`), the chip's interrupt
-//!   signals W samples waiting, and the task drains the FIFO into batch
-//!   frames (or per-sample frames in raw mode or when averaging).
-//! - `link` (EXTI1, priority 1): decodes received commands and answers each
-//!   through the core's `CommandHandler`, and sends queued frames. It runs
-//!   below `data_ready`, which preempts it: the sampling task never waits on
-//!   a command, a save or the transmitter.
+//!   the frame for the transmitter without waiting (dropping and counting
+//!   it when the queue is full) and wakes it. Built with a FIFO watermark W > 1
+//!   (`TRIAD_FIFO_WATERMARK`), the chip's interrupt signals W samples
+//!   waiting, and the task drains the FIFO into batch frames (or per-sample
+//!   frames in raw mode or when averaging).
+//! - `link_rx` (USART2's interrupt, priority 2): sends received bytes to the
+//!   command task; never waits. On the emulated board it also drains the
+//!   transmit ring (QEMU's USART has no DMA).
+//! - `commands` (async, priority 1): decodes received commands and answers
+//!   each through the core's `CommandHandler`; its replies wait for room in
+//!   the transmit channel (never dropped).
+//! - `transmit` (async, priority 1): puts replies and frames on the line,
+//!   awaiting room in the transmit ring when it is full. Neither async task
+//!   spins: each awaits a channel, a queue's waker or the ring's room.
+//!
+//! Frames go from `data_ready` to `transmit` through a lock-free
+//! single-producer queue and a waker, not an rtic-sync channel: a frame is
+//! up to 232 bytes, and the channel's send and receive (each a critical
+//! section, each a copy of the item, and the executor's wake-up per frame)
+//! cost about 90 instructions per sample more at 8 kHz (measured, see
+//! docs/BENCHMARKS.md); the transmitter encodes a frame where it lies in
+//! the queue.
 #![no_std]
 #![no_main]
 
@@ -42,7 +60,7 @@ static CALIBRATION_BLOB: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/calib
 #[no_mangle]
 static TRIAD_LINK_BAUD: u32 = board::DESCRIPTION.baud;
 
-/// Frames waiting for the link; when full, new frames are dropped and counted.
+/// Frames waiting for the line; when full, new frames are dropped and counted.
 const QUEUE_LEN: usize = 32;
 /// Received bytes waiting for the command decoder: two longest packets.
 const RX_QUEUE_LEN: usize = 512;
@@ -58,19 +76,25 @@ const BUS: &str = "spi";
 /// command handler.
 static COUNTERS: SharedCounters = SharedCounters::new();
 
+mod received;
 mod run_time;
 mod start;
+mod wire;
 
-#[rtic::app(device = crate::board::pac, dispatchers = [EXTI3])]
+#[rtic::app(device = crate::board::pac, dispatchers = [EXTI1])]
 mod app {
+    use crate::received::{self, RX_WAKER};
+    use crate::wire::{self, OUTGOING, TX_ROOM};
     use crate::{board, COUNTERS, QUEUE_LEN, RX_QUEUE_LEN, SETTINGS};
     use heapless::spsc::{Consumer, Producer, Queue};
+    use rtic_sync::channel::{Receiver, Sender};
+    use rtic_sync::make_channel;
     use triad::device::board::{LinkRx, LinkTx};
     use triad::device::{
         on_data_ready, on_fifo_ready, CommandHandler, Control, Handled, LoadWindow, Outgoing,
         Sampler, Stepped, Task,
     };
-    use triad::link::MAX_WIRE_LEN;
+    use triad::link::{Reply, MAX_WIRE_LEN};
     use triad::sensor::{SelfTestError, SelfTestReport};
     use triad::stream::Decoder;
 
@@ -83,10 +107,6 @@ mod app {
     /// The load goes to the log every this many seconds.
     const LOG_LOAD_EVERY: u32 = 10;
 
-    /// The interrupt that runs the `link` task.
-    /// (The board names it too: the task below binds EXTI1 by name.)
-    const LINK_TASK: board::pac::Interrupt = board::LINK_TASK;
-
     #[shared]
     struct Shared {}
 
@@ -94,78 +114,121 @@ mod app {
     struct Local {
         sample_line: board::SampleLine,
         clock: board::MicrosecondClock,
-        serial: board::Serial,
-        serial_rx: board::SerialRx,
         sensor: board::Sensor,
         sampler: Sampler,
+        self_test_delay: board::SelfTestDelay,
+        /// data_ready → transmit: frames (woken by [`OUTGOING`]).
         frames_in: Producer<'static, Outgoing>,
-        frames_out: Consumer<'static, Outgoing>,
+        /// commands → data_ready: changes, applied between two samples.
+        controls_out: Receiver<'static, Control, 2>,
+        /// commands → data_ready: a self-test to run (its sequence number).
+        self_tests_out: Receiver<'static, u16, 1>,
+        /// data_ready → commands: its outcome.
+        self_tests_done_in: Sender<'static, SelfTestDone, 1>,
+        serial_rx: board::SerialRx,
+        /// link_rx → commands: received bytes (a byte stream: a lock-free
+        /// queue and a waker, where a channel would cost a critical section
+        /// per byte).
         rx_in: Producer<'static, u8>,
-        rx_out: Consumer<'static, u8>,
-        controls_in: Producer<'static, Control>,
-        controls_out: Consumer<'static, Control>,
+        // The command task's.
         handler: CommandHandler<board::Flash>,
         decoder: Decoder,
-        self_test_delay: board::SelfTestDelay,
-        self_tests_in: Producer<'static, u16>,
-        self_tests_out: Consumer<'static, u16>,
-        self_tests_done_in: Producer<'static, SelfTestDone>,
-        self_tests_done_out: Consumer<'static, SelfTestDone>,
+        rx_out: Consumer<'static, u8>,
+        /// commands → transmit: replies.
+        replies: Sender<'static, Reply, 1>,
+        controls_in: Sender<'static, Control, 2>,
+        self_tests_in: Sender<'static, u16, 1>,
+        self_tests_done_out: Receiver<'static, SelfTestDone, 1>,
+        // The transmitter's.
+        serial: board::Serial,
+        frames_out: Consumer<'static, Outgoing>,
+        replies_out: Receiver<'static, Reply, 1>,
     }
 
     #[init(local = [
-        frames: Queue<Outgoing, QUEUE_LEN> = Queue::new(),
         rx: Queue<u8, RX_QUEUE_LEN> = Queue::new(),
-        controls: Queue<Control, 2> = Queue::new(),
-        self_tests: Queue<u16, 2> = Queue::new(),
-        self_tests_done: Queue<SelfTestDone, 2> = Queue::new(),
+        frames: Queue<Outgoing, QUEUE_LEN> = Queue::new(),
     ])]
     fn init(cx: init::Context) -> (Shared, Local) {
         let b = board::init(cx.device, &SETTINGS);
         let started = crate::start::start(b.sensor_bus, b.flash);
         let (frames_in, frames_out) = cx.local.frames.split();
+        let (replies, replies_out) = make_channel!(Reply, 1);
         let (rx_in, rx_out) = cx.local.rx.split();
-        let (controls_in, controls_out) = cx.local.controls.split();
-        let (self_tests_in, self_tests_out) = cx.local.self_tests.split();
-        let (self_tests_done_in, self_tests_done_out) = cx.local.self_tests_done.split();
+        let (controls_in, controls_out) = make_channel!(Control, 2);
+        let (self_tests_in, self_tests_out) = make_channel!(u16, 1);
+        let (self_tests_done_in, self_tests_done_out) = make_channel!(SelfTestDone, 1);
+        // Spawning at start-up cannot fail: neither task is running yet.
+        let _ = commands::spawn();
+        let _ = transmit::spawn();
         (
             Shared {},
             Local {
                 sample_line: b.sample_line,
                 clock: b.clock,
-                serial: b.serial,
-                serial_rx: b.serial_rx,
                 sensor: started.sensor,
                 sampler: started.sampler,
-                frames_in,
-                frames_out,
-                rx_in,
-                rx_out,
-                controls_in,
-                controls_out,
-                handler: started.handler,
-                decoder: Decoder::new(),
                 self_test_delay: b.self_test_delay,
-                self_tests_in,
+                frames_in,
+                controls_out,
                 self_tests_out,
                 self_tests_done_in,
+                serial_rx: b.serial_rx,
+                rx_in,
+                handler: started.handler,
+                decoder: Decoder::new(),
+                rx_out,
+                replies,
+                controls_in,
+                self_tests_in,
                 self_tests_done_out,
+                serial: b.serial,
+                frames_out,
+                replies_out,
             },
         )
     }
 
-    /// Sleeps until the next interrupt: the time here is the load report's
-    /// idle share.
+    /// Sleeps until the next interrupt, timing each sleep: with interrupts
+    /// masked, WFI still wakes on a pending one, and the clock is read
+    /// before its handler runs, so what is counted is sleep alone. The
+    /// window's cycles less the tasks' and this are what no measured task
+    /// took: RTIC's dispatch, the async executor, interrupt entry and exit.
     #[idle]
     fn idle(_: idle::Context) -> ! {
         loop {
-            cortex_m::asm::wfi();
+            cortex_m::interrupt::free(|_| {
+                let before = board::cycles();
+                cortex_m::asm::wfi();
+                crate::run_time::slept(board::cycles().wrapping_sub(before));
+            });
+        }
+    }
+
+    /// The emulated board's data-ready edge: its sample timer pends EXTI0,
+    /// as the chip's INT1 does on a real board.
+    #[cfg(feature = "board-qemu")]
+    #[task(binds = TIM2, priority = 4)]
+    fn sample_timer(_: sample_timer::Context) {
+        let run = crate::run_time::begin();
+        board::sample_timer_edge();
+        // The chip's own edge: the model's time, not the firmware's.
+        crate::run_time::end(run, Task::ChipModel);
+    }
+
+    /// The NUCLEO's transmit DMA: a run of the transmit ring ended (or was
+    /// asked for); the transmitter may have room again.
+    #[cfg(feature = "board-nucleo-f401re")]
+    #[task(binds = DMA1_STREAM6, priority = 4)]
+    fn transmit_dma(_: transmit_dma::Context) {
+        if board::transmit_dma_interrupt() {
+            TX_ROOM.wake();
         }
     }
 
     /// The data-ready step: the IMU's data-ready line is EXTI0 on every board
-    /// (on the emulated board a timer pends it).
-    #[task(binds = EXTI0, priority = 2, local = [sample_line, clock, sensor, sampler, frames_in, controls_out, self_test_delay, self_tests_out, self_tests_done_in, load_window: LoadWindow = LoadWindow::new(), windows: u32 = 0])]
+    /// (on the emulated board its sample timer pends it).
+    #[task(binds = EXTI0, priority = 3, local = [sample_line, clock, sensor, sampler, frames_in, controls_out, self_test_delay, self_tests_out, self_tests_done_in, load_window: LoadWindow = LoadWindow::new(), windows: u32 = 0, slept_then: u32 = 0])]
     fn data_ready(cx: data_ready::Context) {
         let run = crate::run_time::begin();
         let model = board::model_cycles();
@@ -175,8 +238,12 @@ mod app {
         let closed = l
             .load_window
             .tick(run.start(), board::CYCLES_HZ, &COUNTERS.load);
+        let mut slept = 0;
         if closed.is_some() {
             *l.windows += 1;
+            let now = crate::run_time::slept_total();
+            slept = now.wrapping_sub(*l.slept_then);
+            *l.slept_then = now;
         }
         // The second window first (the first full second of steady
         // sampling: `cargo xtask bench` reads it), then every tenth.
@@ -192,13 +259,14 @@ mod app {
                 shares[3]
             );
             defmt::info!(
-                "load cycles in {=u32} at {=u32} Hz: data-ready {=u32}, link {=u32}, receive {=u32}, chip model {=u32}",
+                "load cycles in {=u32} at {=u32} Hz: data-ready {=u32}, link {=u32}, receive {=u32}, chip model {=u32}, asleep {=u32}",
                 load.window_cycles,
                 load.cycles_hz,
                 load.busy_cycles[0],
                 load.busy_cycles[1],
                 load.busy_cycles[2],
-                load.busy_cycles[3]
+                load.busy_cycles[3],
+                slept
             );
         }
         let model = board::model_cycles().wrapping_sub(model);
@@ -206,17 +274,17 @@ mod app {
     }
 
     /// The data-ready task's work.
-    // heapless's `enqueue` gives a frame back when the queue is full (the
-    // sampler counts it dropped from it): the large `Err` is that frame.
+    // A frame the channel has no room for comes back (the sampler counts it
+    // dropped and carries its events on): the large `Err` is that frame.
     #[allow(clippy::result_large_err)]
     fn step(l: data_ready::LocalResources<'_>) {
         // The handler's changes take effect here, between two samples.
-        while let Some(control) = l.controls_out.dequeue() {
+        while let Ok(control) = l.controls_out.try_recv() {
             l.sampler.apply(control);
         }
         // A self-test runs here, in place of sampling: the steps it takes
         // are counted lost (OVERRUN) in the next frame.
-        if let Some(sequence) = l.self_tests_out.dequeue() {
+        if let Ok(sequence) = l.self_tests_out.try_recv() {
             let result = l.sensor.self_test(l.self_test_delay);
             if let Err(SelfTestError {
                 chip: triad::sensor::ChipLeft::NeedsInit,
@@ -227,9 +295,8 @@ mod app {
                     defmt::error!("the chip did not restart after its self-test");
                 }
             }
-            // The link task takes one self-test at a time: there is room.
-            let _ = l.self_tests_done_in.enqueue((sequence, result));
-            cortex_m::peripheral::NVIC::pend(LINK_TASK);
+            // The command task waits for this outcome: there is room.
+            let _ = l.self_tests_done_in.try_send((sequence, result));
             return;
         }
         let frames_in = l.frames_in;
@@ -262,15 +329,15 @@ mod app {
         };
         COUNTERS.publish(l.sampler.totals(), l.sampler.uptime_ms());
         if queued {
-            cortex_m::peripheral::NVIC::pend(LINK_TASK);
+            OUTGOING.wake();
         }
     }
 
     /// The link's USART interrupt: USART2 on both boards (the NUCLEO's
     /// ST-LINK virtual COM port; QEMU's second serial port). It receives,
-    /// and on the emulated board it also transmits what the link task
+    /// and on the emulated board it also transmits what the transmitter
     /// queued.
-    #[task(binds = USART2, priority = 3, local = [serial_rx, rx_in])]
+    #[task(binds = USART2, priority = 2, local = [serial_rx, rx_in])]
     fn link_rx(cx: link_rx::Context) {
         let run = crate::run_time::begin();
         let (serial_rx, rx_in) = (cx.local.serial_rx, cx.local.rx_in);
@@ -282,84 +349,95 @@ mod app {
                 _ => COUNTERS.rx_overflowed(),
             }
         }
-        // The transmit queue ran empty: the link task may queue more.
-        if serial_rx.transmit() || received {
-            cortex_m::peripheral::NVIC::pend(LINK_TASK);
+        if received {
+            RX_WAKER.wake();
+        }
+        // The transmit ring ran empty: the transmitter may queue more.
+        if serial_rx.transmit() {
+            TX_ROOM.wake();
         }
         crate::run_time::end(run, Task::Receive);
     }
 
-    /// Answers commands and sends frames, below the sampling task. Each
-    /// pass handles every byte received, then sends one frame, so neither
-    /// starves the other.
-    #[task(binds = EXTI1, priority = 1, local = [serial, frames_out, rx_out, handler, decoder, controls_in, self_tests_in, self_tests_done_out, self_test_running: bool = false, buffer: [u8; MAX_WIRE_LEN] = [0; MAX_WIRE_LEN]])]
-    fn link(cx: link::Context) {
-        let run = crate::run_time::begin();
-        serve_link(cx.local);
-        crate::run_time::end(run, Task::Link);
-    }
-
-    /// The link task's work.
-    fn serve_link(l: link::LocalResources<'_>) {
+    /// Answers commands, below the sampling task: awaits each received
+    /// byte, and each decoded command's reply goes to the transmitter
+    /// (awaiting room: a reply is never dropped). While a self-test runs,
+    /// the next commands wait in the channel: the host waits for its reply
+    /// anyway.
+    #[task(priority = 1, local = [handler, decoder, rx_out, replies, controls_in, self_tests_in, self_tests_done_out])]
+    async fn commands(cx: commands::Context) {
+        let l = cx.local;
         loop {
-            if let Some((sequence, result)) = l.self_tests_done_out.dequeue() {
-                *l.self_test_running = false;
-                let reply = l.handler.self_test_reply(sequence, &result);
-                send_reply(&reply, l.serial, l.buffer);
-            }
-            // While a self-test runs, commands wait in the queue: the host
-            // waits for its reply anyway.
-            while !*l.self_test_running {
-                let Some(byte) = l.rx_out.dequeue() else {
-                    break;
-                };
-                let Some(decoded) = l.decoder.push(byte) else {
-                    continue;
-                };
-                let controls_in = &mut *l.controls_in;
-                let handled = l.handler.on_packet(
-                    &decoded,
-                    l.decoder.last_packet_bytes(),
-                    &COUNTERS,
-                    &mut |control| controls_in.enqueue(control).is_ok(),
-                );
-                match handled {
-                    Handled::Reply(reply) => send_reply(&reply, l.serial, l.buffer),
-                    Handled::SelfTest { sequence } => {
-                        *l.self_test_running = l.self_tests_in.enqueue(sequence).is_ok();
-                    }
-                    Handled::Nothing => {}
-                }
-            }
-            // A frame goes when the transmit queue has room for it; else it
-            // waits in the frame queue (which the data-ready task drops and
-            // counts from when it is full) until the queue drains and the
-            // USART's interrupt runs this task again.
-            let Some(frame) = l.frames_out.peek() else {
-                break;
+            let byte = received::next_byte(l.rx_out).await;
+            let run = crate::run_time::begin();
+            let Some(decoded) = l.decoder.push(byte) else {
+                crate::run_time::end(run, Task::Link);
+                continue;
             };
-            let n = frame.to_wire(l.buffer);
-            if !l.serial.queue(&l.buffer[..n]) {
-                break;
+            let controls_in = &mut *l.controls_in;
+            let handled = l.handler.on_packet(
+                &decoded,
+                l.decoder.last_packet_bytes(),
+                &COUNTERS,
+                &mut |control| controls_in.try_send(control).is_ok(),
+            );
+            crate::run_time::end(run, Task::Link);
+            let reply = match handled {
+                Handled::Reply(reply) => reply,
+                Handled::SelfTest { sequence } => {
+                    if l.self_tests_in.try_send(sequence).is_err() {
+                        continue;
+                    }
+                    let Ok((sequence, result)) = l.self_tests_done_out.recv().await else {
+                        return;
+                    };
+                    l.handler.self_test_reply(sequence, &result)
+                }
+                Handled::Nothing => continue,
+            };
+            if l.replies.send(reply).await.is_err() {
+                return;
             }
-            let _ = l.frames_out.dequeue();
+            OUTGOING.wake();
         }
     }
 
-    /// Queues a reply whole: replies are never dropped, so this waits for
-    /// room (the USART's interrupt, above this task, drains the queue; a
-    /// reply is at most 242 bytes, the queue far longer).
-    fn send_reply(
-        reply: &triad::link::Reply,
-        serial: &mut board::Serial,
-        buffer: &mut [u8; MAX_WIRE_LEN],
-    ) {
-        let Ok(packet) = reply.to_packet() else {
-            return;
-        };
-        let n = packet.to_wire(buffer);
-        while !serial.queue(&buffer[..n]) {
-            cortex_m::asm::nop();
+    /// Puts replies and frames on the line: awaits something to send, then
+    /// sends every reply and frame waiting, each encoded where it lies; when
+    /// the transmit ring has no room for one, awaits the board's transmit
+    /// interrupt freeing some (a frame stays queued meanwhile, so a full
+    /// queue makes the data-ready task drop and count new ones).
+    #[task(priority = 1, local = [serial, frames_out, replies_out, buffer: [u8; MAX_WIRE_LEN] = [0; MAX_WIRE_LEN]])]
+    async fn transmit(cx: transmit::Context) {
+        let l = cx.local;
+        loop {
+            wire::something_to_send(l.frames_out, l.replies_out).await;
+            let run = crate::run_time::begin();
+            let mut blocked = None;
+            if let Ok(reply) = l.replies_out.try_recv() {
+                let n = wire::reply_to_wire(&reply, l.buffer);
+                if !l.serial.queue(&l.buffer[..n]) {
+                    blocked = Some((n, false));
+                }
+            }
+            while blocked.is_none() {
+                let Some(frame) = l.frames_out.peek() else {
+                    break;
+                };
+                let n = frame.to_wire(l.buffer);
+                if !l.serial.queue(&l.buffer[..n]) {
+                    blocked = Some((n, true));
+                    break;
+                }
+                let _ = l.frames_out.dequeue();
+            }
+            crate::run_time::end(run, Task::Link);
+            if let Some((n, frame)) = blocked {
+                wire::queue(l.serial, &l.buffer[..n]).await;
+                if frame {
+                    let _ = l.frames_out.dequeue();
+                }
+            }
         }
     }
 }

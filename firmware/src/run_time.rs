@@ -9,6 +9,23 @@ use triad::device::Task;
 /// The sum of every finished run's own cycles, wrapping.
 static NESTED: AtomicU32 = AtomicU32::new(0);
 
+/// The idle task's cycles asleep, wrapping (its one writer: the idle task).
+static SLEPT: AtomicU32 = AtomicU32::new(0);
+
+/// The idle task slept `cycles`.
+#[inline(always)]
+pub fn slept(cycles: u32) {
+    SLEPT.store(
+        SLEPT.load(Ordering::Relaxed).wrapping_add(cycles),
+        Ordering::Relaxed,
+    );
+}
+
+/// The cycles asleep since start, wrapping.
+pub fn slept_total() -> u32 {
+    SLEPT.load(Ordering::Relaxed)
+}
+
 /// A run in progress.
 pub struct Run {
     start: u32,

@@ -19,7 +19,7 @@ pub trait MicrosecondClock {
     fn now_us(&self) -> u32;
 }
 
-/// The link's transmitter as the link task feeds it: bytes are queued, and
+/// The link's transmitter as the firmware's transmitter feeds it: bytes are queued, and
 /// the board sends them (from the USART's interrupt, or by DMA) while the
 /// task goes on. Nothing waits on the line.
 pub trait LinkTx {
@@ -48,7 +48,7 @@ pub trait LinkRx {
 
     /// On a board that transmits from the USART's interrupt: moves queued
     /// bytes to the USART while it takes them, and returns true when the
-    /// queue ran empty (the link task may queue more). A board that
+    /// queue ran empty (the transmitter may queue more). A board that
     /// transmits by DMA does nothing here.
     fn transmit(&mut self) -> bool {
         false

@@ -21,11 +21,11 @@ pub use crate::link::Load;
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Task {
-    /// The data-ready step (priority 2).
+    /// The data-ready step (the firmware's top task but the board's own).
     DataReady = 0,
-    /// Commands and sending (priority 1).
+    /// Commands and sending (the async tasks, priority 1).
     Link = 1,
-    /// The receive interrupt (priority 3).
+    /// The receive interrupt (below data-ready).
     Receive = 2,
     /// The emulated board's chip model, which runs inside the data-ready
     /// task (its SPI or I²C transactions and its clock): apart, so that the

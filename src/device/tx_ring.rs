@@ -3,7 +3,7 @@
 //! NUCLEO, from the USART's interrupt on the emulated board).
 //!
 //! Two counters describe a `LEN`-byte ring: `written`, the bytes ever queued
-//! (advanced by the link task), and `released`, the bytes ever sent (advanced
+//! (advanced by the transmitter), and `released`, the bytes ever sent (advanced
 //! when a DMA run completes). Both count up and wrap at 2ⁿ (usize); byte
 //! number `i` lives at `i mod LEN`, which stays the same across the wrap
 //! because `LEN` is a power of two. The bytes `released..written` are

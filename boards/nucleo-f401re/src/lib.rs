@@ -26,7 +26,7 @@ mod serial_rx;
 mod serial_tx;
 pub use flash::{Flash, FlashError, StorageUnavailable, STORAGE_SLOTS};
 pub use serial_rx::SerialRx;
-pub use serial_tx::{Serial, TX_BUFFER_LEN};
+pub use serial_tx::{transmit_dma_interrupt, Serial, TX_BUFFER_LEN};
 
 use stm32f4xx_hal::dma::StreamsTuple;
 use stm32f4xx_hal::gpio::{self, Edge, ExtiPin as _, GpioExt as _, Input, PinState};
@@ -118,9 +118,8 @@ pub type SelfTestDelay = Delay;
 /// own business here (its INT1 pin, on EXTI0, signals data ready or the
 /// FIFO watermark alike).
 pub fn init(dp: pac::Peripherals, _settings: &triad::sensor::Settings) -> Board {
-    // SAFETY: init runs once, before any task; only the trace enable, the
-    // cycle counter's enable bit (RTIC uses neither) and the priority of
-    // DMA1_STREAM6, an interrupt RTIC does not bind, are written.
+    // SAFETY: init runs once, before any task; only the trace enable and
+    // the cycle counter's enable bit (RTIC uses neither) are written.
     let mut core = unsafe { cortex_m::Peripherals::steal() };
     core.DCB.enable_trace();
     core.DWT.enable_cycle_counter();
@@ -144,7 +143,7 @@ pub fn init(dp: pac::Peripherals, _settings: &triad::sensor::Settings) -> Board 
     Board {
         sample_line: SampleLine::new(gpiob.pb0, &mut syscfg, &mut exti),
         clock: MicrosecondClock::new(dp.TIM5, &mut rcc),
-        serial: Serial::new(tx, dma1.6, &mut core.NVIC),
+        serial: Serial::new(tx, dma1.6),
         serial_rx: SerialRx::new(rx, dma1.5),
         sensor_bus,
         flash: Ok(Flash::new(dp.FLASH)),
@@ -382,11 +381,6 @@ fn usart2(
         }
     }
 }
-
-/// The interrupt the firmware's link task is bound to (firmware/src/main.rs
-/// binds EXTI1: RTIC takes the name literally, so the two must agree): a
-/// board that frees transmit room from its own interrupt pends it.
-pub const LINK_TASK: pac::Interrupt = pac::Interrupt::EXTI1;
 
 /// The load measurement's clock: the DWT cycle counter (the core clock,
 /// 84 MHz; [`init`] starts it).

@@ -1,23 +1,23 @@
 //! USART2's transmitter (PA2, to the ST-LINK's virtual COM port) by DMA:
-//! the link task copies bytes into [`BUFFER`], a ring ([`triad::device::tx_ring`]),
+//! the firmware's transmitter copies bytes into [`BUFFER`], a ring ([`triad::device::tx_ring`]),
 //! and DMA1 stream 6, channel 4 (RM0368 Table 28: USART2_TX) sends them to
 //! DR, one run of consecutive bytes at a time, paced by the USART's TXE
 //! requests (CR3's DMAT).
 //!
 //! Who does what, so that no one waits:
-//! - [`Serial::queue`] (the link task) copies the bytes in, advances
+//! - [`Serial::queue`] (the transmitter) copies the bytes in, advances
 //!   [`WRITTEN`] and pends `DMA1_STREAM6`.
-//! - The `DMA1_STREAM6` handler below is the only code that programs the
-//!   stream. It runs on that pend and on the stream's transfer-complete (or
-//!   transfer-error) interrupt: when a run has ended it advances
-//!   [`RELEASED`] and pends the link task (EXTI1) so that frames waiting for
-//!   room go out; when the stream is idle it starts the next run.
+//! - [`transmit_dma_interrupt`], the body of the firmware's RTIC task bound
+//!   to `DMA1_STREAM6`, is the only code that programs the stream. It runs
+//!   on that pend and on the stream's transfer-complete (or transfer-error)
+//!   interrupt: when a run has ended it advances [`RELEASED`] and returns
+//!   true, and the firmware wakes its transmitter, which may be waiting for
+//!   that room; when the stream is idle it starts the next run.
 //!
-//! Why its own interrupt rather than polling from the link task or the
+//! Why its own interrupt rather than polling from the transmitter or the
 //! USART's interrupt: a run ends without any task running (the last frames
 //! before the stream stops, or a reply queued behind a run), and the next
-//! run must then still start; the firmware binds neither the DMA's
-//! interrupt nor anything else that would run at that moment.
+//! run must then still start.
 
 use core::cell::RefCell;
 use core::sync::atomic::{AtomicU8, AtomicUsize, Ordering};
@@ -28,7 +28,6 @@ use stm32f4xx_hal::dma::config::Priority;
 use stm32f4xx_hal::dma::traits::{DMASet, DmaFlagExt as _, PeriAddress as _, Stream as _};
 use stm32f4xx_hal::dma::Stream6;
 use stm32f4xx_hal::dma::{DmaChannel, DmaDataSize, DmaDirection, DmaEvent, MemoryToPeripheral};
-use stm32f4xx_hal::pac::interrupt;
 use stm32f4xx_hal::serial;
 use stm32f4xx_hal::{ClearFlags as _, Listen as _, ReadFlags as _};
 use triad::device::board::LinkTx;
@@ -79,15 +78,12 @@ pub struct Serial {
 
 impl Serial {
     /// Sets up the stream (memory to DR, a byte at a time, interrupts on
-    /// transfer complete and error) and its interrupt at the highest
-    /// priority. `usart` must have DMAT set (the HAL's `serial::Config::dma`);
+    /// transfer complete and error); the firmware binds its interrupt,
+    /// DMA1_STREAM6, to a task that calls [`transmit_dma_interrupt`] (RTIC
+    /// sets its priority and unmasks it). `usart` must have DMAT set (the HAL's `serial::Config::dma`);
     /// `stream` comes from a DMA1 just reset by `StreamsTuple::new`, so it is
     /// off, its flags clear and in direct mode (no FIFO).
-    pub(crate) fn new(
-        usart: serial::Tx<pac::USART2>,
-        mut stream: Stream6<pac::DMA1>,
-        nvic: &mut NVIC,
-    ) -> Self {
+    pub(crate) fn new(usart: serial::Tx<pac::USART2>, mut stream: Stream6<pac::DMA1>) -> Self {
         usart2_tx_maps_to::<Stream6<pac::DMA1>, 4>();
         stream.set_channel(DmaChannel::Channel4);
         stream.set_direction(DmaDirection::MemoryToPeripheral);
@@ -112,14 +108,6 @@ impl Serial {
                 .borrow(cs)
                 .replace(Some(Sender { stream, sending: 0 }));
         });
-        // SAFETY: the handler takes no RTIC resource, so RTIC's priority
-        // ceilings do not involve it; at 0, the highest, it preempts every
-        // task for a few register accesses, and the link task, which waits
-        // for room while queueing a reply, can never block it.
-        unsafe {
-            nvic.set_priority(pac::Interrupt::DMA1_STREAM6, 0);
-            NVIC::unmask(pac::Interrupt::DMA1_STREAM6);
-        }
         Self { _usart: usart }
     }
 }
@@ -162,12 +150,13 @@ struct Sender {
 impl Sender {
     /// Ends the run if the stream finished it, then starts the next if the
     /// stream is idle and bytes are pending.
-    fn serve(&mut self) {
+    fn serve(&mut self) -> bool {
+        let mut freed = false;
         if self.sending > 0 {
             let flags = self.stream.flags();
             if !flags.is_transfer_complete() && !flags.is_transfer_error() {
                 // Pended by `queue` while the run goes on.
-                return;
+                return false;
             }
             if flags.is_transfer_error() {
                 // Only a bad address raises it; the run's bytes are lost,
@@ -181,14 +170,14 @@ impl Sender {
             RELEASED.store(released.wrapping_add(self.sending), Ordering::Release);
             self.sending = 0;
             // Frames may be waiting in the firmware's queue for this room.
-            NVIC::pend(super::LINK_TASK);
+            freed = true;
         }
         // RM0368 (DMA_SxCR, EN): the stream's flags are cleared before it is
         // enabled; this also ends the interrupt's request.
         self.stream.clear_all_flags();
         let written = WRITTEN.load(Ordering::Acquire);
         let Some(run) = Ring::next_run(written, RELEASED.load(Ordering::Relaxed)) else {
-            return;
+            return freed;
         };
         // The buffer's address fits the 32-bit bus; a run is at most
         // TX_BUFFER_LEN ≤ 65535 bytes (checked above).
@@ -202,19 +191,20 @@ impl Sender {
         // until RELEASED passes them, after this run ends.
         unsafe { self.stream.enable() };
         self.sending = run.len;
+        freed
     }
 }
 
-/// Ends and starts runs (see the module's comment).
-#[interrupt]
-fn DMA1_STREAM6() {
+/// Ends and starts runs (see the module's comment): the body of the
+/// firmware's task bound to DMA1_STREAM6. True when a run ended, freeing
+/// room (the firmware then wakes its transmitter).
+pub fn transmit_dma_interrupt() -> bool {
     cortex_m::interrupt::free(|cs| {
         // Nothing else borrows it after `Serial::new`: the borrow always
         // succeeds (`try_` only spares the handler a panic path).
-        if let Ok(mut sender) = SENDER.borrow(cs).try_borrow_mut() {
-            if let Some(sender) = sender.as_mut() {
-                sender.serve();
-            }
+        match SENDER.borrow(cs).try_borrow_mut() {
+            Ok(mut sender) => sender.as_mut().is_some_and(Sender::serve),
+            Err(_) => false,
         }
-    });
+    })
 }

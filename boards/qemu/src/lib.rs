@@ -12,7 +12,6 @@
 //! the model's clock.
 
 use defmt_semihosting as _;
-use pac::interrupt;
 pub use stm32f4::stm32f405 as pac;
 
 /// What QEMU's STM32 timers count at (virtual time), Hz.
@@ -54,7 +53,7 @@ pub fn init(dp: pac::Peripherals, settings: &Settings) -> Board {
     let sensor_bus = SensorBus(SharedBus(chip));
     let (serial, tx_drain) = Serial::new(dp.USART2, USART_DIV_X16);
     // SAFETY: the interrupt side reads SR/DR, writes DR and sets or clears
-    // CR1's RE, RXNEIE and TXEIE; the link task's side sets TXEIE (a
+    // CR1's RE, RXNEIE and TXEIE; the transmitter's side sets TXEIE (a
     // read-modify-write the interrupt may preempt: both leave the other
     // bits as they were).
     let serial_rx = SerialRx::new(unsafe { pac::USART2::steal() }, tx_drain);
@@ -109,14 +108,9 @@ impl SampleLine {
             }
         }
         tim.sr().write(|w| w.uif().clear_bit());
+        // The firmware binds TIM2 to a task ([`sample_timer_edge`]); RTIC
+        // sets its priority and unmasks it.
         tim.dier().write(|w| w.uie().set_bit());
-        // SAFETY: TIM2's handler below only touches TIM2's status register and
-        // the NVIC pending bit; priority 0 is the highest, above RTIC's tasks.
-        unsafe {
-            let mut core = cortex_m::Peripherals::steal();
-            core.NVIC.set_priority(pac::Interrupt::TIM2, 0);
-            cortex_m::peripheral::NVIC::unmask(pac::Interrupt::TIM2);
-        }
         tim.cr1().modify(|_, w| w.cen().set_bit());
         // The model schedules the first update one period after this write.
         tim.arr().write(|w| w.arr().set(period_us));
@@ -133,10 +127,11 @@ impl DataReadyLine for SampleLine {
     }
 }
 
-/// The emulated data-ready edge.
-#[interrupt]
-fn TIM2() {
-    // SAFETY: only this handler writes TIM2's status register after start-up.
+/// The emulated data-ready edge: the body of the firmware's task bound to
+/// TIM2 (the board's one interrupt of its own).
+pub fn sample_timer_edge() {
+    // SAFETY: only this function writes TIM2's status register after
+    // start-up, from the one task bound to TIM2.
     let tim = unsafe { &*pac::TIM2::ptr() };
     tim.sr().write(|w| w.uif().clear_bit());
     cortex_m::peripheral::NVIC::pend(pac::Interrupt::EXTI0);
@@ -165,11 +160,6 @@ pub use semihosting_flash::Unavailable as StorageUnavailable;
 // 42 MHz / 921600 rounds to 46 (0x2E): −0.9 %; fits BRR's 16 bits. (QEMU
 // sends at once whatever BRR says.)
 const USART_DIV_X16: u16 = ((APB1_HZ + DESCRIPTION.baud / 2) / DESCRIPTION.baud) as u16;
-
-/// The interrupt the firmware's link task is bound to (firmware/src/main.rs
-/// binds EXTI1: RTIC takes the name literally, so the two must agree): a
-/// board that frees transmit room from its own interrupt pends it.
-pub const LINK_TASK: pac::Interrupt = pac::Interrupt::EXTI1;
 
 /// The load measurement's clock: TIM4, never written, counts QEMU's virtual
 /// nanoseconds since reset, which under `-icount shift=0` are instructions

@@ -7,7 +7,7 @@ use core::ops::Deref;
 use triad::device::board::{LinkRx, RxError};
 
 /// A USART's interrupt side: its receiver, and the drain of its transmit
-/// queue (the link task queues with [`super::serial_tx::SerialTx`]).
+/// queue (the firmware's transmitter queues with [`super::serial_tx::SerialTx`]).
 pub struct SerialRx<U> {
     usart: U,
     tx: TxDrain,

@@ -1,5 +1,5 @@
 //! The link USART's transmitter, 8N1: the stream and the replies, queued by
-//! the link task into a ring ([`triad::device::tx_ring`]) and sent from the
+//! the firmware's transmitter into a ring ([`triad::device::tx_ring`]) and sent from the
 //! USART's interrupt ([`TxDrain`]), so that no task waits on the line.
 //!
 //! QEMU 7.2's STM32 USART sends a byte the moment DR is written and keeps
@@ -18,8 +18,8 @@ pub const TX_QUEUE_LEN: usize = 1024;
 
 type Ring = TxRing<TX_QUEUE_LEN>;
 
-/// The bytes queued. Atomics so that the link task's stores and the
-/// interrupt's loads need no `unsafe`: the link task stores only into free
+/// The bytes queued. Atomics so that the transmitter's stores and the
+/// interrupt's loads need no `unsafe`: the transmitter stores only into free
 /// bytes, the interrupt loads only pending ones.
 static BUFFER: [AtomicU8; TX_QUEUE_LEN] = [const { AtomicU8::new(0) }; TX_QUEUE_LEN];
 
@@ -31,7 +31,7 @@ static WRITTEN: AtomicUsize = AtomicUsize::new(0);
 /// `TxDrain`, in the USART's interrupt).
 static RELEASED: AtomicUsize = AtomicUsize::new(0);
 
-/// The link task's side: queues bytes.
+/// The transmitter's side: queues bytes.
 pub struct SerialTx<U> {
     usart: U,
 }

@@ -31,10 +31,12 @@ pub struct FirmwareRow {
     pub rate_hz: u32,
     /// Samples per interrupt.
     pub watermark: u16,
-    /// Instructions per sample: data-ready task, link task (commands,
+    /// Instructions per sample: data-ready task, link tasks (commands,
     /// framing, CRC, stuffing, queueing), receive interrupt (on this board
-    /// also the transmitter's drain), chip model.
-    pub per_sample: [f64; 4],
+    /// also the transmitter's drain), chip model, and what no task measured
+    /// (the window less the tasks and the idle task's sleep: RTIC's
+    /// dispatch, the async executor, interrupt entry and exit).
+    pub per_sample: [f64; 5],
     /// Bytes on the wire per sample, framing included.
     pub wire_bytes_per_sample: f64,
 }
@@ -42,7 +44,7 @@ pub struct FirmwareRow {
 impl FirmwareRow {
     /// The firmware's own instructions per sample (the chip model's left out).
     pub fn all_in(&self) -> f64 {
-        self.per_sample[..3].iter().sum()
+        self.per_sample[..3].iter().sum::<f64>() + self.per_sample[4]
     }
 }
 
@@ -121,17 +123,18 @@ fn measure_one(
     Ok(FirmwareRow {
         rate_hz,
         watermark,
-        per_sample: load.busy.map(|cycles| f64::from(cycles) / samples),
+        per_sample: load.per_sample(samples),
         wire_bytes_per_sample: bytes / rows.max(1.0),
     })
 }
 
 /// The firmware's load line: `load cycles in W at H Hz: data-ready A, link
-/// B, receive C, chip model D` (firmware/src/main.rs).
+/// B, receive C, chip model D, asleep E` (firmware/src/main.rs).
 struct LoadLine {
     window: u32,
     hz: u32,
     busy: [u32; 4],
+    asleep: u32,
 }
 
 impl LoadLine {
@@ -143,13 +146,22 @@ impl LoadLine {
             .filter_map(|s| s.parse().ok())
             .collect();
         match numbers[..] {
-            [window, hz, a, b, c, d] => Some(LoadLine {
+            [window, hz, a, b, c, d, asleep] => Some(LoadLine {
                 window,
                 hz,
                 busy: [a, b, c, d],
+                asleep,
             }),
             _ => None,
         }
+    }
+
+    /// Per sample: each task's cycles, then what none of them measured.
+    fn per_sample(&self, samples: f64) -> [f64; 5] {
+        let measured: u32 = self.busy.iter().sum::<u32>().saturating_add(self.asleep);
+        let unmeasured = self.window.saturating_sub(measured);
+        let [a, b, c, d] = self.busy;
+        [a, b, c, d, unmeasured].map(|cycles| f64::from(cycles) / samples)
     }
 }
 
@@ -197,11 +209,14 @@ mod tests {
 
     #[test]
     fn the_load_line_reads_back() {
-        let line = "INFO load cycles in 1000123 at 1000000000 Hz: data-ready 41000, link 9000, receive 7000, chip model 180000";
+        let line = "INFO load cycles in 1000123 at 1000000000 Hz: data-ready 41000, link 9000, receive 7000, chip model 180000, asleep 760000";
         let load = LoadLine::parse(line).unwrap();
         assert_eq!(load.window, 1_000_123);
         assert_eq!(load.hz, 1_000_000_000);
         assert_eq!(load.busy, [41_000, 9_000, 7_000, 180_000]);
+        assert_eq!(load.asleep, 760_000);
+        // 1000123 − (41000 + 9000 + 7000 + 180000) − 760000 = 3123 unmeasured.
+        assert_eq!(load.per_sample(1000.0), [41.0, 9.0, 7.0, 180.0, 3.123]);
         assert!(LoadLine::parse("INFO load ‰: data-ready 1, link 2").is_none());
     }
 }

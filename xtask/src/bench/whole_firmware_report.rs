@@ -24,16 +24,19 @@ nanoseconds) counts instructions; the figures are its second full
 one-second window, logged over defmt, over the samples of that window.
 Columns: `data-ready` the task that reads the chip (the driver's SPI
 transactions), corrects (the batch kernel at W > 1), frames and queues;
-`link` the task that encodes each frame to the wire (CRC-32C, COBS) and
-queues it for the transmitter; `TX drain` the USART2 interrupt, which on
-this board also moves the transmit queue into the data register (QEMU's
-STM32 USART has no DMA; on the NUCLEO DMA does it, and this column is the
-receive interrupt alone); `all-in` their sum. `chip model` is the
-emulated chip's own cost (its SPI answers and its simulation), counted
-apart and not in `all-in`; no chip costs the MCU that. Not counted: the
-timer interrupt that stands in for the chip's INT1 line (a dozen
-instructions per interrupt) and exception entry. Wire bytes are the
-captured stream's bytes over its samples.";
+`link` the async tasks (the transmitter encoding each frame to the wire,
+CRC-32C and COBS, and queueing it; the command task); `TX drain` the USART2
+interrupt, which on this board also moves the transmit queue into the data
+register (QEMU's STM32 USART has no DMA; on the NUCLEO DMA does it, and
+this column is the receive interrupt alone); `dispatch (unmeasured)` the
+window less every measured task and less the idle task's own sleep (timed
+around WFI with interrupts masked, so no handler is in it): RTIC's
+dispatcher, the async executor's polls, channel wake-ups, exception entry
+and exit; `all-in` the sum of these four. `chip model` is the emulated
+chip's own cost (its SPI answers, its simulation, and the timer interrupt
+that stands in for its INT1 line), counted apart and not in `all-in`; no
+chip costs the MCU that. Wire bytes are the captured stream's bytes over
+its samples.";
 
 /// Where the instructions go at 8 kHz with W = 32, from a QEMU execution
 /// trace of the firmware (`-d in_asm,exec,nochain`, instructions per
@@ -63,28 +66,32 @@ pub fn markdown(rows: &[FirmwareRow], long: &LongRun, fusion_ported: Option<f64>
     let _ = writeln!(md, "## The whole firmware\n\n{METHOD}\n");
     let _ = write!(
         md,
-        "| rate | W | data-ready | link | TX drain | all-in instr. / sample | chip model | wire bytes / sample |"
+        "| rate | W | data-ready | link | TX drain | dispatch (unmeasured) | all-in instr. / sample | chip model | wire bytes / sample |"
     );
     for baud in BAUDS {
         let _ = write!(md, " highest rate at {baud} baud |");
     }
     let _ = writeln!(md);
-    let _ = writeln!(md, "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    let _ = writeln!(
+        md,
+        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+    );
     if let Some(fusion) = fusion_ported {
         let _ = writeln!(
             md,
-            "| (anchor) | – | Fusion's inertial model alone, ported (fusion_f32 above) | | | {fusion:.1} | | | | |"
+            "| (anchor) | – | Fusion's inertial model alone, ported (fusion_f32 above) | | | | {fusion:.1} | | | | |"
         );
     }
     for r in rows {
         let _ = write!(
             md,
-            "| {} Hz | {} | {:.1} | {:.1} | {:.1} | **{:.1}** | {:.0} | {:.2} |",
+            "| {} Hz | {} | {:.1} | {:.1} | {:.1} | {:.1} | **{:.1}** | {:.0} | {:.2} |",
             r.rate_hz,
             r.watermark,
             r.per_sample[0],
             r.per_sample[1],
             r.per_sample[2],
+            r.per_sample[4],
             r.all_in(),
             r.per_sample[3],
             r.wire_bytes_per_sample
