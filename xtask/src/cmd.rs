@@ -39,13 +39,31 @@ pub fn cargo() -> Command {
     command
 }
 
-/// Runs `command` with its stdout on stderr (xtask's stdout is for data:
-/// `cargo xtask run`'s CSV); an error names `what` failed and how.
+/// Runs `command` with its stdout relayed to stderr (xtask's stdout is for
+/// data: `cargo xtask run`'s CSV); an error names `what` failed and how.
+/// Relayed, not inherited: a child handed a full or abandoned stderr as its
+/// stdout would fail on its report (`triad calib pack`), while for xtask
+/// stderr is only notes, whose loss is no failure.
 pub fn check(mut command: Command, what: &str) -> Result<()> {
-    let status = command
-        .stdout(std::io::stderr())
-        .status()
+    let mut child = command
+        .stdout(Stdio::piped())
+        .spawn()
         .with_context(|| format!("starting {what}"))?;
+    if let Some(mut out) = child.stdout.take() {
+        let mut buffer = [0u8; 4096];
+        loop {
+            use std::io::{Read as _, Write as _};
+            match out.read(&mut buffer) {
+                Ok(0) | Err(_) => break,
+                Ok(n) => {
+                    let _ = std::io::stderr().write_all(&buffer[..n]);
+                }
+            }
+        }
+    }
+    let status = child
+        .wait()
+        .with_context(|| format!("waiting for {what}"))?;
     if !status.success() {
         bail!("{what} failed ({status}); its output above says why");
     }

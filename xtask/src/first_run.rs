@@ -25,10 +25,10 @@ pub fn run(triad: &Path) -> Result<()> {
 }
 
 fn timed(what: &str, job: impl FnOnce() -> Result<()>) -> Result<()> {
-    eprintln!("xtask: {what}");
+    note!("xtask: {what}");
     let start = Instant::now();
     job()?;
-    eprintln!("xtask: {what}: {:.1} s", start.elapsed().as_secs_f64());
+    note!("xtask: {what}: {:.1} s", start.elapsed().as_secs_f64());
     Ok(())
 }
 

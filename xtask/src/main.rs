@@ -12,6 +12,17 @@
 
 use clap::{Parser, Subcommand};
 
+/// A line on stderr; a failure to write it (stderr closed, full, or a pipe
+/// whose reader left) is ignored: `eprintln!` would panic, and stderr is
+/// the last place to report anything. xtask's progress and the firmware's
+/// log go there; they are never its result.
+macro_rules! note {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), $($arg)*);
+    }};
+}
+
 mod bench;
 mod board;
 mod cmd;
@@ -190,11 +201,14 @@ fn main() -> std::process::ExitCode {
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(error) => {
-            eprintln!("xtask: {error:#}");
+            note!("xtask: {error:#}");
             std::process::ExitCode::FAILURE
         }
     }
 }
+
+/// `triad`'s exit status when the reader of its stdout left: 128 + SIGPIPE.
+const READER_GONE_STATUS: i32 = 141;
 
 fn run(args: RunArgs) -> anyhow::Result<()> {
     anyhow::ensure!(
@@ -207,6 +221,11 @@ fn run(args: RunArgs) -> anyhow::Result<()> {
         board::Board::Qemu => {
             let stop = qemu::Stop::Seconds(args.seconds);
             let status = qemu::stream_to_decoder(&elf, &triad, stop, qemu::Inherit)?;
+            // The reader of stdout left (`| head`): triad decode stopped
+            // quietly with 128 + SIGPIPE, and so does xtask (QEMU is stopped).
+            if status.code() == Some(READER_GONE_STATUS) {
+                std::process::exit(READER_GONE_STATUS);
+            }
             anyhow::ensure!(status.success(), "triad decode exited with {status}");
             Ok(())
         }
@@ -273,7 +292,7 @@ fn build(args: &FirmwareArgs) -> anyhow::Result<(std::path::PathBuf, std::path::
             watermark: args.watermark,
         },
     };
-    eprintln!("xtask: firmware for {}", firmware.label());
+    note!("xtask: firmware for {}", firmware.label());
     let blob = match (&args.scene, &args.unit, &args.script) {
         (Some(name), _, _) => Some(cmd::pack_scene(&triad, name, args.seed)?),
         (None, Some(unit), Some(script)) => Some(cmd::pack_unit(&triad, unit, script, args.seed)?),

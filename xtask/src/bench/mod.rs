@@ -97,6 +97,6 @@ pub fn run(json: bool) -> Result<()> {
     markdown += "\n";
     markdown += &whole_firmware_report::markdown(&firmware_rows, &long_run, fusion);
     std::fs::write(docs.join("BENCHMARKS.md"), markdown)?;
-    eprintln!("xtask: wrote docs/BENCHMARKS.md and docs/benchmarks.svg");
+    note!("xtask: wrote docs/BENCHMARKS.md and docs/benchmarks.svg");
     Ok(())
 }

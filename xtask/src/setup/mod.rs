@@ -67,7 +67,7 @@ fn ensure_targets() -> Result<()> {
     }
     let names: Vec<&str> = missing.iter().map(|(t, _)| *t).collect();
     let command = format!("rustup target add {}", names.join(" "));
-    eprintln!(
+    note!(
         "xtask: installing the Rust targets {} with `{command}` (into the active toolchain; \
          no root needed, nothing removed)",
         missing
@@ -105,7 +105,7 @@ fn ensure_qemu() -> Result<()> {
         return Ok(());
     }
     let (major, minor) = qemu_binary::MINIMUM;
-    eprintln!(
+    note!(
         "xtask: no QEMU {major}.{minor} or later: {QEMU_PACKAGE} is neither on PATH nor unpacked \
          in {}; the emulated board (QEMU's netduinoplus2) runs on it. Asking apt-get how it would \
          install the Debian package {QEMU_PACKAGE} (without recommended packages; nothing \
@@ -131,7 +131,7 @@ fn ensure_qemu() -> Result<()> {
             apt::install(privilege, &[QEMU_PACKAGE], &plan)?;
         }
         Route::Unpack => {
-            eprintln!(
+            note!(
                 "xtask: installing {QEMU_PACKAGE} would {}, and xtask never removes or \
                  downgrades an installed package: it runs QEMU from Debian's package unpacked \
                  into {} instead, in three steps",
