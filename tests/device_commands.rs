@@ -735,3 +735,74 @@ fn a_self_test_is_handed_to_the_firmware_and_its_outcome_replied() {
     );
     assert_eq!(device.info(10).counters.commands, 2);
 }
+
+/// docs/PROTOCOL.md's answers to the cases a client written from it alone
+/// asks about (sections 12, 13, 15 and 17), as the handler gives them.
+#[test]
+fn the_documented_edge_cases_are_what_the_handler_does() {
+    let mut device = Device::new(Some(RamFlash::new()));
+    // §12: a 240-byte command is read; an upload chunk of 229 bytes in it
+    // is refused for its length, naming the limit, not as unreadable.
+    let mut args = vec![0u8, 0];
+    args.resize(231, 0xAB);
+    let mut body = vec![0x40, 0x00, 0x04];
+    body.extend_from_slice(&args);
+    let longest = sealed(2, 0x10, &body);
+    assert_eq!(longest.len(), 240);
+    let reply = device.packet(&longest);
+    assert_eq!((reply.sequence, reply.status), (0x40, Status::Malformed));
+    assert!(reply.reason().contains("130"), "{}", reply.reason());
+    // 241 bytes: too long for any packet, still one reply.
+    body.push(0xAB);
+    let reply = device.packet(&sealed(2, 0x10, &body));
+    assert_eq!((reply.sequence, reply.status), (0x40, Status::Malformed));
+
+    // §13: bytes that did not arrive read as 0.
+    let reply = device.packet(&[0x02, 0x10, 0x07]);
+    assert_eq!(
+        (reply.sequence, reply.command, reply.status),
+        (7, 0, Status::Malformed)
+    );
+    let reply = device.packet(&[0x02]);
+    assert_eq!(
+        (reply.sequence, reply.command, reply.status),
+        (0, 0, Status::Malformed)
+    );
+    // An empty packet is idle filler: nothing.
+    assert!(device.wire(&[0, 0, 0]).is_empty());
+    // Another version: good CRC, wrong version; bad CRC, bad CRC at 51
+    // bytes and malformed at any other length.
+    let mut other = sealed(3, 0x10, &[0x41, 0x00, 0x01]);
+    assert_eq!(device.packet(&other).status, Status::WrongVersion);
+    *other.last_mut().unwrap() ^= 1;
+    assert_eq!(device.packet(&other).status, Status::Malformed);
+    let mut v3_frame = sealed(3, 0x10, &[0x42, 0x00, 0x01]);
+    v3_frame.splice(5..5, [0u8; 51 - 9]);
+    assert_eq!(v3_frame.len(), 51);
+    *v3_frame.last_mut().unwrap() ^= 1;
+    let reply = device.packet(&v3_frame);
+    assert_eq!((reply.sequence, reply.status), (0x42, Status::BadCrc));
+
+    // §15: a read at offset = total is the end (ok, no bytes); past it, bad argument.
+    let at_end = device.ok(Command::ReadCalibration { offset: 512 }, 10);
+    assert_eq!(at_end.as_slice(), &512u16.to_le_bytes());
+    let past = device.send(Command::ReadCalibration { offset: 513 }, 11);
+    assert_eq!(past.status, Status::BadArgument);
+    // Reset counters counts itself: the identify after it says 2.
+    device.ok(Command::ResetCounters, 12);
+    let info = device.info(13);
+    assert_eq!(
+        (info.counters.commands, info.counters.command_errors),
+        (2, 0)
+    );
+
+    // §17: after erase, the calibration read from flash stays in force
+    // (source stored) while the flash is empty.
+    device.ok(Command::Save, 14);
+    device.ok(Command::Erase, 15);
+    let info = device.info(16);
+    assert_eq!(
+        (info.calibration_source, info.stored),
+        (CalibrationSource::Stored, StoredState::Empty)
+    );
+}

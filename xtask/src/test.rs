@@ -219,10 +219,12 @@ fn end_to_end(
 fn served_board(firmware: Firmware, elf: &Path, calibration: &Path) -> Result<()> {
     note!(
         "xtask: end-to-end on QEMU, the device link of {} served: upload, save and restart, \
-         erase, bad uploads, raw mode, commands while streaming, power cuts during a save",
+         erase, bad uploads, raw mode, commands while streaming, power cuts during a save, \
+         serve's standard streams, a client written from docs/PROTOCOL.md alone",
         firmware.label()
     );
     let xtask = serving_xtask()?;
+    crate::setup::ensure_python()?;
     let mut command = ignored_host_tests("device_qemu", &["--test-threads=1", "--nocapture"]);
     command
         .env("TRIAD_SERVE_XTASK", &xtask)

@@ -151,6 +151,32 @@ fn ensure_qemu() -> Result<()> {
     Ok(())
 }
 
+/// The Debian package of the Python the protocol's independent client
+/// (tests/protocol_client/client.py, standard library only) runs on.
+const PYTHON_PACKAGE: &str = "python3";
+
+/// `python3` for the end-to-end test of the client written from
+/// docs/PROTOCOL.md alone: on PATH, or installed from Debian when that
+/// removes or downgrades nothing.
+pub fn ensure_python() -> Result<()> {
+    if crate::cmd::runs(PYTHON_PACKAGE) {
+        return Ok(());
+    }
+    note!(
+        "xtask: no python3 on PATH; the end-to-end test of the client written from \
+         docs/PROTOCOL.md alone runs on it. Asking apt-get how it would install {PYTHON_PACKAGE}"
+    );
+    apt::require(PYTHON_PACKAGE)?;
+    let privilege = privilege::detect().map_err(|r| apt::needs_root(r, &[PYTHON_PACKAGE]))?;
+    apt::update(privilege)?;
+    let plan = apt::simulate(&[PYTHON_PACKAGE])?;
+    apt::install(privilege, &[PYTHON_PACKAGE], &plan)?;
+    if !crate::cmd::runs(PYTHON_PACKAGE) {
+        bail!("after installing {PYTHON_PACKAGE}, `python3 --version` does not run");
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
