@@ -220,6 +220,58 @@ fn a_saved_calibration_starts_the_next_run_and_an_erased_one_leaves_the_built_in
     assert_stream_id(&board, built_in, 200);
 }
 
+/// Flash gone bad between two runs (issue 26): a bit flipped in the saved
+/// record, then a whole record whose blob is of a later version. Each run
+/// starts the built-in calibration and `info` says why the stored one was
+/// rejected.
+#[test]
+#[ignore = "needs the served board of `cargo xtask test`"]
+fn a_stored_record_gone_bad_is_rejected_with_the_reason_and_the_built_in_runs() {
+    let d = test_dir("gone-bad");
+    let file = calibration_file(&d, 0x5a5a_0002, 0.0);
+    let storage = d.join("storage.bin");
+    let built_in = built_in_id();
+    {
+        let board = ServedBoard::start(&storage, Clock::Deterministic, None);
+        upload_and_save(&board, &file);
+    }
+    let saved = std::fs::read(&storage).unwrap();
+    // Slot 0: the record's 16-byte header (magic TRST), then the blob.
+    assert_eq!(&saved[..4], b"TRST");
+    let mut flipped = saved.clone();
+    flipped[16 + 200] ^= 0x10;
+    std::fs::write(&storage, &flipped).unwrap();
+    {
+        let board = ServedBoard::start(&storage, Clock::Deterministic, None);
+        assert_info(
+            &board,
+            built_in,
+            "built in",
+            "rejected (the record fails its check (a flipped bit, a cut save or erase, foreign data))",
+        );
+        assert_stream_id(&board, built_in, 50);
+    }
+    // A whole record (its CRC good) over a blob of the next version.
+    let mut future = saved.clone();
+    let blob_at = 16;
+    future[blob_at + 4] = blob::VERSION + 1;
+    let blob_crc = triad::stream::crc32c(&future[blob_at..blob_at + 508]);
+    future[blob_at + 508..blob_at + 512].copy_from_slice(&blob_crc.to_le_bytes());
+    // The record's CRC: its generation and length (header bytes 4..12), then the blob.
+    let mut covered = future[4..12].to_vec();
+    covered.extend_from_slice(&future[blob_at..blob_at + 512]);
+    let record_crc = triad::stream::crc32c(&covered);
+    future[12..16].copy_from_slice(&record_crc.to_le_bytes());
+    std::fs::write(&storage, &future).unwrap();
+    let board = ServedBoard::start(&storage, Clock::Deterministic, None);
+    assert_info(
+        &board,
+        built_in,
+        "built in",
+        "rejected (the record's calibration blob is of a version this firmware does not read)",
+    );
+}
+
 #[test]
 #[ignore = "needs the served board of `cargo xtask test`"]
 fn a_bad_upload_is_refused_with_calib_checks_reason_and_changes_nothing() {
