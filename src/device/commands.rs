@@ -213,7 +213,12 @@ impl<F: NorFlash> CommandHandler<F> {
         };
         if let Some(last) = &self.last {
             if last.sequence == packet.sequence && last.crc == crc {
+                // Answered again, counted again: as an error when it is one,
+                // so `commands` and `command_errors` count the same replies.
                 self.commands = self.commands.wrapping_add(1);
+                if last.reply.status != Status::Ok {
+                    self.errors = self.errors.wrapping_add(1);
+                }
                 return Handled::Reply(last.reply);
             }
         }

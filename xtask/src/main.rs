@@ -67,6 +67,10 @@ enum Command {
         /// run): print its section, leave docs/BENCHMARKS.md as it is.
         #[arg(long, conflicts_with = "json")]
         whole_firmware: bool,
+        /// Only the long mutation run of the parsers that take outside
+        /// bytes (10⁷ inputs each; host/examples/bench_fuzz.rs).
+        #[arg(long, conflicts_with_all = ["json", "whole_firmware"])]
+        fuzz: bool,
     },
     /// Serve the emulated board like hardware: QEMU in real time, its link on
     /// a pseudo-terminal whose path is the first line on stdout; runs until killed.
@@ -190,10 +194,14 @@ fn main() -> std::process::ExitCode {
         Command::Bench {
             json,
             whole_firmware,
-        } => setup::ensure_all().and_then(|()| match whole_firmware {
-            true => bench::run_whole_firmware(),
-            false => bench::run(json),
-        }),
+            fuzz,
+        } => match fuzz {
+            true => bench::run_fuzz(),
+            false => setup::ensure_all().and_then(|()| match whole_firmware {
+                true => bench::run_whole_firmware(),
+                false => bench::run(json),
+            }),
+        },
         Command::Setup => setup::ensure_all(),
         Command::Man { dir } => man(&dir),
         Command::Log { elf, log } => defmt_log::print_file(&elf, &log),
