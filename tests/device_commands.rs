@@ -1017,3 +1017,20 @@ proptest::proptest! {
         proptest::prop_assert_eq!(info.counters.command_errors, errors - base_errors);
     }
 }
+
+/// PROTOCOL.md §17: a retry answered again counts again, in `commands`
+/// and, when its reply is an error, in `command_errors` (found by the
+/// mutation run: the two counters disagreed).
+#[test]
+fn a_retried_error_counts_as_a_command_and_as_an_error() {
+    let mut device = Device::new(None);
+    let zero = Command::SetDecimation(0).to_packet(5).unwrap();
+    let first = device.packet(zero.as_bytes());
+    assert_eq!(first.status, Status::BadArgument);
+    assert_eq!(device.packet(zero.as_bytes()), first);
+    let info = device.info(6);
+    assert_eq!(
+        (info.counters.commands, info.counters.command_errors),
+        (3, 2)
+    );
+}
