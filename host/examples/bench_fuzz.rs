@@ -17,10 +17,11 @@
 //! - calibration blob, scene blob: what decodes re-encodes to the same;
 //! - calibration TOML (`triad calib` files): parsed or refused with an error.
 //!
-//! Printed per parser: inputs, time, inputs/s, the slowest input, panics
-//! (a panic prints the input and aborts the run: the release profile
-//! aborts on panic, so a finished run had none), hangs (inputs slower than
-//! 100 ms) and broken invariants. coverage-guided fuzzing (cargo-fuzz,
+//! Printed per parser: inputs, time, inputs/s, the slowest input (the
+//! shorter of two timings when it passed 100 ms: the machine may be
+//! shared), panics (a panic prints the input and aborts the run: the
+//! release profile aborts on panic, so a finished run had none), hangs
+//! (inputs slower than 100 ms twice) and broken invariants. coverage-guided fuzzing (cargo-fuzz,
 //! libFuzzer) needs a nightly compiler's sanitizers; this stable-toolchain
 //! run is random mutation.
 
@@ -144,11 +145,19 @@ fn run(
         CURRENT.with(|c| c.replace(input.clone()));
         let t = Instant::now();
         check(&input, &mut tally);
-        let took = t.elapsed();
-        tally.slowest = tally.slowest.max(took);
+        let mut took = t.elapsed();
         if took > HANG {
-            tally.hangs += 1;
+            // The machine is shared: an input is slow when it is slow twice
+            // (the parsers are deterministic), not when the process was
+            // preempted once.
+            let again = Instant::now();
+            check(&input, &mut Tally::default());
+            took = took.min(again.elapsed());
+            if took > HANG {
+                tally.hangs += 1;
+            }
         }
+        tally.slowest = tally.slowest.max(took);
         tally.inputs += 1;
     }
     let secs = start.elapsed().as_secs_f64();
@@ -421,10 +430,17 @@ fn scene_blob(inputs: u64) {
     run("scene blob", inputs, &seeds, reseal_tail, |bytes, tally| {
         if let Ok((scene, seed)) = decode(bytes) {
             tally.accepted += 1;
-            let mut out = [0u8; MAX_BLOB_LEN];
-            match encode(&scene, seed, &mut out).map(|n| decode(&out[..n])) {
-                Ok(Ok((again, s))) if again == scene && s == seed => {}
-                other => tally.broke(|| format!("re-encoded: {other:?}")),
+            // Compared as bytes: a NaN parameter (refused later, by the
+            // simulator) is not equal to itself.
+            let (mut first, mut second) = ([0u8; MAX_BLOB_LEN], [0u8; MAX_BLOB_LEN]);
+            let again = encode(&scene, seed, &mut first).and_then(|n| {
+                let (scene, seed) = decode(&first[..n])?;
+                let m = encode(&scene, seed, &mut second)?;
+                Ok((n, m, seed))
+            });
+            match again {
+                Ok((n, m, s)) if first[..n] == second[..m] && s == seed => {}
+                other => tally.broke(|| format!("re-encoded: {other:?} from {scene:?}")),
             }
         }
     });
