@@ -735,3 +735,302 @@ fn a_self_test_is_handed_to_the_firmware_and_its_outcome_replied() {
     );
     assert_eq!(device.info(10).counters.commands, 2);
 }
+
+/// docs/PROTOCOL.md's answers to the cases a client written from it alone
+/// asks about (sections 12, 13, 15 and 17), as the handler gives them.
+#[test]
+fn the_documented_edge_cases_are_what_the_handler_does() {
+    let mut device = Device::new(Some(RamFlash::new()));
+    // §12: a 240-byte command is read; an upload chunk of 229 bytes in it
+    // is refused for its length, naming the limit, not as unreadable.
+    let mut args = vec![0u8, 0];
+    args.resize(231, 0xAB);
+    let mut body = vec![0x40, 0x00, 0x04];
+    body.extend_from_slice(&args);
+    let longest = sealed(2, 0x10, &body);
+    assert_eq!(longest.len(), 240);
+    let reply = device.packet(&longest);
+    assert_eq!((reply.sequence, reply.status), (0x40, Status::Malformed));
+    assert!(reply.reason().contains("130"), "{}", reply.reason());
+    // 241 bytes: too long for any packet, still one reply.
+    body.push(0xAB);
+    let reply = device.packet(&sealed(2, 0x10, &body));
+    assert_eq!((reply.sequence, reply.status), (0x40, Status::Malformed));
+
+    // §13: bytes that did not arrive read as 0.
+    let reply = device.packet(&[0x02, 0x10, 0x07]);
+    assert_eq!(
+        (reply.sequence, reply.command, reply.status),
+        (7, 0, Status::Malformed)
+    );
+    let reply = device.packet(&[0x02]);
+    assert_eq!(
+        (reply.sequence, reply.command, reply.status),
+        (0, 0, Status::Malformed)
+    );
+    // An empty packet is idle filler: nothing.
+    assert!(device.wire(&[0, 0, 0]).is_empty());
+    // Another version: good CRC, wrong version; bad CRC, bad CRC at 51
+    // bytes and malformed at any other length.
+    let mut other = sealed(3, 0x10, &[0x41, 0x00, 0x01]);
+    assert_eq!(device.packet(&other).status, Status::WrongVersion);
+    *other.last_mut().unwrap() ^= 1;
+    assert_eq!(device.packet(&other).status, Status::Malformed);
+    let mut v3_frame = sealed(3, 0x10, &[0x42, 0x00, 0x01]);
+    v3_frame.splice(5..5, [0u8; 51 - 9]);
+    assert_eq!(v3_frame.len(), 51);
+    *v3_frame.last_mut().unwrap() ^= 1;
+    let reply = device.packet(&v3_frame);
+    assert_eq!((reply.sequence, reply.status), (0x42, Status::BadCrc));
+
+    // §15: a read at offset = total is the end (ok, no bytes); past it, bad argument.
+    let at_end = device.ok(Command::ReadCalibration { offset: 512 }, 10);
+    assert_eq!(at_end.as_slice(), &512u16.to_le_bytes());
+    let past = device.send(Command::ReadCalibration { offset: 513 }, 11);
+    assert_eq!(past.status, Status::BadArgument);
+    // Reset counters counts itself: the identify after it says 2.
+    device.ok(Command::ResetCounters, 12);
+    let info = device.info(13);
+    assert_eq!(
+        (info.counters.commands, info.counters.command_errors),
+        (2, 0)
+    );
+
+    // §17: after erase, the calibration read from flash stays in force
+    // (source stored) while the flash is empty.
+    device.ok(Command::Save, 14);
+    device.ok(Command::Erase, 15);
+    let info = device.info(16);
+    assert_eq!(
+        (info.calibration_source, info.stored),
+        (CalibrationSource::Stored, StoredState::Empty)
+    );
+}
+
+/// A device restarted on `flash` as the firmware starts (firmware/src/start.rs):
+/// the store loaded, the calibration chosen, the handler told why.
+fn restart(flash: RamFlash, built_in: &[u8; BLOB_LEN]) -> Device {
+    let mut store = CalibrationStore::new(flash, BASE, SLOT_LEN).unwrap();
+    let (stored, loaded) = load_stored(&mut store);
+    let startup = start_calibration(
+        stored.as_ref().map(|b| &b[..]),
+        built_in,
+        &widest_scale(),
+        Orientation::RotationNone,
+    )
+    .unwrap();
+    let handler = CommandHandler::new(
+        facts(),
+        startup.active(stored.as_ref(), built_in),
+        1,
+        Some(store),
+        startup.stored_state(loaded),
+    )
+    .with_stored_reason(startup.stored_reason(loaded));
+    Device {
+        handler,
+        counters: SharedCounters::new(),
+        decoder: Decoder::new(),
+        controls: Vec::new(),
+        room: 2,
+    }
+}
+
+/// A device that saved one calibration (in slot 0), powered off: its flash.
+fn flash_with_one_record(record: &[u8; BLOB_LEN]) -> RamFlash {
+    let mut store = CalibrationStore::new(RamFlash::new(), BASE, SLOT_LEN).unwrap();
+    store.save(record).unwrap();
+    let mut flash = store.release();
+    flash.power_up();
+    flash
+}
+
+#[test]
+fn flash_gone_bad_is_rejected_at_start_up_with_the_reason_in_identify() {
+    use triad::link::StoredReason;
+    let built_in = blob::encode(&valid_calibration(7, BUILT_IN_ID));
+    let saved = blob::encode(&valid_calibration(40, 0x5A7E_D000));
+    let starts_built_in = |device: &mut Device, reason: StoredReason, what: &str| {
+        let info = device.info(1);
+        assert_eq!(
+            (info.calibration_source, info.calibration_id),
+            (CalibrationSource::BuiltIn, BUILT_IN_ID),
+            "{what}"
+        );
+        assert_eq!(
+            (info.stored, info.stored_reason),
+            (StoredState::Rejected, reason),
+            "{what}"
+        );
+    };
+    // The record intact: it runs.
+    let info = restart(flash_with_one_record(&saved), &built_in).info(1);
+    assert_eq!(
+        (info.calibration_id, info.stored, info.stored_reason),
+        (0x5A7E_D000, StoredState::Valid, StoredReason::None)
+    );
+
+    // A bit flipped anywhere in the record: its header or its blob.
+    for byte in [4, 12, 16 + 8, 16 + 300, 16 + 511] {
+        let mut flash = flash_with_one_record(&saved);
+        flash.memory[BASE as usize + byte] ^= 0x08;
+        let what = format!("bit 3 of record byte {byte} flipped");
+        starts_built_in(
+            &mut restart(flash, &built_in),
+            StoredReason::RecordDamaged,
+            &what,
+        );
+    }
+
+    // `erase` cut off inside the erase of the slot holding the record (the
+    // empty slot is erased first and completes; the cut falls in the second
+    // operation), what the cut leaves differing with the flash's noise:
+    // never the record, never garbage.
+    let mut rejected = 0;
+    for noise in 1..=20u32 {
+        let mut device = restart(flash_with_one_record(&saved), &built_in);
+        device.cut_power_after(2);
+        device.handler.store_mut().unwrap().flash_mut().noise = noise.wrapping_mul(0x9E37_79B9);
+        assert_eq!(
+            device.send(Command::Erase, 2).status,
+            Status::StorageFailure
+        );
+        let mut after = restart(device.release_flash(), &built_in);
+        let info = after.info(3);
+        assert_eq!(
+            info.calibration_source,
+            CalibrationSource::BuiltIn,
+            "noise {noise}"
+        );
+        match (info.stored, info.stored_reason) {
+            (StoredState::Rejected, StoredReason::RecordDamaged) => rejected += 1,
+            // The cut erased the whole header (and so the record).
+            (StoredState::Empty, StoredReason::None) => {}
+            other => panic!("noise {noise}: {other:?}"),
+        }
+    }
+    assert!(
+        rejected > 15,
+        "{rejected} of 20 cut erases left a damaged record"
+    );
+
+    // A whole record whose blob is of a later version (its own CRC good).
+    let mut future = saved;
+    future[4] = blob::VERSION + 1;
+    let crc = crc32c(&future[..508]);
+    future[508..].copy_from_slice(&crc.to_le_bytes());
+    let mut device = restart(flash_with_one_record(&future), &built_in);
+    starts_built_in(
+        &mut device,
+        StoredReason::BlobVersion,
+        "a later blob version",
+    );
+    // A save replaces it, and the reason goes with it.
+    device.ok(Command::Save, 5);
+    let info = device.info(6);
+    assert_eq!(
+        (info.stored, info.stored_reason),
+        (StoredState::Valid, StoredReason::None)
+    );
+}
+
+/// One command packet from arbitrary parts: a known or unknown code with
+/// arguments of any length, or a valid upload of a blob damaged at random.
+fn arbitrary_packet() -> impl proptest::strategy::Strategy<Value = Vec<u8>> {
+    use proptest::prelude::*;
+    let codes = prop_oneof![0x01u8..=0x09, Just(0x0B), any::<u8>()];
+    let free = (
+        any::<u16>(),
+        codes,
+        proptest::collection::vec(any::<u8>(), 0..=240),
+    )
+        .prop_filter("self-tests are the firmware's", |(_, code, _)| {
+            *code != 0x0A
+        })
+        .prop_map(|(sequence, code, args)| {
+            let mut body = sequence.to_le_bytes().to_vec();
+            body.push(code);
+            body.extend_from_slice(&args);
+            sealed(2, 0x10, &body)
+        });
+    let raw = proptest::collection::vec(any::<u8>(), 0..=250);
+    prop_oneof![4 => free, 1 => raw]
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig {
+        cases: 64,
+        failure_persistence: None,
+        ..proptest::prelude::ProptestConfig::default()
+    })]
+
+    /// Any packets, then uploads of blobs damaged at random: one reply
+    /// each, the counters add up, and a refused command leaves the
+    /// calibration in force as it was.
+    #[test]
+    fn any_commands_get_one_reply_each_and_a_refused_one_changes_nothing(
+        packets in proptest::collection::vec(arbitrary_packet(), 1..24),
+        flips in proptest::collection::vec(proptest::prelude::any::<u16>(), 0..3),
+    ) {
+        let mut device = Device::new(Some(RamFlash::new()));
+        let (mut replies, mut errors) = (0u32, 0u32);
+        let mut reset_at = None;
+        for bytes in &packets {
+            let before = device.handler.active().clone();
+            let handled = device.wire(&on_wire(bytes));
+            match handled.as_slice() {
+                [Handled::Reply(reply)] => {
+                    replies += 1;
+                    if reply.status != Status::Ok {
+                        errors += 1;
+                        let after = device.handler.active();
+                        proptest::prop_assert_eq!(&after.blob, &before.blob);
+                        proptest::prop_assert_eq!(after.id, before.id);
+                    } else if reply.command == 0x09 {
+                        reset_at = Some((replies, errors));
+                    }
+                }
+                // A packet a device ignores (what devices send).
+                [Handled::Nothing] | [] => {}
+                other => proptest::prop_assert!(false, "{other:?}"),
+            }
+        }
+        // An upload of a good blob with bits flipped: applied whole or not at all.
+        let mut bytes = blob::encode(&valid_calibration(3, 0x00F0_F0F0));
+        for f in &flips {
+            bytes[usize::from(*f) % BLOB_LEN] ^= 1 << (f % 8);
+        }
+        let before = device.handler.active().clone();
+        let commit = device.upload(&bytes, 0x7000);
+        replies += 5;
+        let after = device.handler.active().clone();
+        if commit.status == Status::Ok {
+            proptest::prop_assert_eq!(after.blob, Some(bytes));
+        } else {
+            errors += 1;
+            proptest::prop_assert_eq!((after.blob, after.id), (before.blob, before.id));
+        }
+        // identify counts itself; a reset restarted the counts from its own.
+        let info = device.info(0x7100);
+        let (base_replies, base_errors) = reset_at.map_or((0, 0), |(r, e)| (r - 1, e));
+        proptest::prop_assert_eq!(info.counters.commands, replies + 1 - base_replies);
+        proptest::prop_assert_eq!(info.counters.command_errors, errors - base_errors);
+    }
+}
+
+/// PROTOCOL.md §17: a retry answered again counts again, in `commands`
+/// and, when its reply is an error, in `command_errors` (found by the
+/// mutation run: the two counters disagreed).
+#[test]
+fn a_retried_error_counts_as_a_command_and_as_an_error() {
+    let mut device = Device::new(None);
+    let zero = Command::SetDecimation(0).to_packet(5).unwrap();
+    let first = device.packet(zero.as_bytes());
+    assert_eq!(first.status, Status::BadArgument);
+    assert_eq!(device.packet(zero.as_bytes()), first);
+    let info = device.info(6);
+    assert_eq!(
+        (info.counters.commands, info.counters.command_errors),
+        (3, 2)
+    );
+}

@@ -116,7 +116,8 @@ pub fn start(
         description.decimation,
         store,
         startup.stored_state(loaded),
-    );
+    )
+    .with_stored_reason(startup.stored_reason(loaded));
     let calibrated = startup.calibrated();
     let sampler = Sampler::at_rate(
         startup.corrector,

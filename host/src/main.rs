@@ -50,6 +50,14 @@ enum Command {
     Man(cli_docs::ManArgs),
 }
 
+/// Runs before Rust's runtime, which puts /dev/null on a closed standard
+/// descriptor: records whether stdout was closed (`>&-`) rather than given
+/// /dev/null on purpose (see `stdio::check_stdout_open`).
+#[cfg(any(target_os = "linux", target_os = "android", target_os = "freebsd"))]
+#[used]
+#[link_section = ".init_array"]
+static RECORD_STDOUT_AT_START: extern "C" fn() = stdio::record_stdout_at_start;
+
 fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     if cli.quiet {
         progress::silence();

@@ -10,6 +10,7 @@
 
 use std::fs::File;
 use std::io::{self, Write};
+use std::sync::atomic::{AtomicU8, Ordering};
 
 /// Exit status when the reader of stdout closed the pipe: 128 + SIGPIPE
 /// (13), what a shell reports for `cat`, `seq` and the other Unix tools that
@@ -90,34 +91,42 @@ pub fn raw_stdout() -> anyhow::Result<File> {
     Ok(File::from(handle))
 }
 
-/// Fails when standard output is closed (`>&-`), before any work: what is
-/// printed would be lost while the command reports success.
+/// Fails when standard output was closed by the caller (`>&-`), before any
+/// work: what is printed would be lost while the command reports success.
 ///
 /// Rust's runtime puts /dev/null, opened read-write, on a closed standard
-/// descriptor before `main`; a shell's `> /dev/null` opens it write-only.
-/// So on Linux stdout on /dev/null with read-write access (from
-/// /proc/self/fdinfo) was closed; elsewhere only a failing duplicate is seen.
+/// descriptor before `main`, so by then a closed stdout looks exactly like
+/// the /dev/null that Python's `subprocess.DEVNULL`, nohup and service
+/// managers hand a process on purpose. Only the state recorded before the
+/// runtime started ([`record_stdout_at_start`]) tells them apart; where it
+/// was not recorded, only a descriptor that cannot be duplicated is refused.
 pub fn check_stdout_open() -> anyhow::Result<()> {
     raw_stdout()?;
-    if stdout_was_closed_by_caller() {
-        anyhow::bail!("standard output is closed: nothing done (use > /dev/null to discard it)");
+    if STDOUT_AT_START.load(Ordering::Relaxed) == CLOSED {
+        anyhow::bail!(
+            "standard output was closed when triad started (>&-): nothing done \
+             (use > /dev/null to discard it)"
+        );
     }
     Ok(())
 }
 
-/// True when fd 1 is /dev/null opened read-write (Linux /proc; false
-/// where it cannot be read).
-fn stdout_was_closed_by_caller() -> bool {
-    let on_null =
-        std::fs::read_link("/proc/self/fd/1").is_ok_and(|p| p == std::path::Path::new("/dev/null"));
-    let read_write = std::fs::read_to_string("/proc/self/fdinfo/1").is_ok_and(|info| {
-        info.lines()
-            .find_map(|l| l.strip_prefix("flags:"))
-            .and_then(|f| u32::from_str_radix(f.trim(), 8).ok())
-            // O_ACCMODE = 3, O_RDWR = 2.
-            .is_some_and(|flags| flags & 3 == 2)
-    });
-    on_null && read_write
+/// Descriptor 1 at process start: [`UNKNOWN`], [`OPEN`] or [`CLOSED`].
+static STDOUT_AT_START: AtomicU8 = AtomicU8::new(UNKNOWN);
+const UNKNOWN: u8 = 0;
+const OPEN: u8 = 1;
+const CLOSED: u8 = 2;
+
+/// Records whether descriptor 1 is open. The `triad` binary runs it from
+/// its ELF `.init_array`, before Rust's runtime replaces a closed standard
+/// descriptor with /dev/null: the one moment the two can be told apart.
+#[cfg(unix)]
+pub extern "C" fn record_stdout_at_start() {
+    // SAFETY: F_GETFD only reads descriptor 1's flags; on a closed
+    // descriptor it fails with EBADF and changes nothing.
+    let flags = unsafe { libc::fcntl(1, libc::F_GETFD) };
+    let closed = flags == -1 && io::Error::last_os_error().raw_os_error() == Some(libc::EBADF);
+    STDOUT_AT_START.store(if closed { CLOSED } else { OPEN }, Ordering::Relaxed);
 }
 
 /// Prints `text` (a string or bytes) on standard output, whole or with an error.

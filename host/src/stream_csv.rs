@@ -397,6 +397,22 @@ mod tests {
     }
 
     #[test]
+    fn a_batch_samples_time_is_rounded_to_the_microsecond_halves_up() {
+        // PROTOCOL.md §11: timestamp_us + ⌊(i · period_ns + 500) / 1000⌋.
+        let mut batch = BatchFrame::new(1.0, 1.0);
+        batch.timestamp_us = 1_000_000;
+        batch.period_ns = 1_250; // 800 kHz: offsets 0, 1.25, 2.5, 3.75 µs
+        batch.count = 4;
+        let csv = rows_of(&[Packet::Batch(batch)]);
+        let times: Vec<&str> = csv
+            .lines()
+            .skip(1)
+            .map(|row| row.split(',').nth(1).unwrap())
+            .collect();
+        assert_eq!(times, ["1.000000", "1.000001", "1.000003", "1.000004"]);
+    }
+
+    #[test]
     fn replies_are_not_rows() {
         let reply = triad::link::Reply {
             sequence: 1,

@@ -7,7 +7,7 @@
 
 use std::sync::LazyLock;
 
-/// `0.1.0 (stream protocol v2, calibration blob v2, scene blob v1)`.
+/// `0.1.0 (stream protocol v2, calibration blob v2, scene blob v2)`.
 pub fn text() -> &'static str {
     static TEXT: LazyLock<String> = LazyLock::new(|| {
         format!(
@@ -31,5 +31,18 @@ mod tests {
         assert!(text.contains("stream protocol v2"), "{text}");
         assert!(text.contains(&stream), "{text}");
         assert!(text.contains("calibration blob v") && text.contains("scene blob v"));
+    }
+
+    #[test]
+    fn protocol_md_quotes_the_version_text() {
+        let doc = include_str!("../../docs/PROTOCOL.md")
+            .split_whitespace()
+            .collect::<Vec<_>>()
+            .join(" ");
+        let quoted = format!("`triad {}`", super::text());
+        assert!(
+            doc.contains(&quoted),
+            "PROTOCOL.md §9 should quote {quoted}"
+        );
     }
 }

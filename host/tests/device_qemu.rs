@@ -220,6 +220,58 @@ fn a_saved_calibration_starts_the_next_run_and_an_erased_one_leaves_the_built_in
     assert_stream_id(&board, built_in, 200);
 }
 
+/// Flash gone bad between two runs (issue 26): a bit flipped in the saved
+/// record, then a whole record whose blob is of a later version. Each run
+/// starts the built-in calibration and `info` says why the stored one was
+/// rejected.
+#[test]
+#[ignore = "needs the served board of `cargo xtask test`"]
+fn a_stored_record_gone_bad_is_rejected_with_the_reason_and_the_built_in_runs() {
+    let d = test_dir("gone-bad");
+    let file = calibration_file(&d, 0x5a5a_0002, 0.0);
+    let storage = d.join("storage.bin");
+    let built_in = built_in_id();
+    {
+        let board = ServedBoard::start(&storage, Clock::Deterministic, None);
+        upload_and_save(&board, &file);
+    }
+    let saved = std::fs::read(&storage).unwrap();
+    // Slot 0: the record's 16-byte header (magic TRST), then the blob.
+    assert_eq!(&saved[..4], b"TRST");
+    let mut flipped = saved.clone();
+    flipped[16 + 200] ^= 0x10;
+    std::fs::write(&storage, &flipped).unwrap();
+    {
+        let board = ServedBoard::start(&storage, Clock::Deterministic, None);
+        assert_info(
+            &board,
+            built_in,
+            "built in",
+            "rejected (the record fails its check (a flipped bit, a cut save or erase, foreign data))",
+        );
+        assert_stream_id(&board, built_in, 50);
+    }
+    // A whole record (its CRC good) over a blob of the next version.
+    let mut future = saved.clone();
+    let blob_at = 16;
+    future[blob_at + 4] = blob::VERSION + 1;
+    let blob_crc = triad::stream::crc32c(&future[blob_at..blob_at + 508]);
+    future[blob_at + 508..blob_at + 512].copy_from_slice(&blob_crc.to_le_bytes());
+    // The record's CRC: its generation and length (header bytes 4..12), then the blob.
+    let mut covered = future[4..12].to_vec();
+    covered.extend_from_slice(&future[blob_at..blob_at + 512]);
+    let record_crc = triad::stream::crc32c(&covered);
+    future[12..16].copy_from_slice(&record_crc.to_le_bytes());
+    std::fs::write(&storage, &future).unwrap();
+    let board = ServedBoard::start(&storage, Clock::Deterministic, None);
+    assert_info(
+        &board,
+        built_in,
+        "built in",
+        "rejected (the record's calibration blob is of a version this firmware does not read)",
+    );
+}
+
 #[test]
 #[ignore = "needs the served board of `cargo xtask test`"]
 fn a_bad_upload_is_refused_with_calib_checks_reason_and_changes_nothing() {
@@ -538,4 +590,151 @@ fn identify_round_trips_figure() {
              ignore it): median {median:?}, max {max:?} over 100"
         );
     }
+}
+
+/// `xtask serve` in other people's processes (issue 26): its stderr (notes
+/// and the firmware's log) on a read-write /dev/null as Python's
+/// `subprocess.DEVNULL` gives it, closed, full, or a pipe whose reader
+/// left, costs nothing but the notes; its stdout (the port's path, what
+/// scripts read) full or abandoned is an error naming standard output,
+/// and closed is /dev/null (Rust's runtime reopens it so; the port is
+/// still named on stderr).
+#[test]
+#[ignore = "needs the emulated board: run by cargo xtask test"]
+fn serve_runs_with_its_standard_streams_on_other_peoples_files() {
+    use std::fs::{File, OpenOptions};
+    use std::io::{BufRead, BufReader};
+    use std::process::{Command as Process, Stdio};
+
+    let null_rw = || {
+        OpenOptions::new()
+            .read(true)
+            .write(true)
+            .open("/dev/null")
+            .unwrap()
+    };
+    let full = || File::create("/dev/full").unwrap();
+    let serve = |shell_redirect: &str| {
+        let mut command = Process::new("sh");
+        command
+            .arg("-c")
+            .arg(format!("exec \"$0\" serve --elf \"$1\" {shell_redirect}"))
+            .arg(env_path("TRIAD_SERVE_XTASK"))
+            .arg(env_path("TRIAD_SERVE_ELF"))
+            .stdin(null_rw());
+        command
+    };
+    // The port from the first stdout line; the board answers identify on it.
+    let answers_identify = |mut child: std::process::Child, what: &str| {
+        let stdout = child.stdout.take().unwrap();
+        let port = BufReader::new(stdout).lines().next();
+        let port = match port {
+            Some(Ok(port)) => port,
+            other => {
+                let _ = child.kill();
+                panic!("{what}: no port line ({other:?}, {:?})", child.wait());
+            }
+        };
+        let out = Process::new(env!("CARGO_BIN_EXE_triad"))
+            .args(["device", "--port", &port, "info"])
+            .output()
+            .unwrap();
+        let _ = child.kill();
+        let _ = child.wait();
+        assert!(out.status.success(), "{what}: {}", text(&out.stderr));
+        assert!(text(&out.stdout).contains("icm42688"), "{what}");
+    };
+    for (what, stderr) in [
+        ("2> read-write /dev/null", Stdio::from(null_rw())),
+        ("2> /dev/full", Stdio::from(full())),
+    ] {
+        let child = serve("")
+            .stdout(Stdio::piped())
+            .stderr(stderr)
+            .spawn()
+            .unwrap();
+        answers_identify(child, what);
+    }
+    let closed = serve("2>&-").stdout(Stdio::piped()).spawn().unwrap();
+    answers_identify(closed, "2>&-");
+    let mut abandoned = serve("")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(abandoned.stderr.take());
+    answers_identify(abandoned, "2> a pipe whose reader left");
+
+    // stdout: the port cannot be told, so the board is not served.
+    let out = serve("")
+        .stdout(full())
+        .stderr(Stdio::piped())
+        .output()
+        .unwrap();
+    let said = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "> /dev/full: {said}");
+    assert!(
+        said.contains("writing the port's path to standard output: No space left on device"),
+        "{said}"
+    );
+    let mut gone = serve("")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(gone.stdout.take());
+    let out = gone.wait_with_output().unwrap();
+    let said = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "> abandoned pipe: {said}");
+    assert!(
+        said.contains("writing the port's path to standard output: Broken pipe"),
+        "{said}"
+    );
+    // stdout closed: the port is on stderr.
+    let mut closed = serve(">&-")
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut lines = BufReader::new(closed.stderr.take().unwrap()).lines();
+    let port = lines
+        .find_map(|l| {
+            let l = l.ok()?;
+            let rest = l.split_once("link is ")?.1;
+            Some(rest.split_whitespace().next()?.to_string())
+        })
+        .expect("the port named on stderr");
+    std::thread::spawn(move || for _ in lines {});
+    let out = Process::new(env!("CARGO_BIN_EXE_triad"))
+        .args(["device", "--port", &port, "info"])
+        .output()
+        .unwrap();
+    let _ = closed.kill();
+    let _ = closed.wait();
+    assert!(out.status.success(), ">&-: {}", text(&out.stderr));
+}
+
+/// The client of tests/protocol_client/client.py, written from
+/// docs/PROTOCOL.md alone in another language (Python, standard library),
+/// against the served board with an erased storage file: every check passes.
+#[test]
+#[ignore = "needs the emulated board and python3: run by cargo xtask test"]
+fn a_client_written_from_the_protocol_document_alone_passes_every_check() {
+    let d = test_dir("doc-client");
+    let board = ServedBoard::start(&d.join("flash.bin"), Clock::Deterministic, None);
+    let client = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/protocol_client/client.py");
+    let out = std::process::Command::new("python3")
+        .arg(&client)
+        .arg(board.port())
+        .output()
+        .expect("running python3 (cargo xtask test installs it)");
+    let said = text(&out.stdout);
+    println!("{said}");
+    assert!(
+        out.status.success() && said.contains(" checks passed") && !said.contains("FAIL"),
+        "{}\n{said}\n{}\nserve's log:\n{}",
+        out.status,
+        text(&out.stderr),
+        board.log()
+    );
 }

@@ -297,23 +297,114 @@ fn a_closed_stdout_is_refused_before_any_work() {
         let stderr = text(&out.stderr);
         no_panic(&out, &args.join(" "));
         assert_eq!(out.status.code(), Some(1), "{args:?}: {stderr}");
-        assert!(stderr.contains("standard output is closed"), "{stderr}");
+        assert!(
+            stderr.contains("standard output was closed when triad started"),
+            "{stderr}"
+        );
     }
     assert!(!bias.exists(), "nothing done");
-    // Discarding the output on purpose is not a closed stdout.
-    let null = fs::OpenOptions::new()
+}
+
+/// /dev/null opened read-write: what Python's `subprocess.DEVNULL`, nohup
+/// and service managers give a process, and what Rust's runtime puts on a
+/// closed descriptor (so only the state before the runtime tells them apart).
+fn dev_null_read_write() -> fs::File {
+    fs::OpenOptions::new()
+        .read(true)
         .write(true)
         .open("/dev/null")
+        .unwrap()
+}
+
+#[test]
+fn every_standard_stream_on_a_read_write_dev_null_is_legitimate() {
+    let i = inputs("dev-null-rw");
+    for (args, file) in printing_commands(&i) {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let what = args.join(" ");
+        if let Some(f) = &file {
+            let _ = fs::remove_file(f);
+        }
+        // stdout alone on /dev/null (stderr kept to read), then all three.
+        let out = spawn(
+            Command::new(TRIAD)
+                .args(&args)
+                .stdin(dev_null_read_write())
+                .stdout(dev_null_read_write())
+                .stderr(Stdio::piped()),
+        )
+        .wait_with_output()
         .unwrap();
-    let discarded = spawn(
+        no_panic(&out, &what);
+        assert!(out.status.success(), "{what}: {}", text(&out.stderr));
+        let status = spawn(
+            Command::new(TRIAD)
+                .args(&args)
+                .stdin(dev_null_read_write())
+                .stdout(dev_null_read_write())
+                .stderr(dev_null_read_write()),
+        )
+        .wait()
+        .unwrap();
+        assert!(status.success(), "{what} with every stream on /dev/null");
+        if let Some(f) = file {
+            assert!(f.exists(), "{what}: {} not written", f.display());
+        }
+    }
+}
+
+/// Runs `triad ARGS` with stderr on `stderr` (stdout piped and read).
+fn with_stderr(args: &[&str], stderr: impl Into<Stdio>) -> Output {
+    spawn(
         Command::new(TRIAD)
-            .args(["calib", "check", s(&calibration("default.toml"))])
-            .stdout(null)
-            .stderr(Stdio::piped()),
+            .args(args)
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(stderr),
     )
     .wait_with_output()
-    .unwrap();
-    assert!(discarded.status.success(), "{}", text(&discarded.stderr));
+    .unwrap()
+}
+
+#[test]
+fn a_closed_full_or_abandoned_stderr_loses_only_the_notes() {
+    let i = inputs("stderr");
+    let table = i.d.join("table.csv");
+    let args = ["allan", s(&i.still), "--out", s(&table)];
+    let closed = output(
+        Command::new("sh")
+            .arg("-c")
+            .arg("exec \"$0\" \"$@\" 2>&-")
+            .arg(TRIAD)
+            .args(args),
+    );
+    let full = with_stderr(&args, fs::File::create("/dev/full").unwrap());
+    let abandoned = {
+        let mut child = spawn(
+            Command::new(TRIAD)
+                .args(args)
+                .stdin(Stdio::null())
+                .stdout(Stdio::piped())
+                .stderr(Stdio::piped()),
+        );
+        drop(child.stderr.take());
+        child.wait_with_output().unwrap()
+    };
+    for (what, out) in [
+        ("2>&-", closed),
+        ("2>/dev/full", full),
+        ("2>|gone", abandoned),
+    ] {
+        assert!(out.status.success(), "{what}: {:?}", out.status);
+        assert!(!out.stdout.is_empty(), "{what}: the report is on stdout");
+    }
+    // An error still sets the status when its message has nowhere to go.
+    let missing = i.d.join("missing.csv");
+    let failed = with_stderr(
+        &["allan", s(&missing)],
+        fs::File::create("/dev/full").unwrap(),
+    );
+    assert_eq!(failed.status.code(), Some(1));
 }
 
 #[test]

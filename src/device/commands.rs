@@ -30,7 +30,7 @@ use crate::crc32c::crc32c;
 use crate::link::bytes::Writer;
 use crate::link::{
     CalibrationSource, Command, DeviceInfo, Mode, Packet, PacketType, Payload, RawScale, Reply,
-    SelfTestResult, Status, StoredState, Text, CHUNK_LEN,
+    SelfTestResult, Status, StoredReason, StoredState, Text, CHUNK_LEN,
 };
 use crate::model::blob::{self, BlobError, BLOB_LEN};
 use crate::model::{Corrector, FixedCorrector, Orientation};
@@ -101,6 +101,7 @@ pub struct CommandHandler<F> {
     facts: DeviceFacts,
     store: Option<CalibrationStore<F>>,
     stored: StoredState,
+    stored_reason: StoredReason,
     active: ActiveCalibration,
     mode: Mode,
     decimation: u16,
@@ -146,6 +147,7 @@ impl<F: NorFlash> CommandHandler<F> {
             facts,
             store,
             stored,
+            stored_reason: StoredReason::None,
             active,
             mode: Mode::Calibrated,
             decimation,
@@ -156,6 +158,13 @@ impl<F: NorFlash> CommandHandler<F> {
             errors: 0,
             baseline: crate::link::Counters::default(),
         }
+    }
+
+    /// The handler, with why the flash's record was rejected at start-up
+    /// (`identify` reports it until a save or an erase changes the flash).
+    pub fn with_stored_reason(mut self, reason: StoredReason) -> Self {
+        self.stored_reason = reason;
+        self
     }
 
     /// The calibration in force as the handler last applied it.
@@ -204,7 +213,12 @@ impl<F: NorFlash> CommandHandler<F> {
         };
         if let Some(last) = &self.last {
             if last.sequence == packet.sequence && last.crc == crc {
+                // Answered again, counted again: as an error when it is one,
+                // so `commands` and `command_errors` count the same replies.
                 self.commands = self.commands.wrapping_add(1);
+                if last.reply.status != Status::Ok {
+                    self.errors = self.errors.wrapping_add(1);
+                }
                 return Handled::Reply(last.reply);
             }
         }
@@ -369,6 +383,7 @@ impl<F: NorFlash> CommandHandler<F> {
             calibration_id: self.active.id,
             calibration_source: self.active.source,
             stored: self.stored,
+            stored_reason: self.stored_reason,
             uptime_ms: counters.uptime_ms(),
             counters: c,
             scale: RawScale::of(&self.facts.scale),
@@ -487,6 +502,7 @@ impl<F: NorFlash> CommandHandler<F> {
         match store.save(&blob) {
             Ok(stored) => {
                 self.stored = StoredState::Valid;
+                self.stored_reason = StoredReason::None;
                 self.active.source = CalibrationSource::Stored;
                 let mut p = Payload::EMPTY;
                 let mut w = Writer::new(p.buffer());
@@ -507,6 +523,7 @@ impl<F: NorFlash> CommandHandler<F> {
         let store = self.store.as_mut().ok_or_else(Self::no_storage)?;
         store.erase().map_err(|e| storage_failure("erase", &e))?;
         self.stored = StoredState::Empty;
+        self.stored_reason = StoredReason::None;
         Ok(Payload::EMPTY)
     }
 }

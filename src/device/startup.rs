@@ -12,7 +12,7 @@ use embedded_storage::nor_flash::NorFlash;
 use super::commands::ActiveCalibration;
 use super::storage::{CalibrationStore, Loaded};
 pub use crate::link::CalibrationSource;
-use crate::link::StoredState;
+use crate::link::{StoredReason, StoredState};
 use crate::model::blob::BLOB_LEN;
 use crate::model::{blob, BlobError, Calibration, CalibrationError, Corrector, Orientation};
 use crate::sensor::ImuScale;
@@ -145,6 +145,20 @@ impl StartUp {
             blob,
             id: self.corrector.calibration_id(),
             source: self.source,
+        }
+    }
+
+    /// Why the flash's record was not applied, for `identify`: the store's
+    /// state `loaded` ([`load_stored`]) and what this start-up made of it.
+    pub fn stored_reason(&self, loaded: StoredState) -> StoredReason {
+        match (loaded, self.stored_rejected) {
+            (StoredState::Rejected, _) => StoredReason::RecordDamaged,
+            (_, Some(Rejection::Blob(BlobError::UnsupportedVersion { .. }))) => {
+                StoredReason::BlobVersion
+            }
+            (_, Some(Rejection::Blob(_))) => StoredReason::NotABlob,
+            (_, Some(Rejection::Invalid(_))) => StoredReason::Invalid,
+            (_, None) => StoredReason::None,
         }
     }
 

@@ -81,6 +81,24 @@ byte_enum! {
     }
 }
 
+byte_enum! {
+    /// Why the flash's record was not applied at start-up ([`StoredState::Rejected`]).
+    pub enum StoredReason {
+        /// Nothing was rejected (or the flash changed since: a save or an erase).
+        None = 0 => "none",
+        /// No slot holds a whole record: a flipped bit, a save or an erase
+        /// cut off, or data that is not a record (the record's magic,
+        /// length or CRC fails).
+        RecordDamaged = 1 => "the record fails its check (a flipped bit, a cut save or erase, foreign data)",
+        /// The record is whole, its blob of a version this firmware does not read.
+        BlobVersion = 2 => "the record's calibration blob is of a version this firmware does not read",
+        /// The record is whole, its blob not a calibration blob (magic, CRC, reserved bits).
+        NotABlob = 3 => "the record's blob is not a calibration blob",
+        /// The blob reads, but the calibration is not valid for this chip.
+        Invalid = 4 => "the stored calibration is not valid for this chip",
+    }
+}
+
 /// The device's counters since start (or the last reset).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -165,6 +183,9 @@ pub struct DeviceInfo {
     pub calibration_source: CalibrationSource,
     /// What the flash holds.
     pub stored: StoredState,
+    /// Why a stored record was rejected at start-up (sent last, after the
+    /// load; a device that does not send it: [`StoredReason::None`]).
+    pub stored_reason: StoredReason,
     /// Milliseconds since start, wrapping every 2³² ms (49.7 days).
     pub uptime_ms: u32,
     /// The counters.
@@ -218,6 +239,7 @@ impl DeviceInfo {
         for us in l.max_run_us {
             w.u32(us);
         }
+        w.u8(self.stored_reason as u8);
         let len = w.len();
         p.set_len(len);
         p
@@ -264,6 +286,11 @@ impl DeviceInfo {
         if r.ran_short() {
             return None;
         }
+        // Added after the load figures: absent from older firmware's reply.
+        let stored_reason = match r.rest().first() {
+            Some(&byte) => StoredReason::from_byte(byte)?,
+            None => StoredReason::None,
+        };
         Some(DeviceInfo {
             protocol,
             firmware,
@@ -277,6 +304,7 @@ impl DeviceInfo {
             calibration_id,
             calibration_source,
             stored,
+            stored_reason,
             uptime_ms,
             counters,
             scale,

@@ -21,9 +21,11 @@ pub mod self_test;
 
 pub use batch_frame::{BatchFrame, MAX_BATCH};
 pub use command::{Command, CommandError, CommandPacket, Mode, CHUNK_LEN};
-pub use device_info::{CalibrationSource, Counters, DeviceInfo, Load, StoredState, Text};
+pub use device_info::{
+    CalibrationSource, Counters, DeviceInfo, Load, StoredReason, StoredState, Text,
+};
 pub use packet::{Packet, PacketBuf, PacketType, MAX_PACKET_LEN, MAX_WIRE_LEN};
-pub use payload::{Payload, MAX_PAYLOAD};
+pub use payload::{Payload, MAX_PAYLOAD, MAX_REPLY_PAYLOAD};
 pub use raw_frame::{RawFrame, RawScale};
 pub use reply::{Reply, Status};
 pub use self_test::{AxisResult, SelfTestResult};

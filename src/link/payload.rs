@@ -2,10 +2,15 @@
 
 use super::packet::MAX_PACKET_LEN;
 
-/// Longest payload of a command or a reply: what is left of
-/// [`MAX_PACKET_LEN`] after the header, the sequence number, the command
-/// code, the status and the CRC.
-pub const MAX_PAYLOAD: usize = MAX_PACKET_LEN - 16;
+/// Longest payload: a command's arguments in a packet of
+/// [`MAX_PACKET_LEN`] bytes, after the version and type (2 bytes), the
+/// sequence number and command code (3) and the CRC (4). PROTOCOL.md §12
+/// promises packets of up to 240 bytes; every one of them is read.
+pub const MAX_PAYLOAD: usize = MAX_PACKET_LEN - 9;
+
+/// Longest payload of a reply: one byte less than [`MAX_PAYLOAD`], for the
+/// reply's status byte.
+pub const MAX_REPLY_PAYLOAD: usize = MAX_PAYLOAD - 1;
 
 /// Up to [`MAX_PAYLOAD`] bytes.
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -53,10 +58,10 @@ impl Payload {
         Ok(p)
     }
 
-    /// A copy of `bytes`, cut at [`MAX_PAYLOAD`] (for reasons, which are
-    /// text: a cut reason is still a reason).
+    /// A copy of `bytes`, cut at [`MAX_REPLY_PAYLOAD`] (for reasons, which
+    /// are text: a cut reason is still a reason).
     pub fn truncated(bytes: &[u8]) -> Payload {
-        let n = bytes.len().min(MAX_PAYLOAD);
+        let n = bytes.len().min(MAX_REPLY_PAYLOAD);
         Payload::new(&bytes[..n]).unwrap_or(Payload::EMPTY)
     }
 
@@ -81,12 +86,12 @@ impl Payload {
     }
 }
 
-/// Formats into a payload without allocating; text past [`MAX_PAYLOAD`]
-/// bytes is dropped at a character boundary.
+/// Formats into a payload without allocating (a reply's reason); text past
+/// [`MAX_REPLY_PAYLOAD`] bytes is dropped at a character boundary.
 impl core::fmt::Write for Payload {
     fn write_str(&mut self, s: &str) -> core::fmt::Result {
         let at = usize::from(self.len);
-        let room = MAX_PAYLOAD - at;
+        let room = MAX_REPLY_PAYLOAD.saturating_sub(at);
         let mut n = s.len().min(room);
         while !s.is_char_boundary(n) {
             n -= 1;

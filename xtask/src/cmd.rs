@@ -39,13 +39,31 @@ pub fn cargo() -> Command {
     command
 }
 
-/// Runs `command` with its stdout on stderr (xtask's stdout is for data:
-/// `cargo xtask run`'s CSV); an error names `what` failed and how.
+/// Runs `command` with its stdout relayed to stderr (xtask's stdout is for
+/// data: `cargo xtask run`'s CSV); an error names `what` failed and how.
+/// Relayed, not inherited: a child handed a full or abandoned stderr as its
+/// stdout would fail on its report (`triad calib pack`), while for xtask
+/// stderr is only notes, whose loss is no failure.
 pub fn check(mut command: Command, what: &str) -> Result<()> {
-    let status = command
-        .stdout(std::io::stderr())
-        .status()
+    let mut child = command
+        .stdout(Stdio::piped())
+        .spawn()
         .with_context(|| format!("starting {what}"))?;
+    if let Some(mut out) = child.stdout.take() {
+        let mut buffer = [0u8; 4096];
+        loop {
+            use std::io::{Read as _, Write as _};
+            match out.read(&mut buffer) {
+                Ok(0) | Err(_) => break,
+                Ok(n) => {
+                    let _ = std::io::stderr().write_all(&buffer[..n]);
+                }
+            }
+        }
+    }
+    let status = child
+        .wait()
+        .with_context(|| format!("waiting for {what}"))?;
     if !status.success() {
         bail!("{what} failed ({status}); its output above says why");
     }
@@ -65,7 +83,7 @@ pub fn runs(program: &str) -> bool {
 
 /// Builds the `triad` host tool (release) and returns its path.
 pub fn build_host_tool() -> Result<PathBuf> {
-    eprintln!(
+    note!(
         "xtask: building the triad host tool (release, fat LTO: a second when up to date, \
          minutes the first time)"
     );
@@ -186,7 +204,7 @@ fn build(firmware: Firmware, calibration: &Path, scene: Option<&Path>) -> Result
     if scene.is_some() && board != Board::Qemu {
         bail!("--scene feeds the emulated board's chip model: use it with --board qemu");
     }
-    eprintln!(
+    note!(
         "xtask: building the firmware for {} (the first build for a board takes minutes)",
         firmware.label()
     );

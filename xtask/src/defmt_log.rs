@@ -5,7 +5,7 @@ use std::io::Read;
 
 /// Decodes the defmt stream from `log` until it closes, printing each line.
 pub fn print(elf: &[u8], log: impl Read) {
-    each_line(elf, log, |line| eprintln!("firmware: {line}"));
+    each_line(elf, log, |line| note!("firmware: {line}"));
 }
 
 /// Decodes the defmt stream from `log` until it closes; returns its lines
@@ -13,7 +13,7 @@ pub fn print(elf: &[u8], log: impl Read) {
 pub fn collect(elf: &[u8], log: impl Read) -> Vec<String> {
     let mut lines = Vec::new();
     each_line(elf, log, |line| {
-        eprintln!("firmware: {line}");
+        note!("firmware: {line}");
         lines.push(line);
     });
     lines
@@ -23,8 +23,8 @@ pub fn collect(elf: &[u8], log: impl Read) -> Vec<String> {
 fn each_line(elf: &[u8], mut log: impl Read, mut line: impl FnMut(String)) {
     let table = match defmt_decoder::Table::parse(elf) {
         Ok(Some(table)) => table,
-        Ok(None) => return eprintln!("firmware: the ELF has no defmt table; log not shown"),
-        Err(error) => return eprintln!("firmware: cannot read the defmt table: {error}"),
+        Ok(None) => return note!("firmware: the ELF has no defmt table; log not shown"),
+        Err(error) => return note!("firmware: cannot read the defmt table: {error}"),
     };
     let mut decoder = table.new_stream_decoder();
     let mut buffer = [0u8; 1024];
@@ -39,7 +39,7 @@ fn each_line(elf: &[u8], mut log: impl Read, mut line: impl FnMut(String)) {
                 Ok(frame) => line(frame.display(false).to_string()),
                 Err(defmt_decoder::DecodeError::UnexpectedEof) => break,
                 Err(defmt_decoder::DecodeError::Malformed) => {
-                    eprintln!("firmware: malformed defmt frame skipped");
+                    note!("firmware: malformed defmt frame skipped");
                     break;
                 }
             }

@@ -107,7 +107,7 @@ pub fn check_example() -> Result<()> {
     let mut unique: Vec<&str> = crates;
     unique.sort_unstable();
     unique.dedup();
-    eprintln!(
+    note!(
         "xtask: the user-firmware example depends on {}",
         unique.join(", ")
     );

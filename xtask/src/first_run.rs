@@ -19,16 +19,20 @@ pub fn run(triad: &Path) -> Result<()> {
         xtask_run_prints_only_csv,
     )?;
     timed(
+        "cargo xtask run in other people's processes: streams on /dev/null, full, closed, abandoned",
+        xtask_run_with_other_peoples_streams,
+    )?;
+    timed(
         "cargo install --path host: triad runs a shipped scene outside the checkout",
         || installed_triad_runs_anywhere(triad),
     )
 }
 
 fn timed(what: &str, job: impl FnOnce() -> Result<()>) -> Result<()> {
-    eprintln!("xtask: {what}");
+    note!("xtask: {what}");
     let start = Instant::now();
     job()?;
-    eprintln!("xtask: {what}: {:.1} s", start.elapsed().as_secs_f64());
+    note!("xtask: {what}: {:.1} s", start.elapsed().as_secs_f64());
     Ok(())
 }
 
@@ -68,6 +72,100 @@ fn xtask_run_prints_only_csv() -> Result<()> {
         rows += 1;
     }
     ensure!(rows > 0, "cargo xtask run printed the header and no rows");
+    Ok(())
+}
+
+/// `cargo xtask run --seconds SECONDS` through `sh -c` with `redirect`
+/// (e.g. `2>&-`), stdin on a read-write /dev/null.
+fn xtask_run(seconds: &str, redirect: &str) -> Command {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let mut command = Command::new("sh");
+    command
+        .current_dir(cmd::root())
+        .arg("-c")
+        .arg(format!(
+            "exec \"$0\" xtask run --seconds {seconds} {redirect}"
+        ))
+        .arg(cargo)
+        .stdin(dev_null_read_write());
+    command
+}
+
+/// /dev/null opened read-write: what Python's `subprocess.DEVNULL`, nohup
+/// and service managers give a process.
+fn dev_null_read_write() -> std::fs::File {
+    std::fs::OpenOptions::new()
+        .read(true)
+        .write(true)
+        .open("/dev/null")
+        .expect("/dev/null")
+}
+
+/// `cargo xtask run` as a script, a service manager or a pipeline runs it:
+/// every stream on a read-write /dev/null runs; a stderr full or whose
+/// reader left costs only the notes (the CSV is whole); a full stdout
+/// is an error naming it (`triad decode`'s); a reader of stdout that leaves
+/// ends the run quietly with 141, as `seq | head -1` does.
+fn xtask_run_with_other_peoples_streams() -> Result<()> {
+    let status = xtask_run("0.2", "")
+        .stdout(dev_null_read_write())
+        .stderr(dev_null_read_write())
+        .status()
+        .context("starting cargo xtask run")?;
+    ensure!(status.success(), "every stream on /dev/null: {status}");
+
+    let csv_whole = |what: &str, output: std::process::Output| -> Result<()> {
+        let stdout = String::from_utf8_lossy(&output.stdout);
+        ensure!(
+            output.status.success() && stdout.starts_with(DECODED_HEADER),
+            "{what}: {} with {} bytes of CSV",
+            output.status,
+            stdout.len()
+        );
+        let rows = stdout.lines().count() - 1;
+        ensure!(rows >= 200, "{what}: {rows} rows for 0.2 s at 1 kHz");
+        Ok(())
+    };
+    let full = || std::fs::File::create("/dev/full").expect("/dev/full");
+    let to_full = xtask_run("0.2", "").stderr(full()).output()?;
+    csv_whole("2> /dev/full", to_full)?;
+    // A closed stderr (`2>&-`) reaches xtask as the read-write /dev/null
+    // of the first run: cargo's runtime reopens a closed descriptor so.
+    let mut abandoned = xtask_run("0.2", "")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()?;
+    drop(abandoned.stderr.take());
+    csv_whole("2> a pipe whose reader left", abandoned.wait_with_output()?)?;
+
+    let out = xtask_run("0.2", "")
+        .stdout(full())
+        .stderr(Stdio::piped())
+        .output()?;
+    let said = String::from_utf8_lossy(&out.stderr);
+    ensure!(
+        out.status.code() == Some(1) && said.contains("No space left on device"),
+        "> /dev/full: {} and {said}",
+        out.status
+    );
+
+    // Five seconds of rows: far more than a pipe holds, so the run is
+    // still writing when the reader leaves after the header.
+    let mut reader_leaves = xtask_run("5", "")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()?;
+    let stdout = reader_leaves.stdout.take().context("stdout")?;
+    let mut header = String::new();
+    std::io::BufRead::read_line(&mut std::io::BufReader::new(stdout), &mut header)?;
+    ensure!(header.trim_end() == DECODED_HEADER, "| head -1: {header:?}");
+    let out = reader_leaves.wait_with_output()?;
+    let said = String::from_utf8_lossy(&out.stderr);
+    ensure!(
+        out.status.code() == Some(141) && !said.contains("exited with"),
+        "| head -1: {} and {said}",
+        out.status
+    );
     Ok(())
 }
 

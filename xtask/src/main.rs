@@ -12,6 +12,17 @@
 
 use clap::{Parser, Subcommand};
 
+/// A line on stderr; a failure to write it (stderr closed, full, or a pipe
+/// whose reader left) is ignored: `eprintln!` would panic, and stderr is
+/// the last place to report anything. xtask's progress and the firmware's
+/// log go there; they are never its result.
+macro_rules! note {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), $($arg)*);
+    }};
+}
+
 mod bench;
 mod board;
 mod cmd;
@@ -57,6 +68,10 @@ enum Command {
         /// run): print its section, leave docs/BENCHMARKS.md as it is.
         #[arg(long, conflicts_with = "json")]
         whole_firmware: bool,
+        /// Only the long mutation run of the parsers that take outside
+        /// bytes (10⁷ inputs each; host/examples/bench_fuzz.rs).
+        #[arg(long, conflicts_with_all = ["json", "whole_firmware"])]
+        fuzz: bool,
     },
     /// Serve the emulated board like hardware: QEMU in real time, its link on
     /// a pseudo-terminal whose path is the first line on stdout; runs until killed.
@@ -184,10 +199,14 @@ fn main() -> std::process::ExitCode {
         Command::Bench {
             json,
             whole_firmware,
-        } => setup::ensure_all().and_then(|()| match whole_firmware {
-            true => bench::run_whole_firmware(),
-            false => bench::run(json),
-        }),
+            fuzz,
+        } => match fuzz {
+            true => bench::run_fuzz(),
+            false => setup::ensure_all().and_then(|()| match whole_firmware {
+                true => bench::run_whole_firmware(),
+                false => bench::run(json),
+            }),
+        },
         Command::Hil(args) => hil::run(args),
         Command::Setup => setup::ensure_all(),
         Command::Man { dir } => man(&dir),
@@ -196,11 +215,14 @@ fn main() -> std::process::ExitCode {
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(error) => {
-            eprintln!("xtask: {error:#}");
+            note!("xtask: {error:#}");
             std::process::ExitCode::FAILURE
         }
     }
 }
+
+/// `triad`'s exit status when the reader of its stdout left: 128 + SIGPIPE.
+const READER_GONE_STATUS: i32 = 141;
 
 fn run(args: RunArgs) -> anyhow::Result<()> {
     anyhow::ensure!(
@@ -213,6 +235,11 @@ fn run(args: RunArgs) -> anyhow::Result<()> {
         board::Board::Qemu => {
             let stop = qemu::Stop::Seconds(args.seconds);
             let status = qemu::stream_to_decoder(&elf, &triad, stop, qemu::Inherit)?;
+            // The reader of stdout left (`| head`): triad decode stopped
+            // quietly with 128 + SIGPIPE, and so does xtask (QEMU is stopped).
+            if status.code() == Some(READER_GONE_STATUS) {
+                std::process::exit(READER_GONE_STATUS);
+            }
             anyhow::ensure!(status.success(), "triad decode exited with {status}");
             Ok(())
         }

@@ -85,10 +85,14 @@ pub fn serve(elf: &Path, storage: Option<&Storage>, clock: qemu::Clock) -> Resul
     let log = board.take_log()?;
     std::thread::spawn(move || defmt_log::print(&elf_bytes, log));
 
-    // The first stdout line is the port: scripts read it.
-    println!("{}", pty.path.display());
-    std::io::stdout().flush().context("stdout")?;
-    eprintln!(
+    // The first stdout line is the port: scripts read it. A board nobody
+    // can be told the port of is not served (stdout full, or its reader
+    // gone); a /dev/null stdout is the caller's choice.
+    let mut stdout = std::io::stdout();
+    writeln!(stdout, "{}", pty.path.display())
+        .and_then(|()| stdout.flush())
+        .context("writing the port's path to standard output")?;
+    note!(
         "xtask: the emulated board's link is {} ({}); Ctrl-C stops it",
         pty.path.display(),
         match storage {

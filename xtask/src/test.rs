@@ -74,7 +74,7 @@ pub fn run(scope: Scope) -> Result<()> {
             "cargo test --release (the Allan coverage sweep, the rig-free and thermal fits' σ coverage over 60 seeds)",
             &sweeps,
         )?;
-        eprintln!("xtask: cargo doc (core, sim, lab)");
+        note!("xtask: cargo doc (core, sim, lab)");
         embedded_checks::docs()?;
     }
 
@@ -85,7 +85,7 @@ pub fn run(scope: Scope) -> Result<()> {
     let calibration = cmd::pack_calibration(&triad, None)?;
     let mut qemu_elves = Vec::new();
     for firmware in Firmware::all() {
-        eprintln!(
+        note!(
             "xtask: clippy and build of the firmware for {}",
             firmware.label()
         );
@@ -93,17 +93,17 @@ pub fn run(scope: Scope) -> Result<()> {
         let elf = cmd::build_firmware(firmware, &calibration)?;
         // What `cargo xtask run --board nucleo-f401re` reads to open the port.
         let baud = crate::elf_facts::link_baud(&elf)?;
-        eprintln!("xtask: {} links at {baud} baud", firmware.label());
+        note!("xtask: {} links at {baud} baud", firmware.label());
         if firmware.board == Board::Qemu {
             qemu_elves.push((firmware, elf));
         }
     }
 
-    eprintln!("xtask: clippy on the benchmark firmware and the user-firmware example");
+    note!("xtask: clippy on the benchmark firmware and the user-firmware example");
     embedded_checks::clippy_bench_firmware()?;
     embedded_checks::check_example()?;
 
-    eprintln!("xtask: benchmark firmware on the emulated cores, outputs against the host's");
+    note!("xtask: benchmark firmware on the emulated cores, outputs against the host's");
     bench::check_firmware_outputs()?;
 
     for (firmware, elf) in &qemu_elves {
@@ -118,7 +118,7 @@ pub fn run(scope: Scope) -> Result<()> {
         },
         ..Firmware::default_emulated()
     };
-    eprintln!(
+    note!(
         "xtask: clippy and build of the firmware for {}",
         batched.label()
     );
@@ -130,7 +130,7 @@ pub fn run(scope: Scope) -> Result<()> {
     // scale errors and a temperature ramp, on the default chip and bus.
     let firmware = Firmware::default_emulated();
     let blob = cmd::pack_scene(&triad, E2E_SCENE, E2E_SEED)?;
-    eprintln!(
+    note!(
         "xtask: building the firmware for {} with scene {E2E_SCENE}",
         firmware.label()
     );
@@ -146,9 +146,7 @@ pub fn run(scope: Scope) -> Result<()> {
     served_board(*firmware, elf, &calibration)?;
 
     // The procedure a person runs on a board, against the emulated one.
-    eprintln!(
-        "xtask: the hardware-in-the-loop procedure (`cargo xtask hil`) on the emulated board"
-    );
+    note!("xtask: the hardware-in-the-loop procedure (`cargo xtask hil`) on the emulated board");
     hil::run(hil::HilArgs {
         board: Board::Qemu,
         port: None,
@@ -167,13 +165,13 @@ pub fn run(scope: Scope) -> Result<()> {
 
     // `triad calib session` on the board playing a unit turned by hand.
     let blob = cmd::pack_unit(&triad, SESSION_UNIT, SESSION_SCRIPT, SESSION_SEED)?;
-    eprintln!(
+    note!(
         "xtask: building the firmware for {} with unit {SESSION_UNIT} doing {SESSION_SCRIPT}",
         firmware.label()
     );
     let elf = cmd::build_firmware_with_scene(*firmware, &calibration, &blob)?;
     calib_session(*firmware, &elf, &calibration)?;
-    eprintln!("xtask: all tests passed");
+    note!("xtask: all tests passed");
     Ok(())
 }
 
@@ -190,7 +188,7 @@ fn end_to_end(
         Some(_) => format!("{} with scene {E2E_SCENE}", firmware.label()),
         None => firmware.label(),
     };
-    eprintln!("xtask: end-to-end on QEMU, {label}");
+    note!("xtask: end-to-end on QEMU, {label}");
     let dir = cmd::root().join("target/e2e").join(format!(
         "{}{}",
         firmware.stem(),
@@ -239,12 +237,14 @@ fn end_to_end(
 /// driven by `triad device`; `calibration` is the blob the firmware embeds.
 /// One test at a time: each QEMU keeps a core busy.
 fn served_board(firmware: Firmware, elf: &Path, calibration: &Path) -> Result<()> {
-    eprintln!(
+    note!(
         "xtask: end-to-end on QEMU, the device link of {} served: upload, save and restart, \
-         erase, bad uploads, raw mode, commands while streaming, power cuts during a save",
+         erase, bad uploads, raw mode, commands while streaming, power cuts during a save, \
+         serve's standard streams, a client written from docs/PROTOCOL.md alone",
         firmware.label()
     );
     let xtask = cmd::serving_xtask()?;
+    crate::setup::ensure_python()?;
     let mut command = ignored_host_tests("device_qemu", &["--test-threads=1", "--nocapture"]);
     command
         .env("TRIAD_SERVE_XTASK", &xtask)
@@ -265,7 +265,7 @@ fn served_board(firmware: Firmware, elf: &Path, calibration: &Path) -> Result<()
 /// model plays SESSION_UNIT doing SESSION_SCRIPT) served by `xtask serve`,
 /// calibrated by `triad calib session`.
 fn calib_session(firmware: Firmware, elf: &Path, calibration: &Path) -> Result<()> {
-    eprintln!(
+    note!(
         "xtask: end-to-end on QEMU, triad calib session on {} playing {SESSION_UNIT} doing {SESSION_SCRIPT}: \
          a declined session, then fit, upload, save and verify against the unit's truth",
         firmware.label()
@@ -300,7 +300,7 @@ fn ignored_host_tests(name: &str, harness: &[&str]) -> std::process::Command {
 }
 
 fn step(what: &str, args: &[&str]) -> Result<()> {
-    eprintln!("xtask: {what}");
+    note!("xtask: {what}");
     let mut command = cargo();
     command.args(args);
     check(command, what)

@@ -3,7 +3,7 @@
 
 use std::time::Duration;
 
-use triad::link::{DeviceInfo, Reply};
+use triad::link::{DeviceInfo, Reply, StoredReason};
 
 use super::link::LinkError;
 use crate::number::readable;
@@ -45,7 +45,10 @@ pub fn render(info: &DeviceInfo, place: &str) -> String {
         info.calibration_id,
         info.calibration_source
     );
-    outln!(out, "stored: {}", info.stored);
+    match info.stored_reason {
+        StoredReason::None => outln!(out, "stored: {}", info.stored),
+        reason => outln!(out, "stored: {} ({reason})", info.stored),
+    }
     outln!(out, "uptime: {}", uptime(info.uptime_ms));
     let c = &info.counters;
     outln!(out, "frames sent: {}", c.frames_sent);

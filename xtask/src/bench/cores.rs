@@ -117,7 +117,7 @@ pub fn check_firmware_outputs() -> Result<()> {
         let lines = variant_lines(core, &stdout)?;
         check_digests(core, &lines)?;
         let commands = commands::measure(core, &stdout)?;
-        eprintln!(
+        note!(
             "xtask: bench firmware on {}: {} variants and {} commands, outputs equal the host's",
             core.name(),
             lines.len(),

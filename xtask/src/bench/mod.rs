@@ -31,6 +31,22 @@ pub fn run_whole_firmware() -> Result<()> {
     Ok(())
 }
 
+/// The long mutation run of every parser that takes outside bytes
+/// (host/examples/bench_fuzz.rs, release): its figures on stderr.
+pub fn run_fuzz() -> Result<()> {
+    let mut command = crate::cmd::cargo();
+    command.args([
+        "run",
+        "--quiet",
+        "--release",
+        "-p",
+        "triad-host",
+        "--example",
+        "bench_fuzz",
+    ]);
+    crate::cmd::check(command, "the parsers' mutation run (bench_fuzz)")
+}
+
 /// One row of the report: a variant on a core.
 #[derive(Clone, Debug)]
 pub struct Row {
@@ -77,6 +93,7 @@ pub fn run(json: bool) -> Result<()> {
         }
     }
     let host = host::measure()?;
+    run_fuzz()?;
     let triad = crate::cmd::build_host_tool()?;
     let calibration = crate::cmd::pack_calibration(&triad, None)?;
     let firmware_rows = whole_firmware::measure(&triad, &calibration)?;
@@ -97,6 +114,6 @@ pub fn run(json: bool) -> Result<()> {
     markdown += "\n";
     markdown += &whole_firmware_report::markdown(&firmware_rows, &long_run, fusion);
     std::fs::write(docs.join("BENCHMARKS.md"), markdown)?;
-    eprintln!("xtask: wrote docs/BENCHMARKS.md and docs/benchmarks.svg");
+    note!("xtask: wrote docs/BENCHMARKS.md and docs/benchmarks.svg");
     Ok(())
 }

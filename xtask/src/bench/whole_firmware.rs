@@ -98,7 +98,7 @@ fn measure_one(
     watermark: u16,
 ) -> Result<FirmwareRow> {
     let firmware = firmware(rate_hz, watermark);
-    eprintln!("xtask: whole firmware, {}", firmware.label());
+    note!("xtask: whole firmware, {}", firmware.label());
     let elf = cmd::build_firmware(firmware, calibration)?;
     let dir = run_dir(firmware)?;
     let (raw, csv) = (dir.join("stream.bin"), dir.join("decoded.csv"));
@@ -172,7 +172,7 @@ pub fn long_run(triad: &Path, calibration: &Path) -> Result<LongRun> {
     let dir = run_dir(firmware)?;
     // The CSV of 10⁶ rows is not kept: the raw bytes are decoded below.
     let (raw, csv) = (dir.join("long.bin"), PathBuf::from("/dev/null"));
-    eprintln!(
+    note!(
         "xtask: whole firmware, {}: {LONG_RUN_SAMPLES} samples",
         firmware.label()
     );

@@ -185,7 +185,7 @@ pub fn run(args: HilArgs) -> Result<()> {
         };
         let elf = cmd::build_firmware(firmware, &calibration)?;
         let baud = elf_facts::link_baud(&elf)?;
-        eprintln!("xtask hil: loading it on {}", dut.describe());
+        note!("xtask hil: loading it on {}", dut.describe());
         let port = match dut.load(&elf) {
             Ok(port) => port,
             Err(e) => {
@@ -215,7 +215,7 @@ pub fn run(args: HilArgs) -> Result<()> {
     drop(dut);
     report.facts.push(("finished".into(), utc_now()));
     report.write(&report_path)?;
-    eprintln!(
+    note!(
         "xtask hil: {} ({} steps); the report: {}",
         if report.passed() { "PASS" } else { "FAIL" },
         report.steps.len(),

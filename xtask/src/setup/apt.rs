@@ -127,7 +127,7 @@ pub fn install(privilege: Privilege, packages: &[&str], plan: &Plan) -> Result<(
     if plan.harms() {
         bail!("{}", refusal_message(packages, plan, privilege));
     }
-    eprintln!(
+    note!(
         "xtask: apt-get installs {} package(s): {}",
         plan.install.len(),
         plan.install.join(" ")

@@ -67,7 +67,7 @@ fn ensure_targets() -> Result<()> {
     }
     let names: Vec<&str> = missing.iter().map(|(t, _)| *t).collect();
     let command = format!("rustup target add {}", names.join(" "));
-    eprintln!(
+    note!(
         "xtask: installing the Rust targets {} with `{command}` (into the active toolchain; \
          no root needed, nothing removed)",
         missing
@@ -105,7 +105,7 @@ fn ensure_qemu() -> Result<()> {
         return Ok(());
     }
     let (major, minor) = qemu_binary::MINIMUM;
-    eprintln!(
+    note!(
         "xtask: no QEMU {major}.{minor} or later: {QEMU_PACKAGE} is neither on PATH nor unpacked \
          in {}; the emulated board (QEMU's netduinoplus2) runs on it. Asking apt-get how it would \
          install the Debian package {QEMU_PACKAGE} (without recommended packages; nothing \
@@ -131,7 +131,7 @@ fn ensure_qemu() -> Result<()> {
             apt::install(privilege, &[QEMU_PACKAGE], &plan)?;
         }
         Route::Unpack => {
-            eprintln!(
+            note!(
                 "xtask: installing {QEMU_PACKAGE} would {}, and xtask never removes or \
                  downgrades an installed package: it runs QEMU from Debian's package unpacked \
                  into {} instead, in three steps",
@@ -147,6 +147,32 @@ fn ensure_qemu() -> Result<()> {
              {major}.{minor} or later: put QEMU {major}.{minor} or later on PATH",
             qemu_binary::unpacked().display()
         );
+    }
+    Ok(())
+}
+
+/// The Debian package of the Python the protocol's independent client
+/// (tests/protocol_client/client.py, standard library only) runs on.
+const PYTHON_PACKAGE: &str = "python3";
+
+/// `python3` for the end-to-end test of the client written from
+/// docs/PROTOCOL.md alone: on PATH, or installed from Debian when that
+/// removes or downgrades nothing.
+pub fn ensure_python() -> Result<()> {
+    if crate::cmd::runs(PYTHON_PACKAGE) {
+        return Ok(());
+    }
+    note!(
+        "xtask: no python3 on PATH; the end-to-end test of the client written from \
+         docs/PROTOCOL.md alone runs on it. Asking apt-get how it would install {PYTHON_PACKAGE}"
+    );
+    apt::require(PYTHON_PACKAGE)?;
+    let privilege = privilege::detect().map_err(|r| apt::needs_root(r, &[PYTHON_PACKAGE]))?;
+    apt::update(privilege)?;
+    let plan = apt::simulate(&[PYTHON_PACKAGE])?;
+    apt::install(privilege, &[PYTHON_PACKAGE], &plan)?;
+    if !crate::cmd::runs(PYTHON_PACKAGE) {
+        bail!("after installing {PYTHON_PACKAGE}, `python3 --version` does not run");
     }
     Ok(())
 }

@@ -49,7 +49,7 @@ pub fn install(privilege: Result<Privilege, Refusal>) -> Result<()> {
     }
     std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
     let pinned = format!("{NAME}={version}");
-    eprintln!(
+    note!(
         "xtask: step 2/3: downloading the package {pinned} (not installing it) with \
          `apt-get download {pinned}` into {}; no root needed",
         dir.display()
@@ -63,7 +63,7 @@ pub fn install(privilege: Result<Privilege, Refusal>) -> Result<()> {
     let deb = the_deb_in(&dir)?;
 
     let tree = unpacked_tree();
-    eprintln!(
+    note!(
         "xtask: step 3/3: unpacking it with `dpkg-deb -x {} {}`; xtask runs {} from there",
         deb.display(),
         tree.display(),
@@ -90,13 +90,11 @@ fn install_libraries(version: &str, privilege: Result<Privilege, Refusal>) -> Re
     let installed = depends::installed_versions(&names)?;
     let libraries = depends::missing(&relations, &NOT_NEEDED, &installed, depends::dpkg_allows);
     if libraries.is_empty() {
-        eprintln!(
-            "xtask: step 1/3: the shared libraries {NAME} {version} needs are installed already"
-        );
+        note!("xtask: step 1/3: the shared libraries {NAME} {version} needs are installed already");
         return Ok(());
     }
     let libraries: Vec<&str> = libraries.iter().map(String::as_str).collect();
-    eprintln!(
+    note!(
         "xtask: step 1/3: installing with apt-get the shared libraries {NAME} {version} needs \
          that are missing: {} (its Depends less {}, which the emulated boards do not use; \
          without recommended packages, nothing removed or downgraded)",
@@ -144,7 +142,7 @@ fn check_it_runs(qemu: &Path) -> Result<()> {
     if output.status.success()
         && super::qemu_binary::parse_version(&said).is_some_and(|v| v >= MINIMUM)
     {
-        eprintln!(
+        note!(
             "xtask: {} runs: {}",
             qemu.display(),
             said.lines().next().unwrap_or("")
