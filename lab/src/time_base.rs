@@ -27,8 +27,9 @@ pub const WINDOW: usize = 32;
 /// A step between stamps of more than this many periods splits the record.
 pub const GAP_PERIODS: f64 = 10.0;
 
-/// A step of more than this many periods (and at most [`GAP_PERIODS`]) is a
-/// small gap: counted, not split.
+/// Where the stamps jump ahead of the line by more than this many periods
+/// (and more than the clock's quantum) between two samples, samples were
+/// lost: a small gap, counted, not split.
 pub const SMALL_GAP_PERIODS: f64 = 1.5;
 
 /// What the repair found.
@@ -42,7 +43,8 @@ pub struct TimeBase {
     pub repeated: usize,
     /// Stamps before the previous one.
     pub backwards: usize,
-    /// Steps of more than [`SMALL_GAP_PERIODS`] periods within a part.
+    /// Jumps of the stamps ahead of the line by more than
+    /// [`SMALL_GAP_PERIODS`] periods (and the clock's quantum) within a part.
     pub small_gaps: usize,
     /// The largest |stamp − repaired time|, s.
     pub largest_departure: f64,
@@ -192,6 +194,17 @@ pub fn repair(
             last: stamps[n - 1],
         });
     }
+    // The clock's quantum: the median step between stamps that differ (the
+    // period itself for fine stamps, 10 ms for a 10 ms clock).
+    let mut steps = 0;
+    for i in 1..n {
+        let step = stamps[i] - stamps[i - 1];
+        if step > 0.0 && steps < times.len() {
+            times[steps] = step;
+            steps += 1;
+        }
+    }
+    let quantum = median(&mut times[..steps]).max(period);
     let mut base = TimeBase::line(period, false);
     part_starts[0] = 0;
     for i in 1..n {
@@ -199,8 +212,6 @@ pub fn repair(
         if step > GAP_PERIODS * period {
             part_starts[base.parts] = i;
             base.parts += 1;
-        } else if step > SMALL_GAP_PERIODS * period {
-            base.small_gaps += 1;
         } else if step == 0.0 {
             base.repeated += 1;
         } else if step < 0.0 {
@@ -215,9 +226,15 @@ pub fn repair(
             times[i] = stamps[i] - k as f64 * period;
         }
         let t0 = median(&mut times[range.clone()]);
+        let mut previous = 0.0;
         for i in range {
             times[i] = t0 + (i - first) as f64 * period;
-            let departure = (stamps[i] - times[i]).abs();
+            let ahead = stamps[i] - times[i];
+            if i > first && ahead - previous > (SMALL_GAP_PERIODS * period).max(quantum) {
+                base.small_gaps += 1;
+            }
+            previous = ahead;
+            let departure = ahead.abs();
             if departure > base.largest_departure {
                 base.largest_departure = departure;
                 base.departure_at = i;

@@ -172,7 +172,7 @@ pub fn time_note(name: &str, base: &TimeBase, record: &Record) -> Option<String>
     }
     let at = base.departure_at;
     Some(format!(
-        "{name}: time stamps repaired (one straight line per part, period {:.6} s = the median of {}-sample windows):          {} repeated, {} backwards, {} small gap(s), {} part(s) split at gaps over {} periods; largest departure          {:.4} s at sample {} (t = {:.3} s)",
+        "{name}: time stamps repaired (one straight line per part, period {:.6} s = the median of {}-sample windows): {} repeated, {} backwards, {} small gap(s), {} part(s) split at gaps over {} periods; largest departure {:.4} s at sample {} (t = {:.3} s)",
         base.period,
         time_base::WINDOW,
         base.repeated,

@@ -15,7 +15,7 @@ use triad::model::{Triad, TriadCalibration};
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
 use triad_lab::calib_fit::accel_fit::AccelFit;
 use triad_lab::calib_fit::rig_free::{self, RigFreeGyroFit, MAX_RANGE_FRACTION};
-use triad_lab::calib_fit::static_segments::Segment;
+use triad_lab::calib_fit::static_segments::{self, Segment};
 use triad_lab::calib_fit::{accel_fit, FitError};
 
 use super::fit::{file_list, inputs, write_calibration, Output};
@@ -156,6 +156,37 @@ pub fn fit_record(
     fit_record_with(accel, gyro, &options)
 }
 
+/// A run of at least this many identical gyro samples (all three axes) in a
+/// move, at a rate of at least [`HELD_STEPS`] resolution steps from the
+/// still pose's mean, is held, not measured: while the unit turns, noise
+/// and the turn itself change every sample. (Near rest, at the start and
+/// end of a turn, a coarse gyro may repeat a count honestly.)
+pub const HELD_RUN: usize = 5;
+
+/// See [`HELD_RUN`].
+pub const HELD_STEPS: f64 = 10.0;
+
+/// The first held run within `range` (see [`HELD_RUN`]), `still` the gyro's
+/// mean at the pose before: its first sample and length.
+fn held_run(
+    samples: &[[f64; 3]],
+    range: std::ops::Range<usize>,
+    still: &[f64; 3],
+) -> Option<(usize, usize)> {
+    let step = static_segments::resolution(&samples[range.clone()]);
+    let turning = |w: &[f64; 3]| (0..3).any(|k| (w[k] - still[k]).abs() > HELD_STEPS * step);
+    let mut start = range.start;
+    for i in range.clone().skip(1).chain([range.end]) {
+        if i == range.end || samples[i] != samples[start] {
+            if i - start >= HELD_RUN && turning(&samples[start]) {
+                return Some((start, i - start));
+            }
+            start = i;
+        }
+    }
+    None
+}
+
 /// The times of samples `s` of `record`, for messages: "t = A..B s".
 fn span(record: &Record, s: &Segment) -> String {
     format!(
@@ -247,6 +278,17 @@ pub fn fit_record_with(accel: &Record, gyro: &Record, options: &Options) -> anyh
         if part_of(a.samples.start) != part_of(b.samples.start) {
             left_out.push(format!(
                 "{label} left out: it crosses a gap in the time stamps"
+            ));
+            continue;
+        }
+        let still = segments::stat(gyro, 0, a.samples.start..a.samples.end).mean;
+        let moving = a.samples.end..b.samples.start;
+        if let Some((at, n)) = held_run(&gyro.samples, moving, &still) {
+            left_out.push(format!(
+                "{label} left out: the gyro repeats one value for {n} samples from t = {:.2} s (sample {}): \
+                 held samples (a logger repeating over lost frames?) lose the turn",
+                gyro.t[at],
+                at + 1
             ));
             continue;
         }
