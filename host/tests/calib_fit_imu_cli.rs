@@ -8,32 +8,9 @@ mod common;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use common::{dir, s, text, triad};
-use triad_lab::calib_fit::hand_record::{self, Axes, Script, TriadTruth, Unit};
+use common::{dir, hand_unit as unit, s, text, triad};
+use triad_lab::calib_fit::hand_record::{self, Axes, Script};
 use triad_sim::rng::Rng;
-
-/// The unit: the accelerometer's (I+Σ) upper triangular (the fit's
-/// convention, so its corrected axes are the sensor's and the gyro's truth
-/// compares entry by entry); the gyro's full, with 2 % scale errors.
-fn unit() -> Unit {
-    Unit {
-        accel: TriadTruth {
-            scale_misalignment: [[1.01, 0.004, -0.003], [0.0, 0.99, 0.002], [0.0, 0.0, 1.015]],
-            bias: [0.1, -0.15, 0.05],
-            noise: 0.01,
-        },
-        gyro: TriadTruth {
-            scale_misalignment: [
-                [1.02, 0.006, -0.004],
-                [-0.003, 0.98, 0.005],
-                [0.002, -0.006, 1.01],
-            ],
-            bias: [0.01, -0.02, 0.015],
-            noise: 1e-3,
-        },
-        gravity: 9.80665,
-    }
-}
 
 fn script(poses: usize, axes: Axes) -> Script {
     Script {

@@ -9,29 +9,9 @@ mod common;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use common::{dir, s, text, triad};
-use triad_lab::calib_fit::hand_record::{self, Axes, Sample, Script, TriadTruth, Unit};
+use common::{dir, hand_unit as unit, s, text, triad};
+use triad_lab::calib_fit::hand_record::{self, Axes, Sample, Script, Unit};
 use triad_sim::rng::Rng;
-
-fn unit() -> Unit {
-    Unit {
-        accel: TriadTruth {
-            scale_misalignment: [[1.01, 0.004, -0.003], [0.0, 0.99, 0.002], [0.0, 0.0, 1.015]],
-            bias: [0.1, -0.15, 0.05],
-            noise: 0.01,
-        },
-        gyro: TriadTruth {
-            scale_misalignment: [
-                [1.02, 0.006, -0.004],
-                [-0.003, 0.98, 0.005],
-                [0.002, -0.006, 1.01],
-            ],
-            bias: [0.01, -0.02, 0.015],
-            noise: 1e-3,
-        },
-        gravity: 9.80665,
-    }
-}
 
 /// 16 poses of 4 s with 1.5 s turns at `rate_hz`.
 fn samples(rate_hz: f64, unit: &Unit, seed: u64) -> Vec<Sample> {
