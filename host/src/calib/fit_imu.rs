@@ -14,9 +14,10 @@ use anyhow::{anyhow, bail};
 use triad::model::{Triad, TriadCalibration};
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
 use triad_lab::calib_fit::accel_fit::AccelFit;
+use triad_lab::calib_fit::gyro_fit::LinearFit;
 use triad_lab::calib_fit::rig_free::{self, RigFreeGyroFit, MAX_RANGE_FRACTION};
 use triad_lab::calib_fit::static_segments::{self, Segment};
-use triad_lab::calib_fit::{accel_fit, FitError};
+use triad_lab::calib_fit::{accel_cube, accel_fit, FitError};
 
 use super::fit::{file_list, inputs, write_calibration, Output};
 use super::fit_csv::{self, Reading, Record};
@@ -48,6 +49,12 @@ pub struct ImuArgs {
     /// integrates across them.
     #[arg(long, value_delimiter = ',')]
     exclude_poses: Vec<usize>,
+    /// The poses are the faces of a cube (one sensor axis vertical in each,
+    /// a tumble): the accelerometer's full (I+Σ) from the known face
+    /// directions (as `fit accel --axis-aligned`), the gyro's from the turns
+    /// between faces, both in the faces' frame.
+    #[arg(long)]
+    axis_aligned: bool,
     #[command(flatten)]
     reading: Reading,
     #[command(flatten)]
@@ -67,6 +74,8 @@ pub struct Options {
     pub segments: Option<String>,
     /// `--exclude-poses`: numbers (1-based) of poses to leave out.
     pub exclude: Vec<usize>,
+    /// `--axis-aligned`: the poses are a cube's faces.
+    pub axis_aligned: bool,
 }
 
 /// Runs `triad calib fit imu`.
@@ -88,6 +97,7 @@ pub fn run(args: ImuArgs) -> anyhow::Result<ExitCode> {
         full_scale: deg_to_rad(ranges.gyro_range_dps),
         segments: args.segments.clone(),
         exclude: args.exclude_poses.clone(),
+        axis_aligned: args.axis_aligned,
     };
     let mut fit = fit_record_with(&accel, &gyro, &options)?;
     if let Some(note) = fit_csv::time_note(&crate::input::name(&args.positions), &time, &accel) {
@@ -152,19 +162,33 @@ pub fn fit_record(
         full_scale,
         segments: None,
         exclude: Vec::new(),
+        axis_aligned: false,
     };
     fit_record_with(accel, gyro, &options)
 }
 
 /// A run of at least this many identical gyro samples (all three axes) in a
 /// move, at a rate of at least [`HELD_STEPS`] resolution steps from the
-/// still pose's mean, is held, not measured: while the unit turns, noise
-/// and the turn itself change every sample. (Near rest, at the start and
-/// end of a turn, a coarse gyro may repeat a count honestly.)
+/// still pose's mean, is held, not measured, when the gyro's noise shows
+/// at rest ([`noise_shows`]): while the unit turns, noise and the turn
+/// itself change every sample. (Near rest, at the start and end of a turn,
+/// a coarse gyro may repeat a count honestly; a quiet quantised one may at
+/// a steady rate.)
 pub const HELD_RUN: usize = 5;
 
 /// See [`HELD_RUN`].
 pub const HELD_STEPS: f64 = 10.0;
+
+/// Whether the gyro's noise shows in the still `samples` (a standard
+/// deviation of at least one resolution step on every axis): only then is
+/// a run of identical samples in a turn held rather than a quiet,
+/// coarsely quantised gyro turning at a steady rate.
+fn noise_shows(samples: &[[f64; 3]]) -> bool {
+    let step = static_segments::resolution(samples);
+    static_segments::standard_deviation(samples)
+        .iter()
+        .all(|&sd| sd >= step)
+}
 
 /// The first held run within `range` (see [`HELD_RUN`]), `still` the gyro's
 /// mean at the pose before: its first sample and length.
@@ -242,12 +266,28 @@ pub fn fit_record_with(accel: &Record, gyro: &Record, options: &Options) -> anyh
         .map(|p| stat(accel, 0, p.start..p.end))
         .collect();
     let means: Vec<[f64; 3]> = stats.iter().map(|s| s.mean).collect();
-    let accel_fit = accel_fit::fit(&means, options.gravity).map_err(|e| match e {
-        FitError::TooFewOrientations { .. } | FitError::OrientationsInOnePlane { .. } => {
-            anyhow!("{name}: accelerometer: {e}; turn the board to more orientations")
-        }
-        _ => anyhow!("{name}: accelerometer, {} static poses: {e}", means.len()),
-    })?;
+    // The gravity direction of each pose comes from the accelerometer fit
+    // (unknown orientations) or, on a cube's faces, from the face itself.
+    let (accel_fit, directions) = if options.axis_aligned {
+        let fit = accel_cube::fit(&means, options.gravity)
+            .map_err(|e| anyhow!("{name}: accelerometer (--axis-aligned): {e}"))?;
+        let faces: Vec<[f64; 3]> = means
+            .iter()
+            .map(|m| accel_cube::reference(m, options.gravity).unwrap_or([0.0; 3]))
+            .collect();
+        (faces_frame(&fit, &faces), faces)
+    } else {
+        let fit = accel_fit::fit(&means, options.gravity).map_err(|e| match e {
+            FitError::TooFewOrientations { .. } | FitError::OrientationsInOnePlane { .. } => {
+                anyhow!(
+                    "{name}: accelerometer: {e}; turn the board to more orientations \
+                     (or give --axis-aligned for a cube tumble)"
+                )
+            }
+            _ => anyhow!("{name}: accelerometer, {} static poses: {e}", means.len()),
+        })?;
+        (fit, means.clone())
+    };
 
     // The moves: between consecutive used poses in one part of the record,
     // within the gyro's range.
@@ -281,9 +321,12 @@ pub fn fit_record_with(accel: &Record, gyro: &Record, options: &Options) -> anyh
             ));
             continue;
         }
-        let still = segments::stat(gyro, 0, a.samples.start..a.samples.end).mean;
+        let still = segments::stat(gyro, 0, a.samples.start..a.samples.end);
         let moving = a.samples.end..b.samples.start;
-        if let Some((at, n)) = held_run(&gyro.samples, moving, &still) {
+        let held = noise_shows(&gyro.samples[a.samples.start..a.samples.end])
+            .then(|| held_run(&gyro.samples, moving, &still.mean))
+            .flatten();
+        if let Some((at, n)) = held {
             left_out.push(format!(
                 "{label} left out: the gyro repeats one value for {n} samples from t = {:.2} s (sample {}): \
                  held samples (a logger repeating over lost frames?) lose the turn",
@@ -320,7 +363,7 @@ pub fn fit_record_with(accel: &Record, gyro: &Record, options: &Options) -> anyh
         record,
         &used,
         &moves,
-        &means,
+        &directions,
         &accel_fit,
         options.full_scale,
     )
@@ -393,10 +436,21 @@ pub fn fit_record_with(accel: &Record, gyro: &Record, options: &Options) -> anyh
     }
     let out = head + &out;
     let mut out = out;
-    outln!(
-        out,
-        "accelerometer (unknown orientations, |(I+Σ)⁻¹(f̂ − b)| = g):"
-    );
+    let (method, matrix_title, frame) = if options.axis_aligned {
+        (
+            "accelerometer (a cube's faces: f̂ = (I+Σ)·(±g e_k) + b, full I+Σ):",
+            "I+Σ (full, in the faces' frame)",
+            "the faces' frame: each face's vertical is a sensor axis (taken as exact: the fixture's \
+             flatness is not in the σ's)",
+        )
+    } else {
+        (
+            "accelerometer (unknown orientations, |(I+Σ)⁻¹(f̂ − b)| = g):",
+            "I+Σ (upper triangular by convention)",
+            FRAME,
+        )
+    };
+    outln!(out, "{method}");
     let accel_report = FitReport {
         scale_misalignment: &accel_fit.scale_misalignment,
         sigma_scale_misalignment: accel_fit.sigma_scale_misalignment.as_ref(),
@@ -410,7 +464,7 @@ pub fn fit_record_with(accel: &Record, gyro: &Record, options: &Options) -> anyh
     };
     accel_report.print(
         &mut out,
-        "I+Σ (upper triangular by convention)",
+        matrix_title,
         "m/s²",
         "9 poses for 9 unknowns leave no degree of freedom",
     );
@@ -428,15 +482,22 @@ pub fn fit_record_with(accel: &Record, gyro: &Record, options: &Options) -> anyh
     print_gyro_extras(&mut out, &gyro_fit);
     outln!(
         out,
-        "  frame: both (I+Σ) map the accelerometer's corrected axes to the sensing axes; {FRAME} (of the \
+        "  frame: both (I+Σ) map the accelerometer's corrected axes to the sensing axes; {frame} (of the \
          accelerometer); a truth given in body axes B compares after rotating by R (the rotation of B's \
          accelerometer to upper-triangular form): `accel_frame::in_accel_frame`"
     );
 
-    let mut accel_table = method_table(
-        "rig-free: multi-position, unknown orientations, |(I+Σ)⁻¹(f̂ − b)| = g",
-        Some(FRAME),
-    );
+    let mut accel_table = if options.axis_aligned {
+        method_table(
+            "rig-free on a cube's faces: f̂ = (I+Σ)·(±g e_k) + b, linear least squares",
+            Some("(I+Σ) full: the faces' frame"),
+        )
+    } else {
+        method_table(
+            "rig-free: multi-position, unknown orientations, |(I+Σ)⁻¹(f̂ − b)| = g",
+            Some(FRAME),
+        )
+    };
     accel_table.insert("records".into(), file_list(&paths));
     accel_table.insert("gravity".into(), toml::Value::Float(options.gravity));
     accel_report.insert_statistics(&mut accel_table);
@@ -476,6 +537,36 @@ pub fn fit_record_with(accel: &Record, gyro: &Record, options: &Options) -> anyh
         accel_fit,
         gyro_fit,
     })
+}
+
+/// The cube fit `fit` as the rig-free gyro fit takes an accelerometer fit:
+/// its (I+Σ), b and statistics for the report, and the faces' frame for
+/// the gravity directions (T = I, b = 0 applied to the `faces`' ±g e_k,
+/// taken as exact: no variance carried into the gyro's σ's).
+fn faces_frame(fit: &LinearFit, faces: &[[f64; 3]]) -> AccelFit {
+    let mut distinct: Vec<[f64; 3]> = Vec::new();
+    for f in faces {
+        if !distinct.contains(f) {
+            distinct.push(*f);
+        }
+    }
+    AccelFit {
+        inverse: triad::model::matrix::inverse(&fit.scale_misalignment)
+            .unwrap_or(triad::model::matrix::IDENTITY),
+        scale_misalignment: fit.scale_misalignment,
+        bias: fit.bias,
+        params: [1.0, 0.0, 0.0, 1.0, 0.0, 1.0, 0.0, 0.0, 0.0],
+        covariance: Some([[0.0; 9]; 9]),
+        sigma_scale_misalignment: fit.sigma_scale_misalignment,
+        sigma_bias: fit.sigma_bias,
+        residual_rms: fit.residual_rms,
+        residual_max: fit.residual_max,
+        segments: fit.segments,
+        dof: fit.dof.max(1),
+        orientations: distinct.len(),
+        condition: fit.condition,
+        iterations: 0,
+    }
 }
 
 /// The common report of the gyro's fit. Its σ's have the smallest of the
