@@ -85,6 +85,31 @@ impl Record {
     }
 }
 
+/// The accelerometer and gyro records of one IMU's samples (t, f̂, ω̂),
+/// named `path`, as `calib fit imu` takes them.
+pub fn imu_records(
+    path: &Path,
+    samples: impl IntoIterator<Item = (f64, [f64; 3], [f64; 3])>,
+) -> (Record, Record) {
+    let (mut t, mut a, mut g) = (Vec::new(), Vec::new(), Vec::new());
+    for (ti, ai, gi) in samples {
+        t.push(ti);
+        a.push(ai);
+        g.push(gi);
+    }
+    let accel = Record {
+        path: path.to_path_buf(),
+        t: t.clone(),
+        samples: a,
+    };
+    let gyro = Record {
+        path: path.to_path_buf(),
+        t,
+        samples: g,
+    };
+    (accel, gyro)
+}
+
 /// How to read a record's columns: its rate when the stamps cannot say,
 /// and the triads' units (what a user knows of the unit that logged it).
 #[derive(clap::Args, Clone, Debug, Default)]

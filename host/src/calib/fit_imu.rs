@@ -385,6 +385,15 @@ pub fn fit_record_with(accel: &Record, gyro: &Record, options: &Options) -> anyh
             left_out.join("; ")
         ),
         _ => anyhow!("{name}: gyroscope: {e}"),
+    })
+    .inspect_err(|e| {
+        // What was left out is said even when the gyro fit then refuses
+        // (a refusal for too few moves already lists it).
+        if !e.to_string().contains("were left out") {
+            for line in &left_out {
+                crate::stdio::note!("{name}: {line}");
+            }
+        }
     })?;
 
     let mut head = String::new();

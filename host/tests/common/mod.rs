@@ -84,26 +84,9 @@ pub fn simulate_scene(d: &Path, name: &str, body: &str, seconds: &str, seed: &st
     out
 }
 
-/// The unit: the accelerometer's (I+Σ) upper triangular (the fit's
-/// convention, so its corrected axes are the sensor's and the gyro's truth
-/// compares entry by entry); the gyro's full, with 2 % scale errors.
+/// The hand-turned unit of the rig-free tests ([`hand_record::MEMS_UNIT`]).
+///
+/// [`hand_record::MEMS_UNIT`]: triad_lab::calib_fit::hand_record::MEMS_UNIT
 pub fn hand_unit() -> triad_lab::calib_fit::hand_record::Unit {
-    use triad_lab::calib_fit::hand_record::{TriadTruth, Unit};
-    Unit {
-        accel: TriadTruth {
-            scale_misalignment: [[1.01, 0.004, -0.003], [0.0, 0.99, 0.002], [0.0, 0.0, 1.015]],
-            bias: [0.1, -0.15, 0.05],
-            noise: 0.01,
-        },
-        gyro: TriadTruth {
-            scale_misalignment: [
-                [1.02, 0.006, -0.004],
-                [-0.003, 0.98, 0.005],
-                [0.002, -0.006, 1.01],
-            ],
-            bias: [0.01, -0.02, 0.015],
-            noise: 1e-3,
-        },
-        gravity: 9.80665,
-    }
+    triad_lab::calib_fit::hand_record::MEMS_UNIT
 }
