@@ -350,14 +350,17 @@ pub fn fit_record_with(accel: &Record, gyro: &Record, options: &Options) -> anyh
         }
         moves.push(j);
     }
-    let in_fit = |i: usize| {
-        used.iter().any(|p| (p.start..p.end).contains(&i))
-            || moves
-                .iter()
-                .any(|&j| rig_free::move_samples(&used, j).contains(&i))
-    };
+    // The samples the fit uses: the poses and the moves kept.
+    let mut in_fit = vec![false; gyro.samples.len()];
+    let ranges = used
+        .iter()
+        .map(|p| p.start..p.end)
+        .chain(moves.iter().map(|&j| rig_free::move_samples(&used, j)));
+    for r in ranges {
+        in_fit[r].fill(true);
+    }
     let outside: Vec<usize> = (0..gyro.samples.len())
-        .filter(|&i| gyro.samples[i].iter().any(|x| x.abs() > limit) && !in_fit(i))
+        .filter(|&i| gyro.samples[i].iter().any(|x| x.abs() > limit) && !in_fit[i])
         .collect();
     let gyro_fit = rig_free::fit_moves(
         record,

@@ -8,6 +8,39 @@ use triad_bench::{Variant, BATCH, BATCHES};
 
 use crate::cmd::{cargo, check, host_target_dir};
 
+/// Seconds of `triad calib fit imu`'s whole fit on a 10-minute 400 Hz
+/// hand-pose record (host/benches/fit_imu.rs; criterion's mean).
+pub fn fit_imu_seconds() -> Result<f64> {
+    let mut command = cargo();
+    command.args([
+        "bench",
+        "--quiet",
+        "-p",
+        "triad-host",
+        "--bench",
+        "fit_imu",
+        "--",
+        "--warm-up-time",
+        "1",
+        "--measurement-time",
+        "10",
+    ]);
+    check(command, "the fit imu benchmark (criterion)")?;
+    let path = host_target_dir().join("criterion/fit_imu/hand_10min_400hz/new/estimates.json");
+    Ok(mean_ns(&path)? * 1e-9)
+}
+
+/// Criterion's mean (ns) from its estimates file at `path`.
+fn mean_ns(path: &std::path::Path) -> Result<f64> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    let estimates: serde_json::Value =
+        serde_json::from_str(&text).with_context(|| format!("parsing {}", path.display()))?;
+    estimates["mean"]["point_estimate"]
+        .as_f64()
+        .with_context(|| format!("no mean.point_estimate in {}", path.display()))
+}
+
 /// Nanoseconds per 6-axis sample on the host, per variant (criterion's mean).
 pub fn measure() -> Result<Vec<(Variant, f64)>> {
     let mut command = cargo();
@@ -33,13 +66,7 @@ pub fn measure() -> Result<Vec<(Variant, f64)>> {
                 .join("criterion/model")
                 .join(variant.name())
                 .join("new/estimates.json");
-            let text = std::fs::read_to_string(&path)
-                .with_context(|| format!("reading {}", path.display()))?;
-            let estimates: serde_json::Value = serde_json::from_str(&text)
-                .with_context(|| format!("parsing {}", path.display()))?;
-            let ns = estimates["mean"]["point_estimate"]
-                .as_f64()
-                .with_context(|| format!("no mean.point_estimate in {}", path.display()))?;
+            let ns = mean_ns(&path)?;
             Ok((variant, ns / (BATCH * BATCHES) as f64))
         })
         .collect()
