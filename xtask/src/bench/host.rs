@@ -11,6 +11,14 @@ use crate::cmd::{cargo, check, host_target_dir};
 /// Seconds of `triad calib fit imu`'s whole fit on a 10-minute 400 Hz
 /// hand-pose record (host/benches/fit_imu.rs; criterion's mean).
 pub fn fit_imu_seconds() -> Result<f64> {
+    run_criterion("fit_imu", "10", "the fit imu benchmark (criterion)")?;
+    let path = host_target_dir().join("criterion/fit_imu/hand_10min_400hz/new/estimates.json");
+    Ok(mean_ns(&path)? * 1e-9)
+}
+
+/// Runs host/benches/`bench`.rs (1 s warm-up, `seconds` measuring);
+/// `what` names it in an error.
+fn run_criterion(bench: &str, seconds: &str, what: &str) -> Result<()> {
     let mut command = cargo();
     command.args([
         "bench",
@@ -18,16 +26,15 @@ pub fn fit_imu_seconds() -> Result<f64> {
         "-p",
         "triad-host",
         "--bench",
-        "fit_imu",
+        bench,
         "--",
         "--warm-up-time",
         "1",
         "--measurement-time",
-        "10",
+        seconds,
     ]);
-    check(command, "the fit imu benchmark (criterion)")?;
-    let path = host_target_dir().join("criterion/fit_imu/hand_10min_400hz/new/estimates.json");
-    Ok(mean_ns(&path)? * 1e-9)
+    // Criterion's progress goes to stderr (check): stdout carries the table or the JSON.
+    check(command, what)
 }
 
 /// Criterion's mean (ns) from its estimates file at `path`.
@@ -43,22 +50,7 @@ fn mean_ns(path: &std::path::Path) -> Result<f64> {
 
 /// Nanoseconds per 6-axis sample on the host, per variant (criterion's mean).
 pub fn measure() -> Result<Vec<(Variant, f64)>> {
-    let mut command = cargo();
-    command.args([
-        "bench",
-        "--quiet",
-        "-p",
-        "triad-host",
-        "--bench",
-        "model",
-        "--",
-        "--warm-up-time",
-        "1",
-        "--measurement-time",
-        "2",
-    ]);
-    // Criterion's progress goes to stderr (check): stdout carries the table or the JSON.
-    check(command, "the host benchmark (criterion)")?;
+    run_criterion("model", "2", "the host benchmark (criterion)")?;
     Variant::ALL
         .into_iter()
         .map(|variant| {
