@@ -56,9 +56,13 @@ pub fn run(args: AccelArgs) -> anyhow::Result<ExitCode> {
         .output
         .prepare(&inputs("--positions", &args.positions))?;
     let records = read_records(&args.reading, &args.positions, &args.output.ranges)?;
+    let mut dropped = Vec::new();
     let stats = segments::given_or(&records, args.segments.as_deref(), "--positions", || {
-        segments::detected(&records, args.min_static)
+        segments::detected_saying(&records, args.min_static, |line| dropped.push(line))
     })?;
+    for line in &dropped {
+        note!("{line}");
+    }
     let means: Vec<[f64; 3]> = stats.iter().map(|s| s.mean).collect();
     if args.axis_aligned {
         cube(&args, base, &stats, &means)

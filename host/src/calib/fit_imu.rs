@@ -387,6 +387,9 @@ pub fn fit_record_with(accel: &Record, gyro: &Record, options: &Options) -> anyh
             left_out.len(),
             left_out.join("; ")
         ),
+        FitError::TooFastForRate { sample, .. } => {
+            anyhow!("{name}: gyroscope: {e} (t = {:.2} s)", gyro.t[sample])
+        }
         _ => anyhow!("{name}: gyroscope: {e}"),
     })
     .inspect_err(|e| {

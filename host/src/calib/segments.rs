@@ -166,9 +166,22 @@ pub fn detect(record: &Record, min_static: f64) -> anyhow::Result<Detection> {
 
 /// The static segments of every record, in order.
 pub fn detected(records: &[Record], min_static: f64) -> anyhow::Result<Vec<Stat>> {
+    detected_saying(records, min_static, |_| {})
+}
+
+/// [`detected`], each dropped candidate said to `say` (naming its file).
+pub fn detected_saying(
+    records: &[Record],
+    min_static: f64,
+    mut say: impl FnMut(String),
+) -> anyhow::Result<Vec<Stat>> {
     let mut stats = Vec::new();
     for (file, record) in records.iter().enumerate() {
         let found = detect(record, min_static)?;
+        let name = crate::input::name(&record.path);
+        for line in found.dropped_lines(record, min_static) {
+            say(format!("{name}: {line}"));
+        }
         stats.extend(
             found
                 .segments
