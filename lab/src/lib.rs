@@ -5,6 +5,7 @@
 //! - [`allan`]: Allan variance of rate data, its confidence intervals, the
 //!   IEEE Std 952 noise terms and the grade they meet.
 //! - [`calib_fit`]: (I+Σ) and b from static positions and rate-table runs.
+//! - [`time_base`]: sample times repaired from stamps as loggers write them.
 #![no_std]
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
@@ -13,3 +14,4 @@ pub mod allan;
 pub mod calib_fit;
 pub mod f_dist;
 pub mod student_t;
+pub mod time_base;

@@ -13,9 +13,11 @@ use triad_lab::calib_fit::gyro_fit::LinearFit;
 use triad_lab::calib_fit::{accel_cube, accel_fit, FitError};
 
 use super::fit::{file_list, inputs, names, write_calibration, Base, Output};
-use super::fit_csv;
-use super::report::{fit_report, method_table};
+use super::fit_csv::{self, Reading, Record};
+use super::report::{fit_report, method_table, FRAME};
 use super::segments::{self, Stat};
+use super::Ranges;
+use crate::stdio::note;
 use crate::stdio::outln;
 
 /// Arguments of `triad calib fit accel`.
@@ -42,6 +44,8 @@ pub struct AccelArgs {
     #[arg(long)]
     axis_aligned: bool,
     #[command(flatten)]
+    reading: Reading,
+    #[command(flatten)]
     output: Output,
 }
 
@@ -51,16 +55,39 @@ pub fn run(args: AccelArgs) -> anyhow::Result<ExitCode> {
     let base = args
         .output
         .prepare(&inputs("--positions", &args.positions))?;
-    let records = fit_csv::read_all(&args.positions, fit_csv::ACCEL)?;
+    let records = read_records(&args.reading, &args.positions, &args.output.ranges)?;
+    let mut dropped = Vec::new();
     let stats = segments::given_or(&records, args.segments.as_deref(), "--positions", || {
-        segments::detected(&records, args.min_static)
+        segments::detected_saying(&records, args.min_static, |line| dropped.push(line))
     })?;
+    for line in &dropped {
+        note!("{line}");
+    }
     let means: Vec<[f64; 3]> = stats.iter().map(|s| s.mean).collect();
     if args.axis_aligned {
         cube(&args, base, &stats, &means)
     } else {
         ellipsoid(&args, base, &stats, &means)
     }
+}
+
+/// The accelerometer columns of `paths` as `reading` says, each time base
+/// that needed repair noted on stderr.
+pub fn read_records(
+    reading: &Reading,
+    paths: &[PathBuf],
+    ranges: &Ranges,
+) -> anyhow::Result<Vec<Record>> {
+    paths
+        .iter()
+        .map(|p| {
+            let (record, time) = reading.read(p, fit_csv::ACCEL, ranges)?;
+            if let Some(line) = fit_csv::time_note(&crate::input::name(p), &time, &record) {
+                note!("{line}");
+            }
+            Ok(record)
+        })
+        .collect()
 }
 
 fn check(args: &AccelArgs) -> anyhow::Result<()> {
@@ -96,7 +123,7 @@ fn ellipsoid(
     );
     let mut table = method_table(
         "multi-position, unknown orientations: |(I+Σ)⁻¹(f̂ − b)| = g, Levenberg–Marquardt from an algebraic ellipsoid",
-        Some("(I+Σ) upper triangular: corrected z = the z sensing axis, corrected y in the plane of the y and z sensing axes, x completes the frame"),
+        Some(FRAME),
     );
     table.insert("records".into(), file_list(&args.positions));
     table.insert("gravity".into(), toml::Value::Float(args.gravity));

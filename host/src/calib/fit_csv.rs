@@ -2,12 +2,21 @@
 //! columns (`triad sim` writes `t,ax,ay,az,gx,gy,gz,temp`, SI units); only
 //! the columns a fit needs must be present, in any order. `-` reads
 //! standard input; a byte-order mark before the header is ignored.
+//!
+//! Times: the `t` stamps as loggers write them (repeated, jittered, out of
+//! order, with gaps) are repaired by [`time_base::repair`], whose method
+//! its documentation states; `--rate HZ` times the samples instead (and
+//! then no `t` column is needed). Units: [`Reading`] converts columns in g,
+//! °/s or a 16-bit chip's counts (at the configured range) to SI.
 
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use anyhow::{anyhow, bail, Context};
+use triad::units::{deg_to_rad, STANDARD_GRAVITY};
+use triad_lab::time_base::{self, TimeBase};
 
+use super::Ranges;
 use crate::input::{self, strip_bom};
 use crate::progress::{Progress, Unit};
 
@@ -27,21 +36,45 @@ pub struct Record {
 }
 
 impl Record {
-    /// The sample rate from the time span (Hz), or an error naming the file.
+    /// The sample rate (Hz): one over the median window period of the
+    /// times ([`time_base::period`]: gaps do not bias it), or an error
+    /// naming the file.
     pub fn rate_hz(&self) -> anyhow::Result<f64> {
         let n = self.t.len();
-        let span = if n >= 2 {
-            self.t[n - 1] - self.t[0]
+        let mut scratch = vec![0.0; n / time_base::WINDOW + 1];
+        let period = if n >= 2 {
+            time_base::period(&self.t, &mut scratch)
         } else {
-            0.0
+            f64::NAN
         };
-        if span.is_nan() || span <= 0.0 {
+        if !(period > 0.0 && period.is_finite()) {
             bail!(
-                "{}: {n} sample(s) spanning {span} s: cannot tell the sample rate (t must increase)",
+                "{}: {n} sample(s): cannot tell the sample rate (t must increase); pass --rate HZ",
                 input::name(&self.path)
             );
         }
-        Ok((n - 1) as f64 / span)
+        Ok(1.0 / period)
+    }
+
+    /// The record's parts: split where the times step by more than
+    /// [`time_base::GAP_PERIODS`] periods (a gap the logger left), each a
+    /// sample range; no motion is integrated across a split.
+    pub fn parts(&self) -> Vec<std::ops::Range<usize>> {
+        let whole = 0..self.t.len();
+        let Ok(rate) = self.rate_hz() else {
+            return Vec::from([whole]);
+        };
+        let gap = time_base::GAP_PERIODS / rate;
+        let mut parts = Vec::new();
+        let mut start = 0;
+        for i in 1..self.t.len() {
+            if self.t[i] - self.t[i - 1] > gap {
+                parts.push(start..i);
+                start = i;
+            }
+        }
+        parts.push(start..self.t.len());
+        parts
     }
 
     /// The samples with `from ≤ t ≤ to`.
@@ -50,6 +83,132 @@ impl Record {
         let end = self.t.partition_point(|&t| t <= to);
         &self.samples[start..end.max(start)]
     }
+}
+
+/// The accelerometer and gyro records of one IMU's samples (t, f̂, ω̂),
+/// named `path`, as `calib fit imu` takes them.
+pub fn imu_records(
+    path: &Path,
+    samples: impl IntoIterator<Item = (f64, [f64; 3], [f64; 3])>,
+) -> (Record, Record) {
+    let (mut t, mut a, mut g) = (Vec::new(), Vec::new(), Vec::new());
+    for (ti, ai, gi) in samples {
+        t.push(ti);
+        a.push(ai);
+        g.push(gi);
+    }
+    let accel = Record {
+        path: path.to_path_buf(),
+        t: t.clone(),
+        samples: a,
+    };
+    let gyro = Record {
+        path: path.to_path_buf(),
+        t,
+        samples: g,
+    };
+    (accel, gyro)
+}
+
+/// How to read a record's columns: its rate when the stamps cannot say,
+/// and the triads' units (what a user knows of the unit that logged it).
+#[derive(clap::Args, Clone, Debug, Default)]
+pub struct Reading {
+    /// The sample rate, Hz: sample k is at k/HZ, the `t` column (if any)
+    /// ignored. For records without stamps, or whose stamps cannot time them.
+    #[arg(long, value_name = "HZ", allow_negative_numbers = true)]
+    pub rate: Option<f64>,
+    /// The unit of the ax,ay,az columns: m/s2, g, or counts (a 16-bit
+    /// chip's, scaled by the nominal sensitivity of --accel-range-g).
+    #[arg(long, default_value = "m/s2", value_parser = ["m/s2", "g", "counts"])]
+    pub accel_unit: String,
+    /// The unit of the gx,gy,gz columns: rad/s, deg/s, or counts (a 16-bit
+    /// chip's, scaled by the nominal sensitivity of --gyro-range-dps).
+    #[arg(long, default_value = "rad/s", value_parser = ["rad/s", "deg/s", "counts"])]
+    pub gyro_unit: String,
+}
+
+impl Reading {
+    /// SI per unit of the `columns` ([`ACCEL`] or [`GYRO`]) at `ranges`.
+    pub fn scale(&self, columns: [&str; 3], ranges: &Ranges) -> f64 {
+        let scale = ranges.scale_16_bit();
+        if columns == ACCEL {
+            match self.accel_unit.as_str() {
+                "g" => STANDARD_GRAVITY,
+                "counts" => scale.accel.si_per_lsb,
+                _ => 1.0,
+            }
+        } else {
+            match self.gyro_unit.as_str() {
+                "deg/s" => deg_to_rad(1.0),
+                "counts" => scale.gyro.si_per_lsb,
+                _ => 1.0,
+            }
+        }
+    }
+
+    /// Reads the `columns` of `path` in SI, timed as this says, with what
+    /// the time base found.
+    pub fn read(
+        &self,
+        path: &Path,
+        columns: [&str; 3],
+        ranges: &Ranges,
+    ) -> anyhow::Result<(Record, TimeBase)> {
+        self.parse(&read_text(path)?, path, columns, ranges)
+    }
+
+    /// [`Self::read`] of each of `paths`, without the time bases.
+    pub fn read_all(
+        &self,
+        paths: &[PathBuf],
+        columns: [&str; 3],
+        ranges: &Ranges,
+    ) -> anyhow::Result<Vec<Record>> {
+        paths
+            .iter()
+            .map(|p| self.read(p, columns, ranges).map(|(r, _)| r))
+            .collect()
+    }
+
+    /// [`Self::read`] from the text already read.
+    pub fn parse(
+        &self,
+        text: &str,
+        path: &Path,
+        columns: [&str; 3],
+        ranges: &Ranges,
+    ) -> anyhow::Result<(Record, TimeBase)> {
+        parse_timed(text, path, columns, self.rate, self.scale(columns, ranges))
+    }
+}
+
+/// One line saying how the times were made, for a fit's report (None when
+/// the stamps were a clean straight line).
+pub fn time_note(name: &str, base: &TimeBase, record: &Record) -> Option<String> {
+    if base.from_rate {
+        return Some(format!(
+            "{name}: timed by --rate: {:.6} Hz, sample k at k/rate (stamps ignored)",
+            1.0 / base.period
+        ));
+    }
+    if !base.repaired() {
+        return None;
+    }
+    let at = base.departure_at;
+    Some(format!(
+        "{name}: time stamps repaired (one straight line per part, period {:.6} s = the median of {}-sample windows): {} repeated, {} backwards, {} small gap(s), {} part(s) split at gaps over {} periods; largest departure {:.4} s at sample {} (t = {:.3} s)",
+        base.period,
+        time_base::WINDOW,
+        base.repeated,
+        base.backwards,
+        base.small_gaps,
+        base.parts,
+        time_base::GAP_PERIODS,
+        base.largest_departure,
+        at + 1,
+        record.t[at]
+    ))
 }
 
 /// Reads `t` and the three `columns` of each of `paths`.
@@ -107,8 +266,22 @@ pub fn read_text(path: &Path) -> anyhow::Result<String> {
     })
 }
 
-/// Parses `t` and the three `columns` of the CSV `text` read from `path`.
+/// Parses `t` and the three `columns` (SI) of the CSV `text` read from
+/// `path`, its stamps repaired by the time base.
 pub fn parse(text: &str, path: &Path, columns: [&str; 3]) -> anyhow::Result<Record> {
+    parse_timed(text, path, columns, None, 1.0).map(|(r, _)| r)
+}
+
+/// Parses the three `columns` of the CSV `text` read from `path`, each
+/// value times `scale` (to SI); timed at `rate` Hz when given (no `t`
+/// column needed), else by the repaired `t` stamps.
+fn parse_timed(
+    text: &str,
+    path: &Path,
+    columns: [&str; 3],
+    rate: Option<f64>,
+    scale: f64,
+) -> anyhow::Result<(Record, TimeBase)> {
     let name = input::name(path);
     let mut lines = strip_bom(text)
         .lines()
@@ -117,35 +290,49 @@ pub fn parse(text: &str, path: &Path, columns: [&str; 3]) -> anyhow::Result<Reco
     let Some((_, header)) = lines.next() else {
         bail!("{name}: empty file, expected a header such as `t,ax,ay,az,gx,gy,gz,temp`");
     };
-    let wanted = ["t", columns[0], columns[1], columns[2]];
-    let (width, index) = header_indices(header, wanted).map_err(|e| anyhow!("{name}: {e}"))?;
-    let mut record = Record {
-        path: path.to_path_buf(),
-        t: Vec::new(),
-        samples: Vec::new(),
+    let has_t = header.split(',').any(|c| c.trim() == "t");
+    // Without --rate the stamps are needed; with it, a `t` column is read
+    // (and checked) only when there is one.
+    let wanted = if has_t || rate.is_none() {
+        ["t", columns[0], columns[1], columns[2]]
+    } else {
+        [columns[0], columns[0], columns[1], columns[2]]
     };
+    let (width, index) = header_indices(header, wanted).map_err(|e| {
+        let hint = if has_t {
+            ""
+        } else {
+            "; a record without time stamps needs --rate HZ"
+        };
+        anyhow!("{name}: {e}{hint}")
+    })?;
+    let mut stamps = Vec::new();
+    let mut samples = Vec::new();
     for (i, line) in lines {
         let at = Line {
             name: &name,
             number: i + 1,
         };
         let v = at.values(line, width, &index, wanted)?;
-        if let Some(&last) = record.t.last() {
-            if v[0] <= last {
-                bail!(
-                    "{name} line {}: t = {} does not increase (previous {last})",
-                    i + 1,
-                    v[0]
-                );
-            }
-        }
-        record.t.push(v[0]);
-        record.samples.push([v[1], v[2], v[3]]);
+        stamps.push(v[0]);
+        samples.push([v[1] * scale, v[2] * scale, v[3] * scale]);
     }
-    if record.t.is_empty() {
+    if samples.is_empty() {
         bail!("{name}: no samples after the header");
     }
-    Ok(record)
+    let n = samples.len();
+    let mut t = vec![0.0; n];
+    let base = match rate {
+        Some(hz) => time_base::from_rate(n, hz, &mut t),
+        None => time_base::repair(&stamps, &mut t, &mut vec![0; n]),
+    }
+    .map_err(|e| anyhow!("{name}: {e}"))?;
+    let record = Record {
+        path: path.to_path_buf(),
+        t,
+        samples,
+    };
+    Ok((record, base))
 }
 
 /// The header's column count and the cell index of each `wanted` column.
@@ -279,16 +466,52 @@ mod tests {
             err("t,gx,gy,gz\n0,1,x,3\n"),
             "r.csv line 2, column 3 (gy): `x` is not a finite number"
         );
-        assert_eq!(
-            err("t,gx,gy,gz\n1,1,2,3\n\n1,1,2,3\n"),
-            "r.csv line 4: t = 1 does not increase (previous 1)"
+        assert!(err("t,gx,gy,gz\n1,1,2,3\n\n1,1,2,3\n")
+            .starts_with("r.csv: the 2 time stamps do not advance (first 1, last 1)"));
+        assert!(err("t,gx,gy,gz\n1,1,2,3\n").contains("pass --rate HZ"));
+    }
+
+    #[test]
+    fn repeated_stamps_are_repaired_and_a_rate_times_a_record_without_stamps() {
+        // 200 Hz stamped at 10 ms: pairs share a stamp.
+        let mut text = String::from("t,gx,gy,gz\n");
+        for k in 0..100 {
+            let t = 1672887159.71 + ((k as f64 * 0.005) / 0.01).floor() * 0.01;
+            text += &format!("{t:.2},1,2,3\n");
+        }
+        let (r, base) = parse_timed(&text, Path::new("r.csv"), GYRO, None, 1.0).unwrap();
+        assert!((r.rate_hz().unwrap() - 200.0).abs() < 5.0, "{base:?}");
+        assert!(r.t.windows(2).all(|w| w[1] > w[0]));
+        let note = time_note("r.csv", &base, &r).unwrap();
+        assert!(note.contains("50 repeated"), "{note}");
+        let reading = Reading {
+            rate: Some(100.0),
+            accel_unit: "g".into(),
+            gyro_unit: "counts".into(),
+        };
+        let ranges = Ranges {
+            accel_range_g: 2.0,
+            gyro_range_dps: 250.0,
+        };
+        let (r, _) = reading
+            .parse(
+                "ax,ay,az\n0,0,1\n0,0,-1\n",
+                Path::new("a.csv"),
+                ACCEL,
+                &ranges,
+            )
+            .unwrap();
+        assert_eq!(r.t, [0.0, 0.01]);
+        assert_eq!(r.samples[1], [0.0, 0.0, -STANDARD_GRAVITY]);
+        let (g, _) = reading
+            .parse("gx,gy,gz\n131,0,0\n", Path::new("g.csv"), GYRO, &ranges)
+            .unwrap();
+        assert!((g.samples[0][0] - deg_to_rad(131.0 * 250.0 / 32768.0)).abs() < 1e-15);
+        let err = record("ax,gx,gy,gz\n0,1,2,3\n").err().unwrap().to_string();
+        assert!(
+            err.ends_with("a record without time stamps needs --rate HZ"),
+            "{err}"
         );
-        let one = record("t,gx,gy,gz\n1,1,2,3\n").unwrap();
-        assert!(one
-            .rate_hz()
-            .unwrap_err()
-            .to_string()
-            .contains("cannot tell the sample rate"));
     }
 
     #[test]

@@ -51,6 +51,8 @@ pub struct GyroArgs {
     #[arg(long, value_name = "DEG_PER_S", default_value_t = stillness::DEFAULT_MAX_BIAS_DPS, allow_negative_numbers = true)]
     max_bias: f64,
     #[command(flatten)]
+    reading: fit_csv::Reading,
+    #[command(flatten)]
     output: Output,
 }
 
@@ -110,7 +112,9 @@ fn rate_table(args: &GyroArgs, base: Base) -> anyhow::Result<ExitCode> {
         bail!("--rate-table needs --rates: the true rate of each run, e.g. \"z:+30,z:-30,x:+30,y:+30\" (°/s)");
     };
     let rates = parse_rates(rates_text)?;
-    let records = fit_csv::read_all(&args.rate_table, fit_csv::GYRO)?;
+    let records = args
+        .reading
+        .read_all(&args.rate_table, fit_csv::GYRO, &args.output.ranges)?;
     let stats = segments::given_or(&records, args.segments.as_deref(), "--rate-table", || {
         Ok(records
             .iter()
@@ -232,8 +236,13 @@ fn gyro_static(args: &GyroArgs, base: Base, path: &Path) -> anyhow::Result<ExitC
     }
     // Read once (it may be standard input): the gyro, and the accelerometer when there.
     let text = fit_csv::read_text(path)?;
-    let gyro = fit_csv::parse(&text, path, fit_csv::GYRO)?;
-    let accel = fit_csv::parse(&text, path, fit_csv::ACCEL).ok();
+    let ranges = &args.output.ranges;
+    let (gyro, _) = args.reading.parse(&text, path, fit_csv::GYRO, ranges)?;
+    let accel = args
+        .reading
+        .parse(&text, path, fit_csv::ACCEL, ranges)
+        .ok()
+        .map(|(r, _)| r);
     drop(text);
     let s = stat(&gyro, 0, 0..gyro.samples.len());
     if s.count < 2 {

@@ -10,26 +10,28 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use anyhow::anyhow;
+use anyhow::{anyhow, bail};
 use triad::model::{Triad, TriadCalibration};
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
 use triad_lab::calib_fit::accel_fit::AccelFit;
-use triad_lab::calib_fit::rig_free::{self, RigFreeGyroFit};
-use triad_lab::calib_fit::static_segments::Segment;
-use triad_lab::calib_fit::{accel_fit, FitError};
+use triad_lab::calib_fit::gyro_fit::LinearFit;
+use triad_lab::calib_fit::rig_free::{self, RigFreeGyroFit, MAX_RANGE_FRACTION};
+use triad_lab::calib_fit::static_segments::{self, Segment};
+use triad_lab::calib_fit::{accel_cube, accel_fit, FitError};
 
 use super::fit::{file_list, inputs, write_calibration, Output};
-use super::fit_csv::{self, Record};
-use super::report::{method_table, FitReport};
-use super::segments::{check_pose_options, detector, stat};
+use super::fit_csv::{self, Reading, Record};
+use super::report::{method_table, FitReport, FRAME};
+use super::segments::{self, check_pose_options, stat};
 use crate::stdio::outln;
 
 /// Arguments of `triad calib fit imu`.
 #[derive(clap::Args)]
 pub struct ImuArgs {
-    /// One CSV record (`t,ax,ay,az,gx,gy,gz,...`, SI units) of the IMU
-    /// turned by hand between at least 9 static poses in different
-    /// orientations, turning about several axes.
+    /// One CSV record (`t,ax,ay,az,gx,gy,gz,...`, SI units unless
+    /// --accel-unit/--gyro-unit say otherwise) of the IMU turned by hand
+    /// between at least 9 static poses in different orientations, turning
+    /// about several axes.
     #[arg(long)]
     positions: PathBuf,
     /// Local gravity, m/s².
@@ -38,8 +40,42 @@ pub struct ImuArgs {
     /// Shortest static pose detected, seconds.
     #[arg(long, default_value_t = 2.0, allow_negative_numbers = true)]
     min_static: f64,
+    /// The static poses as FROM-TO seconds, comma-separated, instead of
+    /// detecting them.
+    #[arg(long)]
+    segments: Option<String>,
+    /// Poses to leave out, by their number in the report (e.g. 3,7): the
+    /// accelerometer fit and the bias do without them, and the gyro
+    /// integrates across them.
+    #[arg(long, value_delimiter = ',')]
+    exclude_poses: Vec<usize>,
+    /// The poses are the faces of a cube (one sensor axis vertical in each,
+    /// a tumble): the accelerometer's full (I+Σ) from the known face
+    /// directions (as `fit accel --axis-aligned`), the gyro's from the turns
+    /// between faces, both in the faces' frame.
+    #[arg(long)]
+    axis_aligned: bool,
+    #[command(flatten)]
+    reading: Reading,
     #[command(flatten)]
     output: Output,
+}
+
+/// How `fit imu` finds and uses the poses.
+#[derive(Clone, Debug)]
+pub struct Options {
+    /// Local gravity, m/s².
+    pub gravity: f64,
+    /// Shortest static pose detected, s.
+    pub min_static: f64,
+    /// The gyro's full scale, rad/s.
+    pub full_scale: f64,
+    /// `--segments`: the poses as FROM-TO seconds.
+    pub segments: Option<String>,
+    /// `--exclude-poses`: numbers (1-based) of poses to leave out.
+    pub exclude: Vec<usize>,
+    /// `--axis-aligned`: the poses are a cube's faces.
+    pub axis_aligned: bool,
 }
 
 /// Runs `triad calib fit imu`.
@@ -47,10 +83,26 @@ pub fn run(args: ImuArgs) -> anyhow::Result<ExitCode> {
     check_pose_options(args.gravity, args.min_static)?;
     let paths = [args.positions.clone()];
     let base = args.output.prepare(&inputs("--positions", &paths))?;
-    let accel = fit_csv::read(&args.positions, fit_csv::ACCEL)?;
-    let gyro = fit_csv::read(&args.positions, fit_csv::GYRO)?;
-    let full_scale = deg_to_rad(args.output.ranges.gyro_range_dps);
-    let fit = fit_record(&accel, &gyro, args.gravity, args.min_static, full_scale)?;
+    let ranges = args.output.ranges;
+    let text = fit_csv::read_text(&args.positions)?;
+    let (accel, time) = args
+        .reading
+        .parse(&text, &args.positions, fit_csv::ACCEL, &ranges)?;
+    let (gyro, _) = args
+        .reading
+        .parse(&text, &args.positions, fit_csv::GYRO, &ranges)?;
+    let options = Options {
+        gravity: args.gravity,
+        min_static: args.min_static,
+        full_scale: deg_to_rad(ranges.gyro_range_dps),
+        segments: args.segments.clone(),
+        exclude: args.exclude_poses.clone(),
+        axis_aligned: args.axis_aligned,
+    };
+    let mut fit = fit_record_with(&accel, &gyro, &options)?;
+    if let Some(note) = fit_csv::time_note(&crate::input::name(&args.positions), &time, &accel) {
+        fit.report = format!("{note}\n{}", fit.report);
+    }
     let base = base.with_fitted(Triad::Accel, fit.accel, fit.accel_table);
     write_calibration(
         &args.output,
@@ -78,12 +130,19 @@ pub struct ImuFit {
     pub header: String,
     /// The report printed for the user.
     pub report: String,
-    /// The static poses found (sample ranges of the record).
+    /// The static poses used (sample ranges of the record).
     pub poses: Vec<Segment>,
     /// The accelerometer fit.
     pub accel_fit: AccelFit,
     /// The gyroscope fit.
     pub gyro_fit: RigFreeGyroFit,
+}
+
+/// A pose found in the record: its number in the report (1-based) and samples.
+#[derive(Clone, Copy, Debug)]
+struct Pose {
+    number: usize,
+    samples: Segment,
 }
 
 /// Fits both triads to `accel` and `gyro`, the two triads of one record
@@ -97,36 +156,255 @@ pub fn fit_record(
     min_static: f64,
     full_scale: f64,
 ) -> anyhow::Result<ImuFit> {
+    let options = Options {
+        gravity,
+        min_static,
+        full_scale,
+        segments: None,
+        exclude: Vec::new(),
+        axis_aligned: false,
+    };
+    fit_record_with(accel, gyro, &options)
+}
+
+/// A run of at least this many identical gyro samples (all three axes) in a
+/// move, at a rate of at least [`HELD_STEPS`] resolution steps from the
+/// still pose's mean, is held, not measured, when the gyro's noise shows
+/// at rest ([`noise_shows`]): while the unit turns, noise and the turn
+/// itself change every sample. (Near rest, at the start and end of a turn,
+/// a coarse gyro may repeat a count honestly; a quiet quantised one may at
+/// a steady rate.)
+pub const HELD_RUN: usize = 5;
+
+/// See [`HELD_RUN`].
+pub const HELD_STEPS: f64 = 10.0;
+
+/// Whether the gyro's noise shows in the still `samples` (a standard
+/// deviation of at least one resolution step on every axis): only then is
+/// a run of identical samples in a turn held rather than a quiet,
+/// coarsely quantised gyro turning at a steady rate.
+fn noise_shows(samples: &[[f64; 3]]) -> bool {
+    let step = static_segments::resolution(samples);
+    static_segments::standard_deviation(samples)
+        .iter()
+        .all(|&sd| sd >= step)
+}
+
+/// The first held run within `range` (see [`HELD_RUN`]), `still` the gyro's
+/// mean at the pose before: its first sample and length.
+fn held_run(
+    samples: &[[f64; 3]],
+    range: std::ops::Range<usize>,
+    still: &[f64; 3],
+) -> Option<(usize, usize)> {
+    let step = static_segments::resolution(&samples[range.clone()]);
+    let turning = |w: &[f64; 3]| (0..3).any(|k| (w[k] - still[k]).abs() > HELD_STEPS * step);
+    let mut start = range.start;
+    for i in range.clone().skip(1).chain([range.end]) {
+        if i == range.end || samples[i] != samples[start] {
+            if i - start >= HELD_RUN && turning(&samples[start]) {
+                return Some((start, i - start));
+            }
+            start = i;
+        }
+    }
+    None
+}
+
+/// The times of samples `s` of `record`, for messages: "t = A..B s".
+fn span(record: &Record, s: &Segment) -> String {
+    format!(
+        "t = {:.2}..{:.2} s",
+        record.t[s.start],
+        record.t[s.end.max(s.start + 1) - 1]
+    )
+}
+
+/// [`fit_record`] with the poses given or left out as `options` say.
+pub fn fit_record_with(accel: &Record, gyro: &Record, options: &Options) -> anyhow::Result<ImuFit> {
     let name = crate::input::name(&accel.path);
     let paths = [accel.path.clone()];
-    // The poses: the accelerometer's static stretches.
-    let d = detector(accel.rate_hz()?, min_static);
-    let mut buffer = vec![Segment { start: 0, end: 0 }; accel.samples.len() / d.block + 1];
-    let n = d
-        .detect(&accel.samples, &mut buffer)
-        .map_err(|e| anyhow!("{name}: {e}"))?;
-    let poses = &buffer[..n];
-    let stats: Vec<_> = poses
+    let mut out = String::new();
+    // The poses: given, or the accelerometer's static stretches.
+    let found: Vec<Segment> = match &options.segments {
+        Some(text) => segments::given(accel, text)?
+            .iter()
+            .map(|s| {
+                let start = accel.t.partition_point(|&t| t < s.from);
+                Segment {
+                    start,
+                    end: start + s.count,
+                }
+            })
+            .collect(),
+        None => {
+            let detection = segments::detect(accel, options.min_static)?;
+            for line in detection.dropped_lines(accel, options.min_static) {
+                outln!(out, "  {line}");
+            }
+            detection.segments
+        }
+    };
+    if let Some(&n) = options.exclude.iter().find(|&&n| n == 0 || n > found.len()) {
+        bail!(
+            "{name}: --exclude-poses {n}: the record has {} pose(s), numbered from 1 in the report",
+            found.len()
+        );
+    }
+    let poses: Vec<Pose> = found
+        .iter()
+        .enumerate()
+        .map(|(i, &samples)| Pose {
+            number: i + 1,
+            samples,
+        })
+        .filter(|p| !options.exclude.contains(&p.number))
+        .collect();
+    let used: Vec<Segment> = poses.iter().map(|p| p.samples).collect();
+    let stats: Vec<_> = used
         .iter()
         .map(|p| stat(accel, 0, p.start..p.end))
         .collect();
     let means: Vec<[f64; 3]> = stats.iter().map(|s| s.mean).collect();
-    let accel_fit = accel_fit::fit(&means, gravity).map_err(|e| match e {
-        FitError::TooFewOrientations { .. } | FitError::OrientationsInOnePlane { .. } => {
-            anyhow!("{name}: accelerometer: {e}; turn the board to more orientations")
-        }
-        _ => anyhow!("{name}: accelerometer, {} static poses: {e}", means.len()),
-    })?;
+    // The gravity direction of each pose comes from the accelerometer fit
+    // (unknown orientations) or, on a cube's faces, from the face itself.
+    let (accel_fit, directions) = if options.axis_aligned {
+        let fit = accel_cube::fit(&means, options.gravity)
+            .map_err(|e| anyhow!("{name}: accelerometer (--axis-aligned): {e}"))?;
+        let faces: Vec<[f64; 3]> = means
+            .iter()
+            .map(|m| accel_cube::reference(m, options.gravity).unwrap_or([0.0; 3]))
+            .collect();
+        (faces_frame(&fit, &faces), faces)
+    } else {
+        let fit = accel_fit::fit(&means, options.gravity).map_err(|e| match e {
+            FitError::TooFewOrientations { .. } | FitError::OrientationsInOnePlane { .. } => {
+                anyhow!(
+                    "{name}: accelerometer: {e}; turn the board to more orientations \
+                     (or give --axis-aligned for a cube tumble)"
+                )
+            }
+            _ => anyhow!("{name}: accelerometer, {} static poses: {e}", means.len()),
+        })?;
+        (fit, means.clone())
+    };
+
+    // The moves: between consecutive used poses in one part of the record,
+    // within the gyro's range.
+    let parts = gyro.parts();
+    let part_of = |sample: usize| parts.iter().position(|p| p.contains(&sample));
+    let limit = MAX_RANGE_FRACTION * options.full_scale;
     let record = rig_free::Record {
         t: &gyro.t,
         gyro: &gyro.samples,
     };
-    let gyro_fit = rig_free::fit(record, poses, &means, &accel_fit, full_scale)
-        .map_err(|e| anyhow!("{name}: gyroscope: {e}"))?;
+    let mut moves = Vec::new();
+    let mut left_out = Vec::new();
+    for (j, pair) in poses.windows(2).enumerate() {
+        let (a, b) = (pair[0], pair[1]);
+        let samples = rig_free::move_samples(&used, j);
+        let label = format!(
+            "move from pose {} to pose {} ({})",
+            a.number,
+            b.number,
+            span(
+                gyro,
+                &Segment {
+                    start: a.samples.end - 1,
+                    end: b.samples.start + 1
+                }
+            )
+        );
+        if part_of(a.samples.start) != part_of(b.samples.start) {
+            left_out.push(format!(
+                "{label} left out: it crosses a gap in the time stamps"
+            ));
+            continue;
+        }
+        let still = segments::stat(gyro, 0, a.samples.start..a.samples.end);
+        let moving = a.samples.end..b.samples.start;
+        let held = noise_shows(&gyro.samples[a.samples.start..a.samples.end])
+            .then(|| held_run(&gyro.samples, moving, &still.mean))
+            .flatten();
+        if let Some((at, n)) = held {
+            left_out.push(format!(
+                "{label} left out: the gyro repeats one value for {n} samples from t = {:.2} s (sample {}): \
+                 held samples (a logger repeating over lost frames?) lose the turn",
+                gyro.t[at],
+                at + 1
+            ));
+            continue;
+        }
+        let (sample, peak) = rig_free::peak_of(&record, samples);
+        if peak > limit {
+            left_out.push(format!(
+                "{label} left out: the gyro reads {:.1} °/s at t = {:.2} s (sample {}), beyond {:.0} % of its \
+                 full scale {:.0} °/s, so the turn may have clipped",
+                peak.to_degrees(),
+                gyro.t[sample],
+                sample + 1,
+                100.0 * MAX_RANGE_FRACTION,
+                options.full_scale.to_degrees()
+            ));
+            continue;
+        }
+        moves.push(j);
+    }
+    // The samples the fit uses: the poses and the moves kept.
+    let mut in_fit = vec![false; gyro.samples.len()];
+    let ranges = used
+        .iter()
+        .map(|p| p.start..p.end)
+        .chain(moves.iter().map(|&j| rig_free::move_samples(&used, j)));
+    for r in ranges {
+        in_fit[r].fill(true);
+    }
+    let outside: Vec<usize> = (0..gyro.samples.len())
+        .filter(|&i| gyro.samples[i].iter().any(|x| x.abs() > limit) && !in_fit[i])
+        .collect();
+    let gyro_fit = rig_free::fit_moves(
+        record,
+        &used,
+        &moves,
+        &directions,
+        &accel_fit,
+        options.full_scale,
+    )
+    .map_err(|e| match e {
+        FitError::PoseNotStatic { pose, .. } => {
+            let p = poses[pose];
+            let text = e.to_string();
+            let rest = text.split_once(": ").map_or(text.as_str(), |(_, r)| r);
+            anyhow!(
+                "{name}: gyroscope: pose {} ({}): {rest}; or leave it out with --exclude-poses {}",
+                p.number,
+                span(gyro, &p.samples),
+                p.number
+            )
+        }
+        FitError::TooFewRotations { .. } if !left_out.is_empty() => anyhow!(
+            "{name}: gyroscope: {e} ({} move(s) were left out: {})",
+            left_out.len(),
+            left_out.join("; ")
+        ),
+        FitError::TooFastForRate { sample, .. } => {
+            anyhow!("{name}: gyroscope: {e} (t = {:.2} s)", gyro.t[sample])
+        }
+        _ => anyhow!("{name}: gyroscope: {e}"),
+    })
+    .inspect_err(|e| {
+        // What was left out is said even when the gyro fit then refuses
+        // (a refusal for too few moves already lists it).
+        if !e.to_string().contains("were left out") {
+            for line in &left_out {
+                crate::stdio::note!("{name}: {line}");
+            }
+        }
+    })?;
 
-    let mut out = String::new();
+    let mut head = String::new();
     outln!(
-        out,
+        head,
         "rig-free fit of {name}: {} static poses ({} orientations), {} moves between them ({} turns of 10° or more)",
         stats.len(),
         accel_fit.orientations,
@@ -134,9 +412,60 @@ pub fn fit_record(
         gyro_fit.turns
     );
     outln!(
-        out,
-        "accelerometer (unknown orientations, |(I+Σ)⁻¹(f̂ − b)| = g):"
+        head,
+        "  pose  from..to (s)         samples          |f̂| (m/s²)"
     );
+    for (p, s) in poses.iter().zip(&stats) {
+        let m = s.mean;
+        outln!(
+            head,
+            "  {:>4}  {:>8.2}..{:<8.2}  {:>7}..{:<7}  {:.5}",
+            p.number,
+            s.from,
+            s.to,
+            p.samples.start + 1,
+            p.samples.end,
+            (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt()
+        );
+    }
+    for n in &options.exclude {
+        let s = &found[n - 1];
+        outln!(
+            head,
+            "  pose {n} ({}) left out by --exclude-poses",
+            span(accel, s)
+        );
+    }
+    for line in &left_out {
+        outln!(head, "  {line}");
+    }
+    if let (Some(&first), n) = (outside.first(), outside.len()) {
+        outln!(
+            head,
+            "  {n} sample(s) beyond {:.0} % of the gyro's full scale lie outside the poses and moves the fit uses \
+             (the first at t = {:.2} s, sample {}): ignored",
+            100.0 * MAX_RANGE_FRACTION,
+            gyro.t[first],
+            first + 1
+        );
+    }
+    let out = head + &out;
+    let mut out = out;
+    let (method, matrix_title, frame) = if options.axis_aligned {
+        (
+            "accelerometer (a cube's faces: f̂ = (I+Σ)·(±g e_k) + b, full I+Σ):",
+            "I+Σ (full, in the faces' frame)",
+            "the faces' frame: each face's vertical is a sensor axis (taken as exact: the fixture's \
+             flatness is not in the σ's)",
+        )
+    } else {
+        (
+            "accelerometer (unknown orientations, |(I+Σ)⁻¹(f̂ − b)| = g):",
+            "I+Σ (upper triangular by convention)",
+            FRAME,
+        )
+    };
+    outln!(out, "{method}");
     let accel_report = FitReport {
         scale_misalignment: &accel_fit.scale_misalignment,
         sigma_scale_misalignment: accel_fit.sigma_scale_misalignment.as_ref(),
@@ -150,7 +479,7 @@ pub fn fit_record(
     };
     accel_report.print(
         &mut out,
-        "I+Σ (upper triangular by convention)",
+        matrix_title,
         "m/s²",
         "9 poses for 9 unknowns leave no degree of freedom",
     );
@@ -168,18 +497,24 @@ pub fn fit_record(
     print_gyro_extras(&mut out, &gyro_fit);
     outln!(
         out,
-        "  frame: both (I+Σ) map the accelerometer's corrected axes (corrected z = the accelerometer's z \
-         sensing axis, x in its xz plane) to the sensing axes; a truth given in body axes B compares \
-         after rotating by R (the rotation of B's accelerometer to upper-triangular form): \
-         `accel_frame::in_accel_frame`"
+        "  frame: both (I+Σ) map the accelerometer's corrected axes to the sensing axes; {frame} (of the \
+         accelerometer); a truth given in body axes B compares after rotating by R (the rotation of B's \
+         accelerometer to upper-triangular form): `accel_frame::in_accel_frame`"
     );
 
-    let mut accel_table = method_table(
-        "rig-free: multi-position, unknown orientations, |(I+Σ)⁻¹(f̂ − b)| = g",
-        Some("(I+Σ) upper triangular: corrected z = the z sensing axis"),
-    );
+    let mut accel_table = if options.axis_aligned {
+        method_table(
+            "rig-free on a cube's faces: f̂ = (I+Σ)·(±g e_k) + b, linear least squares",
+            Some("(I+Σ) full: the faces' frame"),
+        )
+    } else {
+        method_table(
+            "rig-free: multi-position, unknown orientations, |(I+Σ)⁻¹(f̂ − b)| = g",
+            Some(FRAME),
+        )
+    };
     accel_table.insert("records".into(), file_list(&paths));
-    accel_table.insert("gravity".into(), toml::Value::Float(gravity));
+    accel_table.insert("gravity".into(), toml::Value::Float(options.gravity));
     accel_report.insert_statistics(&mut accel_table);
     let mut gyro_table = method_table(
         "rig-free: gyro integrated (RK4, quaternions) between static poses, predicted gravity direction matched to the measured (Tedaldi, Pretto, Menegatti 2014); bias from the poses",
@@ -213,10 +548,40 @@ pub fn fit_record(
         gyro_table,
         header,
         report: out,
-        poses: poses.to_vec(),
+        poses: used,
         accel_fit,
         gyro_fit,
     })
+}
+
+/// The cube fit `fit` as the rig-free gyro fit takes an accelerometer fit:
+/// its (I+Σ), b and statistics for the report, and the faces' frame for
+/// the gravity directions (T = I, b = 0 applied to the `faces`' ±g e_k,
+/// taken as exact: no variance carried into the gyro's σ's).
+fn faces_frame(fit: &LinearFit, faces: &[[f64; 3]]) -> AccelFit {
+    let mut distinct: Vec<[f64; 3]> = Vec::new();
+    for f in faces {
+        if !distinct.contains(f) {
+            distinct.push(*f);
+        }
+    }
+    AccelFit {
+        inverse: triad::model::matrix::inverse(&fit.scale_misalignment)
+            .unwrap_or(triad::model::matrix::IDENTITY),
+        scale_misalignment: fit.scale_misalignment,
+        bias: fit.bias,
+        params: [1.0, 0.0, 0.0, 1.0, 0.0, 1.0, 0.0, 0.0, 0.0],
+        covariance: Some([[0.0; 9]; 9]),
+        sigma_scale_misalignment: fit.sigma_scale_misalignment,
+        sigma_bias: fit.sigma_bias,
+        residual_rms: fit.residual_rms,
+        residual_max: fit.residual_max,
+        segments: fit.segments,
+        dof: fit.dof.max(1),
+        orientations: distinct.len(),
+        condition: fit.condition,
+        iterations: 0,
+    }
 }
 
 /// The common report of the gyro's fit. Its σ's have the smallest of the

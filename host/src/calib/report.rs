@@ -4,6 +4,12 @@
 
 use triad::model::TriadCalibration;
 
+/// The frame of an upper triangular (I+Σ), in every report and file that
+/// has one: what the corrected axes are in terms of the sensing axes.
+pub const FRAME: &str =
+    "(I+Σ) upper triangular: corrected z = the z sensing axis, corrected y in the plane \
+                         of the y and z sensing axes, x completes the frame";
+
 use crate::calib_file::vector;
 use crate::stdio::outln;
 

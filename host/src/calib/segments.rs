@@ -3,7 +3,7 @@
 //! standard error of that mean.
 
 use anyhow::{anyhow, bail};
-use triad_lab::calib_fit::static_segments::{self, Detector, Segment};
+use triad_lab::calib_fit::static_segments::{self, Detector, DropReason, Dropped, Segment};
 
 use super::fit_csv::{self, Record};
 
@@ -102,18 +102,89 @@ pub fn detector(rate: f64, min_static: f64) -> Detector {
     }
 }
 
+/// What detection found in one record: the static segments (sample
+/// ranges of the whole record) and the candidates it dropped.
+#[derive(Debug, Default)]
+pub struct Detection {
+    /// The static segments, in order.
+    pub segments: Vec<Segment>,
+    /// The candidates not kept, in order.
+    pub dropped: Vec<Dropped>,
+}
+
+impl Detection {
+    /// One line per dropped candidate, naming its times and samples.
+    pub fn dropped_lines(&self, record: &Record, min_static: f64) -> Vec<String> {
+        self.dropped
+            .iter()
+            .map(|d| {
+                let why = match d.reason {
+                    DropReason::TooShort => format!("shorter than --min-static {min_static} s"),
+                    DropReason::Held => {
+                        "its samples repeat one value while the record's noise shows elsewhere \
+                         (held samples, e.g. a logger repeating over lost frames): not a pose"
+                            .to_string()
+                    }
+                };
+                format!(
+                    "candidate t = {:.2}..{:.2} s (samples {}..{}) dropped: {why}",
+                    record.t[d.start],
+                    record.t[d.end.max(d.start + 1) - 1],
+                    d.start + 1,
+                    d.end
+                )
+            })
+            .collect()
+    }
+}
+
+/// The static segments of `record` (at least `min_static` s each), found in
+/// each of its parts ([`Record::parts`]: no segment spans a gap).
+pub fn detect(record: &Record, min_static: f64) -> anyhow::Result<Detection> {
+    let name = crate::input::name(&record.path);
+    let detector = detector(record.rate_hz()?, min_static);
+    let mut found = Detection::default();
+    for part in record.parts() {
+        let samples = &record.samples[part.clone()];
+        let mut buffer = vec![Segment { start: 0, end: 0 }; samples.len() / detector.block + 1];
+        let mut dropped = Vec::new();
+        let n = detector
+            .detect_reporting(samples, &mut buffer, |d| dropped.push(d))
+            .map_err(|e| anyhow!("{name}: {e}"))?;
+        let shift = |start: usize, end: usize| (part.start + start, part.start + end);
+        found.segments.extend(buffer[..n].iter().map(|s| {
+            let (start, end) = shift(s.start, s.end);
+            Segment { start, end }
+        }));
+        found.dropped.extend(dropped.into_iter().map(|d| {
+            let (start, end) = shift(d.start, d.end);
+            Dropped { start, end, ..d }
+        }));
+    }
+    Ok(found)
+}
+
 /// The static segments of every record, in order.
 pub fn detected(records: &[Record], min_static: f64) -> anyhow::Result<Vec<Stat>> {
+    detected_saying(records, min_static, |_| {})
+}
+
+/// [`detected`], each dropped candidate said to `say` (naming its file).
+pub fn detected_saying(
+    records: &[Record],
+    min_static: f64,
+    mut say: impl FnMut(String),
+) -> anyhow::Result<Vec<Stat>> {
     let mut stats = Vec::new();
     for (file, record) in records.iter().enumerate() {
-        let detector = detector(record.rate_hz()?, min_static);
-        let mut buffer =
-            vec![Segment { start: 0, end: 0 }; record.samples.len() / detector.block + 1];
-        let n = detector
-            .detect(&record.samples, &mut buffer)
-            .map_err(|e| anyhow!("{}: {e}", crate::input::name(&record.path)))?;
+        let found = detect(record, min_static)?;
+        let name = crate::input::name(&record.path);
+        for line in found.dropped_lines(record, min_static) {
+            say(format!("{name}: {line}"));
+        }
         stats.extend(
-            buffer[..n]
+            found
+                .segments
                 .iter()
                 .map(|s| stat(record, file, s.start..s.end)),
         );

@@ -72,6 +72,11 @@ pub struct VerifyArgs {
     /// Shortest static pose detected, seconds.
     #[arg(long, default_value_t = 2.0, allow_negative_numbers = true)]
     min_static: f64,
+    #[command(flatten)]
+    reading: fit_csv::Reading,
+    /// The sensor's ranges (for records in counts).
+    #[command(flatten)]
+    ranges: super::Ranges,
 }
 
 /// One checked pose or run.
@@ -289,7 +294,7 @@ impl AppliedAt {
 }
 
 fn accel_residuals(args: &VerifyArgs, correct: &Correct<'_>) -> anyhow::Result<Vec<Residual>> {
-    let records = fit_csv::read_all(&args.records, fit_csv::ACCEL)?;
+    let records = super::fit_accel::read_records(&args.reading, &args.records, &args.ranges)?;
     let stats = segments::detected(&records, args.min_static)?;
     stats
         .iter()

@@ -83,3 +83,10 @@ pub fn simulate_scene(d: &Path, name: &str, body: &str, seconds: &str, seed: &st
     assert!(o.status.success(), "{}", text(&o.stderr));
     out
 }
+
+/// The hand-turned unit of the rig-free tests ([`hand_record::MEMS_UNIT`]).
+///
+/// [`hand_record::MEMS_UNIT`]: triad_lab::calib_fit::hand_record::MEMS_UNIT
+pub fn hand_unit() -> triad_lab::calib_fit::hand_record::Unit {
+    triad_lab::calib_fit::hand_record::MEMS_UNIT
+}

@@ -201,16 +201,24 @@ fn matrix_of(p: &[f64; 9]) -> Mat3 {
 struct Moves<'a> {
     record: Record<'a>,
     poses: &'a [Segment],
+    /// The moves used.
+    used: Used<'a>,
     accel_means: &'a [[f64; 3]],
     accel: &'a AccelFit,
     bias: [f64; 3],
 }
 
 impl Moves<'_> {
-    /// The two residuals of move `j` (pose j to j+1) at (I+Σ) = `p`; NaN
-    /// when (I+Σ) is singular.
-    fn residuals(&self, j: usize, p: &[f64; 9]) -> [f64; 2] {
+    /// The two residuals of the `m`th used move (pose j to j+1) at (I+Σ) =
+    /// `p`; NaN when (I+Σ) is singular.
+    fn residuals(&self, m: usize, p: &[f64; 9]) -> [f64; 2] {
+        let j = self.used.get(m);
         self.residuals_with(j, p, &self.accel.params)
+    }
+
+    /// [`Self::jacobian`] of the `m`th used move.
+    fn jacobian_of(&self, m: usize, p: &[f64; 9], gyro: bool) -> [[f64; 9]; 2] {
+        self.jacobian(self.used.get(m), p, gyro)
     }
 
     /// [`Self::residuals`] with the accelerometer's parameters `a`.
@@ -256,7 +264,7 @@ impl Moves<'_> {
     }
 
     fn moves(&self) -> usize {
-        self.poses.len() - 1
+        self.used.len()
     }
 }
 
@@ -276,7 +284,7 @@ impl Problem<9> for Moves<'_> {
     fn rows(&self, p: &[f64; 9], row: &mut dyn FnMut([f64; 9], f64)) {
         for j in 0..self.moves() {
             let r = self.residuals(j, p);
-            let grads = self.jacobian(j, p, true);
+            let grads = self.jacobian_of(j, p, true);
             row(grads[0], r[0]);
             row(grads[1], r[1]);
         }
@@ -322,18 +330,37 @@ fn check_poses(
 
 /// The largest |axis| of the record, and the sample; refused near the range.
 pub(crate) fn check_range(record: &Record, full_scale: f64) -> Result<f64, FitError> {
+    check_range_of(record, 0..record.gyro.len(), full_scale)
+}
+
+/// The largest |axis| of the samples `range` of the record and where;
+/// the sample itself when it is near the range.
+pub fn peak_of(record: &Record, range: core::ops::Range<usize>) -> (usize, f64) {
+    record.gyro[range.clone()]
+        .iter()
+        .map(|w| w.iter().fold(0.0f64, |a, x| a.max(x.abs())))
+        .zip(range)
+        .fold(
+            (0, 0.0f64),
+            |best, (x, i)| if x > best.1 { (i, x) } else { best },
+        )
+}
+
+/// The samples a fit uses from pose j to pose j+1 (both poses and the move).
+pub fn move_samples(poses: &[Segment], j: usize) -> core::ops::Range<usize> {
+    poses[j].start..poses[j + 1].end
+}
+
+/// [`check_range`] over the samples `range` only.
+fn check_range_of(
+    record: &Record,
+    range: core::ops::Range<usize>,
+    full_scale: f64,
+) -> Result<f64, FitError> {
     if !(full_scale > 0.0 && full_scale.is_finite()) {
         return Err(FitError::InvalidFullScale { value: full_scale });
     }
-    let (sample, peak) = record
-        .gyro
-        .iter()
-        .map(|w| w.iter().fold(0.0f64, |a, x| a.max(x.abs())))
-        .enumerate()
-        .fold(
-            (0, 0.0f64),
-            |best, (i, x)| if x > best.1 { (i, x) } else { best },
-        );
+    let (sample, peak) = peak_of(record, range);
     if peak > MAX_RANGE_FRACTION * full_scale {
         return Err(FitError::GyroNearRange {
             sample,
@@ -389,8 +416,23 @@ fn bias_of_poses(
 
 /// The largest rotation between two samples of the moves (rad), and where.
 pub(crate) fn fastest_step(record: &Record, poses: &[Segment], bias: &[f64; 3]) -> (usize, f64) {
+    fastest_step_of(
+        record,
+        poses,
+        bias,
+        Used::All(poses.len().saturating_sub(1)),
+    )
+}
+
+/// [`fastest_step`] over the moves `used`.
+fn fastest_step_of(
+    record: &Record,
+    poses: &[Segment],
+    bias: &[f64; 3],
+    used: Used,
+) -> (usize, f64) {
     let mut worst = (0, 0.0f64);
-    for pair in poses.windows(2) {
+    for pair in (0..used.len()).map(|m| &poses[used.get(m)..used.get(m) + 2]) {
         for i in pair[0].end - 1..pair[1].start {
             let w = record.gyro[i];
             let d = [w[0] - bias[0], w[1] - bias[1], w[2] - bias[2]];
@@ -405,10 +447,15 @@ pub(crate) fn fastest_step(record: &Record, poses: &[Segment], bias: &[f64; 3]) 
 
 /// The turns (moves of ≥ [`MIN_TURN_DEG`] with (I+Σ) = I) and the smallest
 /// and middle eigenvalues of their axes' scatter.
-fn axis_spread(record: &Record, poses: &[Segment], bias: &[f64; 3]) -> (usize, [f64; 2]) {
+fn axis_spread(
+    record: &Record,
+    poses: &[Segment],
+    used: Used,
+    bias: &[f64; 3],
+) -> (usize, [f64; 2]) {
     let mut scatter = [[0.0; 3]; 3];
     let mut turns = 0;
-    for pair in poses.windows(2) {
+    for pair in (0..used.len()).map(|m| &poses[used.get(m)..used.get(m) + 2]) {
         let q = integrate(record, &pair[0], &pair[1], &matrix::IDENTITY, bias);
         let phi = quaternion::to_rotation_vector(&q);
         let angle = libm::sqrt(dot(&phi, &phi));
@@ -442,8 +489,8 @@ fn carried_variance(
 ) -> [f64; 9] {
     let mut jtj_a = [[0.0; 9]; 9];
     for j in 0..problem.moves() {
-        let jg = problem.jacobian(j, p, true);
-        let ja = problem.jacobian(j, p, false);
+        let jg = problem.jacobian_of(j, p, true);
+        let ja = problem.jacobian_of(j, p, false);
         for c in 0..2 {
             for (row, g) in jtj_a.iter_mut().zip(jg[c]) {
                 for (x, a) in row.iter_mut().zip(ja[c]) {
@@ -474,9 +521,85 @@ pub fn fit(
     accel: &AccelFit,
     full_scale: f64,
 ) -> Result<RigFreeGyroFit, FitError> {
+    check_range(&record, full_scale)?;
+    let all = Used::All(poses.len().saturating_sub(1));
+    fit_used(record, poses, all, accel_means, accel, full_scale)
+}
+
+/// The moves a fit uses: all of them (the count), or a list of j (the move
+/// from pose j to pose j+1).
+#[derive(Clone, Copy, Debug)]
+enum Used<'a> {
+    All(usize),
+    Listed(&'a [usize]),
+}
+
+impl Used<'_> {
+    fn len(&self) -> usize {
+        match self {
+            Used::All(n) => *n,
+            Used::Listed(l) => l.len(),
+        }
+    }
+
+    /// The `m`th used move's j.
+    fn get(&self, m: usize) -> usize {
+        match self {
+            Used::All(_) => m,
+            Used::Listed(l) => l[m],
+        }
+    }
+}
+
+/// [`fit`] with only the moves `used` (j: from pose j to pose j+1, in
+/// increasing order), as when a move clipped or crossed a gap in the
+/// record; the range is checked on the samples the fit uses (the poses and
+/// the used moves), not on the rest of the record.
+pub fn fit_moves(
+    record: Record,
+    poses: &[Segment],
+    used: &[usize],
+    accel_means: &[[f64; 3]],
+    accel: &AccelFit,
+    full_scale: f64,
+) -> Result<RigFreeGyroFit, FitError> {
+    fit_used(
+        record,
+        poses,
+        Used::Listed(used),
+        accel_means,
+        accel,
+        full_scale,
+    )
+}
+
+fn fit_used(
+    record: Record,
+    poses: &[Segment],
+    used: Used,
+    accel_means: &[[f64; 3]],
+    accel: &AccelFit,
+    full_scale: f64,
+) -> Result<RigFreeGyroFit, FitError> {
     check_poses(&record, poses, accel_means)?;
-    let peak_rate = check_range(&record, full_scale)?;
-    let rotations = poses.len().saturating_sub(1);
+    if let Some(j) = (0..used.len())
+        .map(|m| used.get(m))
+        .find(|&j| j + 1 >= poses.len())
+    {
+        return Err(FitError::PosesOutOfRecord {
+            pose: j + 1,
+            samples: record.gyro.len(),
+        });
+    }
+    let mut peak_rate = 0.0f64;
+    for pose in poses {
+        peak_rate = peak_rate.max(check_range_of(&record, pose.start..pose.end, full_scale)?);
+    }
+    for m in 0..used.len() {
+        let samples = move_samples(poses, used.get(m));
+        peak_rate = peak_rate.max(check_range_of(&record, samples, full_scale)?);
+    }
+    let rotations = used.len();
     if rotations < MIN_ROTATIONS {
         return Err(FitError::TooFewRotations {
             rotations,
@@ -485,7 +608,7 @@ pub fn fit(
         });
     }
     let (bias, sigma_bias) = bias_of_poses(&record, poses)?;
-    let (sample, step) = fastest_step(&record, poses, &bias);
+    let (sample, step) = fastest_step_of(&record, poses, &bias, used);
     let limit = MAX_ROTATION_PER_SAMPLE_DEG.to_radians();
     if step > limit {
         return Err(FitError::TooFastForRate {
@@ -495,7 +618,7 @@ pub fn fit(
             rate_hz: 1.0 / (record.t[sample + 1] - record.t[sample]),
         });
     }
-    let (turns, spread) = axis_spread(&record, poses, &bias);
+    let (turns, spread) = axis_spread(&record, poses, used, &bias);
     if turns < MIN_ROTATIONS {
         return Err(FitError::TooFewRotations {
             rotations,
@@ -513,6 +636,7 @@ pub fn fit(
     let problem = Moves {
         record,
         poses,
+        used,
         accel_means,
         accel,
         bias,

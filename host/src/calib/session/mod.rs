@@ -650,24 +650,13 @@ mod tests {
                 .wrapping_add(1442695040888963407);
             ((state >> 11) as f64 + 0.5) / (1u64 << 53) as f64
         };
-        let (mut t, mut a, mut g) = (Vec::new(), Vec::new(), Vec::new());
+        let mut samples = Vec::new();
         hand_record::generate(&script, &unit, &mut uniform, |s| {
-            t.push(s.t);
-            a.push(s.accel);
-            g.push(s.gyro);
+            samples.push((s.t, s.accel, s.gyro))
         });
-        let path = PathBuf::from("the session on /dev/pts/9");
-        (
-            Record {
-                path: path.clone(),
-                t: t.clone(),
-                samples: a,
-            },
-            Record {
-                path,
-                t,
-                samples: g,
-            },
+        crate::calib::fit_csv::imu_records(
+            std::path::Path::new("the session on /dev/pts/9"),
+            samples,
         )
     }
 
