@@ -39,10 +39,12 @@ pub mod scene;
 #[cfg(feature = "scene-blob")]
 pub mod scene_blob;
 pub mod self_test_response;
+pub mod sensor_clock;
 pub mod simulator;
 pub mod source;
 pub mod temperature_dependence;
 pub mod temperature_profile;
 pub mod turn_on;
+pub mod unmodelled;
 pub mod white_noise;
 pub mod ziggurat;

@@ -1,24 +1,43 @@
 //! A register-level model of the ST LSM6DSOX (DS12814), serving a
 //! [`SampleSource`] over SPI and I²C like the chip does.
 //!
-//! Modelled: the register map with reset values (§8), WHO_AM_I, SW_RESET,
+//! Modelled: the main register page with reset values (§8; every address
+//! the data sheet lists keeps what a driver writes), the embedded-functions
+//! page selected by FUNC_CFG_ACCESS (its reset values, writes that stick,
+//! and the main page untouched while it is selected), WHO_AM_I, SW_RESET,
 //! IF_INC auto-increment (with the FIFO output registers wrapping from 0x7E
-//! to 0x78), full-scale ranges and output data rates (CTRL1_XL, CTRL2_G)
-//! changing sensitivity, saturation and sample timing, temperature output,
-//! STATUS_REG data-ready bits cleared by reading the outputs, and the tagged
-//! FIFO (gyro and accel words per sample; bypass, FIFO and continuous modes;
-//! watermark; overrun flags; reading FIFO_DATA_OUT_Z_H pops a word), the
-//! self-test (CTRL5_C ST_XL / ST_G add the unit's [`SelfTestResponse`],
-//! positive or negative, at once), plus injected faults. Not modelled: batch rates different from the ODR,
-//! temperature and timestamp batching, the 52 Hz temperature rate (the
-//! temperature updates with every sample), low-power modes, filters, the
-//! embedded functions, BDU timing (time never moves during a transaction).
+//! to 0x78), full-scale ranges and independent accelerometer and gyroscope
+//! output data rates (CTRL1_XL, CTRL2_G; both count time from one chip
+//! clock) changing sensitivity, saturation and sample timing, temperature
+//! output, STATUS_REG data-ready bits cleared by reading the outputs, I²C
+//! switched off by CTRL4_C I2C_disable, and the tagged FIFO (a gyro word and
+//! an accel word each at its own sensor's rate; bypass, FIFO and continuous
+//! modes; watermark; overrun flags; reading FIFO_DATA_OUT_Z_H pops a word),
+//! the self-test (CTRL5_C ST_XL / ST_G add the unit's [`SelfTestResponse`],
+//! positive or negative, at once), plus injected faults.
+//!
+//! Inert (kept, no effect on the data): PIN_CTRL, S4S_*, COUNTER_BDR_REG1/2,
+//! INT2_CTRL, CTRL3_C BDU/H_LACTIVE/PP_OD/SIM, CTRL4_C except I2C_disable,
+//! CTRL6_C, CTRL7_G, CTRL8_XL filters, CTRL9_XL, TAP_*/WAKE_UP_*/FREE_FALL/
+//! MD1_CFG/MD2_CFG, I3C_BUS_AVB, the OIS and user-offset registers, and in
+//! the embedded-functions page everything but the enables listed below. The
+//! temperature updates with every sample (the chip: 52 Hz); BDU timing is
+//! moot (time never moves during a transaction).
+//!
+//! Not modelled, and recorded in [`Lsm6dsoxModel::unmodelled`] when touched:
+//! reserved addresses, the sensor-hub page, the embedded functions
+//! themselves (EMB_FUNC_EN_A/B, FSM_ENABLE_A/B, PAGE_RW and PAGE_VALUE
+//! non-zero), XL_FS_MODE, the timestamp counter (TIMESTAMP_EN), FIFO batch
+//! rates other than the ODR, temperature and timestamp batching, and the
+//! FIFO modes other than bypass, FIFO and continuous.
 //!
 //! Time moves only through [`Lsm6dsoxModel::advance`]: one new sample per
 //! ODR period elapsed, with the nominal rates (12.5 Hz, 26 Hz, ... 6667 Hz)
-//! kept exact by counting in ns·mHz. No allocation; about 3.8 KiB of state.
+//! kept exact by counting in ns·mHz; when the two sensors run at different
+//! rates the source gives one true sample per instant at which either
+//! samples. No allocation; about 4.4 KiB of state.
 
-use embedded_hal::i2c::{self, I2c};
+use embedded_hal::i2c::{self, I2c, NoAcknowledgeSource};
 use embedded_hal::spi::{self, SpiDevice};
 
 use super::fault::Fault;
@@ -26,15 +45,14 @@ use super::model_clock::Clocked;
 use super::packet_fifo::PacketFifo;
 use super::register_bus::{quantise, BusPort, RegisterFile};
 use super::self_test_response::{DeadAxes, SelfTestResponse};
+use super::sensor_clock::{Rate, Rates, SensorClock};
 use super::source::SampleSource;
+use super::unmodelled::{UnmodelledAccess, UnmodelledLog};
 use crate::lsm6dsox_registers as reg;
 use triad::units::{rad_to_deg, STANDARD_GRAVITY};
 
 /// The tagged FIFO: 512 words of tag + 6 bytes.
-type Fifo = PacketFifo<{ reg::FIFO_CAPACITY_WORDS as usize }, { reg::FIFO_WORD_LEN }>;
-
-/// One sample period is this many ns·mHz (1 s = 1e9 ns, 1 Hz = 1e3 mHz).
-const NS_MHZ_PER_SECOND: u128 = 1_000_000_000_000;
+type Fifo = PacketFifo<{ reg::FIFO_BYTES }, { reg::FIFO_CAPACITY_WORDS as usize }>;
 
 /// §8: registers whose reset value is not 0x00.
 const RESET_VALUES: [(u8, u8); 4] = [
@@ -44,22 +62,73 @@ const RESET_VALUES: [(u8, u8); 4] = [
     (reg::WHO_AM_I, reg::WHO_AM_I_VALUE),
 ];
 
+/// §10: embedded-functions registers whose reset value is not 0x00.
+const EMBEDDED_RESET_VALUES: [(u8, u8); 3] = [
+    (0x02, 0x01), // PAGE_SEL
+    (0x5F, 0x4B), // EMB_FUNC_ODR_CFG_B
+    (0x60, 0x15), // EMB_FUNC_ODR_CFG_C
+];
+
+/// §8 Table 20: the main page's addresses (inclusive ranges).
+const MAIN_MAP: &[(u8, u8)] = &[
+    (0x01, 0x02),
+    (0x04, 0x1E),
+    (0x20, 0x2D),
+    (0x35, 0x3B),
+    (0x40, 0x50),
+    (0x56, 0x5F),
+    (0x62, 0x63),
+    (0x6F, 0x75),
+    (0x78, 0x7E),
+];
+
+/// §10 Table 22: the embedded-functions page's addresses (FUNC_CFG_ACCESS at
+/// 0x01 is in every page).
+const EMBEDDED_MAP: &[(u8, u8)] = &[
+    (0x01, 0x02),
+    (0x04, 0x05),
+    (0x07, 0x15),
+    (0x17, 0x17),
+    (0x44, 0x44),
+    (0x46, 0x4A),
+    (0x4C, 0x5B),
+    (0x5F, 0x60),
+    (0x62, 0x64),
+    (0x66, 0x67),
+    (0x70, 0x77),
+];
+
+/// The register page FUNC_CFG_ACCESS selects (as recorded in the
+/// unmodelled log): 0 main, 1 embedded functions, 2 sensor hub.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Page {
+    Main = 0,
+    Embedded = 1,
+    SensorHub = 2,
+}
+
+fn listed(map: &[(u8, u8)], address: u8) -> bool {
+    map.iter().any(|&(a, b)| (a..=b).contains(&address))
+}
+
 /// The chip's state behind the bus.
 struct Chip<S> {
     source: S,
     regs: [u8; 128],
+    embedded: [u8; 128],
     status: u8,
     fifo: Fifo,
     overrun: bool,
     overrun_latched: bool,
     tag_counter: u8,
-    phase: u128,
+    clock: SensorClock,
     samples: u64,
     clipped: bool,
     who_am_i_override: Option<u8>,
     stuck: bool,
     self_test: SelfTestResponse,
     dead_self_test: DeadAxes,
+    unmodelled: UnmodelledLog,
 }
 
 /// The default unit's positive self-test response, mg and °/s: inside
@@ -123,12 +192,13 @@ impl<S: SampleSource> Lsm6dsoxModel<S> {
         let mut chip = Chip {
             source,
             regs: [0; 128],
+            embedded: [0; 128],
             status: 0,
             fifo: Fifo::new(),
             overrun: false,
             overrun_latched: false,
             tag_counter: 0,
-            phase: 0,
+            clock: SensorClock::default(),
             samples: 0,
             clipped: false,
             who_am_i_override: None,
@@ -138,6 +208,7 @@ impl<S: SampleSource> Lsm6dsoxModel<S> {
                 UNIT_SELF_TEST_DPS,
             ),
             dead_self_test: DeadAxes::default(),
+            unmodelled: UnmodelledLog::default(),
         };
         chip.reset();
         Self {
@@ -173,15 +244,13 @@ impl<S: SampleSource> Lsm6dsoxModel<S> {
         self.chip.advance(ns);
     }
 
-    /// The whole nanoseconds until the next sample at the rate the chip
-    /// runs (the one its driver wrote): the model's clock then stands on or
-    /// just after each exact sample instant, ⌈(n+1)·P⌉ − ⌈n·P⌉ from a start
-    /// at 0, with no repeat and no skip however long it runs. `None`: both
-    /// sensors off.
+    /// The whole nanoseconds until the next sample of either sensor at the
+    /// rates the chip runs (the ones its driver wrote): the model's clock
+    /// then stands on or just after each exact sample instant, ⌈(n+1)·P⌉ −
+    /// ⌈n·P⌉ from a start at 0, with no repeat and no skip however long it
+    /// runs. `None`: both sensors off.
     pub fn ns_to_next_sample(&self) -> Option<u64> {
-        let rate = u128::from(self.chip.rate_millihertz()?);
-        // At most one period (about 1.2 ms at 833 Hz): fits in u64.
-        u64::try_from((NS_MHZ_PER_SECOND - self.chip.phase).div_ceil(rate)).ok()
+        self.chip.ns_to_next_event()
     }
 
     /// Injects a fault (see [`Fault`]).
@@ -229,9 +298,19 @@ impl<S: SampleSource> Lsm6dsoxModel<S> {
         self.chip.fifo.len()
     }
 
-    /// A register's stored value, without read side effects (for tests).
+    /// A main-page register's stored value, without read side effects (for tests).
     pub fn peek(&self, address: u8) -> u8 {
         self.chip.reg(address)
+    }
+
+    /// An embedded-functions register's stored value, without read side effects.
+    pub fn peek_embedded(&self, address: u8) -> u8 {
+        self.chip.embedded[usize::from(address & 0x7F)]
+    }
+
+    /// The register accesses the model does not model (see [`UnmodelledLog`]).
+    pub fn unmodelled(&self) -> &UnmodelledLog {
+        &self.chip.unmodelled
     }
 
     /// Whether INT1 is asserted: a routed data-ready or FIFO-watermark condition.
@@ -255,42 +334,79 @@ impl<S: SampleSource> Chip<S> {
         for (address, value) in RESET_VALUES {
             self.regs[usize::from(address)] = value;
         }
+        self.embedded = [0; 128];
+        for (address, value) in EMBEDDED_RESET_VALUES {
+            self.embedded[usize::from(address)] = value;
+        }
         self.status = 0;
         self.fifo.clear();
         self.overrun = false;
         self.overrun_latched = false;
         self.tag_counter = 0;
-        self.phase = 0;
+        self.clock.reset();
+    }
+
+    fn page(&self) -> Page {
+        let access = self.reg(reg::FUNC_CFG_ACCESS);
+        if access & reg::EMBEDDED_PAGE != 0 {
+            Page::Embedded
+        } else if access & reg::SENSOR_HUB_PAGE != 0 {
+            Page::SensorHub
+        } else {
+            Page::Main
+        }
+    }
+
+    fn record(&mut self, address: u8, written: Option<u8>, what: &'static str) {
+        self.unmodelled.record(UnmodelledAccess {
+            page: self.page() as u8,
+            address,
+            written,
+            what,
+        });
     }
 
     fn reg(&self, address: u8) -> u8 {
         self.regs[usize::from(address & 0x7F)]
     }
 
+    fn accel_rate(&self) -> Option<u32> {
+        odr_millihertz(self.reg(reg::CTRL1_XL) >> reg::ODR_SHIFT)
+    }
+
+    fn gyro_rate(&self) -> Option<u32> {
+        odr_millihertz(self.reg(reg::CTRL2_G) >> reg::ODR_SHIFT)
+    }
+
     fn gyro_on(&self) -> bool {
-        odr_millihertz(self.reg(reg::CTRL2_G) >> reg::ODR_SHIFT).is_some()
+        self.gyro_rate().is_some()
     }
 
     fn accel_on(&self) -> bool {
-        odr_millihertz(self.reg(reg::CTRL1_XL) >> reg::ODR_SHIFT).is_some()
+        self.accel_rate().is_some()
     }
 
-    /// The rate of whichever sensor runs (gyro first); `None` when both are off.
-    fn rate_millihertz(&self) -> Option<u32> {
-        odr_millihertz(self.reg(reg::CTRL2_G) >> reg::ODR_SHIFT)
-            .or_else(|| odr_millihertz(self.reg(reg::CTRL1_XL) >> reg::ODR_SHIFT))
+    fn rates(&self) -> Rates {
+        [
+            self.accel_rate().map(Rate::millihertz),
+            self.gyro_rate().map(Rate::millihertz),
+        ]
+    }
+
+    /// Whole ns until the next sample of either sensor; `None` when both are off.
+    fn ns_to_next_event(&self) -> Option<u64> {
+        self.clock.ns_to_next(self.rates())
     }
 
     fn advance(&mut self, ns: u64) {
-        let Some(rate) = self.rate_millihertz() else {
-            self.phase = 0;
-            return;
-        };
-        self.phase += u128::from(ns) * u128::from(rate);
-        while self.phase >= NS_MHZ_PER_SECOND {
-            self.phase -= NS_MHZ_PER_SECOND;
+        let mut remaining = ns;
+        while let Some(step) = self.clock.step(&mut remaining, self.rates()) {
+            let [accel_fired, gyro_fired] = step.fired;
+            if !accel_fired && !gyro_fired {
+                return; // `remaining` ran out before the next sample
+            }
             if !self.stuck {
-                self.produce_sample();
+                self.produce_sample(accel_fired, gyro_fired);
             }
         }
     }
@@ -304,13 +420,17 @@ impl<S: SampleSource> Chip<S> {
     }
 
     fn overflow_fifo(&mut self, lost: u16) {
-        if !self.fifo_batching() || self.rate_millihertz().is_none() {
+        let bdr = self.reg(reg::FIFO_CTRL3);
+        let (accel, gyro) = (self.accel_on(), self.gyro_on());
+        let words_per_sample =
+            usize::from(accel && bdr & 0x0F != 0) + usize::from(gyro && bdr >> 4 != 0);
+        if !self.fifo_batching() || words_per_sample == 0 {
             return;
         }
-        let free_samples = (usize::from(reg::FIFO_CAPACITY_WORDS) - self.fifo.len())
-            / usize::from(reg::WORDS_PER_SAMPLE);
+        let free_samples =
+            (usize::from(reg::FIFO_CAPACITY_WORDS) - self.fifo.len()) / words_per_sample;
         for _ in 0..free_samples + usize::from(lost) {
-            self.produce_sample();
+            self.produce_sample(accel, gyro);
         }
     }
 
@@ -346,7 +466,7 @@ impl<S: SampleSource> Chip<S> {
     }
 
     /// Takes one sample from the source into the output registers and the FIFO.
-    fn produce_sample(&mut self) {
+    fn produce_sample(&mut self, accel_fired: bool, gyro_fired: bool) {
         let mut truth = self.source.next_sample();
         self.samples += 1;
         let excitation = self.self_test_excitation();
@@ -354,8 +474,6 @@ impl<S: SampleSource> Chip<S> {
             truth.specific_force[axis] += excitation.accel[axis];
             truth.angular_rate[axis] += excitation.gyro[axis];
         }
-        let accel_on = self.accel_on();
-        let gyro_on = self.gyro_on();
         let accel_lsb_per_si = 1.0
             / (accel_mg_per_lsb(self.reg(reg::CTRL1_XL) >> reg::FS_SHIFT)
                 * 1e-3
@@ -377,7 +495,7 @@ impl<S: SampleSource> Chip<S> {
             );
             accel[axis] = a;
             gyro[axis] = g;
-            clipped |= (ca && accel_on) || (cg && gyro_on);
+            clipped |= (ca && accel_fired) || (cg && gyro_fired);
         }
         self.clipped = clipped;
         let (temp, _) = quantise(
@@ -393,14 +511,14 @@ impl<S: SampleSource> Chip<S> {
         put(&mut self.regs, reg::OUT_TEMP_L, temp);
         self.status |= reg::TDA;
         for axis in 0..3u8 {
-            if gyro_on {
+            if gyro_fired {
                 put(
                     &mut self.regs,
                     reg::OUTX_L_G + 2 * axis,
                     gyro[usize::from(axis)],
                 );
             }
-            if accel_on {
+            if accel_fired {
                 put(
                     &mut self.regs,
                     reg::OUTX_L_A + 2 * axis,
@@ -408,10 +526,10 @@ impl<S: SampleSource> Chip<S> {
                 );
             }
         }
-        if gyro_on {
+        if gyro_fired {
             self.status |= reg::GDA;
         }
-        if accel_on {
+        if accel_fired {
             self.status |= reg::XLDA;
         }
 
@@ -420,10 +538,22 @@ impl<S: SampleSource> Chip<S> {
         }
         self.tag_counter = (self.tag_counter + 1) & 0b11;
         let bdr = self.reg(reg::FIFO_CTRL3);
-        if gyro_on && bdr >> 4 != 0 {
+        let (bdr_gyro, bdr_accel) = (bdr >> 4, bdr & 0x0F);
+        // §9 FIFO_CTRL3: a batch rate other than the sensor's ODR is not modelled.
+        let gyro_odr = self.reg(reg::CTRL2_G) >> reg::ODR_SHIFT;
+        let accel_odr = self.reg(reg::CTRL1_XL) >> reg::ODR_SHIFT;
+        if bdr_gyro != 0 && bdr_gyro != gyro_odr || bdr_accel != 0 && bdr_accel != accel_odr {
+            self.unmodelled.record(UnmodelledAccess {
+                page: Page::Main as u8,
+                address: reg::FIFO_CTRL3,
+                written: Some(bdr),
+                what: "FIFO batch rate other than the ODR",
+            });
+        }
+        if gyro_fired && bdr_gyro != 0 {
             self.push_word(reg::TAG_GYRO, gyro);
         }
-        if accel_on && bdr & 0x0F != 0 {
+        if accel_fired && bdr_accel != 0 {
             self.push_word(reg::TAG_ACCEL, accel);
         }
     }
@@ -437,14 +567,14 @@ impl<S: SampleSource> Chip<S> {
         for (axis, value) in data.iter().enumerate() {
             word[1 + 2 * axis..3 + 2 * axis].copy_from_slice(&value.to_le_bytes());
         }
-        if self.fifo.is_full() {
+        if !self.fifo.has_room(word.len()) {
             self.overrun = true;
             self.overrun_latched = true;
             if self.fifo_mode() == reg::FIFO_MODE_CONTINUOUS {
-                self.fifo.push_overwrite(word);
+                self.fifo.push_overwrite(&word);
             }
         } else {
-            self.fifo.push(word);
+            self.fifo.push(&word);
         }
     }
 
@@ -468,9 +598,8 @@ impl<S: SampleSource> Chip<S> {
     }
 }
 
-impl<S: SampleSource> RegisterFile for Chip<S> {
-    fn read_register(&mut self, address: u8) -> u8 {
-        let address = address & 0x7F;
+impl<S: SampleSource> Chip<S> {
+    fn read_main(&mut self, address: u8) -> u8 {
         match address {
             reg::WHO_AM_I => self.who_am_i_override.unwrap_or(reg::WHO_AM_I_VALUE),
             reg::STATUS_REG => self.status,
@@ -505,8 +634,24 @@ impl<S: SampleSource> RegisterFile for Chip<S> {
         }
     }
 
-    fn write_register(&mut self, address: u8, value: u8) {
-        let address = address & 0x7F;
+    fn write_main(&mut self, address: u8, value: u8) {
+        let unmodelled = match address {
+            reg::CTRL8_XL if value & reg::XL_FS_MODE != 0 => Some("XL_FS_MODE"),
+            reg::CTRL10_C if value & reg::TIMESTAMP_EN != 0 => Some("timestamp counter"),
+            reg::FIFO_CTRL4 if value & 0xF0 != 0 => Some("temperature or timestamp batching"),
+            reg::FIFO_CTRL4
+                if !matches!(
+                    value & reg::FIFO_MODE_MASK,
+                    reg::FIFO_MODE_BYPASS | reg::FIFO_MODE_FIFO | reg::FIFO_MODE_CONTINUOUS
+                ) =>
+            {
+                Some("FIFO mode other than bypass, FIFO and continuous")
+            }
+            _ => None,
+        };
+        if let Some(what) = unmodelled {
+            self.record(address, Some(value), what);
+        }
         match address {
             reg::CTRL3_C if value & reg::SW_RESET != 0 => self.reset(),
             reg::FIFO_CTRL4 => {
@@ -518,19 +663,85 @@ impl<S: SampleSource> RegisterFile for Chip<S> {
                 self.regs[usize::from(address)] = value;
             }
             reg::CTRL1_XL | reg::CTRL2_G => {
-                if self.rate_millihertz().is_none() {
-                    self.phase = 0; // the first sensor on starts the ODR clock
-                }
+                let before = self.rates();
                 self.regs[usize::from(address)] = value;
+                self.clock.rates_changed(before, self.rates());
             }
-            // Read-only: identity, status, outputs, FIFO status and data.
+            // Read-only: identity, event sources, status, outputs, FIFO
+            // status, timestamp, OIS outputs, FIFO data.
             reg::WHO_AM_I
-            | reg::STATUS_REG
+            | 0x1A..=reg::STATUS_REG
             | reg::OUT_TEMP_L..=reg::OUTZ_H_A
-            | reg::FIFO_STATUS1
-            | reg::FIFO_STATUS2
+            | 0x35..=reg::FIFO_STATUS2
+            | 0x40..=0x50
+            | 0x63
             | reg::FIFO_DATA_OUT_TAG..=reg::FIFO_DATA_OUT_Z_H => {}
             _ => self.regs[usize::from(address)] = value,
+        }
+    }
+
+    fn write_embedded(&mut self, address: u8, value: u8) {
+        let unmodelled = match address {
+            reg::EMB_FUNC_EN_A | reg::EMB_FUNC_EN_B if value != 0 => Some("embedded functions"),
+            reg::FSM_ENABLE_A | reg::FSM_ENABLE_B if value != 0 => Some("finite state machines"),
+            reg::PAGE_RW if value != 0 => Some("advanced pages (PAGE_RW)"),
+            0x09 => Some("advanced page memory (PAGE_VALUE)"),
+            _ => None,
+        };
+        if let Some(what) = unmodelled {
+            self.record(address, Some(value), what);
+        }
+        match address {
+            // Read-only: status, FSM outputs, step counter, MLC sources.
+            0x07 | 0x12..=0x15 | 0x4C..=0x5B | 0x62 | 0x63 | 0x70..=0x77 => {}
+            _ => self.embedded[usize::from(address)] = value,
+        }
+    }
+
+    /// Whether CTRL4_C has switched I²C off.
+    fn i2c_disabled(&self) -> bool {
+        self.reg(reg::CTRL4_C) & reg::I2C_DISABLE != 0
+    }
+}
+
+impl<S: SampleSource> RegisterFile for Chip<S> {
+    fn read_register(&mut self, address: u8) -> u8 {
+        let address = address & 0x7F;
+        if address == reg::FUNC_CFG_ACCESS {
+            return self.reg(address);
+        }
+        match self.page() {
+            Page::Main if listed(MAIN_MAP, address) => self.read_main(address),
+            Page::Embedded if listed(EMBEDDED_MAP, address) => self.embedded[usize::from(address)],
+            page => {
+                let what = if page == Page::SensorHub {
+                    "sensor-hub page"
+                } else {
+                    "reserved address"
+                };
+                self.record(address, None, what);
+                0
+            }
+        }
+    }
+
+    fn write_register(&mut self, address: u8, value: u8) {
+        let address = address & 0x7F;
+        if address == reg::FUNC_CFG_ACCESS {
+            self.regs[usize::from(address)] = value;
+            return;
+        }
+        match self.page() {
+            Page::Main if listed(MAIN_MAP, address) => self.write_main(address, value),
+            Page::Embedded if listed(EMBEDDED_MAP, address) => self.write_embedded(address, value),
+            page => {
+                let what = if page == Page::SensorHub {
+                    "sensor-hub page"
+                } else {
+                    "reserved address"
+                };
+                self.record(address, Some(value), what);
+            }
         }
     }
 
@@ -539,7 +750,7 @@ impl<S: SampleSource> RegisterFile for Chip<S> {
     fn next_address(&self, address: u8) -> u8 {
         if self.reg(reg::CTRL3_C) & reg::IF_INC == 0 {
             address
-        } else if address == reg::FIFO_DATA_OUT_Z_H {
+        } else if address == reg::FIFO_DATA_OUT_Z_H && self.page() == Page::Main {
             reg::FIFO_DATA_OUT_TAG
         } else {
             address.wrapping_add(1) & 0x7F
@@ -576,6 +787,10 @@ impl<S: SampleSource> I2c for Lsm6dsoxModel<S> {
         address: u8,
         operations: &mut [i2c::Operation<'_>],
     ) -> Result<(), i2c::ErrorKind> {
+        // §9 CTRL4_C I2C_disable: the chip no longer answers on I²C.
+        if self.chip.i2c_disabled() {
+            return Err(i2c::ErrorKind::NoAcknowledge(NoAcknowledgeSource::Address));
+        }
         self.port.i2c(&mut self.chip, address, operations)
     }
 }

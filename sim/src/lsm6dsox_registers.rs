@@ -5,6 +5,37 @@
 //! tests could not catch it. The driver's own tests check its addresses
 //! against literals from the data sheet.
 
+/// §9 FUNC_CFG_ACCESS (in every page): bit 7 FUNC_CFG_ACCESS selects the
+/// embedded-functions page, bit 6 SHUB_REG_ACCESS the sensor-hub page.
+pub const FUNC_CFG_ACCESS: u8 = 0x01;
+/// FUNC_CFG_ACCESS bit 7: embedded-functions registers.
+pub const EMBEDDED_PAGE: u8 = 1 << 7;
+/// FUNC_CFG_ACCESS bit 6: sensor-hub registers.
+pub const SENSOR_HUB_PAGE: u8 = 1 << 6;
+/// §9 CTRL4_C: bit 2 I2C_disable.
+pub const CTRL4_C: u8 = 0x13;
+/// CTRL4_C bit 2: I²C off (SPI only).
+pub const I2C_DISABLE: u8 = 1 << 2;
+/// §9 CTRL8_XL: bit 1 XL_FS_MODE (the ±2 g folding of FS_XL = 01).
+pub const CTRL8_XL: u8 = 0x17;
+/// CTRL8_XL bit 1: XL_FS_MODE.
+pub const XL_FS_MODE: u8 = 1 << 1;
+/// §9 CTRL10_C: bit 5 TIMESTAMP_EN.
+pub const CTRL10_C: u8 = 0x19;
+/// CTRL10_C bit 5: timestamp counter on.
+pub const TIMESTAMP_EN: u8 = 1 << 5;
+
+/// §10 embedded functions: EMB_FUNC_EN_A (pedometer, tilt, significant motion).
+pub const EMB_FUNC_EN_A: u8 = 0x04;
+/// §10 embedded functions: EMB_FUNC_EN_B (FSM, MLC, FIFO compression, pedometer adv.).
+pub const EMB_FUNC_EN_B: u8 = 0x05;
+/// §10 embedded functions: PAGE_RW (reads and writes of the advanced pages).
+pub const PAGE_RW: u8 = 0x17;
+/// §10 embedded functions: FSM_ENABLE_A.
+pub const FSM_ENABLE_A: u8 = 0x46;
+/// §10 embedded functions: FSM_ENABLE_B.
+pub const FSM_ENABLE_B: u8 = 0x47;
+
 /// §9 FIFO_CTRL1: watermark bits 7:0 (in FIFO words).
 pub const FIFO_CTRL1: u8 = 0x07;
 /// §9 FIFO_CTRL2: bit 0 watermark bit 8.
@@ -84,6 +115,8 @@ pub const FS_125: u8 = 1 << 1;
 
 /// FIFO_CTRL4 FIFO_MODE = 000: bypass (FIFO off, and emptied).
 pub const FIFO_MODE_BYPASS: u8 = 0b000;
+/// FIFO_CTRL4 FIFO_MODE = 001: FIFO mode, stops when full.
+pub const FIFO_MODE_FIFO: u8 = 0b001;
 /// FIFO_CTRL4 FIFO_MODE = 110: continuous, new words overwrite the oldest.
 pub const FIFO_MODE_CONTINUOUS: u8 = 0b110;
 /// FIFO_CTRL4 FIFO_MODE field.
@@ -110,6 +143,8 @@ pub const TAG_SENSOR_SHIFT: u8 = 3;
 pub const FIFO_WORD_LEN: usize = 7;
 /// FIFO depth: 3 KiB of 6-byte data words (DS12814 §1 "3 kbytes"; AN5272 §9).
 pub const FIFO_CAPACITY_WORDS: u16 = 512;
+/// The FIFO's words with their tags, bytes.
+pub const FIFO_BYTES: usize = FIFO_CAPACITY_WORDS as usize * FIFO_WORD_LEN;
 /// FIFO words per 6-axis sample (one gyro word, one accel word).
 pub const WORDS_PER_SAMPLE: u16 = 2;
 

@@ -198,6 +198,13 @@ impl BusPort {
 /// Rounds to the nearest code (half away from zero) and saturates to
 /// `min..=max`; returns the code and whether the input was beyond the range.
 pub fn quantise(value_lsb: f64, min: i16, max: i16) -> (i16, bool) {
+    let (code, clipped) = quantise_wide(value_lsb, i32::from(min), i32::from(max));
+    // min ≤ code ≤ max, both i16: the conversion is exact.
+    (code as i16, clipped)
+}
+
+/// [`quantise`] for codes wider than 16 bits (the ICM-42688-P's 20-bit FIFO data).
+pub fn quantise_wide(value_lsb: f64, min: i32, max: i32) -> (i32, bool) {
     let rounded = libm::round(value_lsb);
     if rounded > f64::from(max) {
         (max, true)
@@ -208,6 +215,6 @@ pub fn quantise(value_lsb: f64, min: i16, max: i16) -> (i16, bool) {
         (0, true)
     } else {
         // min ≤ rounded ≤ max: the cast is exact.
-        (rounded as i16, false)
+        (rounded as i32, false)
     }
 }

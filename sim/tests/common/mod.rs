@@ -2,6 +2,7 @@
 //! reports for a value, computed independently of the models.
 #![allow(dead_code)] // each test binary uses a different part
 
+pub mod bus;
 pub mod self_test;
 
 use triad_sim::source::{SampleSource, TrueSample};
