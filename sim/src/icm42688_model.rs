@@ -27,7 +27,8 @@
 //!
 //! Not modelled, and recorded in [`Icm42688Model::unmodelled`] when touched:
 //! reserved addresses, banks 3 and 4, SENSOR_CONFIG0 axis disables, SPI
-//! switched off (UI_SIFS_CFG = 10), a stopped timestamp (TMST_EN = 0).
+//! switched off (UI_SIFS_CFG = 10), a stopped timestamp (TMST_EN = 0), the
+//! signal-path and DMP-memory resets of SIGNAL_PATH_RESET.
 //!
 //! Time moves only through [`Icm42688Model::advance`]: one new sample per
 //! ODR period elapsed; when the two sensors run at different rates the
@@ -45,6 +46,7 @@ use super::register_bus::{quantise, quantise_wide, BusPort, RegisterFile};
 use super::self_test_response::{DeadAxes, SelfTestResponse};
 use super::sensor_clock::{Rate, Rates, SensorClock};
 use super::source::{SampleSource, TrueSample};
+use super::spi_wire::SpiWire;
 use super::unmodelled::{UnmodelledAccess, UnmodelledLog};
 use crate::icm42688_registers as reg;
 use triad::units::{rad_to_deg, STANDARD_GRAVITY};
@@ -737,6 +739,9 @@ impl<S: SampleSource> Chip<S> {
                     self.fifo.clear();
                     self.lost_packets = 0;
                 }
+                if value & (reg::ABORT_AND_RESET | reg::DMP_MEM_RESET_EN) != 0 {
+                    self.record(address, Some(value), "signal path or DMP memory reset");
+                }
                 if value & reg::TMST_STROBE != 0 {
                     let ticks = self.timestamp_ns / self.timestamp_tick_ns();
                     let at = usize::from(reg::TMSTVAL0_BANK1);
@@ -891,6 +896,16 @@ impl<S: SampleSource> SpiDevice for Icm42688Model<S> {
         operations: &mut [spi::Operation<'_, u8>],
     ) -> Result<(), spi::ErrorKind> {
         self.port.spi(&mut self.chip, operations)
+    }
+}
+
+impl<S: SampleSource> SpiWire for Icm42688Model<S> {
+    fn select(&mut self, selected: bool) {
+        self.port.wire_select(selected);
+    }
+
+    fn exchange(&mut self, mosi: u8) -> u8 {
+        self.port.wire_byte(&mut self.chip, mosi).unwrap_or(0xFF)
     }
 }
 

@@ -92,6 +92,10 @@ pub const FIFO_THS_INT: u8 = 1 << 2;
 /// INT_STATUS bit 1: FIFO full (overflowed).
 pub const FIFO_FULL_INT: u8 = 1 << 1;
 
+/// SIGNAL_PATH_RESET bit 5: DMP_MEM_RESET_EN (not modelled).
+pub const DMP_MEM_RESET_EN: u8 = 1 << 5;
+/// SIGNAL_PATH_RESET bit 3: ABORT_AND_RESET, restart the ODR counter (not modelled).
+pub const ABORT_AND_RESET: u8 = 1 << 3;
 /// SIGNAL_PATH_RESET bit 2: TMST_STROBE, latch the timestamp into TMSTVAL (bank 1).
 pub const TMST_STROBE: u8 = 1 << 2;
 /// SIGNAL_PATH_RESET bit 1: flush the FIFO.

@@ -42,6 +42,7 @@ pub mod self_test_response;
 pub mod sensor_clock;
 pub mod simulator;
 pub mod source;
+pub mod spi_wire;
 pub mod temperature_dependence;
 pub mod temperature_profile;
 pub mod turn_on;

@@ -47,6 +47,7 @@ use super::register_bus::{quantise, BusPort, RegisterFile};
 use super::self_test_response::{DeadAxes, SelfTestResponse};
 use super::sensor_clock::{Rate, Rates, SensorClock};
 use super::source::SampleSource;
+use super::spi_wire::SpiWire;
 use super::unmodelled::{UnmodelledAccess, UnmodelledLog};
 use crate::lsm6dsox_registers as reg;
 use triad::units::{rad_to_deg, STANDARD_GRAVITY};
@@ -774,6 +775,16 @@ impl<S: SampleSource> SpiDevice for Lsm6dsoxModel<S> {
         operations: &mut [spi::Operation<'_, u8>],
     ) -> Result<(), spi::ErrorKind> {
         self.port.spi(&mut self.chip, operations)
+    }
+}
+
+impl<S: SampleSource> SpiWire for Lsm6dsoxModel<S> {
+    fn select(&mut self, selected: bool) {
+        self.port.wire_select(selected);
+    }
+
+    fn exchange(&mut self, mosi: u8) -> u8 {
+        self.port.wire_byte(&mut self.chip, mosi).unwrap_or(0xFF)
     }
 }
 

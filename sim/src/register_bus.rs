@@ -17,7 +17,7 @@ pub trait RegisterFile {
 }
 
 /// Where an SPI transaction is: before the address byte, or reading/writing from an address.
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Debug)]
 enum SpiState {
     Address,
     Read(u8),
@@ -29,6 +29,9 @@ enum SpiState {
 pub struct BusPort {
     i2c_address: u8,
     i2c_pointer: u8,
+    /// SPI driven byte by byte (chip select held by the driver): where the
+    /// selected transfer is; `None` while deselected.
+    wire: Option<SpiState>,
     bytes: u64,
     failing_transactions: u32,
 }
@@ -42,6 +45,7 @@ impl BusPort {
         Self {
             i2c_address,
             i2c_pointer: 0,
+            wire: None,
             bytes: 0,
             failing_transactions: 0,
         }
@@ -144,6 +148,22 @@ impl BusPort {
                 0
             }
         }
+    }
+
+    /// Chip select asserted (`true`: a new transfer starts with an address
+    /// byte) or released, for a driver that holds chip select itself.
+    pub fn wire_select(&mut self, selected: bool) {
+        self.wire = selected.then_some(SpiState::Address);
+    }
+
+    /// One byte clocked while chip select is held; `None` (MISO not driven)
+    /// while deselected. Injected bus faults apply to whole transactions
+    /// ([`BusPort::spi`], [`BusPort::i2c`]) only.
+    pub fn wire_byte<R: RegisterFile>(&mut self, regs: &mut R, mosi: u8) -> Option<u8> {
+        let mut state = self.wire?;
+        let miso = self.spi_byte(regs, &mut state, mosi);
+        self.wire = Some(state);
+        Some(miso)
     }
 
     /// Runs one I²C transaction: the first byte written sets the register
