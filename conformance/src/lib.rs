@@ -8,8 +8,8 @@
 //! own bug, the test says so with the data-sheet citation and checks the
 //! model's side of the disagreement instead (see `PEER_BUGS.md`).
 
-use triad_sim::source::{SampleSource, TrueSample};
-use triad_sim::unmodelled::UnmodelledLog;
+use triad_sim::chips::source::{SampleSource, TrueSample};
+use triad_sim::chips::unmodelled::UnmodelledLog;
 
 /// Standard gravity, m/s² (what the data sheets' g is).
 pub const STANDARD_GRAVITY: f64 = 9.806_65;

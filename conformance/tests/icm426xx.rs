@@ -11,8 +11,8 @@ use std::cell::RefCell;
 
 use icm426xx::{Config, OutputDataRate, Sample, Timestamp, ICM42688};
 use triad_conformance::{assert_within_lsb, Truth};
-use triad_sim::icm42688_model::Icm42688Model;
-use triad_sim::model_clock::{ModelDelay, SharedBus};
+use triad_sim::chips::icm42688_model::Icm42688Model;
+use triad_sim::chips::model_clock::{ModelDelay, SharedBus};
 
 /// Every rate the driver offers, with its period in ns.
 const RATES: [(OutputDataRate, u64); 12] = [

@@ -12,9 +12,9 @@ use std::cell::RefCell;
 use lsm6ds3tr::interface::{I2cInterface, Interface, SpiInterface};
 use lsm6ds3tr::{AccelScale, AccelSettings, GyroSettings, LsmSettings, LSM6DS3TR};
 use triad_conformance::{assert_within_lsb, Truth};
-use triad_sim::lsm6dsox_model::Lsm6dsoxModel;
-use triad_sim::model_clock::SharedBus;
-use triad_sim::spi_wire::{WireBus, WireChipSelect};
+use triad_sim::chips::lsm6dsox_model::Lsm6dsoxModel;
+use triad_sim::chips::model_clock::SharedBus;
+use triad_sim::chips::spi_wire::{WireBus, WireChipSelect};
 
 const ACCEL: [(AccelScale, f64, f64); 4] = [
     (AccelScale::_2G, 2.0, 0.061),

@@ -10,8 +10,8 @@ use lsm6dso::{
     AccelerometerOutput, AccelerometerScale, GyroscopeFullScale, GyroscopeOutput, Lsm6dso,
 };
 use triad_conformance::{assert_within_lsb, Truth, STANDARD_GRAVITY};
-use triad_sim::lsm6dsox_model::Lsm6dsoxModel;
-use triad_sim::model_clock::SharedBus;
+use triad_sim::chips::lsm6dsox_model::Lsm6dsoxModel;
+use triad_sim::chips::model_clock::SharedBus;
 
 const ACCEL: [(AccelerometerScale, f64, f64); 4] = [
     (AccelerometerScale::G02, 2.0, 0.061),

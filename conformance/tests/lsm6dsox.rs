@@ -10,8 +10,8 @@ use accelerometer::Accelerometer;
 use lsm6dsox::types::{AccelerometerScale, DataRate, GyroscopeScale, SlaveAddress};
 use lsm6dsox::Lsm6dsox;
 use triad_conformance::{assert_within_lsb, Truth};
-use triad_sim::lsm6dsox_model::Lsm6dsoxModel;
-use triad_sim::model_clock::{ModelDelay, SharedBus};
+use triad_sim::chips::lsm6dsox_model::Lsm6dsoxModel;
+use triad_sim::chips::model_clock::{ModelDelay, SharedBus};
 
 /// (driver scale, full scale g, DS12814 §4.1 Table 2 mg/LSB, what the driver multiplies by).
 const ACCEL: [(AccelerometerScale, f64, f64, f64); 4] = [

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 
 use common::{dir, s, text, triad};
 use triad_lab::calib_fit::hand_record::{self, Axes, Script, TriadTruth, Unit};
-use triad_sim::rng::Rng;
+use triad_sim::effects::rng::Rng;
 
 /// The unit: the accelerometer's (I+Σ) upper triangular (the fit's
 /// convention, so its corrected axes are the sensor's and the gyro's truth

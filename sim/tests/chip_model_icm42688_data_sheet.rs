@@ -9,8 +9,8 @@ mod common;
 
 use common::bus::{i2c_read1, i2c_write1, read, read1, write};
 use common::RampSource;
-use triad_sim::icm42688_model::Icm42688Model;
-use triad_sim::source::TrueSample;
+use triad_sim::chips::icm42688_model::Icm42688Model;
+use triad_sim::chips::source::TrueSample;
 
 const STANDARD_GRAVITY: f64 = 9.806_65;
 const BANK_SEL: u8 = 0x76;

@@ -8,7 +8,7 @@ mod common;
 
 use common::bus::{i2c_read1, i2c_write1, read, read1, write};
 use common::RampSource;
-use triad_sim::lsm6dsox_model::Lsm6dsoxModel;
+use triad_sim::chips::lsm6dsox_model::Lsm6dsoxModel;
 
 const FUNC_CFG_ACCESS: u8 = 0x01;
 const FIFO_CTRL3: u8 = 0x09;

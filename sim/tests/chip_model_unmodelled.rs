@@ -13,8 +13,8 @@ use triad::sensor::icm42688::{FifoConfig as IcmFifo, Icm42688};
 use triad::sensor::lsm6dsox::config::{Config as LsmConfig, FifoMode as LsmFifoMode};
 use triad::sensor::lsm6dsox::{FifoConfig as LsmFifo, Lsm6dsox};
 use triad::sensor::{FifoImu, Imu, RawSample};
-use triad_sim::icm42688_model::Icm42688Model;
-use triad_sim::lsm6dsox_model::Lsm6dsoxModel;
+use triad_sim::chips::icm42688_model::Icm42688Model;
+use triad_sim::chips::lsm6dsox_model::Lsm6dsoxModel;
 
 #[test]
 fn icm42688_reports_reserved_addresses_and_banks_3_and_4() {

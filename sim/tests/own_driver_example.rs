@@ -5,8 +5,8 @@
 //! model asked whether the driver touched anything it does not model.
 
 use embedded_hal::spi::{Operation, SpiDevice};
-use triad_sim::icm42688_model::Icm42688Model;
-use triad_sim::source::{SampleSource, TrueSample};
+use triad_sim::chips::icm42688_model::Icm42688Model;
+use triad_sim::chips::source::{SampleSource, TrueSample};
 
 /// The user's driver: identity, power-up, ±4 g / ±500 °/s, one burst read.
 struct MyDriver<D> {

@@ -5,7 +5,7 @@
 pub mod bus;
 pub mod self_test;
 
-use triad_sim::source::{SampleSource, TrueSample};
+use triad_sim::chips::source::{SampleSource, TrueSample};
 
 /// The same true sample forever.
 #[derive(Clone, Copy, Debug)]

@@ -5,8 +5,12 @@
 //! rate is on, ω_ie = Ω·(0, cos φ, sin φ) at latitude φ. R maps body to level;
 //! body quantities are Rᵀ·(level quantities) plus the motion's own terms.
 
-use super::hand_poses::hand_poses;
-use super::rotation::{self, Mat3};
+pub mod demo_motion;
+pub mod hand_poses;
+pub mod rotation;
+
+use crate::motion::hand_poses::hand_poses;
+use crate::motion::rotation::Mat3;
 use triad::units::{EARTH_RATE, STANDARD_GRAVITY};
 
 /// A signed body axis.
@@ -101,7 +105,7 @@ pub enum Motion {
         frequency: f64,
     },
     /// A board turned by hand between `poses` static poses in random
-    /// orientations drawn from `seed` ([`super::hand_poses`]): at rest for
+    /// orientations drawn from `seed` ([`mod@crate::motion::hand_poses`]): at rest for
     /// `dwell` seconds at each, then turned to the next about the axis of
     /// the rotation between them in `turn` seconds, the rate rising and
     /// falling smoothly (ω ∝ 1 − cos 2πu, zero at both ends); the last pose

@@ -3,7 +3,7 @@
 //! simulator applies, so that a simulated unit's truth can be written as a
 //! calibration file and compared with what a fit finds.
 
-use super::scene::TriadEffects;
+use crate::scenes::scene::TriadEffects;
 use triad::model::calibration::IDENTITY;
 use triad::model::{TemperatureTerms, TriadCalibration};
 

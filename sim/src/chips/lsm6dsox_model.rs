@@ -49,7 +49,7 @@ use super::sensor_clock::{Rate, Rates, SensorClock};
 use super::source::SampleSource;
 use super::spi_wire::SpiWire;
 use super::unmodelled::{UnmodelledAccess, UnmodelledLog};
-use crate::lsm6dsox_registers as reg;
+use crate::chips::lsm6dsox_registers as reg;
 use triad::units::{rad_to_deg, STANDARD_GRAVITY};
 
 /// The tagged FIFO: 512 words of tag + 6 bytes.

@@ -12,7 +12,7 @@
 
 use super::bias::draw_turn_on;
 use super::rng::{EffectId, Rng};
-use super::scene::TriadEffects;
+use crate::scenes::scene::TriadEffects;
 use triad::model::matrix::{mul, Mat3};
 use triad::model::Triad;
 

@@ -7,36 +7,36 @@
 //! 2. biases: constant, turn-on, temperature, Gauss–Markov, random walk, bias
 //!    instability, g-sensitivity (gyros: G·f_true);
 //! 3. an optical gyro's optics on that rate: a fibre-optic gyro's response
-//!    ([`super::fibre_optic`]), a ring laser's lock-in or dither
-//!    ([`super::ring_laser`]);
+//!    ([`crate::optics::fibre_optic`]), a ring laser's lock-in or dither
+//!    ([`crate::optics::ring_laser`]);
 //! 4. white noise;
 //! 5. a ring laser's fringe counting, or angle (velocity) quantisation: the
 //!    output integrated, counted in whole steps, differenced
-//!    ([`super::increment_quantisation`]);
-//! 6. the output register's LSB ([`super::output_lsb`]), then saturation.
+//!    ([`crate::effects::increment_quantisation`]);
+//! 6. the output register's LSB ([`crate::effects::output_lsb`]), then saturation.
 //!
 //! Each stochastic effect draws from its own stream, keyed by (seed, triad,
-//! axis, effect) (see [`super::rng`]), so naming or removing one effect leaves
+//! axis, effect) (see [`crate::effects::rng`]), so naming or removing one effect leaves
 //! every other effect's contribution bit-identical.
 
-use super::bias::draw_turn_on;
-use super::bias_instability::BiasInstability;
-use super::fibre_optic::FibreOpticParams;
-use super::g_sensitivity::rate_error;
-use super::gauss_markov::GaussMarkov;
-use super::increment_quantisation::IncrementQuantiser;
-use super::motion::Trajectory;
-use super::output_lsb::round_to_lsb;
-use super::random_walk::RandomWalk;
-use super::ring_laser::RingLaser;
-use super::rng::{EffectId, Rng};
-use super::saturation::saturate;
-use super::scale_misalignment;
 use super::scene::{Scene, SceneError, TriadEffects};
-use super::source::{SampleSource, TrueSample};
-use super::temperature_dependence::TemperatureDependence;
 use super::temperature_profile::TemperatureProfile;
-use super::white_noise::WhiteNoise;
+use crate::chips::source::{SampleSource, TrueSample};
+use crate::effects::bias::draw_turn_on;
+use crate::effects::bias_instability::BiasInstability;
+use crate::effects::g_sensitivity::rate_error;
+use crate::effects::gauss_markov::GaussMarkov;
+use crate::effects::increment_quantisation::IncrementQuantiser;
+use crate::effects::output_lsb::round_to_lsb;
+use crate::effects::random_walk::RandomWalk;
+use crate::effects::rng::{EffectId, Rng};
+use crate::effects::saturation::saturate;
+use crate::effects::scale_misalignment;
+use crate::effects::temperature_dependence::TemperatureDependence;
+use crate::effects::white_noise::WhiteNoise;
+use crate::motion::Trajectory;
+use crate::optics::fibre_optic::FibreOpticParams;
+use crate::optics::ring_laser::RingLaser;
 use triad::model::Triad;
 
 /// The last additive contribution of each stochastic or bias effect of one

@@ -48,7 +48,7 @@ use super::sensor_clock::{Rate, Rates, SensorClock};
 use super::source::{SampleSource, TrueSample};
 use super::spi_wire::SpiWire;
 use super::unmodelled::{UnmodelledAccess, UnmodelledLog};
-use crate::icm42688_registers as reg;
+use crate::chips::icm42688_registers as reg;
 use triad::units::{rad_to_deg, STANDARD_GRAVITY};
 
 /// The 2 KiB FIFO, packets 1–4 mixed.

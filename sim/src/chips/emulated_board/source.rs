@@ -6,11 +6,11 @@
 //! Plain code over `triad` only, so the end-to-end test on the host includes
 //! this very file and serves the chip model what the firmware served it.
 
-use crate::demo_motion::{DemoMotion, DemoSource};
-use crate::scene::SceneError;
-use crate::scene_blob::{self, SceneBlobError};
-use crate::simulator::Simulator;
-use crate::source::{SampleSource, TrueSample};
+use crate::chips::source::{SampleSource, TrueSample};
+use crate::motion::demo_motion::{DemoMotion, DemoSource};
+use crate::scenes::scene::SceneError;
+use crate::scenes::scene_blob::{self, SceneBlobError};
+use crate::scenes::simulator::Simulator;
 
 /// The truth the chip model quantises.
 #[derive(Clone, Debug)]
@@ -45,7 +45,7 @@ pub fn demo(rate_hz: f64) -> Source {
     Source::Demo(DemoSource::new(DemoMotion::standard(rate_hz)))
 }
 
-/// The scene in `blob` (see `crate::scene_blob`) with its seed, sampled
+/// The scene in `blob` (see `crate::scenes::scene_blob`) with its seed, sampled
 /// at `rate_hz`: the chip's rate replaces the scene's, since the chip model
 /// takes one sample per output-data-rate tick.
 pub fn scene(rate_hz: f64, blob: &[u8]) -> Result<Source, SourceError> {

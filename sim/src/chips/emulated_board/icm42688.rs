@@ -4,7 +4,7 @@
 //! The end-to-end test on the host builds this very chip, so it knows what the
 //! firmware read.
 
-use crate::icm42688_model::Icm42688Model;
+use crate::chips::icm42688_model::Icm42688Model;
 
 /// The chip model behind the bus, at I²C address 0x68 (AP_AD0 low).
 pub type Model = Icm42688Model<super::source::Source>;

@@ -3,9 +3,9 @@
 //! (a person turning a board for a calibration looks for directions not yet
 //! shown), so that every record of the script sees gravity from all sides.
 
-use super::motion::MAX_POSITIONS;
-use super::rng::{mix64, Rng};
 use super::rotation::{Mat3, IDENTITY};
+use crate::effects::rng::{mix64, Rng};
+use crate::motion::MAX_POSITIONS;
 
 /// The fewest poses of a hand motion: a rig-free fit wants at least twelve
 /// gravity directions (issue 12).

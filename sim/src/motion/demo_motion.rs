@@ -11,7 +11,7 @@
 //!   rotation seen in the tilted sensor frame)
 //! - temperature T(t) = T₀ + ramp·t
 
-use super::source::{SampleSource, TrueSample};
+use crate::chips::source::{SampleSource, TrueSample};
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
 
 /// Parameters of the demo motion.

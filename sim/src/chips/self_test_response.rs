@@ -1,6 +1,6 @@
 //! What a chip model's built-in self-test adds to its output: per axis, the
 //! change of specific force or angular rate while the excitation is on, and
-//! which axes a [`Fault::DeadSelfTest`](crate::fault::Fault::DeadSelfTest) broke.
+//! which axes a [`Fault::DeadSelfTest`](crate::chips::fault::Fault::DeadSelfTest) broke.
 
 use triad::model::Triad;
 use triad::sensor::self_test::si_per_data_sheet_unit;
@@ -42,7 +42,7 @@ impl SelfTestResponse {
     }
 }
 
-/// Which axes' self-test excitation is broken ([`crate::fault::Fault::DeadSelfTest`]).
+/// Which axes' self-test excitation is broken ([`crate::chips::fault::Fault::DeadSelfTest`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct DeadAxes {
     accel: [bool; 3],

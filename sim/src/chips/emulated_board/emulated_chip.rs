@@ -6,7 +6,7 @@
 use embedded_hal::{i2c, spi};
 
 use super::source::Source;
-use crate::model_clock::Clocked;
+use crate::chips::model_clock::Clocked;
 // The chip modules by the names the core's list gives them.
 use super::{icm42688, lsm6dsox};
 

@@ -4,7 +4,7 @@
 //! The end-to-end test on the host builds this very chip, so it knows what the
 //! firmware read.
 
-use crate::lsm6dsox_model::Lsm6dsoxModel;
+use crate::chips::lsm6dsox_model::Lsm6dsoxModel;
 
 /// The chip model behind the bus, at I²C address 0x6A (SA0/SDO low).
 pub type Model = Lsm6dsoxModel<super::source::Source>;

@@ -30,12 +30,12 @@
 //!    uniform and fresh, so the counting error is uniform, white and
 //!    independent of the input (subtractive dither): IEEE 952's
 //!    quantisation term with Q = Δθ/√12. Undithered, the counter counts the
-//!    input alone ([`super::increment_quantisation`]).
+//!    input alone ([`crate::effects::increment_quantisation`]).
 //!
 //! Scale-factor error, bias, bias instability and other noise are the
 //! simulator's other effects (the presets of `grade::preset` set them).
 
-use super::rng::Rng;
+use crate::effects::rng::Rng;
 
 /// Passages in one sample above which their summed error is drawn as one
 /// normal deviate (the sum of n arcsine-distributed errors: its excess

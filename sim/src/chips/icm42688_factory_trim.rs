@@ -5,7 +5,7 @@
 //! driver is caught: 2620 LSB × 1.01^(code − 1) at FS_SEL 3, i.e. ±250 °/s at
 //! 32768/250 LSB per °/s and ±2 g at 16384 LSB/g).
 
-use crate::self_test_response::SelfTestResponse;
+use crate::chips::self_test_response::SelfTestResponse;
 
 /// The factory codes of one unit; 0 means "no factory value".
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -3,13 +3,13 @@
 //! is not computed at all. All parameters are SI (converted from data-sheet
 //! units once, where the scene is loaded).
 
-use super::bias_instability::{BiasInstabilityParams, MAX_TERMS};
-use super::fibre_optic::FibreOpticParams;
-use super::hand_poses::MIN_HAND_POSES;
-use super::motion::{Environment, Motion, MAX_POSITIONS};
-use super::ring_laser::RingLaserParams;
-use super::temperature_dependence::TemperatureDependence;
 use super::temperature_profile::{TemperatureProfile, MAX_SOAK_LEVELS};
+use crate::effects::bias_instability::{BiasInstabilityParams, MAX_TERMS};
+use crate::effects::temperature_dependence::TemperatureDependence;
+use crate::motion::hand_poses::MIN_HAND_POSES;
+use crate::motion::{Environment, Motion, MAX_POSITIONS};
+use crate::optics::fibre_optic::FibreOpticParams;
+use crate::optics::ring_laser::RingLaserParams;
 
 /// Parameters of a first-order Gauss–Markov bias, per axis.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -52,11 +52,11 @@ pub struct TriadEffects {
     /// temperature of the scale factor; gyros only.
     pub fibre_optic: Option<FibreOpticParams>,
     /// Angle (gyro) or velocity (accel) quantisation: the step S of the
-    /// counted integral, rad or m/s ([`super::increment_quantisation`]; IEEE
+    /// counted integral, rad or m/s ([`crate::effects::increment_quantisation`]; IEEE
     /// 952's Q = S/√12).
     pub increment_quantisation: Option<[f64; 3]>,
     /// The output register's LSB: each sample rounded to it, U
-    /// ([`super::output_lsb`]).
+    /// ([`crate::effects::output_lsb`]).
     pub output_lsb: Option<[f64; 3]>,
     /// Measurement range, ±U.
     pub saturation: Option<[f64; 3]>,
