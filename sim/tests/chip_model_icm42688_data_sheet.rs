@@ -238,3 +238,52 @@ fn reading_fifo_counth_latches_fifo_countl() {
     // No latch pending: FIFO_COUNTL alone reads the live count.
     assert_eq!(read1(&mut chip, FIFO_COUNTH + 1), (272 & 0xFF) as u8);
 }
+
+#[test]
+fn sensor_data_endian_zero_gives_little_endian_registers_and_fifo_words() {
+    // §14 INTF_CONFIG0 SENSOR_DATA_ENDIAN (bit 4) = 0: little-endian data.
+    let mut chip = chip();
+    write(&mut chip, INTF_CONFIG0, &[0x20]); // FIFO_COUNT_ENDIAN only
+    write(&mut chip, FIFO_CONFIG1, &[0x07]);
+    write(&mut chip, FIFO_CONFIG, &[FIFO_STREAM]);
+    write(&mut chip, PWR_MGMT0, &[BOTH_LOW_NOISE]);
+    chip.advance(MS);
+    let truth = RampSource::sample(0);
+    let temp = ((truth.temperature - 25.0) * 132.48).round() as i16;
+    assert_eq!(read::<_, 2>(&mut chip, 0x1D), temp.to_le_bytes());
+    let packet = read::<_, 16>(&mut chip, FIFO_DATA);
+    let z = truth.specific_force[2] / STANDARD_GRAVITY * 2048.0;
+    assert_eq!(packet[5..7], (z.round() as i16).to_le_bytes());
+}
+
+#[test]
+fn tmst_strobe_latches_the_timestamp_into_bank_1() {
+    // §14 SIGNAL_PATH_RESET TMST_STROBE; §13 bank 1 TMSTVAL0..2 (20 bits).
+    let mut chip = chip();
+    write(&mut chip, PWR_MGMT0, &[BOTH_LOW_NOISE]);
+    chip.advance(70 * MS + 400_000); // 70 400 µs of running chip
+    write(&mut chip, 0x4B, &[0x04]);
+    write(&mut chip, BANK_SEL, &[1]);
+    let [b0, b1, b2] = read::<_, 3>(&mut chip, 0x62);
+    assert_eq!(u32::from_le_bytes([b0, b1, b2, 0]), 70_400);
+}
+
+#[test]
+fn the_header_flags_a_changed_odr() {
+    // §6.2 HEADER_ODR_GYRO / HEADER_ODR_ACCEL: set on the first packet
+    // whose data come at another ODR than the previous packet's.
+    let mut chip = chip();
+    write(&mut chip, FIFO_CONFIG1, &[0x07]);
+    write(&mut chip, FIFO_CONFIG, &[FIFO_STREAM]);
+    write(&mut chip, PWR_MGMT0, &[BOTH_LOW_NOISE]);
+    chip.advance(2 * MS);
+    write(&mut chip, GYRO_CONFIG0, &[0x05]); // 2 kHz
+    chip.advance(MS);
+    let headers: Vec<u8> = read::<_, 64>(&mut chip, FIFO_DATA)
+        .chunks_exact(16)
+        .map(|p| p[0])
+        .collect();
+    // 1 kHz, 1 kHz, then 2 kHz: the gyro at 2 kHz with the accel invalid
+    // between its 1 kHz samples.
+    assert_eq!(headers, [0x68, 0x68, 0x69, 0x68]);
+}
