@@ -35,18 +35,12 @@
 //! source gives one true sample per instant at which either samples. No
 //! allocation; about 2.8 KiB of state.
 
-use embedded_hal::i2c::{self, I2c, NoAcknowledgeSource};
-use embedded_hal::spi::{self, SpiDevice};
-
-use super::fault::Fault;
 use super::icm42688_factory_trim::FactoryTrim;
-use super::model_clock::Clocked;
 use super::packet_fifo::PacketFifo;
 use super::register_bus::{quantise, quantise_wide, BusPort, RegisterFile};
 use super::self_test_response::{DeadAxes, SelfTestResponse};
 use super::sensor_clock::{Rate, Rates, SensorClock};
 use super::source::{SampleSource, TrueSample};
-use super::spi_wire::SpiWire;
 use super::unmodelled::{UnmodelledAccess, UnmodelledLog};
 use crate::chips::icm42688_registers as reg;
 use triad::units::{rad_to_deg, STANDARD_GRAVITY};
@@ -250,11 +244,6 @@ impl<S: SampleSource> Icm42688Model<S> {
         self
     }
 
-    /// What the self-test adds to each axis when enabled, SI.
-    pub fn self_test_response(&self) -> SelfTestResponse {
-        self.chip.self_test
-    }
-
     /// The same chip with its AP_AD0 pin high (I²C address 0x69) or low (0x68).
     pub fn with_ad0(mut self, high: bool) -> Self {
         self.port = BusPort::new(if high {
@@ -263,63 +252,6 @@ impl<S: SampleSource> Icm42688Model<S> {
             reg::I2C_ADDRESS_AD0_LOW
         });
         self
-    }
-
-    /// Lets `ns` nanoseconds pass: one sample per ODR period elapsed.
-    pub fn advance(&mut self, ns: u64) {
-        self.chip.advance(ns);
-    }
-
-    /// The nanoseconds until the next sample of either sensor at the rates
-    /// the chip runs (the ones its driver wrote; every ICM-42688-P period is
-    /// a whole number of ns). `None`: both sensors off.
-    pub fn ns_to_next_sample(&self) -> Option<u64> {
-        self.chip.ns_to_next_event()
-    }
-
-    /// Injects a fault (see [`Fault`]).
-    pub fn inject(&mut self, fault: Fault) {
-        match fault {
-            Fault::BusError { transactions } => self.port.fail_next(transactions),
-            Fault::WrongWhoAmI(value) => self.chip.who_am_i_override = Some(value),
-            Fault::StuckOutput => self.chip.stuck = true,
-            Fault::FifoOverflow { lost } => self.chip.overflow_fifo(lost),
-            Fault::DeadSelfTest { triad, axis } => self.chip.dead_self_test.kill(triad, axis),
-        }
-    }
-
-    /// Clears every persistent fault (wrong identity, stuck output, dead
-    /// self-test axes, pending bus errors).
-    pub fn clear_faults(&mut self) {
-        self.chip.who_am_i_override = None;
-        self.chip.stuck = false;
-        self.chip.dead_self_test = DeadAxes::default();
-        self.port.fail_next(0);
-    }
-
-    /// Bytes moved on the bus so far (see [`BusPort::bytes`]).
-    pub fn bus_bytes(&self) -> u64 {
-        self.port.bytes()
-    }
-
-    /// Restarts the bus byte count.
-    pub fn reset_bus_bytes(&mut self) {
-        self.port.reset_bytes();
-    }
-
-    /// Samples taken from the source since creation.
-    pub fn samples_produced(&self) -> u64 {
-        self.chip.samples
-    }
-
-    /// Whether the latest sample had an axis beyond full scale (read as a limit code).
-    pub fn clipped(&self) -> bool {
-        self.chip.clipped
-    }
-
-    /// Packets in the FIFO.
-    pub fn fifo_len(&self) -> usize {
-        self.chip.fifo.len()
     }
 
     /// A bank-0 register's stored value, without read side effects (for tests).
@@ -336,19 +268,9 @@ impl<S: SampleSource> Icm42688Model<S> {
             .map_or(0, |r| r[usize::from(address & 0x7F)])
     }
 
-    /// The register accesses the model does not model (see [`UnmodelledLog`]).
-    pub fn unmodelled(&self) -> &UnmodelledLog {
-        &self.chip.unmodelled
-    }
-
     /// Whether INT1 is asserted (a pending status bit routed by INT_SOURCE0).
     pub fn int1(&self) -> bool {
         self.chip.status & self.chip.reg(reg::INT_SOURCE0) != 0
-    }
-
-    /// The sample source.
-    pub fn source_mut(&mut self) -> &mut S {
-        &mut self.chip.source
     }
 }
 
@@ -880,49 +802,4 @@ impl<S: SampleSource> RegisterFile for Chip<S> {
     }
 }
 
-impl<S: SampleSource> Clocked for Icm42688Model<S> {
-    fn advance(&mut self, ns: u64) {
-        self.chip.advance(ns);
-    }
-}
-
-impl<S> spi::ErrorType for Icm42688Model<S> {
-    type Error = spi::ErrorKind;
-}
-
-impl<S: SampleSource> SpiDevice for Icm42688Model<S> {
-    fn transaction(
-        &mut self,
-        operations: &mut [spi::Operation<'_, u8>],
-    ) -> Result<(), spi::ErrorKind> {
-        self.port.spi(&mut self.chip, operations)
-    }
-}
-
-impl<S: SampleSource> SpiWire for Icm42688Model<S> {
-    fn select(&mut self, selected: bool) {
-        self.port.wire_select(selected);
-    }
-
-    fn exchange(&mut self, mosi: u8) -> u8 {
-        self.port.wire_byte(&mut self.chip, mosi).unwrap_or(0xFF)
-    }
-}
-
-impl<S> i2c::ErrorType for Icm42688Model<S> {
-    type Error = i2c::ErrorKind;
-}
-
-impl<S: SampleSource> I2c for Icm42688Model<S> {
-    fn transaction(
-        &mut self,
-        address: u8,
-        operations: &mut [i2c::Operation<'_>],
-    ) -> Result<(), i2c::ErrorKind> {
-        // §14 INTF_CONFIG0 UI_SIFS_CFG = 11: the chip no longer answers on I²C.
-        if self.chip.i2c_disabled() {
-            return Err(i2c::ErrorKind::NoAcknowledge(NoAcknowledgeSource::Address));
-        }
-        self.port.i2c(&mut self.chip, address, operations)
-    }
-}
+super::chip_model::chip_model_common!(Icm42688Model);

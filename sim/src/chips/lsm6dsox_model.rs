@@ -37,17 +37,11 @@
 //! rates the source gives one true sample per instant at which either
 //! samples. No allocation; about 4.4 KiB of state.
 
-use embedded_hal::i2c::{self, I2c, NoAcknowledgeSource};
-use embedded_hal::spi::{self, SpiDevice};
-
-use super::fault::Fault;
-use super::model_clock::Clocked;
 use super::packet_fifo::PacketFifo;
 use super::register_bus::{quantise, BusPort, RegisterFile};
 use super::self_test_response::{DeadAxes, SelfTestResponse};
 use super::sensor_clock::{Rate, Rates, SensorClock};
 use super::source::SampleSource;
-use super::spi_wire::SpiWire;
 use super::unmodelled::{UnmodelledAccess, UnmodelledLog};
 use crate::chips::lsm6dsox_registers as reg;
 use triad::units::{rad_to_deg, STANDARD_GRAVITY};
@@ -225,11 +219,6 @@ impl<S: SampleSource> Lsm6dsoxModel<S> {
         self
     }
 
-    /// What the positive self-test adds to each axis when enabled, SI.
-    pub fn self_test_response(&self) -> SelfTestResponse {
-        self.chip.self_test
-    }
-
     /// The same chip with SA0 high (I²C address 0x6B) or low (0x6A).
     pub fn with_sa0(mut self, high: bool) -> Self {
         self.port = BusPort::new(if high {
@@ -238,65 +227,6 @@ impl<S: SampleSource> Lsm6dsoxModel<S> {
             reg::I2C_ADDRESS_SA0_LOW
         });
         self
-    }
-
-    /// Lets `ns` nanoseconds pass: one sample per ODR period elapsed.
-    pub fn advance(&mut self, ns: u64) {
-        self.chip.advance(ns);
-    }
-
-    /// The whole nanoseconds until the next sample of either sensor at the
-    /// rates the chip runs (the ones its driver wrote): the model's clock
-    /// then stands on or just after each exact sample instant, ⌈(n+1)·P⌉ −
-    /// ⌈n·P⌉ from a start at 0, with no repeat and no skip however long it
-    /// runs. `None`: both sensors off.
-    pub fn ns_to_next_sample(&self) -> Option<u64> {
-        self.chip.ns_to_next_event()
-    }
-
-    /// Injects a fault (see [`Fault`]).
-    pub fn inject(&mut self, fault: Fault) {
-        match fault {
-            Fault::BusError { transactions } => self.port.fail_next(transactions),
-            Fault::WrongWhoAmI(value) => self.chip.who_am_i_override = Some(value),
-            Fault::StuckOutput => self.chip.stuck = true,
-            Fault::FifoOverflow { lost } => self.chip.overflow_fifo(lost),
-            Fault::DeadSelfTest { triad, axis } => self.chip.dead_self_test.kill(triad, axis),
-        }
-    }
-
-    /// Clears every persistent fault (wrong identity, stuck output, dead
-    /// self-test axes, pending bus errors).
-    pub fn clear_faults(&mut self) {
-        self.chip.who_am_i_override = None;
-        self.chip.stuck = false;
-        self.chip.dead_self_test = DeadAxes::default();
-        self.port.fail_next(0);
-    }
-
-    /// Bytes moved on the bus so far (see [`BusPort::bytes`]).
-    pub fn bus_bytes(&self) -> u64 {
-        self.port.bytes()
-    }
-
-    /// Restarts the bus byte count.
-    pub fn reset_bus_bytes(&mut self) {
-        self.port.reset_bytes();
-    }
-
-    /// Samples taken from the source since creation.
-    pub fn samples_produced(&self) -> u64 {
-        self.chip.samples
-    }
-
-    /// Whether the latest sample had an axis beyond full scale (read as a limit code).
-    pub fn clipped(&self) -> bool {
-        self.chip.clipped
-    }
-
-    /// Words in the FIFO (two per sample).
-    pub fn fifo_len(&self) -> usize {
-        self.chip.fifo.len()
     }
 
     /// A main-page register's stored value, without read side effects (for tests).
@@ -309,22 +239,12 @@ impl<S: SampleSource> Lsm6dsoxModel<S> {
         self.chip.embedded[usize::from(address & 0x7F)]
     }
 
-    /// The register accesses the model does not model (see [`UnmodelledLog`]).
-    pub fn unmodelled(&self) -> &UnmodelledLog {
-        &self.chip.unmodelled
-    }
-
     /// Whether INT1 is asserted: a routed data-ready or FIFO-watermark condition.
     pub fn int1(&self) -> bool {
         let routed = self.chip.reg(reg::INT1_CTRL);
         let drdy = routed & reg::INT1_DRDY_G != 0 && self.chip.status & reg::GDA != 0
             || routed & reg::INT1_DRDY_XL != 0 && self.chip.status & reg::XLDA != 0;
         drdy || routed & reg::INT1_FIFO_TH != 0 && self.chip.watermark_reached()
-    }
-
-    /// The sample source.
-    pub fn source_mut(&mut self) -> &mut S {
-        &mut self.chip.source
     }
 }
 
@@ -759,49 +679,4 @@ impl<S: SampleSource> RegisterFile for Chip<S> {
     }
 }
 
-impl<S: SampleSource> Clocked for Lsm6dsoxModel<S> {
-    fn advance(&mut self, ns: u64) {
-        self.chip.advance(ns);
-    }
-}
-
-impl<S> spi::ErrorType for Lsm6dsoxModel<S> {
-    type Error = spi::ErrorKind;
-}
-
-impl<S: SampleSource> SpiDevice for Lsm6dsoxModel<S> {
-    fn transaction(
-        &mut self,
-        operations: &mut [spi::Operation<'_, u8>],
-    ) -> Result<(), spi::ErrorKind> {
-        self.port.spi(&mut self.chip, operations)
-    }
-}
-
-impl<S: SampleSource> SpiWire for Lsm6dsoxModel<S> {
-    fn select(&mut self, selected: bool) {
-        self.port.wire_select(selected);
-    }
-
-    fn exchange(&mut self, mosi: u8) -> u8 {
-        self.port.wire_byte(&mut self.chip, mosi).unwrap_or(0xFF)
-    }
-}
-
-impl<S> i2c::ErrorType for Lsm6dsoxModel<S> {
-    type Error = i2c::ErrorKind;
-}
-
-impl<S: SampleSource> I2c for Lsm6dsoxModel<S> {
-    fn transaction(
-        &mut self,
-        address: u8,
-        operations: &mut [i2c::Operation<'_>],
-    ) -> Result<(), i2c::ErrorKind> {
-        // §9 CTRL4_C I2C_disable: the chip no longer answers on I²C.
-        if self.chip.i2c_disabled() {
-            return Err(i2c::ErrorKind::NoAcknowledge(NoAcknowledgeSource::Address));
-        }
-        self.port.i2c(&mut self.chip, address, operations)
-    }
-}
+super::chip_model::chip_model_common!(Lsm6dsoxModel);

@@ -2,6 +2,7 @@
 //! FIFO, the sample clock, faults, self-test, the unmodelled-access log; the
 //! emulated board's sensor.
 
+mod chip_model;
 #[cfg(feature = "scene-blob")]
 pub mod emulated_board;
 pub mod fault;
