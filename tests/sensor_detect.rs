@@ -10,9 +10,9 @@ use embedded_hal::i2c::ErrorKind;
 use embedded_hal_mock::eh1::i2c::{Mock as I2cMock, Transaction as I2cTrans};
 use triad::sensor::interface::SpiInterface;
 use triad::sensor::{icm42688, lsm6dsox, AnyChip, DetectError, Imu, CHIP_NAMES};
-use triad_sim::demo_motion::{DemoMotion, DemoSource};
-use triad_sim::icm42688_model::Icm42688Model;
-use triad_sim::lsm6dsox_model::Lsm6dsoxModel;
+use triad_sim::chips::icm42688_model::Icm42688Model;
+use triad_sim::chips::lsm6dsox_model::Lsm6dsoxModel;
+use triad_sim::motion::demo_motion::{DemoMotion, DemoSource};
 
 struct NoDelay;
 impl embedded_hal::delay::DelayNs for NoDelay {

@@ -13,7 +13,7 @@ use super::BATCH;
 use triad::sensor::icm42688::Icm42688;
 use triad::sensor::interface::SpiInterface;
 use triad::sensor::{FifoImu, Imu, RawSample};
-use triad_sim::icm42688_registers as reg;
+use triad_sim::chips::icm42688_registers as reg;
 
 /// An SPI device serving one batch: burst reads of the sample block
 /// (TEMP_DATA1…) and FIFO drains (INT_STATUS + FIFO_COUNT, then FIFO_DATA

@@ -25,7 +25,7 @@ use std::process::Command;
 use std::time::Instant;
 
 use triad_lab::allan::accumulate::OctaveAccumulator;
-use triad_sim::rng::Rng;
+use triad_sim::effects::rng::Rng;
 
 /// Peak resident memory of this process, MiB (Linux /proc; NaN elsewhere).
 fn peak_rss_mb() -> f64 {

@@ -419,7 +419,7 @@ fn calibration_blob(inputs: u64) {
 }
 
 fn scene_blob(inputs: u64) {
-    use triad_sim::scene_blob::{decode, encode, MAX_BLOB_LEN};
+    use triad_sim::scenes::scene_blob::{decode, encode, MAX_BLOB_LEN};
     let mut seeds = Vec::new();
     for name in ["static-bench", "tumble-6"] {
         let loaded = triad_host::scene_file::load(name).expect("a shipped scene");

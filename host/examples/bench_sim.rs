@@ -15,11 +15,11 @@ use std::process::Command;
 use std::time::Instant;
 
 use triad_host::scene_file;
-use triad_sim::bias_instability::BiasInstabilityParams;
+use triad_sim::effects::bias_instability::BiasInstabilityParams;
+use triad_sim::effects::temperature_dependence::TemperatureDependence;
 use triad_sim::motion::{Environment, Motion, Trajectory};
-use triad_sim::scene::{GaussMarkovParams, Scene, TriadEffects};
-use triad_sim::simulator::Simulator;
-use triad_sim::temperature_dependence::TemperatureDependence;
+use triad_sim::scenes::scene::{GaussMarkovParams, Scene, TriadEffects};
+use triad_sim::scenes::simulator::Simulator;
 
 /// Runs `n` steps and returns samples per second (best of 3 runs, to skip
 /// warm-up and scheduler noise on a shared machine).

@@ -14,9 +14,9 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{anyhow, bail};
-use triad_sim::scene::Scene;
-use triad_sim::simulator::Simulator;
-use triad_sim::source::TrueSample;
+use triad_sim::chips::source::TrueSample;
+use triad_sim::scenes::scene::Scene;
+use triad_sim::scenes::simulator::Simulator;
 
 use crate::distinct::{self, named};
 use crate::interrupt;
@@ -27,7 +27,7 @@ use crate::scene_file::sensor_unit::{self, LoadedUnit};
 use crate::scene_file::{self, script, LoadedScene};
 use crate::stdio::note;
 use crate::truth_calibration;
-use triad_sim::rng::mix64;
+use triad_sim::effects::rng::mix64;
 
 /// Default of `--max-samples`: 10⁸ samples, some 15 GB of CSV (rows of
 /// about 150 bytes) and a few minutes of work; above it a run is refused
@@ -299,9 +299,9 @@ fn simulate(
 }
 
 /// `triad sim --pack`: the scene checked as the simulator checks it, then
-/// written as the blob of `triad_sim::scene_blob`.
+/// written as the blob of `triad_sim::scenes::scene_blob`.
 fn pack(scene: &Scene, seed: u64, path: &Path, source: &Path) -> anyhow::Result<ExitCode> {
-    use triad_sim::scene_blob::{encode, MAX_BLOB_LEN};
+    use triad_sim::scenes::scene_blob::{encode, MAX_BLOB_LEN};
     Simulator::new(scene, seed).map_err(|e| anyhow!("{}: {e}", source.display()))?;
     let mut blob = [0u8; MAX_BLOB_LEN];
     let len = encode(scene, seed, &mut blob).map_err(|e| anyhow!("{}: {e}", source.display()))?;

@@ -5,8 +5,8 @@
 
 use anyhow::anyhow;
 use triad::model::{Calibration, Orientation};
-use triad_sim::linear_truth::linear_truth;
-use triad_sim::scene::TriadEffects;
+use triad_sim::effects::linear_truth::linear_truth;
+use triad_sim::scenes::scene::TriadEffects;
 
 use crate::calib_file;
 use crate::scene_file::sensor_unit::LoadedUnit;

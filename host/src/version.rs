@@ -15,7 +15,7 @@ pub fn text() -> &'static str {
             env!("CARGO_PKG_VERSION"),
             triad::link::packet::VERSION,
             triad::model::blob::VERSION,
-            triad_sim::scene_blob::VERSION,
+            triad_sim::scenes::scene_blob::VERSION,
         )
     });
     &TEXT

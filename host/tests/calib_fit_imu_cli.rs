@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 
 use common::{dir, hand_unit as unit, s, text, triad};
 use triad_lab::calib_fit::hand_record::{self, Axes, Script};
-use triad_sim::rng::Rng;
+use triad_sim::effects::rng::Rng;
 
 fn script(poses: usize, axes: Axes) -> Script {
     Script {

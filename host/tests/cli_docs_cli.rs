@@ -32,7 +32,7 @@ fn the_version_names_the_formats_it_speaks() {
         env!("CARGO_PKG_VERSION"),
         triad::link::packet::VERSION,
         triad::model::blob::VERSION,
-        triad_sim::scene_blob::VERSION
+        triad_sim::scenes::scene_blob::VERSION
     );
     assert_eq!(text, expected);
 }

@@ -34,7 +34,7 @@ use triad::model::{blob, Corrector};
 use triad::stream::{Flags, Frame};
 use triad_host::calib_file;
 use triad_host::device::{identify, transfer};
-use triad_sim::emulated_board::DESCRIPTION;
+use triad_sim::chips::emulated_board::DESCRIPTION;
 
 /// Long enough for a few thousand frames at half of real time on a loaded machine.
 const STREAM_TIMEOUT: Duration = Duration::from_secs(60);

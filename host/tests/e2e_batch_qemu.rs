@@ -26,7 +26,7 @@ use triad::device::{start_calibration, Outgoing, Sampler};
 use triad::link::{BatchFrame, Packet};
 use triad::sensor::{FifoImu, Imu, RawSample};
 use triad::stream::{Decoder, Flags};
-use triad_sim::emulated_board::DESCRIPTION;
+use triad_sim::chips::emulated_board::DESCRIPTION;
 
 fn env_path(name: &str) -> PathBuf {
     PathBuf::from(

@@ -7,7 +7,7 @@
 //! the real driver of the chip it finds on the bus: the model of the chip the
 //! build named, on SPI or I²C (xtask says which in TRIAD_EMULATED_CHIP and
 //! TRIAD_E2E_BUS). The host builds the same chip model, finds and starts it
-//! as the firmware does (triad_sim::emulated_board, triad::sensor::AnyChip), runs the same `Sampler::step` per data-ready tick,
+//! as the firmware does (triad_sim::chips::emulated_board, triad::sensor::AnyChip), runs the same `Sampler::step` per data-ready tick,
 //! and so knows every raw sample the firmware read. Checked:
 //! - at least 1000 frames, no CRC error, no sequence gap, no bytes skipped,
 //!   no overrun or drop reported by the device;
@@ -28,7 +28,7 @@ use triad::device::{sample_period_us, start_calibration, Outgoing, Sampler, Step
 use triad::model::Corrector;
 use triad::sensor::{Imu, RawSample, CHIP_NAMES};
 use triad::stream::{Decoder, Frame};
-use triad_sim::emulated_board::DESCRIPTION;
+use triad_sim::chips::emulated_board::DESCRIPTION;
 
 fn env_path(name: &str) -> PathBuf {
     PathBuf::from(

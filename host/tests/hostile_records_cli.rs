@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 
 use common::{dir, hand_unit as unit, s, text, triad};
 use triad_lab::calib_fit::hand_record::{self, Axes, Sample, Script, Unit};
-use triad_sim::rng::Rng;
+use triad_sim::effects::rng::Rng;
 
 /// 16 poses of 4 s with 1.5 s turns at `rate_hz`.
 fn samples(rate_hz: f64, unit: &Unit, seed: u64) -> Vec<Sample> {

@@ -228,8 +228,8 @@ fn unknown_scene_name_lists_the_shipped_scenes() {
 /// for every shipped scene.
 #[test]
 fn packed_scenes_simulate_exactly_what_triad_sim_writes() {
-    use triad_sim::scene_blob::decode;
-    use triad_sim::simulator::Simulator;
+    use triad_sim::scenes::scene_blob::decode;
+    use triad_sim::scenes::simulator::Simulator;
     for entry in std::fs::read_dir(scenes_dir()).unwrap() {
         let path = entry.unwrap().path();
         if path.extension().is_none_or(|e| e != "toml") {

@@ -144,7 +144,7 @@ fn one_sigma_intervals_cover_the_truth_about_68_percent_of_the_time() {
     // true σ = 1/√16 should be 0.683; with 400 trials its standard error is
     // √(0.683·0.317/400) = 0.023, so 0.683 ± 0.07 (3 s.e.).
     use triad_lab::allan::direct;
-    use triad_sim::rng::Rng;
+    use triad_sim::effects::rng::Rng;
     let mut rng = Rng::from_seed(11);
     let (n, m, trials) = (4096usize, 16usize, 400);
     let truth = 1.0 / (m as f64).sqrt();

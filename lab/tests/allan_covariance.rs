@@ -12,8 +12,8 @@
 use triad_lab::allan::accumulate::OctaveAccumulator;
 use triad_lab::allan::covariance::OctaveCovariance;
 use triad_lab::allan::noise_terms::model_avar;
-use triad_sim::bias_instability::{BiasInstability, BiasInstabilityParams};
-use triad_sim::rng::Rng;
+use triad_sim::effects::bias_instability::{BiasInstability, BiasInstabilityParams};
+use triad_sim::effects::rng::Rng;
 
 const SAMPLES: usize = 4096;
 const RECORDS: usize = 2000;

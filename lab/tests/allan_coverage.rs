@@ -17,11 +17,11 @@ use std::time::Instant;
 use common::{axes, static_scene, OctaveFitter};
 use triad::units;
 use triad_lab::allan::noise_terms::{Term, TERMS};
-use triad_sim::bias_instability::BiasInstabilityParams;
+use triad_sim::effects::bias_instability::BiasInstabilityParams;
+use triad_sim::effects::temperature_dependence::TemperatureDependence;
 use triad_sim::grade::{AccelPreset, GyroPreset};
-use triad_sim::scene::TriadEffects;
-use triad_sim::temperature_dependence::TemperatureDependence;
-use triad_sim::temperature_profile::TemperatureProfile;
+use triad_sim::scenes::scene::TriadEffects;
+use triad_sim::scenes::temperature_profile::TemperatureProfile;
 
 /// A family of records with known terms.
 struct Scenario {

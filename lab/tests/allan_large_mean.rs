@@ -4,7 +4,7 @@
 //! integrates.
 
 use triad_lab::allan::accumulate::OctaveAccumulator;
-use triad_sim::rng::Rng;
+use triad_sim::effects::rng::Rng;
 
 const N: usize = 1 << 20;
 const SIGMA: f64 = 1e-3;

@@ -15,9 +15,9 @@ use common::{axes, static_scene, OctaveFitter};
 use triad::units;
 use triad_lab::allan::grade::{classify, Placement};
 use triad_lab::allan::noise_terms::{NoiseFit, Term};
-use triad_sim::bias_instability::BiasInstabilityParams;
+use triad_sim::effects::bias_instability::BiasInstabilityParams;
 use triad_sim::grade::{AccelPreset, Grade, GyroPreset, Parameter, Table, ACCEL_TABLE, GYRO_TABLE};
-use triad_sim::scene::TriadEffects;
+use triad_sim::scenes::scene::TriadEffects;
 
 /// The GLS fit of one series' octave curve.
 fn fitted(y: &[f64], rate: f64) -> NoiseFit {

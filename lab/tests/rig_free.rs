@@ -12,7 +12,7 @@ use triad_lab::calib_fit::small3::{cholesky_upper, gram};
 use triad_lab::calib_fit::static_segments::{Detector, Segment};
 use triad_lab::calib_fit::FitError;
 use triad_lab::student_t;
-use triad_sim::rng::Rng;
+use triad_sim::effects::rng::Rng;
 
 const G: f64 = 9.80665;
 const FULL_SCALE: f64 = 2000.0 * core::f64::consts::PI / 180.0;

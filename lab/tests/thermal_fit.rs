@@ -14,7 +14,7 @@ use triad_lab::calib_fit::thermal_accel::{self, Terms, ThermalAccelFit};
 use triad_lab::calib_fit::thermal_coverage::{self, coverage};
 use triad_lab::calib_fit::FitError;
 use triad_lab::student_t;
-use triad_sim::rng::Rng;
+use triad_sim::effects::rng::Rng;
 
 const G: f64 = 9.80665;
 

@@ -3,10 +3,12 @@
 //! what the module documents, and the simulated process has the analytic
 //! Allan deviation at every τ = m·Ts, τ = Ts included (no aliasing).
 
-use triad_sim::averaged_gauss_markov::AveragedGaussMarkov;
-use triad_sim::bias_instability::{BiasInstability, BiasInstabilityParams, FLICKER_FLOOR_FACTOR};
-use triad_sim::gauss_markov::allan_variance;
-use triad_sim::rng::Rng;
+use triad_sim::effects::averaged_gauss_markov::AveragedGaussMarkov;
+use triad_sim::effects::bias_instability::{
+    BiasInstability, BiasInstabilityParams, FLICKER_FLOOR_FACTOR,
+};
+use triad_sim::effects::gauss_markov::allan_variance;
+use triad_sim::effects::rng::Rng;
 
 #[test]
 fn flicker_floor_factor_is_sqrt_2_ln2_over_pi() {

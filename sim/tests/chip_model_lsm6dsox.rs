@@ -12,9 +12,9 @@ use embedded_hal_mock::eh1::delay::NoopDelay;
 use triad::sensor::interface::{I2cInterface, SpiInterface};
 use triad::sensor::lsm6dsox::{AccelRange, Config, FifoConfig, FifoMode, GyroRange, Lsm6dsox, Odr};
 use triad::sensor::{Error, FifoImu, Imu, ImuScale, RawSample};
-use triad_sim::fault::Fault;
-use triad_sim::lsm6dsox_model::Lsm6dsoxModel;
-use triad_sim::source::{SampleSource, TrueSample};
+use triad_sim::chips::fault::Fault;
+use triad_sim::chips::lsm6dsox_model::Lsm6dsoxModel;
+use triad_sim::chips::source::{SampleSource, TrueSample};
 
 type SpiImu<S> = Lsm6dsox<SpiInterface<Lsm6dsoxModel<S>>>;
 type I2cImu<S> = Lsm6dsox<I2cInterface<Lsm6dsoxModel<S>>>;

@@ -2,15 +2,15 @@
 //! exactly; toggling one effect leaves every other effect's contribution
 //! bit-identical; the same seed gives the same samples.
 
-use triad_sim::bias_instability::BiasInstabilityParams;
-use triad_sim::fibre_optic::{FibreOpticParams, Loop};
+use triad_sim::chips::source::SampleSource;
+use triad_sim::effects::bias_instability::BiasInstabilityParams;
+use triad_sim::effects::temperature_dependence::TemperatureDependence;
 use triad_sim::motion::{Axis, Environment, Motion};
-use triad_sim::ring_laser::{Dither, RingLaserParams};
-use triad_sim::scene::{GaussMarkovParams, Scene, TriadEffects};
-use triad_sim::simulator::{Contributions, Simulator};
-use triad_sim::source::SampleSource;
-use triad_sim::temperature_dependence::TemperatureDependence;
-use triad_sim::temperature_profile::TemperatureProfile;
+use triad_sim::optics::fibre_optic::{FibreOpticParams, Loop};
+use triad_sim::optics::ring_laser::{Dither, RingLaserParams};
+use triad_sim::scenes::scene::{GaussMarkovParams, Scene, TriadEffects};
+use triad_sim::scenes::simulator::{Contributions, Simulator};
+use triad_sim::scenes::temperature_profile::TemperatureProfile;
 
 fn motions() -> [Motion; 4] {
     [

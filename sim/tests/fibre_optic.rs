@@ -3,11 +3,11 @@
 //! ±π/2), the closed loop's linear response, and the scale factor's
 //! temperature dependence, alone and through the simulator.
 
-use triad_sim::fibre_optic::{FibreOpticParams, Loop, SPEED_OF_LIGHT};
 use triad_sim::motion::{Axis, Motion};
-use triad_sim::scene::{Scene, TriadEffects};
-use triad_sim::simulator::Simulator;
-use triad_sim::temperature_profile::TemperatureProfile;
+use triad_sim::optics::fibre_optic::{FibreOpticParams, Loop, SPEED_OF_LIGHT};
+use triad_sim::scenes::scene::{Scene, TriadEffects};
+use triad_sim::scenes::simulator::Simulator;
+use triad_sim::scenes::temperature_profile::TemperatureProfile;
 
 /// `length` m of fibre on a coil of diameter `diameter` m at 1550 nm.
 fn coil(length: f64, diameter: f64, readout: Loop) -> FibreOpticParams {

@@ -7,8 +7,8 @@
 //! formula (φ vs φ², a missing expm1, a wrong drive variance) moves the
 //! estimate by tens of SE. The seeds are fixed, so the tests are deterministic.
 
-use triad_sim::gauss_markov::{discretisation, GaussMarkov};
-use triad_sim::rng::Rng;
+use triad_sim::effects::gauss_markov::{discretisation, GaussMarkov};
+use triad_sim::effects::rng::Rng;
 
 const SIGMA: f64 = 2.0;
 

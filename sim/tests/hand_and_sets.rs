@@ -4,13 +4,13 @@
 //! unit's turn-on errors held across records.
 
 use triad::model::Triad;
-use triad_sim::hand_poses::{hand_poses, MIN_SEPARATION};
+use triad_sim::effects::turn_on::fix_turn_on;
+use triad_sim::motion::hand_poses::{hand_poses, MIN_SEPARATION};
+use triad_sim::motion::rotation;
 use triad_sim::motion::{Environment, Motion, Trajectory, RATE_TABLE_SET_AXES};
-use triad_sim::rotation;
-use triad_sim::scene::{Scene, TriadEffects};
-use triad_sim::simulator::Simulator;
-use triad_sim::temperature_profile::TemperatureProfile;
-use triad_sim::turn_on::fix_turn_on;
+use triad_sim::scenes::scene::{Scene, TriadEffects};
+use triad_sim::scenes::simulator::Simulator;
+use triad_sim::scenes::temperature_profile::TemperatureProfile;
 
 const G: f64 = 9.80665;
 

@@ -2,8 +2,8 @@
 //! output: no angle is lost however long the record, each sample is a whole
 //! number of steps, and a step of zero passes the rate through.
 
-use triad_sim::increment_quantisation::IncrementQuantiser;
-use triad_sim::rng::Rng;
+use triad_sim::effects::increment_quantisation::IncrementQuantiser;
+use triad_sim::effects::rng::Rng;
 
 #[test]
 fn the_counted_angle_stays_within_a_step_of_the_true_one() {

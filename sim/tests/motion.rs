@@ -5,9 +5,9 @@
 #![allow(clippy::needless_range_loop)]
 
 use triad::units::EARTH_RATE;
+use triad_sim::motion::rotation;
 use triad_sim::motion::{tumble_position, Axis, Environment, Motion, Trajectory};
-use triad_sim::rotation;
-use triad_sim::temperature_profile::TemperatureProfile;
+use triad_sim::scenes::temperature_profile::TemperatureProfile;
 
 const G: f64 = 9.80665;
 

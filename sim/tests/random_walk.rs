@@ -1,7 +1,7 @@
 //! Random walk (rate / acceleration random walk): variance grows as K²·t.
 
-use triad_sim::random_walk::RandomWalk;
-use triad_sim::rng::Rng;
+use triad_sim::effects::random_walk::RandomWalk;
+use triad_sim::effects::rng::Rng;
 
 #[test]
 fn variance_grows_as_k_squared_t() {

@@ -3,8 +3,8 @@
 //! dither breaking the lock-in and leaving the random walk of its passages,
 //! whose size per passage is Adler's equation's (integrated here).
 
-use triad_sim::ring_laser::{Dither, RingLaser, RingLaserParams};
-use triad_sim::rng::Rng;
+use triad_sim::effects::rng::Rng;
+use triad_sim::optics::ring_laser::{Dither, RingLaser, RingLaserParams};
 
 const ARCSEC: f64 = std::f64::consts::PI / 180.0 / 3600.0;
 
@@ -231,7 +231,7 @@ fn adlers_equation_gives_the_passage_error() {
 #[test]
 fn optical_models_are_gyro_only_one_at_a_time_and_count_once() {
     use triad_sim::motion::Motion;
-    use triad_sim::scene::{Scene, SceneError, TriadEffects};
+    use triad_sim::scenes::scene::{Scene, SceneError, TriadEffects};
     let ring = TriadEffects {
         ring_laser: Some(dithered()),
         ..TriadEffects::NONE

@@ -3,7 +3,7 @@
 //! (triad, axis, effect) keys give distinct streams.
 
 use triad::model::Triad;
-use triad_sim::rng::{EffectId, Rng};
+use triad_sim::effects::rng::{EffectId, Rng};
 
 #[test]
 fn xoshiro256plusplus_matches_reference_test_vector() {
@@ -110,7 +110,7 @@ fn ziggurat_tables_satisfy_their_recurrence() {
     // x₀ = V/f(R), x₁ = R, and every layer has the same area V:
     // x_i·(f(x_{i+1}) − f(x_i)) = V; F holds f(x_i). Checked with libm to
     // 1e-12 relative (the tables were generated in another language).
-    use triad_sim::ziggurat::{F, R, X};
+    use triad_sim::effects::ziggurat::{F, R, X};
     let f = |x: f64| libm::exp(-0.5 * x * x);
     let v = X[0] * f(R);
     assert!((v - 0.004_928_673_233_99).abs() < 1e-15);

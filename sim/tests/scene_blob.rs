@@ -2,10 +2,10 @@
 //! blob can be wrong is refused with what was found.
 
 use triad_sim::motion::{Axis, Motion};
-use triad_sim::scene::{GaussMarkovParams, Scene, TriadEffects};
-use triad_sim::scene_blob::{decode, encode, SceneBlobError, MAX_BLOB_LEN, VERSION};
-use triad_sim::simulator::Simulator;
-use triad_sim::temperature_profile::TemperatureProfile;
+use triad_sim::scenes::scene::{GaussMarkovParams, Scene, TriadEffects};
+use triad_sim::scenes::scene_blob::{decode, encode, SceneBlobError, MAX_BLOB_LEN, VERSION};
+use triad_sim::scenes::simulator::Simulator;
+use triad_sim::scenes::temperature_profile::TemperatureProfile;
 
 fn busy_scene() -> Scene {
     let mut scene = Scene::new(

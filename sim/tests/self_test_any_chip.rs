@@ -16,10 +16,10 @@ use triad::sensor::interface::SpiInterface;
 use triad::sensor::{
     icm42688, lsm6dsox, AnyChip, Axis, ChipLeft, Error, SelfTestError, SelfTestReport,
 };
-use triad_sim::fault::Fault;
-use triad_sim::icm42688_model::Icm42688Model;
-use triad_sim::lsm6dsox_model::Lsm6dsoxModel;
-use triad_sim::model_clock::{ModelDelay, SharedBus};
+use triad_sim::chips::fault::Fault;
+use triad_sim::chips::icm42688_model::Icm42688Model;
+use triad_sim::chips::lsm6dsox_model::Lsm6dsoxModel;
+use triad_sim::chips::model_clock::{ModelDelay, SharedBus};
 
 /// A chip at rest with 1 mg and 0.1 °/s of noise per sample.
 fn rest() -> NoisyRest {

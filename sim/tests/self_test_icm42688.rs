@@ -23,10 +23,10 @@ use triad::sensor::interface::SpiInterface;
 use triad::sensor::self_test::{si_per_data_sheet_unit, SelfTestLimits};
 use triad::sensor::{Axis, Imu, SelfTestReport};
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
-use triad_sim::icm42688_factory_trim::FactoryTrim;
-use triad_sim::icm42688_model::Icm42688Model;
-use triad_sim::model_clock::{ModelDelay, SharedBus};
-use triad_sim::self_test_response::SelfTestResponse;
+use triad_sim::chips::icm42688_factory_trim::FactoryTrim;
+use triad_sim::chips::icm42688_model::Icm42688Model;
+use triad_sim::chips::model_clock::{ModelDelay, SharedBus};
+use triad_sim::chips::self_test_response::SelfTestResponse;
 
 type Model = Icm42688Model<NoisyRest>;
 

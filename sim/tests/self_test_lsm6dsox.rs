@@ -22,8 +22,8 @@ use triad::sensor::lsm6dsox::{
 use triad::sensor::self_test::SelfTestLimits;
 use triad::sensor::{Axis, Imu, SelfTestReport};
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
-use triad_sim::lsm6dsox_model::Lsm6dsoxModel;
-use triad_sim::model_clock::{ModelDelay, SharedBus};
+use triad_sim::chips::lsm6dsox_model::Lsm6dsoxModel;
+use triad_sim::chips::model_clock::{ModelDelay, SharedBus};
 
 type Model = Lsm6dsoxModel<NoisyRest>;
 
@@ -87,7 +87,7 @@ fn the_limits_are_ds12814s() {
 
 #[test]
 fn a_response_beyond_the_limits_fails() {
-    use triad_sim::self_test_response::SelfTestResponse;
+    use triad_sim::chips::self_test_response::SelfTestResponse;
     // 1800 mg and 100 °/s on x: above LA_ST's 1700 mg, below G_ST's 150 °/s.
     let response =
         SelfTestResponse::from_data_sheet_units([1800.0, 500.0, 500.0], [100.0, 300.0, 300.0]);

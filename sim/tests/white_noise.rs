@@ -4,11 +4,11 @@
 use triad::units::{
     deg_per_s_per_sqrt_hz_to_deg_per_sqrt_h, deg_to_rad, rad_to_deg, random_walk_sigma,
 };
+use triad_sim::effects::rng::Rng;
+use triad_sim::effects::white_noise::WhiteNoise;
 use triad_sim::motion::Motion;
-use triad_sim::rng::Rng;
-use triad_sim::scene::{Scene, TriadEffects};
-use triad_sim::simulator::Simulator;
-use triad_sim::white_noise::WhiteNoise;
+use triad_sim::scenes::scene::{Scene, TriadEffects};
+use triad_sim::scenes::simulator::Simulator;
 
 #[test]
 fn sampled_variance_is_density_squared_over_ts() {

@@ -191,10 +191,10 @@ const EMULATED_CHIP: &str = env!("TRIAD_EMULATED_CHIP");
 /// What the chip model measures: the demo motion or an embedded scene.
 use core::cell::RefCell;
 use core::sync::atomic::{AtomicU32, Ordering};
-use triad_sim::emulated_board::{source, EmulatedChip};
-use triad_sim::model_clock::{ModelDelay, SharedBus};
+use triad_sim::chips::emulated_board::{source, EmulatedChip};
+use triad_sim::chips::model_clock::{ModelDelay, SharedBus};
 
-pub use triad_sim::emulated_board::DESCRIPTION;
+pub use triad_sim::chips::emulated_board::DESCRIPTION;
 
 /// The bus the chip model answers on: SPI (or I²C with `bus-i2c`), the
 /// model shared with the [`SelfTestDelay`].

@@ -9,8 +9,8 @@ use toml::Spanned;
 use triad::model::Triad;
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
 use triad_sim::motion::Environment;
-use triad_sim::scene::{Scene, TriadEffects};
-use triad_sim::temperature_profile::{TemperatureProfile, MAX_SOAK_LEVELS};
+use triad_sim::scenes::scene::{Scene, TriadEffects};
+use triad_sim::scenes::temperature_profile::{TemperatureProfile, MAX_SOAK_LEVELS};
 
 use super::field::field;
 use super::origin::{what, Key, Origins};

@@ -2,10 +2,10 @@
 //! the file names (overriding the preset's), in the triad's units.
 
 use triad::model::Triad;
-use triad_sim::bias_instability::{BiasInstabilityParams, MAX_TERMS};
+use triad_sim::effects::bias_instability::{BiasInstabilityParams, MAX_TERMS};
+use triad_sim::effects::temperature_dependence::TemperatureDependence;
 use triad_sim::grade::{AccelPreset, GyroPreset};
-use triad_sim::scene::{GaussMarkovParams, TriadEffects};
-use triad_sim::temperature_dependence::TemperatureDependence;
+use triad_sim::scenes::scene::{GaussMarkovParams, TriadEffects};
 
 use super::build::Builder;
 use super::field::{field, Field};

@@ -1,7 +1,7 @@
 //! One field's value in SI units: a quantity written with its unit (the
 //! dimension checked against the field's), one per axis or three, or a 3×3
 //! matrix. Whether the number is allowed (sign, range) is the simulator's
-//! check ([`Scene::validate`](triad_sim::scene::Scene::validate)), not this one's.
+//! check ([`Scene::validate`](triad_sim::scenes::scene::Scene::validate)), not this one's.
 
 use toml::Spanned;
 

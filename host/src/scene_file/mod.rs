@@ -43,7 +43,7 @@ pub mod unit;
 
 use std::path::{Path, PathBuf};
 
-use triad_sim::scene::Scene;
+use triad_sim::scenes::scene::Scene;
 
 use crate::shipped;
 use build::Builder;
@@ -231,7 +231,7 @@ mod tests {
             .unwrap();
         assert_eq!(
             (f.turns, f.readout, f.reference),
-            (1061.0, triad_sim::fibre_optic::Loop::Open, 25.0)
+            (1061.0, triad_sim::optics::fibre_optic::Loop::Open, 25.0)
         );
         assert!((f.coil_area - std::f64::consts::PI * 9e-4).abs() < 1e-15);
         assert!((f.wavelength_per_degree - 400e-6).abs() < 1e-18 && f.area_per_degree == 0.0);

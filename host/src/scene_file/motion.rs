@@ -5,7 +5,7 @@ use std::ops::Range;
 
 use toml::Spanned;
 use triad::units::deg_to_rad;
-use triad_sim::hand_poses::MIN_HAND_POSES;
+use triad_sim::motion::hand_poses::MIN_HAND_POSES;
 use triad_sim::motion::{Axis, Motion, MAX_POSITIONS};
 
 use super::build::Builder;

@@ -5,9 +5,9 @@
 //! (`open` or `closed` loop) of a fibre-optic gyro.
 
 use triad::model::Triad;
-use triad_sim::fibre_optic::{FibreOpticParams, Loop};
-use triad_sim::ring_laser::{Dither, RingLaserParams};
-use triad_sim::scene::TriadEffects;
+use triad_sim::optics::fibre_optic::{FibreOpticParams, Loop};
+use triad_sim::optics::ring_laser::{Dither, RingLaserParams};
+use triad_sim::scenes::scene::TriadEffects;
 
 use super::build::Builder;
 use super::field::field;

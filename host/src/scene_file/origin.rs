@@ -12,7 +12,7 @@ use std::ops::Range;
 
 use toml::Spanned;
 use triad::model::Triad;
-use triad_sim::scene::{Scene, SceneError};
+use triad_sim::scenes::scene::{Scene, SceneError};
 
 use super::parse::{Source, Value};
 

@@ -65,7 +65,7 @@ pub fn load(name_or_file: &str) -> anyhow::Result<LoadedScene> {
 mod tests {
     use super::*;
     use triad_sim::motion::Motion;
-    use triad_sim::temperature_profile::TemperatureProfile;
+    use triad_sim::scenes::temperature_profile::TemperatureProfile;
 
     fn error(text: &str) -> String {
         parse(text, Path::new("s.toml")).unwrap_err().to_string()

@@ -21,9 +21,9 @@ use std::path::{Path, PathBuf};
 use serde::Deserialize;
 use toml::Spanned;
 use triad::model::Triad;
+use triad_sim::effects::turn_on::fix_turn_on;
 use triad_sim::motion::Motion;
-use triad_sim::scene::{Scene, TriadEffects};
-use triad_sim::turn_on::fix_turn_on;
+use triad_sim::scenes::scene::{Scene, TriadEffects};
 
 use super::build::Builder;
 use super::field::field;

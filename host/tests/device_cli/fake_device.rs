@@ -23,8 +23,8 @@ use triad::model::Orientation;
 use triad::sensor::interface::SpiInterface;
 use triad::sensor::{AnyChip, Imu, ImuScale, RawSample};
 use triad::stream::Decoder;
-use triad_sim::emulated_board::{source, EmulatedChip};
-use triad_sim::model_clock::{ModelDelay, SharedBus};
+use triad_sim::chips::emulated_board::{source, EmulatedChip};
+use triad_sim::chips::model_clock::{ModelDelay, SharedBus};
 
 use super::ram_flash::RamFlash;
 

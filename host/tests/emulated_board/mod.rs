@@ -12,7 +12,7 @@ use triad::sensor::interface::{I2cInterface, SpiInterface};
 use triad::sensor::{AnyChip, FifoImu, FifoRead, Imu, ImuScale, RawSample, Settings, CHIP_NAMES};
 
 /// The emulated board's chip models: the very code the firmware builds.
-use triad_sim::emulated_board::{source, EmulatedChip};
+use triad_sim::chips::emulated_board::{source, EmulatedChip};
 
 /// What the firmware's chip model served: the scene of TRIAD_E2E_SCENE (the
 /// blob the firmware embedded) when xtask ran a simulated scene, else the

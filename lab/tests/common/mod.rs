@@ -10,8 +10,8 @@ use triad_lab::allan::edf;
 use triad_lab::allan::gls;
 use triad_lab::allan::noise_terms::{CurvePoint, NoiseFit};
 use triad_sim::motion::Motion;
-use triad_sim::scene::Scene;
-use triad_sim::simulator::Simulator;
+use triad_sim::scenes::scene::Scene;
+use triad_sim::scenes::simulator::Simulator;
 
 /// The octave curve of one series: the mean of its first 4096 samples
 /// subtracted (as `triad allan` does), the EDF from the local slope; and

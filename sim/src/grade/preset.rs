@@ -8,8 +8,8 @@
 //! figures, checked against the row; the simulator applies a range only when
 //! a scene names `saturation`, and has no bandwidth filter.
 //!
-//! An optical gyro adds its optics ([`crate::ring_laser`],
-//! [`crate::fibre_optic`]) and the fixed bias and scale-factor error
+//! An optical gyro adds its optics ([`crate::optics::ring_laser`],
+//! [`crate::optics::fibre_optic`]) and the fixed bias and scale-factor error
 //! THEORY.md gives for its technology ([`super::table::RLG_FIGURES`],
 //! [`super::table::FOG_FIGURES`]: what a calibration removes; their
 //! instability is the grade's row). A ring laser's angle random walk is the
@@ -19,10 +19,10 @@
 
 use super::table::Parameter;
 use super::{AccelGrade, GyroGrade};
-use crate::bias_instability::BiasInstabilityParams;
-use crate::fibre_optic::{FibreOpticParams, Loop};
-use crate::ring_laser::{Dither, RingLaserParams};
-use crate::scene::TriadEffects;
+use crate::effects::bias_instability::BiasInstabilityParams;
+use crate::optics::fibre_optic::{FibreOpticParams, Loop};
+use crate::optics::ring_laser::{Dither, RingLaserParams};
+use crate::scenes::scene::TriadEffects;
 use triad::units::{
     arw_deg_per_sqrt_h_to_si, deg_per_h_to_rad_per_s, ppm_to_ratio, ug_per_sqrt_hz_to_si,
     ug_to_mps2,

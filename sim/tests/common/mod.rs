@@ -2,9 +2,10 @@
 //! reports for a value, computed independently of the models.
 #![allow(dead_code)] // each test binary uses a different part
 
+pub mod bus;
 pub mod self_test;
 
-use triad_sim::source::{SampleSource, TrueSample};
+use triad_sim::chips::source::{SampleSource, TrueSample};
 
 /// The same true sample forever.
 #[derive(Clone, Copy, Debug)]

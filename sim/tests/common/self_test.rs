@@ -10,13 +10,13 @@ use triad::model::Triad;
 use triad::sensor::self_test::si_per_data_sheet_unit;
 use triad::sensor::{Axis, ImuScale, RawSample, SelfTestReport};
 use triad::units::STANDARD_GRAVITY;
-use triad_sim::fault::Fault;
-use triad_sim::icm42688_model::Icm42688Model;
-use triad_sim::lsm6dsox_model::Lsm6dsoxModel;
-use triad_sim::model_clock::{Clocked, ModelDelay, SharedBus};
-use triad_sim::rng::Rng;
-use triad_sim::self_test_response::SelfTestResponse;
-use triad_sim::source::{SampleSource, TrueSample};
+use triad_sim::chips::fault::Fault;
+use triad_sim::chips::icm42688_model::Icm42688Model;
+use triad_sim::chips::lsm6dsox_model::Lsm6dsoxModel;
+use triad_sim::chips::model_clock::{Clocked, ModelDelay, SharedBus};
+use triad_sim::chips::self_test_response::SelfTestResponse;
+use triad_sim::chips::source::{SampleSource, TrueSample};
+use triad_sim::effects::rng::Rng;
 
 /// A chip lying still, z up: specific force (0, 0, g) and no rotation, each
 /// axis with Gaussian white noise of `accel_sigma` m/s² and `gyro_sigma`
