@@ -430,10 +430,9 @@ impl<F: NorFlash> CommandHandler<F> {
             .map_err(|e| fail(Status::InvalidCalibration, format_args!("{e}")))?;
         let id = corrector.calibration_id();
         queue(submit, Control::Calibrate(corrector))?;
-        let mut blob = [0u8; BLOB_LEN];
-        blob.copy_from_slice(bytes);
         self.active = ActiveCalibration {
-            blob: Some(blob),
+            // A version-2 blob is kept (read back, saved) in the current layout.
+            blob: blob::upgrade(bytes),
             id,
             source: CalibrationSource::Uploaded,
         };

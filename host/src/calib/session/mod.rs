@@ -445,6 +445,7 @@ fn calibration_file(
         id: 0,
         accel: fit.accel,
         gyro: fit.gyro,
+        g_sensitivity: None,
     };
     Corrector::new_si(
         &calibration,
