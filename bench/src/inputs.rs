@@ -87,8 +87,7 @@ pub fn realistic() -> Calibration {
 /// the diagonal and a tenth of that across (issue 22's real unit showed
 /// 0.12 °/s per g).
 pub fn with_g_sensitivity() -> Calibration {
-    // (°/s per g) → (rad/s)/(m/s²).
-    let per_g = core::f64::consts::PI / 180.0 / 9.80665;
+    let per_g = triad::units::dps_per_g_to_si(1.0);
     Calibration {
         id: 0x0BE7_C404,
         g_sensitivity: Some([

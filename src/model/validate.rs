@@ -334,7 +334,7 @@ impl fmt::Display for CalibrationError {
                 "gyro g_sensitivity[{row}][{col}] = {value} (rad/s)/(m/s²) ({per_g:.4} °/s per g): \
                  beyond the physical bound ±{MAX_G_SENSITIVITY:.4e} (1 °/s per g; MEMS gyros show about 0.1)",
                 value = Readable(value),
-                per_g = value * 9.80665 * 180.0 / core::f64::consts::PI
+                per_g = crate::units::si_to_dps_per_g(value)
             ),
             CalibrationError::InvalidScale { quantity, value } => {
                 let value = Readable(value);
