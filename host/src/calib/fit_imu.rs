@@ -15,6 +15,8 @@ use triad::model::{Triad, TriadCalibration};
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
 use triad_lab::calib_fit::accel_fit::AccelFit;
 use triad_lab::calib_fit::rig_free::{self, RigFreeGyroFit};
+
+use super::g_sensitivity_report;
 use triad_lab::calib_fit::static_segments::Segment;
 use triad_lab::calib_fit::{accel_fit, FitError};
 
@@ -51,7 +53,9 @@ pub fn run(args: ImuArgs) -> anyhow::Result<ExitCode> {
     let gyro = fit_csv::read(&args.positions, fit_csv::GYRO)?;
     let full_scale = deg_to_rad(args.output.ranges.gyro_range_dps);
     let fit = fit_record(&accel, &gyro, args.gravity, args.min_static, full_scale)?;
-    let base = base.with_fitted(Triad::Accel, fit.accel, fit.accel_table);
+    let base = base
+        .with_fitted(Triad::Accel, fit.accel, fit.accel_table)
+        .with_g_sensitivity(fit.g_sensitivity);
     write_calibration(
         &args.output,
         base,
@@ -70,6 +74,8 @@ pub struct ImuFit {
     pub accel: TriadCalibration,
     /// The gyroscope's (I+Σ) (in the accelerometer's corrected axes) and b.
     pub gyro: TriadCalibration,
+    /// The gyroscope's g-sensitivity G where the poses show one.
+    pub g_sensitivity: Option<[[f64; 3]; 3]>,
     /// The accelerometer fit's statistics, `[fit.accel]`.
     pub accel_table: toml::Table,
     /// The gyroscope fit's statistics, `[fit.gyro]`.
@@ -166,6 +172,12 @@ pub fn fit_record(
         "too few moves for the 9 unknowns",
     );
     print_gyro_extras(&mut out, &gyro_fit);
+    g_sensitivity_report::print(
+        &mut out,
+        &gyro_fit.g_sensitivity,
+        &gyro_fit.pose_check,
+        gyro_fit.segments,
+    );
     outln!(
         out,
         "  frame: both (I+Σ) map the accelerometer's corrected axes (corrected z = the accelerometer's z \
@@ -195,6 +207,11 @@ pub fn fit_record(
         toml::Value::Integer(gyro_fit.bias_dof as i64),
     );
     gyro_report.insert_statistics(&mut gyro_table);
+    g_sensitivity_report::insert(
+        &mut gyro_table,
+        &gyro_fit.g_sensitivity,
+        &gyro_fit.pose_check,
+    );
     let header = format!(
         "Both triads fitted by `triad calib fit imu` from {} hand-turned poses of {name}\n\
          (no rig): accelerometer residual RMS {:.3e} m/s², gyroscope direction residual RMS {:.3e} rad.",
@@ -209,6 +226,7 @@ pub fn fit_record(
             temperature: None,
         },
         gyro: gyro_report.triad(),
+        g_sensitivity: gyro_fit.g_sensitivity.applied().map(|g| g.g),
         accel_table,
         gyro_table,
         header,
@@ -239,9 +257,14 @@ fn gyro_report(fit: &RigFreeGyroFit) -> FitReport<'_> {
 /// What only the rig-free fit has: how the bias σ's were found, the turns'
 /// spread and the record's fastest turn.
 fn print_gyro_extras(out: &mut String, fit: &RigFreeGyroFit) {
+    let model = if fit.g_sensitivity.applied().is_some() {
+        "about the fit of bias and g-sensitivity to them"
+    } else {
+        "about their mean"
+    };
     outln!(
         out,
-        "  (bias σ's: the scatter of the {} poses' means, {} degrees of freedom, so drift between poses is in them; \
+        "  (bias σ's: the scatter of the {} poses' means {model}, {} degrees of freedom, so drift between poses is in them; \
          the Earth's rate is not removed from the bias)",
         fit.segments,
         fit.bias_dof
