@@ -193,6 +193,14 @@ fn get_triad(bytes: &[u8], at: usize, has_temperature: bool) -> TriadCalibration
 /// The blob of `cal`.
 pub fn encode(cal: &Calibration) -> [u8; BLOB_LEN] {
     let mut out = [0u8; BLOB_LEN];
+    encode_into(cal, &mut out);
+    out
+}
+
+/// The blob of `cal` written over `out` (every byte), without a copy on the
+/// stack (the device's upload keeps one buffer).
+pub fn encode_into(cal: &Calibration, out: &mut [u8; BLOB_LEN]) {
+    out.fill(0);
     out[0..4].copy_from_slice(&MAGIC);
     out[4] = VERSION;
     let flag = |set: bool, bit: u8| if set { bit } else { 0 };
@@ -200,15 +208,14 @@ pub fn encode(cal: &Calibration) -> [u8; BLOB_LEN] {
         | flag(cal.gyro.temperature.is_some(), FLAG_GYRO_TEMPERATURE)
         | flag(cal.g_sensitivity.is_some(), FLAG_G_SENSITIVITY);
     out[8..12].copy_from_slice(&cal.id.to_le_bytes());
-    put_triad(&mut out, TRIADS.start, &cal.accel);
-    put_triad(&mut out, TRIADS.start + TRIAD_LEN, &cal.gyro);
+    put_triad(out, TRIADS.start, &cal.accel);
+    put_triad(out, TRIADS.start + TRIAD_LEN, &cal.gyro);
     let mut at = G_SENSITIVITY.start;
     for row in &cal.g_sensitivity.unwrap_or([[0.0; 3]; 3]) {
-        put(&mut out, &mut at, row);
+        put(out, &mut at, row);
     }
     let crc = crc32c(&out[..CRC_AT]);
     out[CRC_AT..].copy_from_slice(&crc.to_le_bytes());
-    out
 }
 
 /// The default calibration identity: CRC-32C of the parameter bytes 12..508

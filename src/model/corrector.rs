@@ -112,8 +112,6 @@ impl KernelF32 {
 /// o = k_g + c rounded once from f64 (see [`super::g_sensitivity`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct GSensitivityState {
-    /// C and c in f64.
-    folded: FoldedTriad,
     /// C in f32 (rate per accelerometer LSB).
     k_accel: [[f32; 3]; 3],
     /// k_g + c in f32.
@@ -121,6 +119,10 @@ struct GSensitivityState {
 }
 
 impl GSensitivityState {
+    // Out of line: its f64 work would otherwise enlarge the stack frame of
+    // every corrector's construction, with or without G (the Cortex-M0
+    // benchmark's 16 KiB).
+    #[inline(never)]
     fn new(
         g: &Mat3,
         gyro: &TriadState,
@@ -137,7 +139,6 @@ impl GSensitivityState {
         let r = |row: &[f64; 3]| [row[0] as f32, row[1] as f32, row[2] as f32];
         let o = &gyro.folded.offset;
         Ok(GSensitivityState {
-            folded,
             k_accel: [r(&folded.k[0]), r(&folded.k[1]), r(&folded.k[2])],
             offset: r(&[
                 o[0] + folded.offset[0],
@@ -301,13 +302,64 @@ impl Corrector {
 
     /// The f32 hot path: m = K·raw + k per triad (the gyro's with C·raw_a
     /// too when the calibration has a g-sensitivity), temperature to °C, clip flags.
+    ///
+    /// Over many samples prefer [`Self::correct_batch`]: it chooses between
+    /// the forms with and without G once, where a loop of this function's
+    /// calls tests it per sample, which on a Cortex-M4F keeps the
+    /// coefficients out of registers (about 40 instructions per sample more,
+    /// docs/BENCHMARKS.md: full_f32 against full_f32_per_call).
     #[inline]
     pub fn correct(&self, raw: &RawSample) -> Sample {
+        match &self.g_sensitivity {
+            None => self.correct_without_g(raw),
+            Some(s) => self.correct_with_g(s, raw),
+        }
+    }
+
+    /// [`Self::correct`] of each sample of `raw` into the front of `out` (as
+    /// many as both hold), with the choice of form made once for the batch.
+    pub fn correct_batch(&self, raw: &[RawSample], out: &mut [Sample]) {
+        match &self.g_sensitivity {
+            None => self.batch_without_g(raw, out),
+            Some(s) => self.batch_with_g(s, raw, out),
+        }
+    }
+
+    /// The loop of [`Self::correct_batch`] without G, a function of its own
+    /// so that its coefficients have the registers to themselves.
+    #[inline(never)]
+    fn batch_without_g(&self, raw: &[RawSample], out: &mut [Sample]) {
+        for (r, o) in raw.iter().zip(out.iter_mut()) {
+            *o = self.correct_without_g(r);
+        }
+    }
+
+    /// The loop of [`Self::correct_batch`] with G.
+    #[inline(never)]
+    fn batch_with_g(&self, s: &GSensitivityState, raw: &[RawSample], out: &mut [Sample]) {
+        for (r, o) in raw.iter().zip(out.iter_mut()) {
+            *o = self.correct_with_g(s, r);
+        }
+    }
+
+    #[inline(always)]
+    fn correct_without_g(&self, raw: &RawSample) -> Sample {
+        let f = |v: &[i16; 3]| [f32::from(v[0]), f32::from(v[1]), f32::from(v[2])];
+        Sample {
+            accel: self.accel.kernel.apply(f(&raw.accel)),
+            gyro: self.gyro.kernel.apply(f(&raw.gyro)),
+            temperature: self.temperature_c(f32::from(raw.temperature)),
+            clip: ClipFlags::of(raw),
+        }
+    }
+
+    #[inline(always)]
+    fn correct_with_g(&self, s: &GSensitivityState, raw: &RawSample) -> Sample {
         let f = |v: &[i16; 3]| [f32::from(v[0]), f32::from(v[1]), f32::from(v[2])];
         let accel = f(&raw.accel);
         Sample {
             accel: self.accel.kernel.apply(accel),
-            gyro: self.gyro_rate(f(&raw.gyro), accel),
+            gyro: s.apply(&self.gyro.kernel.k, f(&raw.gyro), accel),
             temperature: self.temperature_c(f32::from(raw.temperature)),
             clip: ClipFlags::of(raw),
         }
@@ -470,9 +522,12 @@ impl Corrector {
     }
 
     /// The g-sensitivity's contribution to the gyro's correction, C·raw_a + c
-    /// in f64 ([`super::g_sensitivity`]), as currently folded; `None` without G.
-    pub fn folded_g_sensitivity(&self) -> Option<&FoldedTriad> {
-        self.g_sensitivity.as_ref().map(|s| &s.folded)
+    /// in f64 ([`super::g_sensitivity`]), as currently folded; `None` without
+    /// G. Folded again at each call (it is not kept: the corrector stays small
+    /// for the Cortex-M0's 16 KiB, and only construction-time checks need it).
+    pub fn folded_g_sensitivity(&self) -> Option<FoldedTriad> {
+        let g = self.calibration.g_sensitivity.as_ref()?;
+        g_sensitivity::fold(g, &self.gyro.matrix, &self.accel.folded, self.orientation)
     }
 
     /// With G, the gyro row's f32 C and its whole offset k_g + c, exactly as

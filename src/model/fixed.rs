@@ -293,26 +293,7 @@ impl FixedCorrector {
         let gyro = corrector.folded(Triad::Gyro);
         let g_sensitivity = match corrector.folded_g_sensitivity() {
             None => None,
-            Some(cross) => {
-                // The sum of the two rows' outputs must fit i32 for any input.
-                let largest = |f: &FoldedTriad, i: usize| {
-                    f.k[i].iter().map(|x| x.abs() * 32768.0).sum::<f64>() + f.offset[i].abs()
-                };
-                let max_output = (0..3)
-                    .map(|i| largest(gyro, i) + largest(cross, i))
-                    .fold(0.0f64, f64::max);
-                // Each row's output is within one quantum of its exact value.
-                if !at_most(
-                    max_output * pow2(GYRO_FRACTION_BITS as i32) + 2.0,
-                    2_147_483_647.0,
-                ) {
-                    return Err(CalibrationError::FixedPointRange {
-                        quantity: "gyro",
-                        max_output,
-                    });
-                }
-                Some(rows("gyro g-sensitivity", GYRO_FRACTION_BITS, cross)?)
-            }
+            Some(cross) => Some(g_sensitivity_rows(gyro, &cross)?),
         };
         Ok(FixedCorrector {
             accel: rows("accel", ACCEL_FRACTION_BITS, corrector.folded(Triad::Accel))?,
@@ -408,6 +389,39 @@ impl FixedCorrector {
             self.temperature.error_bound(),
         ]
     }
+}
+
+/// The rows of a g-sensitivity's contribution `cross` (C·raw_a + c) in the
+/// gyro's output format, after checking that their outputs and the gyro's
+/// (`gyro`) add up within i32 for any input. Out of line, so that a
+/// calibration without G does not carry its frame.
+#[inline(never)]
+fn g_sensitivity_rows(
+    gyro: &FoldedTriad,
+    cross: &FoldedTriad,
+) -> Result<Form<3>, CalibrationError> {
+    let largest = |f: &FoldedTriad, i: usize| {
+        f.k[i].iter().map(|x| x.abs() * 32768.0).sum::<f64>() + f.offset[i].abs()
+    };
+    let max_output = (0..3)
+        .map(|i| largest(gyro, i) + largest(cross, i))
+        .fold(0.0f64, f64::max);
+    // Each row's output is within one quantum of its exact value.
+    if !at_most(
+        max_output * pow2(GYRO_FRACTION_BITS as i32) + 2.0,
+        2_147_483_647.0,
+    ) {
+        return Err(CalibrationError::FixedPointRange {
+            quantity: "gyro",
+            max_output,
+        });
+    }
+    Form::new(
+        "gyro g-sensitivity",
+        GYRO_FRACTION_BITS,
+        &cross.k,
+        &cross.offset,
+    )
 }
 
 impl Corrector {

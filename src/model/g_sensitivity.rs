@@ -20,6 +20,7 @@ use super::orientation::Orientation;
 /// a [`FoldedTriad`] (K = C in SI rate per accelerometer LSB, k = c), or
 /// `None` if (I+Σ_g) is singular (ruled out by validation before any caller
 /// gets here).
+#[inline(never)]
 pub fn fold(
     g_sensitivity: &Mat3,
     gyro_scale_misalignment: &Mat3,
