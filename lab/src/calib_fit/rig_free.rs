@@ -68,15 +68,6 @@ pub const MAX_RANGE_FRACTION: f64 = 0.9;
 /// 3e-4 rad, above the noise a MEMS gyro integrates over a turn (~1e-4 rad).
 pub const MAX_ROTATION_PER_SAMPLE_DEG: f64 = 3.0;
 
-/// A pose's gyro mean may stray from the other poses' by this many of its
-/// standard errors (white noise: exceeded with probability ~1e-8 per axis)…
-pub const STILL_SIGMAS: f64 = 6.0;
-
-/// …or by this floor (rad/s, 0.1 °/s), whichever is larger: above how far
-/// the bias of a MEMS gyro wanders between poses a few seconds apart; a
-/// turn about the vertical of 1° over a 10 s pose already exceeds it.
-pub const STILL_FLOOR: f64 = 0.1 * core::f64::consts::PI / 180.0;
-
 /// The largest accepted condition number of the column-scaled Jacobian
 /// (see [`super::accel_fit::MAX_CONDITION`]).
 pub const MAX_CONDITION: f64 = 1.0e4;
