@@ -97,6 +97,16 @@ pub fn rrw_si_to_deg_per_h_per_sqrt_h(rrw: f64) -> f64 {
     rad_to_deg(rrw) * SECONDS_PER_HOUR * SQRT_SECONDS_PER_HOUR
 }
 
+/// Gyro g-sensitivity (°/s)/g → (rad/s)/(m/s²).
+pub fn dps_per_g_to_si(g_sensitivity: f64) -> f64 {
+    deg_to_rad(g_sensitivity) / STANDARD_GRAVITY
+}
+
+/// Gyro g-sensitivity (rad/s)/(m/s²) → (°/s)/g.
+pub fn si_to_dps_per_g(g_sensitivity: f64) -> f64 {
+    rad_to_deg(g_sensitivity) * STANDARD_GRAVITY
+}
+
 /// Gyro bias (or bias instability) in °/h → rad/s.
 pub fn deg_per_h_to_rad_per_s(bias: f64) -> f64 {
     deg_to_rad(bias / SECONDS_PER_HOUR)

@@ -376,7 +376,12 @@ fn an_upload_takes_effect_whole_and_reads_back_byte_for_byte() {
         seq += 1;
     }
     assert_eq!(read, bytes);
-    let reply = device.send(Command::ReadCalibration { offset: 513 }, seq);
+    let reply = device.send(
+        Command::ReadCalibration {
+            offset: BLOB_LEN as u16 + 1,
+        },
+        seq,
+    );
     assert_eq!(reply.status, Status::BadArgument);
 }
 
@@ -510,7 +515,8 @@ fn an_upload_with_bad_bytes_is_refused_with_the_status_that_names_why() {
         "{}",
         reply.reason()
     );
-    for (i, seq) in (1..4).zip(62..) {
+    let whole_chunks = BLOB_LEN / CHUNK_LEN;
+    for (i, seq) in (1..whole_chunks).zip(62..) {
         let data = Payload::new(&good[i * CHUNK_LEN..(i + 1) * CHUNK_LEN]).unwrap();
         device.ok(
             Command::UploadChunk {
@@ -520,10 +526,14 @@ fn an_upload_with_bad_bytes_is_refused_with_the_status_that_names_why() {
             seq,
         );
     }
-    let reply = device.send(Command::UploadChunk { offset: 512, data }, 70);
+    // A whole chunk where only the blob's last part fits.
+    let offset = (whole_chunks * CHUNK_LEN) as u16;
+    let reply = device.send(Command::UploadChunk { offset, data }, 70);
     assert_eq!(reply.status, Status::BadArgument);
     assert!(
-        reply.reason().contains("past the 512-byte blob"),
+        reply
+            .reason()
+            .contains(&format!("past the {BLOB_LEN}-byte blob")),
         "{}",
         reply.reason()
     );
@@ -608,29 +618,30 @@ fn a_retry_gets_the_same_reply_and_is_not_applied_twice() {
     let cal = blob::encode(&valid_calibration(21, 21));
     let reply = device.upload(&cal, 100);
     assert_eq!(reply.status, Status::Ok);
+    let commit_sequence = 100 + BLOB_LEN.div_ceil(CHUNK_LEN) as u16;
     let commit = Command::UploadCommit {
         len: BLOB_LEN as u16,
         crc: crc32c(&cal),
     }
-    .to_packet(104)
+    .to_packet(commit_sequence)
     .unwrap();
     // The reply was lost; the host sends the commit again, same number.
     assert_eq!(device.packet(commit.as_bytes()), reply);
     assert_eq!(device.take_controls().len(), 1, "applied once");
     // The same for a save: one generation, not two.
-    let save = Command::Save.to_packet(105).unwrap();
+    let save = Command::Save.to_packet(commit_sequence + 1).unwrap();
     let first = device.packet(save.as_bytes());
     assert_eq!(first.status, Status::Ok);
     assert_eq!(device.packet(save.as_bytes()), first);
     assert_eq!(first.payload.as_slice()[..4], 1u32.to_le_bytes());
-    let again = device.ok(Command::Save, 106);
+    let again = device.ok(Command::Save, commit_sequence + 2);
     assert_eq!(
         again.as_slice()[..4],
         2u32.to_le_bytes(),
         "a new number is a new save"
     );
     // The same number with other bytes is a new command, and applied.
-    let reply = device.send(Command::SetDecimation(4), 106);
+    let reply = device.send(Command::SetDecimation(4), commit_sequence + 2);
     assert_eq!(reply.status, Status::Ok);
     assert_eq!(device.take_controls().len(), 1);
 }

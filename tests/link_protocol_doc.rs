@@ -87,7 +87,7 @@ fn each_stated_limit_is_the_codes() {
         ("a reply's payload at most 230", MAX_REPLY_PAYLOAD, 230),
         ("`offset u16 \\| ≤ 128 bytes`", CHUNK_LEN, 128),
         ("`total length u16 \\| ≤ 128 bytes`", CHUNK_LEN, 128),
-        ("512 bytes, little-endian", BLOB_LEN, 512),
+        ("584 bytes (version 3), little-endian", BLOB_LEN, 584),
     ];
     for (text, code, figure) in stated {
         assert!(doc_says(text), "PROTOCOL.md no longer says {text:?}");
@@ -193,14 +193,20 @@ fn the_blob_example_is_the_shipped_default_calibration_byte_for_byte() {
             bias: [0.001, -0.002, 0.0005],
             ..TriadCalibration::IDENTITY
         },
+        g_sensitivity: Some([
+            [1.78e-4, 2.0e-5, -1.0e-5],
+            [-1.5e-5, 2.1e-4, 3.0e-5],
+            [0.0, 1.2e-5, -1.6e-4],
+        ]),
     };
-    cal.id = triad::stream::crc32c(&blob::encode(&cal)[12..508]);
-    assert_eq!(cal.id, 0x172F_5C07);
+    // With a G the id covers bytes 12..=579 (§21).
+    cal.id = triad::stream::crc32c(&blob::encode(&cal)[12..580]);
+    assert_eq!(cal.id, 0xA545_68AE);
     assert_eq!(cal.id, blob::parameter_id(&cal));
     assert_eq!(blob::encode(&cal).as_slice(), example.as_slice());
     assert_eq!(
-        u32::from_le_bytes(example[508..].try_into().unwrap()),
-        triad::stream::crc32c(&example[..508])
+        u32::from_le_bytes(example[580..].try_into().unwrap()),
+        triad::stream::crc32c(&example[..580])
     );
 }
 

@@ -106,6 +106,7 @@ fn a_raw_axis_at_its_limit_or_a_value_beyond_the_range_flags_its_triad() {
         id: 1,
         accel: triad::model::TriadCalibration::IDENTITY,
         gyro: triad::model::TriadCalibration::IDENTITY,
+        g_sensitivity: None,
     };
     let corrector = Corrector::new(&cal, &scale, Default::default()).unwrap();
     let kernel = BatchKernel::new(&corrector);
@@ -140,6 +141,7 @@ fn values_beyond_the_range_clip_bit_for_bit_and_flag_their_triad() {
         id: 2,
         accel: triad::model::TriadCalibration::IDENTITY,
         gyro: triad::model::TriadCalibration::IDENTITY,
+        g_sensitivity: None,
     };
     cal.accel.scale_misalignment[0][0] = 0.55;
     let corrector = Corrector::new(&cal, &scale, Default::default()).unwrap();

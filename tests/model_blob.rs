@@ -4,7 +4,7 @@ mod model_support;
 
 use model_support::*;
 use triad::crc32c::crc32c;
-use triad::model::blob::{self, BLOB_LEN, MAGIC, VERSION};
+use triad::model::blob::{self, BLOB_LEN, MAGIC, V2_LEN, VERSION};
 use triad::model::{BlobError, Calibration};
 
 fn bits(cal: &Calibration) -> Vec<u64> {
@@ -32,7 +32,25 @@ fn bits(cal: &Calibration) -> Vec<u64> {
             None => out.push(0),
         }
     }
+    match &cal.g_sensitivity {
+        Some(g) => {
+            out.push(1);
+            out.extend(g.iter().flatten().map(|x| x.to_bits()));
+        }
+        None => out.push(0),
+    }
     out
+}
+
+/// The version-2 blob of `cal` (which has no G): the version-3 layout up to
+/// byte 508, then its CRC-32C, as version 2 wrote it.
+fn version_2(cal: &Calibration) -> Vec<u8> {
+    assert!(cal.g_sensitivity.is_none());
+    let mut v = blob::encode(cal)[..V2_LEN - 4].to_vec();
+    v[4] = 2;
+    let crc = crc32c(&v);
+    v.extend_from_slice(&crc.to_le_bytes());
+    v
 }
 
 /// Rewrites the CRC so that only the field under test is wrong.
@@ -54,7 +72,7 @@ fn a_version_1_blob_closed_with_the_ethernet_crc_is_refused_by_its_version() {
 }
 
 #[test]
-fn round_trip_is_bit_exact_with_and_without_temperature_terms() {
+fn round_trip_is_bit_exact_with_and_without_temperature_terms_and_g_sensitivity() {
     let mut rng = rng(0xB10B);
     for n in 0..200 {
         let scale = random_scale(&mut rng);
@@ -73,7 +91,48 @@ fn round_trip_is_bit_exact_with_and_without_temperature_terms() {
         assert_eq!(&b[..4], &MAGIC);
         assert_eq!(b[4], VERSION);
         assert_eq!(bits(&blob::decode(&b).unwrap()), bits(&cal));
+        assert_eq!(blob::upgrade(&b), Some(b));
     }
+}
+
+#[test]
+fn a_version_2_blob_still_loads_as_g_zero_and_upgrades_to_the_same_calibration() {
+    let mut rng = rng(0xB102);
+    for n in 0..50 {
+        let scale = random_scale(&mut rng);
+        let mut cal = random_calibration(&mut rng, &scale);
+        cal.g_sensitivity = None;
+        if n % 2 == 0 {
+            cal.gyro.temperature = Some(random_temperature_terms(&mut rng, scale.gyro.full_scale));
+        }
+        let old = version_2(&cal);
+        assert_eq!(old.len(), 512);
+        assert_eq!(bits(&blob::decode(&old).unwrap()), bits(&cal));
+        assert_eq!(blob::upgrade(&old), Some(blob::encode(&cal)));
+        // The identity a file without `id` gets is the one version 2 gave it.
+        assert_eq!(blob::parameter_id(&cal), crc32c(&old[12..508]));
+    }
+    // Version 2 knows no G: its flag bit 2 is reserved, and its length is its own.
+    let mut old = version_2(&Calibration::identity(3));
+    old[5] = 4;
+    let crc = crc32c(&old[..508]);
+    old[508..].copy_from_slice(&crc.to_le_bytes());
+    assert_eq!(
+        blob::decode(&old),
+        Err(BlobError::ReservedBits {
+            offset: 5,
+            value: 4
+        })
+    );
+    let mut long = version_2(&Calibration::identity(3));
+    long.resize(BLOB_LEN, 0);
+    assert_eq!(
+        blob::decode(&long),
+        Err(BlobError::WrongLength {
+            len: BLOB_LEN,
+            expected: V2_LEN
+        })
+    );
 }
 
 #[test]
@@ -82,7 +141,13 @@ fn every_framing_error_is_reported() {
     for len in [0, 1, BLOB_LEN - 1, BLOB_LEN + 1] {
         let mut v = good.to_vec();
         v.resize(len, 0);
-        assert_eq!(blob::decode(&v), Err(BlobError::WrongLength { len }));
+        assert_eq!(
+            blob::decode(&v),
+            Err(BlobError::WrongLength {
+                len,
+                expected: BLOB_LEN
+            })
+        );
     }
     let mut b = good;
     b[0] = b'X';
@@ -92,16 +157,16 @@ fn every_framing_error_is_reported() {
     );
 
     b = good;
-    b[4] = 3;
+    b[4] = 4;
     assert_eq!(
         blob::decode(&b),
-        Err(BlobError::UnsupportedVersion { version: 3 })
+        Err(BlobError::UnsupportedVersion { version: 4 })
     );
 
     b = good;
     b[100] ^= 0x10;
-    let stored = u32::from_le_bytes(good[508..].try_into().unwrap());
-    let computed = crc32c(&b[..508]);
+    let stored = u32::from_le_bytes(good[580..].try_into().unwrap());
+    let computed = crc32c(&b[..580]);
     assert_ne!(stored, computed);
     let err = blob::decode(&b).unwrap_err();
     assert_eq!(err, BlobError::CrcMismatch { stored, computed });
@@ -154,4 +219,8 @@ fn parameter_id_depends_on_parameters_only() {
     a.gyro.bias[0] = 1e-3;
     assert_eq!(blob::parameter_id(&a), blob::parameter_id(&b));
     assert_eq!(blob::parameter_id(&a), crc32c(&blob::encode(&a)[12..508]));
+    // G is a parameter: with one, its bytes 508..580 are in the identity too.
+    b.g_sensitivity = Some([[1e-4, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]]);
+    assert_ne!(blob::parameter_id(&a), blob::parameter_id(&b));
+    assert_eq!(blob::parameter_id(&b), crc32c(&blob::encode(&b)[12..580]));
 }

@@ -145,7 +145,12 @@ fn full_scale_inputs_with_extreme_valid_coefficients_do_not_overflow() {
         for accel in extreme_triads(scale.accel.full_scale) {
             for gyro in extreme_triads(scale.gyro.full_scale) {
                 for orientation in [Orientation::RotationNone, Orientation::Roll90Pitch180Yaw90] {
-                    let cal = Calibration { id: 1, accel, gyro };
+                    let cal = Calibration {
+                        id: 1,
+                        accel,
+                        gyro,
+                        g_sensitivity: None,
+                    };
                     let c = Corrector::new(&cal, &scale, orientation).unwrap();
                     let fixed = c.to_fixed().unwrap();
                     for raw in corner_raws() {
@@ -272,6 +277,7 @@ fn usual_ranges_use_the_32_bit_form_and_very_wide_ones_the_i64_form() {
             id: 1,
             accel: t,
             gyro: t,
+            g_sensitivity: None,
         };
         let c = Corrector::new(&cal, s, Orientation::RotationNone).unwrap();
         c.to_fixed().unwrap().uses_32_bit_products()

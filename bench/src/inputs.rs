@@ -79,6 +79,23 @@ pub fn realistic() -> Calibration {
             bias: [0.001, -0.002, 0.0005],
             temperature: None,
         },
+        g_sensitivity: None,
+    }
+}
+
+/// [`realistic`] with a gyroscope g-sensitivity of about 0.1 °/s per g on
+/// the diagonal and a tenth of that across (issue 22's real unit showed
+/// 0.12 °/s per g).
+pub fn with_g_sensitivity() -> Calibration {
+    let per_g = triad::units::dps_per_g_to_si(1.0);
+    Calibration {
+        id: 0x0BE7_C404,
+        g_sensitivity: Some([
+            [0.10 * per_g, 0.012 * per_g, -0.008 * per_g],
+            [-0.011 * per_g, 0.12 * per_g, 0.009 * per_g],
+            [0.007 * per_g, -0.010 * per_g, 0.09 * per_g],
+        ]),
+        ..realistic()
     }
 }
 
@@ -106,6 +123,7 @@ pub fn extreme() -> Calibration {
             bias: [0.5, -0.7, 0.9],
             temperature: None,
         },
+        g_sensitivity: None,
     }
 }
 

@@ -56,11 +56,19 @@ pub enum Variant {
     ReadFifo8,
     /// FIFO drains of 32 packets (no correction).
     ReadFifo32,
+    /// [`Variant::FullF32`] with the gyroscope's g-sensitivity G
+    /// ([`inputs::with_g_sensitivity`]): the gyro's row reads the raw
+    /// accelerometer sample too (a 3×6 map).
+    FullF32G,
+    /// [`Variant::FullFixed`] with G.
+    FullFixedG,
+    /// [`Variant::BatchF32W32`] with G.
+    BatchF32W32G,
 }
 
 impl Variant {
     /// Every row, in the report's order.
-    pub const ALL: [Variant; 16] = [
+    pub const ALL: [Variant; 19] = [
         Variant::BiasOnlyF32,
         Variant::DiagonalF32,
         Variant::FusionF32,
@@ -77,7 +85,22 @@ impl Variant {
         Variant::ReadFifo1,
         Variant::ReadFifo8,
         Variant::ReadFifo32,
+        Variant::FullF32G,
+        Variant::FullFixedG,
+        Variant::BatchF32W32G,
     ];
+
+    /// For a row with the gyroscope's g-sensitivity, the same row without
+    /// it (its kernel, run on [`inputs::with_g_sensitivity`]); `None` for
+    /// the other rows.
+    pub fn without_g_sensitivity(self) -> Option<Variant> {
+        match self {
+            Variant::FullF32G => Some(Variant::FullF32),
+            Variant::FullFixedG => Some(Variant::FullFixed),
+            Variant::BatchF32W32G => Some(Variant::BatchF32W32),
+            _ => None,
+        }
+    }
 
     /// The FIFO watermark of a sensor-read row (1 for the burst read), `None`
     /// for the correction rows.
@@ -92,7 +115,7 @@ impl Variant {
 
     /// The batch size W of a batch-kernel row, `None` for the other rows.
     pub fn batch_watermark(self) -> Option<usize> {
-        match self {
+        match self.without_g_sensitivity().unwrap_or(self) {
             Variant::BatchF32W8 => Some(8),
             Variant::BatchF32W32 => Some(32),
             _ => None,
@@ -118,18 +141,21 @@ impl Variant {
             Variant::ReadFifo1 => "read_fifo_1",
             Variant::ReadFifo8 => "read_fifo_8",
             Variant::ReadFifo32 => "read_fifo_32",
+            Variant::FullF32G => "full_f32_g",
+            Variant::FullFixedG => "full_fixed_g",
+            Variant::BatchF32W32G => "batch_f32_w32_g",
         }
     }
 
     /// The kernel function's name (its symbol in the firmware ELF).
     pub fn kernel_symbol(self) -> &'static str {
-        match self {
+        match self.without_g_sensitivity().unwrap_or(self) {
             Variant::Pipeline => "pipeline_batch",
             Variant::FullF32PerCall => "correct_one",
             Variant::ReadBurst => "read_burst",
             Variant::ReadFifo1 | Variant::ReadFifo8 | Variant::ReadFifo32 => "read_fifo",
             Variant::BatchF32W8 | Variant::BatchF32W32 => "batch_f32",
-            _ => self.name(),
+            v => v.name(),
         }
     }
 
@@ -283,6 +309,10 @@ impl Bench {
     ) -> Result<(), CalibrationError> {
         let sink: &mut dyn FnMut(Output<'_>) = &mut sink;
         match variant {
+            Variant::FullF32G | Variant::FullFixedG | Variant::BatchF32W32G => {
+                let base = variant.without_g_sensitivity().unwrap_or(variant);
+                Bench::new(&inputs::with_g_sensitivity()).each_output(base, meter, sink)
+            }
             Variant::BiasOnlyF32 | Variant::DiagonalF32 | Variant::FusionF32 => {
                 self.run_simple(variant, meter, sink)
             }
@@ -648,9 +678,7 @@ pub fn fusion_f32(
 /// The firmware's hot path: [`Corrector::correct`].
 #[inline(never)]
 pub fn full_f32(c: &Corrector, input: &[RawSample; BATCH], out: &mut [Sample; BATCH]) {
-    for (o, raw) in out.iter_mut().zip(input) {
-        *o = c.correct(raw);
-    }
+    c.correct_batch(input, out);
 }
 
 /// [`Corrector::correct`] called out of line per sample.

@@ -52,8 +52,17 @@ fn every_variant_runs_and_its_digest_depends_on_its_outputs() {
             realistic.run(v, &mut NoMeter).unwrap(),
             "{v:?} is deterministic"
         );
+        // The refold and g-sensitivity rows have calibrations of their own.
         let uses_calibration = v.read_watermark().is_none()
+            && v.without_g_sensitivity().is_none()
             && !matches!(v, Variant::RefoldEverySample | Variant::RefoldLowRate);
+        if let Some(base) = v.without_g_sensitivity() {
+            assert_ne!(
+                a,
+                realistic.run(base, &mut NoMeter).unwrap(),
+                "{v:?}: G changes the outputs"
+            );
+        }
         let b = extreme.run(v, &mut NoMeter).unwrap();
         assert_eq!(
             a != b,

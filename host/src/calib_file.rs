@@ -14,6 +14,7 @@
 //! [gyro]
 //! scale_misalignment = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
 //! bias = [0.001, -0.002, 0.0005]    # rad/s
+//! g_sensitivity = [[..], [..], [..]]  # optional; G in (rad/s)/(m/s²): gyro bias per unit specific force
 //! ```
 //!
 //! Other top-level keys and tables are allowed (metadata, e.g. the
@@ -65,6 +66,8 @@ struct TriadShape {
     scale_misalignment: Spanned<Vec<Spanned<Vec<f64>>>>,
     bias: Spanned<Vec<f64>>,
     temperature: Option<TemperatureShape>,
+    /// The gyroscope's only; refused in `[accel]`.
+    g_sensitivity: Option<Spanned<Vec<Spanned<Vec<f64>>>>>,
 }
 
 #[derive(Deserialize)]
@@ -164,10 +167,22 @@ pub fn parse(text: &str, path: &Path) -> anyhow::Result<CalibFile> {
             .map_err(|reason| anyhow!("{}: orientation: {reason}", path.display()))?,
     };
     let shapes = Shapes { path, text };
+    if let Some(g) = &shape.accel.g_sensitivity {
+        anyhow::bail!(
+            "{}: {}`accel.g_sensitivity`: g-sensitivity is the gyroscope's (bias per unit specific force): put it in [gyro]",
+            path.display(),
+            position(text, g.span().start)
+        );
+    }
+    let g_sensitivity = match &shape.gyro.g_sensitivity {
+        None => None,
+        Some(g) => Some(shapes.matrix(g, "gyro.g_sensitivity")?),
+    };
     let mut calibration = Calibration {
         id: 0,
         accel: shapes.triad(&shape.accel, "accel")?,
         gyro: shapes.triad(&shape.gyro, "gyro")?,
+        g_sensitivity,
     };
     let id_from_parameters = shape.id.is_none();
     calibration.id = shape.id.unwrap_or_else(|| blob::parameter_id(&calibration));
@@ -280,10 +295,14 @@ pub fn render(
         "accel".into(),
         toml::Value::Table(triad_table(&calibration.accel)),
     );
-    doc.insert(
-        "gyro".into(),
-        toml::Value::Table(triad_table(&calibration.gyro)),
-    );
+    let mut gyro = triad_table(&calibration.gyro);
+    if let Some(g) = &calibration.g_sensitivity {
+        gyro.insert(
+            "g_sensitivity".into(),
+            toml::Value::Array(g.iter().map(vector).collect()),
+        );
+    }
+    doc.insert("gyro".into(), toml::Value::Table(gyro));
     for (key, value) in extra {
         doc.insert(key, value);
     }
@@ -299,6 +318,7 @@ pub fn render(
     let back = parse(&text, Path::new("(written file)"))?;
     if back.calibration.accel != calibration.accel
         || back.calibration.gyro != calibration.gyro
+        || back.calibration.g_sensitivity != calibration.g_sensitivity
         || back.orientation != orientation
     {
         anyhow::bail!(
@@ -407,6 +427,34 @@ mod tests {
         );
         assert_eq!(back.orientation, yaw);
         assert_eq!(back.calibration.accel.scale_misalignment, IDENTITY);
+    }
+
+    #[test]
+    fn g_sensitivity_is_the_gyros_and_reads_back() {
+        let mut cal = Calibration::identity(0);
+        cal.g_sensitivity = Some([[2e-4, -1e-5, 0.0], [3e-6, 1.5e-4, 0.0], [0.0, 0.0, -2e-4]]);
+        let text = render(&cal, Orientation::RotationNone, "", toml::Table::new()).unwrap();
+        let back = parsed(&text).unwrap();
+        assert_eq!(back.calibration.g_sensitivity, cal.g_sensitivity);
+        // G changes the identity; a file without it keeps the one it had.
+        assert_ne!(back.calibration.id, parsed(MINIMAL).unwrap().calibration.id);
+        let g = "g_sensitivity = [[0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]]\n";
+        let err = parsed(&MINIMAL.replacen("[gyro]\n", &format!("{g}[gyro]\n"), 1))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.starts_with("c.toml: 4:17: `accel.g_sensitivity`") && err.contains("[gyro]"),
+            "{err}"
+        );
+        let err = parsed(&format!(
+            "{MINIMAL}g_sensitivity = [[0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]]\n"
+        ))
+        .unwrap_err()
+        .to_string();
+        assert!(
+            err.contains("invalid length 2") && err.contains("gyro.g_sensitivity"),
+            "{err}"
+        );
     }
 
     #[test]

@@ -1,5 +1,5 @@
 //! `triad sim --truth-calib`: a simulated unit's true calibration, the
-//! (I+Σ), b and temperature terms the simulator applies to it
+//! (I+Σ), b, temperature terms and gyro g-sensitivity the simulator applies to it
 //! ([`linear_truth`]), as a calibration file that `triad correct --calib`
 //! and `triad calib verify` read, so a fit can be compared with the truth.
 
@@ -17,7 +17,6 @@ fn outside_the_model(e: &TriadEffects) -> Vec<&'static str> {
         ("noise", e.white_noise.is_some() || e.gauss_markov.is_some()),
         ("random walk", e.random_walk.is_some()),
         ("bias instability", e.bias_instability.is_some()),
-        ("g-sensitivity", e.g_sensitivity.is_some()),
         (
             "optical gyro response",
             e.ring_laser.is_some() || e.fibre_optic.is_some(),
@@ -45,6 +44,8 @@ pub fn render(unit: &LoadedUnit) -> anyhow::Result<String> {
         id: 0,
         accel: truth(&unit.accel)?,
         gyro: truth(&unit.gyro)?,
+        // In the model since issue 22: the simulator's ω_err = G·f_true.
+        g_sensitivity: unit.gyro.g_sensitivity,
     };
     let left_out = |name: &str, e: &TriadEffects| {
         let list = outside_the_model(e);
@@ -56,7 +57,8 @@ pub fn render(unit: &LoadedUnit) -> anyhow::Result<String> {
     };
     let header = format!(
         "The true calibration of unit {} (seed {}), written by `triad sim --truth-calib`:\n\
-         the (I+Σ), b and temperature terms the simulator applies, m̂ = (I+Σ)(T)·m + b(T).\n\
+         the (I+Σ), b, temperature terms and g-sensitivity G the simulator applies,\n\
+         m̂ = (I+Σ)(T)·m + b(T) (+ G·f for the gyro).\n\
          Left out (not part of the model): {}; {}.",
         unit.path.display(),
         unit.seed,

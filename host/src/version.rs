@@ -7,7 +7,7 @@
 
 use std::sync::LazyLock;
 
-/// `0.1.0 (stream protocol v2, calibration blob v2, scene blob v2)`.
+/// `0.1.0 (stream protocol v2, calibration blob v3, scene blob v2)`.
 pub fn text() -> &'static str {
     static TEXT: LazyLock<String> = LazyLock::new(|| {
         format!(

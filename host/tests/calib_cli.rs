@@ -128,6 +128,7 @@ fn pack_writes_the_blob_and_the_checked_in_default_matches_its_toml() {
     assert_eq!(cal.accel.scale_misalignment[0], [1.002, 0.001, -0.0005]);
     assert_eq!(cal.accel.bias, [0.05, -0.02, 0.10]);
     assert_eq!(cal.gyro.bias, [0.001, -0.002, 0.0005]);
+    assert_eq!(cal.g_sensitivity.map(|g| g[1][1]), Some(2.1e-4));
     assert_eq!(cal.id, blob::parameter_id(&cal));
     assert!(text(&out.stderr).contains(&format!("{:#010x}", cal.id)));
     // The firmware embeds calibrations/default.bin: it must be this file's pack.

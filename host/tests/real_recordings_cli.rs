@@ -99,12 +99,15 @@ fn an_mpu6050_in_counts_is_read_at_its_nominal_scale_and_its_clipped_turns_are_l
         "{said}"
     );
     if !ok {
-        // The gyro's mean over a pose differs from the others' by more
-        // than the pose-consistency limit (today a fixed 0.1 °/s). The
-        // refusal names the pose's number and time and how to leave it out.
-        let pose = err.split_once(": gyroscope: pose ").map(|(_, r)| r);
+        // The pose check accounts for the gyro's g-sensitivity and the
+        // record's own noise, so no pose is refused as turned (a fixed
+        // 0.1 °/s limit did refuse pose 1). What refuses this record is its
+        // accelerometer: 10 poses for the 9 unknowns of the rig-free fit
+        // leave it barely determined, and the calibration's checks name the
+        // entry that is out of bounds; nothing is written.
+        assert!(!err.contains("gyroscope: pose "), "{err}");
         assert!(
-            pose.is_some_and(|r| r.contains(" (t = ") && r.contains("--exclude-poses")),
+            err.contains("not written") && err.contains("accel scale_misalignment"),
             "{err}"
         );
     }

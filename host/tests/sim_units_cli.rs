@@ -15,6 +15,7 @@ const CLEAN_UNIT: &str = "seed = 5\n\
 [accel]\nturn_on_bias = \"20 mg\"\nturn_on_scale = \"0.5 %\"\nturn_on_misalignment = \"5 mrad\"\nscale_factor = \"1000 ppm\"\n\
 [accel.temperature]\nreference_c = 20.0\nbias = [\"100 ug/degC\", \"-80 ug/degC\", \"150 ug/degC\"]\nscale = \"100 ppm/degC\"\n\
 [gyro]\nturn_on_bias = \"0.5 deg/s\"\nturn_on_scale = \"0.5 %\"\nturn_on_misalignment = \"5 mrad\"\n\
+g_sensitivity = [[\"0.12 deg/s/g\", \"0.02 deg/s/g\", \"0 deg/s/g\"], [\"-0.01 deg/s/g\", \"0.1 deg/s/g\", \"0.03 deg/s/g\"], [\"0 deg/s/g\", \"0.02 deg/s/g\", \"-0.08 deg/s/g\"]]\n\
 [gyro.temperature]\nreference_c = 30.0\nbias = \"0.005 deg/s/degC\"\nscale = \"-100 ppm/degC\"\n";
 
 /// Hand rotations through three soaks, 14 s each.

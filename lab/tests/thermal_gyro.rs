@@ -93,6 +93,7 @@ fn soak(accel: &Thermal, gyro: &Thermal, temperature: f64, rng: &mut Rng) -> Soa
         accel: accel.at(temperature),
         gyro: gyro.at(temperature),
         gravity: G,
+        g_sensitivity: None,
     };
     let (mut t, mut a, mut g) = (Vec::new(), Vec::new(), Vec::new());
     hand_record::generate(&script(), &unit, &mut || rng.uniform(), |s| {

@@ -439,16 +439,26 @@ impl<F: NorFlash> CommandHandler<F> {
             .map_err(|e| fail(blob_status(&e), format_args!("not a calibration blob: {e}")))?;
         // The checks of `triad calib check`: the calibration folded for this
         // chip, and its fixed-point form (which the Cortex-M0 path runs).
-        let corrector = Corrector::new(&cal, &self.facts.scale, self.facts.orientation)
-            .map_err(|e| fail(Status::InvalidCalibration, format_args!("{e}")))?;
-        FixedCorrector::new(&corrector)
-            .map_err(|e| fail(Status::InvalidCalibration, format_args!("{e}")))?;
-        let id = corrector.calibration_id();
-        queue(submit, Control::Calibrate(corrector))?;
-        let mut blob = [0u8; BLOB_LEN];
-        blob.copy_from_slice(bytes);
+        // The control is built around the corrector in place: one corrector
+        // on the stack (the Cortex-M0's 16 KiB).
+        let id = cal.id;
+        let control = Control::Calibrate(
+            Corrector::new(&cal, &self.facts.scale, self.facts.orientation)
+                .map_err(|e| fail(Status::InvalidCalibration, format_args!("{e}")))?,
+        );
+        if let Control::Calibrate(corrector) = &control {
+            FixedCorrector::new(corrector)
+                .map_err(|e| fail(Status::InvalidCalibration, format_args!("{e}")))?;
+        }
+        // A version-2 blob is kept (read back, saved) in the current layout,
+        // encoded over the upload buffer: no more blob copies on the stack
+        // (the Cortex-M0's 16 KiB), and `cal` is dead before the queue's.
+        if uploaded != BLOB_LEN {
+            blob::encode_into(&cal, &mut self.upload);
+        }
+        queue(submit, control)?;
         self.active = ActiveCalibration {
-            blob: Some(blob),
+            blob: Some(self.upload),
             id,
             source: CalibrationSource::Uploaded,
         };

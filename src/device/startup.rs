@@ -138,7 +138,7 @@ impl StartUp {
     pub fn active(&self, stored: Option<&[u8; BLOB_LEN]>, built_in: &[u8]) -> ActiveCalibration {
         let blob = match self.source {
             CalibrationSource::Stored => stored.copied(),
-            CalibrationSource::BuiltIn => <[u8; BLOB_LEN]>::try_from(built_in).ok(),
+            CalibrationSource::BuiltIn => blob::upgrade(built_in),
             CalibrationSource::None | CalibrationSource::Uploaded => None,
         };
         ActiveCalibration {

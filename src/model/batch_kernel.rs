@@ -9,6 +9,9 @@
 //! therefore exactly [`to_counts`] of [`Corrector::correct`]'s value, on the
 //! device and on the host: the decoder's value (counts × LSB) is the f32
 //! correction rounded to the nearest count, an error of at most LSB/2.
+//! With a g-sensitivity the gyro's rows also read the raw accelerometer
+//! sample, in the f32 kernel's order (the gyro's three products, then the
+//! accelerometer's three), so the same holds.
 
 use super::corrector::{ClipFlags, Corrector};
 use super::Triad;
@@ -71,24 +74,33 @@ const OVER: u32 = 0x7FFF_FFFF - LIMIT_BITS;
 const FAST_RANGE: f64 = 4_194_303.0;
 
 /// The f32 evaluation of a row is within a relative 2⁻²⁰ of its exact value
-/// (four roundings of at most 2⁻²⁴ each, of terms bounded by the bound), so
+/// (four roundings of at most 2⁻²⁴ each, seven with a g-sensitivity's
+/// accelerometer terms, of terms bounded by the bound), so
 /// a bound times this that is still within ±MAX_COUNTS proves no clip.
 const EVALUATION_MARGIN: f64 = 1.0 + 1.0 / (1u32 << 20) as f64;
 
-/// One triad's K and k scaled to counts.
+/// One triad's K and k scaled to counts; for the gyro with a g-sensitivity
+/// also C, on the raw accelerometer sample (and k then is k_g + c).
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct ScaledTriad {
     k: [[f32; 3]; 3],
     offset: [f32; 3],
+    cross: Option<[[f32; 3]; 3]>,
 }
 
 impl ScaledTriad {
     fn new(corrector: &Corrector, triad: Triad, lsb: f32) -> Self {
         let (k, offset) = corrector.folded_f32(triad);
         let per_lsb = 1.0 / lsb;
+        let scaled = |m: [[f32; 3]; 3]| m.map(|row| row.map(|c| c * per_lsb));
+        let (offset, cross) = match (triad, corrector.g_sensitivity_f32()) {
+            (Triad::Gyro, Some((c, whole_offset))) => (whole_offset, Some(scaled(c))),
+            _ => (offset, None),
+        };
         ScaledTriad {
-            k: k.map(|row| row.map(|c| c * per_lsb)),
+            k: scaled(k),
             offset: offset.map(|c| c * per_lsb),
+            cross,
         }
     }
 
@@ -97,10 +109,17 @@ impl ScaledTriad {
     /// (in f64, exact for these f32 terms up to one rounding), and the margin
     /// covers the f32 evaluation. NaN or infinite for non-finite coefficients.
     fn max_counts(&self) -> f64 {
-        let rows = self.k.iter().zip(self.offset).map(|(row, o)| {
-            let k = row.map(|c| f64::from(c).abs());
-            f64::from(o).abs() + 32768.0 * (k[0] + k[1] + k[2])
-        });
+        let cross = self.cross.unwrap_or([[0.0; 3]; 3]);
+        let rows = self
+            .k
+            .iter()
+            .zip(cross)
+            .zip(self.offset)
+            .map(|((row, c), o)| {
+                let k = row.map(|c| f64::from(c).abs());
+                let c = c.map(|c| f64::from(c).abs());
+                f64::from(o).abs() + 32768.0 * (k[0] + k[1] + k[2] + c[0] + c[1] + c[2])
+            });
         rows.fold(0.0, |m: f64, b| if b > m || b.is_nan() { b } else { m }) * EVALUATION_MARGIN
     }
 
@@ -117,14 +136,27 @@ impl ScaledTriad {
     }
 
     /// One raw triad to counts, in the f32 kernel's order (offset first,
-    /// then the three products, left to right); true when a value clipped.
-    /// Exact for every finite input (the reference form of [`Self::pass`]).
+    /// then the three products, left to right, then with a g-sensitivity
+    /// the three of the raw accelerometer sample `accel`); true when a value
+    /// clipped. Exact for every finite input (the reference form of [`Self::pass`]).
     #[inline(always)]
-    fn apply(&self, raw: &[i16; 3], out: &mut [i16]) -> bool {
+    fn apply(&self, raw: &[i16; 3], accel: &[i16; 3], out: &mut [i16]) -> bool {
         let x = raw.map(f32::from);
+        let a = accel.map(f32::from);
+        let cross = self.cross.unwrap_or([[0.0; 3]; 3]);
         let mut clipped = false;
-        for ((row, offset), slot) in self.k.iter().zip(self.offset).zip(out.iter_mut()) {
+        for (((row, c), offset), slot) in self
+            .k
+            .iter()
+            .zip(cross)
+            .zip(self.offset)
+            .zip(out.iter_mut())
+        {
             let v = offset + row[0] * x[0] + row[1] * x[1] + row[2] * x[2];
+            let v = match self.cross {
+                None => v,
+                Some(_) => v + c[0] * a[0] + c[1] * a[1] + c[2] * a[2],
+            };
             let (counts, clip) = counts_of_scaled(v);
             *slot = counts;
             clipped |= clip;
@@ -151,14 +183,17 @@ impl ScaledTriad {
     ///   clips costs two passes; one that does not, one).
     ///
     /// Without `CHECK` the range test is left out: only for a triad that
-    /// [`Self::never_clips`].
+    /// [`Self::never_clips`]. With `CROSS` (the gyro with a g-sensitivity)
+    /// each row adds C's three products on the raw accelerometer sample.
     #[inline(always)]
-    fn pass<const AT: usize, const CHECK: bool>(
+    fn pass<const AT: usize, const CHECK: bool, const CROSS: bool>(
         &self,
         raw: &[RawSample],
         out: &mut [[i16; 6]],
     ) -> bool {
         let [[k00, k01, k02], [k10, k11, k12], [k20, k21, k22]] = self.k;
+        let [[c00, c01, c02], [c10, c11, c12], [c20, c21, c22]] =
+            self.cross.unwrap_or([[0.0; 3]; 3]);
         let [o0, o1, o2] = self.offset;
         // Bit 15: a raw axis at a limit code (see at_limit in corrector.rs);
         // bit 31: a value beyond ±MAX_COUNTS.
@@ -169,11 +204,19 @@ impl ScaledTriad {
             let m = |x: i32| ((x ^ (x >> 15)) + 1) as u32;
             limit |= m(a0) | m(a1) | m(a2);
             let (x0, x1, x2) = (a0 as f32, a1 as f32, a2 as f32);
-            let v = [
+            let mut v = [
                 o0 + k00 * x0 + k01 * x1 + k02 * x2,
                 o1 + k10 * x0 + k11 * x1 + k12 * x2,
                 o2 + k20 * x0 + k21 * x1 + k22 * x2,
             ];
+            if CROSS {
+                let y = r.accel.map(f32::from);
+                v = [
+                    v[0] + c00 * y[0] + c01 * y[1] + c02 * y[2],
+                    v[1] + c10 * y[0] + c11 * y[1] + c12 * y[2],
+                    v[2] + c20 * y[0] + c21 * y[1] + c22 * y[2],
+                ];
+            }
             for (slot, v) in o[AT..AT + 3].iter_mut().zip(v) {
                 if CHECK {
                     let b = v.to_bits();
@@ -184,7 +227,8 @@ impl ScaledTriad {
         }
         if over >> 31 != 0 {
             for (r, o) in raw.iter().zip(out.iter_mut()) {
-                self.apply(if AT == 0 { &r.accel } else { &r.gyro }, &mut o[AT..AT + 3]);
+                let x = if AT == 0 { &r.accel } else { &r.gyro };
+                self.apply(x, &r.accel, &mut o[AT..AT + 3]);
             }
             return true;
         }
@@ -254,14 +298,23 @@ impl BatchKernel {
     /// triad is flagged when any of its raw axes is at the chip's limit code
     /// or any corrected value clipped to ±[`MAX_COUNTS`].
     pub fn correct(&self, raw: &[RawSample], out: &mut [[i16; 6]]) -> ClipFlags {
+        let cross = self.gyro.cross.is_some();
         match self.path {
             Path::NeverClips => ClipFlags {
-                accel: self.accel.pass::<0, false>(raw, out),
-                gyro: self.gyro.pass::<3, false>(raw, out),
+                accel: self.accel.pass::<0, false, false>(raw, out),
+                gyro: if cross {
+                    self.gyro.pass::<3, false, true>(raw, out)
+                } else {
+                    self.gyro.pass::<3, false, false>(raw, out)
+                },
             },
             Path::Fast => ClipFlags {
-                accel: self.accel.pass::<0, true>(raw, out),
-                gyro: self.gyro.pass::<3, true>(raw, out),
+                accel: self.accel.pass::<0, true, false>(raw, out),
+                gyro: if cross {
+                    self.gyro.pass::<3, true, true>(raw, out)
+                } else {
+                    self.gyro.pass::<3, true, false>(raw, out)
+                },
             },
             Path::Exact => self.correct_each(raw, out),
         }
@@ -274,8 +327,8 @@ impl BatchKernel {
         for (r, o) in raw.iter().zip(out.iter_mut()) {
             let (accel_out, gyro_out) = o.split_at_mut(3);
             let at_limit = ClipFlags::of(r);
-            clip.accel |= self.accel.apply(&r.accel, accel_out) | at_limit.accel;
-            clip.gyro |= self.gyro.apply(&r.gyro, gyro_out) | at_limit.gyro;
+            clip.accel |= self.accel.apply(&r.accel, &r.accel, accel_out) | at_limit.accel;
+            clip.gyro |= self.gyro.apply(&r.gyro, &r.accel, gyro_out) | at_limit.gyro;
         }
         clip
     }
@@ -289,6 +342,7 @@ mod tests {
         ScaledTriad {
             k: [[k, 0.1, -0.2], [0.05, k, 0.3], [-0.1, 0.2, k]],
             offset: [offset, -offset, 0.5 * offset],
+            cross: None,
         }
     }
 
@@ -321,8 +375,12 @@ mod tests {
             (triad(1.5, 40.0), Path::Fast),
             (triad(200.0, 1e6), Path::Exact),
         ];
-        for (accel, path) in cases {
+        for (n, (accel, path)) in cases.into_iter().chain(cases).enumerate() {
             let mut k = kernel(accel);
+            // The second time round with a g-sensitivity's accelerometer terms.
+            if n >= cases.len() {
+                k.gyro.cross = Some([[1e-3, -2e-4, 5e-4], [3e-4, 2e-3, 0.0], [-1e-4, 0.0, 1e-3]]);
+            }
             let chosen = [
                 (accel.never_clips(), Path::NeverClips),
                 (accel.fits_fast_path(), Path::Fast),

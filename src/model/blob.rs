@@ -6,51 +6,67 @@
 //! | offset | size | content                                              |
 //! |-------:|-----:|------------------------------------------------------|
 //! |      0 |    4 | magic `TRCL` (0x54 0x52 0x43 0x4C)                    |
-//! |      4 |    1 | version, [`VERSION`] = 2                              |
-//! |      5 |    1 | flags: bit 0 accel has temperature terms, bit 1 gyro; other bits 0 |
+//! |      4 |    1 | version, [`VERSION`] = 3                              |
+//! |      5 |    1 | flags: bit 0 accel has temperature terms, bit 1 gyro, bit 2 gyro has a g-sensitivity; other bits 0 |
 //! |      6 |    2 | reserved, 0                                           |
 //! |      8 |    4 | calibration id, u32                                   |
 //! |     12 |  248 | accel triad (below)                                   |
 //! |    260 |  248 | gyro triad (below)                                    |
-//! |    508 |    4 | CRC-32C ([`crc32c`]) of bytes 0..508, u32             |
+//! |    508 |   72 | gyro g-sensitivity G, 9 f64 row-major, (rad/s)/(m/s²); 0 without G (flag bit 2 clear) |
+//! |    580 |    4 | CRC-32C ([`crc32c`]) of bytes 0..580, u32             |
 //!
 //! A triad is 31 f64: `scale_misalignment` row-major (9), `bias` (3),
 //! `temperature.reference_c` (1), `temperature.bias_coefficients` per axis
 //! c1, c2, c3 (9), `temperature.scale_misalignment_per_c` row-major (9).
 //! Without temperature terms (flag bit clear) those 19 values are 0.
 //!
-//! The parameter bytes 12..508 also give a calibration its default identity
-//! ([`parameter_id`]) when the file sets none. Decoding checks the framing
-//! only; [`Corrector::new`](super::Corrector::new) validates the values.
+//! Version 2 ([`V2_LEN`] = 512 bytes) is version 3 without G: its CRC is at
+//! 508, over bytes 0..508, and flag bit 2 is reserved. It is still read (as
+//! G = 0), so blobs packed before G existed keep working; this code writes
+//! version 3 only.
+//!
+//! The parameter bytes 12..508, with 508..580 when there is a G, also give a
+//! calibration its default identity ([`parameter_id`]) when the file sets
+//! none (so a calibration without G keeps the identity version 2 gave it).
+//! Decoding checks the framing only; [`Corrector::new`](super::Corrector::new)
+//! validates the values.
 
 use core::fmt;
 
 use super::calibration::{Calibration, TemperatureTerms, TriadCalibration};
 use crate::crc32c::crc32c;
 
-/// Total length of a blob in bytes.
-pub const BLOB_LEN: usize = 512;
+/// Total length of a blob in bytes (version 3).
+pub const BLOB_LEN: usize = 584;
+/// Total length of a version-2 blob (no g-sensitivity), still read.
+pub const V2_LEN: usize = 512;
 /// The magic at offset 0.
 pub const MAGIC: [u8; 4] = *b"TRCL";
 /// The layout version this code writes and reads. Version 1 closed the blob
 /// with the Ethernet CRC-32; version 2 uses the project's one CRC, CRC-32C,
-/// so a version-1 blob is refused by its version (re-pack it).
-pub const VERSION: u8 = 2;
+/// so a version-1 blob is refused by its version (re-pack it). Version 3
+/// adds the gyroscope's g-sensitivity; version 2 is still read.
+pub const VERSION: u8 = 3;
 
 const TRIAD_LEN: usize = 31 * 8;
-const PARAMS: core::ops::Range<usize> = 12..12 + 2 * TRIAD_LEN;
+const TRIADS: core::ops::Range<usize> = 12..12 + 2 * TRIAD_LEN;
+const G_SENSITIVITY: core::ops::Range<usize> = TRIADS.end..TRIADS.end + 9 * 8;
 const CRC_AT: usize = BLOB_LEN - 4;
 const FLAG_ACCEL_TEMPERATURE: u8 = 1;
 const FLAG_GYRO_TEMPERATURE: u8 = 2;
+const FLAG_G_SENSITIVITY: u8 = 4;
 
 /// Why bytes are not a calibration blob.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum BlobError {
-    /// Not [`BLOB_LEN`] bytes.
+    /// Not the length of its version ([`BLOB_LEN`], or [`V2_LEN`] for
+    /// version 2), or too short to hold a version.
     WrongLength {
         /// The length given.
         len: usize,
+        /// The length its version has ([`BLOB_LEN`] when the version is unreadable).
+        expected: usize,
     },
     /// The first four bytes are not [`MAGIC`].
     BadMagic {
@@ -81,19 +97,19 @@ pub enum BlobError {
 impl fmt::Display for BlobError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
-            BlobError::WrongLength { len } => {
-                write!(f, "calibration blob is {len} bytes, expected {BLOB_LEN}")
+            BlobError::WrongLength { len, expected } => {
+                write!(f, "calibration blob is {len} bytes, expected {expected}")
             }
             BlobError::BadMagic { found } => write!(
                 f,
                 "calibration blob magic is {found:02x?}, expected \"TRCL\""
             ),
             BlobError::UnsupportedVersion { version } => {
-                write!(f, "calibration blob version {version} is not supported (this build reads {VERSION})")
+                write!(f, "calibration blob version {version} is not supported (this build reads 2 and {VERSION})")
             }
             BlobError::CrcMismatch { stored, computed } => write!(
                 f,
-                "calibration blob CRC-32 mismatch: stored {stored:#010x}, computed {computed:#010x}"
+                "calibration blob CRC-32C mismatch: stored {stored:#010x}, computed {computed:#010x}"
             ),
             BlobError::ReservedBits { offset, value } => {
                 write!(
@@ -177,55 +193,91 @@ fn get_triad(bytes: &[u8], at: usize, has_temperature: bool) -> TriadCalibration
 /// The blob of `cal`.
 pub fn encode(cal: &Calibration) -> [u8; BLOB_LEN] {
     let mut out = [0u8; BLOB_LEN];
-    out[0..4].copy_from_slice(&MAGIC);
-    out[4] = VERSION;
-    out[5] = if cal.accel.temperature.is_some() {
-        FLAG_ACCEL_TEMPERATURE
-    } else {
-        0
-    } | if cal.gyro.temperature.is_some() {
-        FLAG_GYRO_TEMPERATURE
-    } else {
-        0
-    };
-    out[8..12].copy_from_slice(&cal.id.to_le_bytes());
-    put_triad(&mut out, PARAMS.start, &cal.accel);
-    put_triad(&mut out, PARAMS.start + TRIAD_LEN, &cal.gyro);
-    let crc = crc32c(&out[..CRC_AT]);
-    out[CRC_AT..].copy_from_slice(&crc.to_le_bytes());
+    encode_into(cal, &mut out);
     out
 }
 
-/// The default calibration identity: CRC-32 of the parameter bytes 12..508
-/// of the blob, so equal parameters give equal identities whatever the id.
-pub fn parameter_id(cal: &Calibration) -> u32 {
-    crc32c(&encode(cal)[PARAMS])
+/// The blob of `cal` written over `out` (every byte), without a copy on the
+/// stack (the device's upload keeps one buffer).
+pub fn encode_into(cal: &Calibration, out: &mut [u8; BLOB_LEN]) {
+    out.fill(0);
+    out[0..4].copy_from_slice(&MAGIC);
+    out[4] = VERSION;
+    let flag = |set: bool, bit: u8| if set { bit } else { 0 };
+    out[5] = flag(cal.accel.temperature.is_some(), FLAG_ACCEL_TEMPERATURE)
+        | flag(cal.gyro.temperature.is_some(), FLAG_GYRO_TEMPERATURE)
+        | flag(cal.g_sensitivity.is_some(), FLAG_G_SENSITIVITY);
+    out[8..12].copy_from_slice(&cal.id.to_le_bytes());
+    put_triad(out, TRIADS.start, &cal.accel);
+    put_triad(out, TRIADS.start + TRIAD_LEN, &cal.gyro);
+    let mut at = G_SENSITIVITY.start;
+    for row in &cal.g_sensitivity.unwrap_or([[0.0; 3]; 3]) {
+        put(out, &mut at, row);
+    }
+    let crc = crc32c(&out[..CRC_AT]);
+    out[CRC_AT..].copy_from_slice(&crc.to_le_bytes());
 }
 
-/// Checks length, magic, version, reserved bits and CRC, then reads the values.
+/// The default calibration identity: CRC-32C of the parameter bytes 12..508
+/// of the blob, and 508..580 when there is a G, so equal parameters give
+/// equal identities whatever the id.
+pub fn parameter_id(cal: &Calibration) -> u32 {
+    let end = if cal.g_sensitivity.is_some() {
+        G_SENSITIVITY.end
+    } else {
+        TRIADS.end
+    };
+    crc32c(&encode(cal)[TRIADS.start..end])
+}
+
+/// The current-version blob of `bytes`: the bytes themselves when they are
+/// version 3 already, else (version 2) the same calibration encoded anew;
+/// `None` when [`decode`] refuses them.
+pub fn upgrade(bytes: &[u8]) -> Option<[u8; BLOB_LEN]> {
+    let cal = decode(bytes).ok()?;
+    Some(<[u8; BLOB_LEN]>::try_from(bytes).unwrap_or_else(|_| encode(&cal)))
+}
+
+/// Checks magic, version, length, reserved bits and CRC, then reads the
+/// values. Reads version 3 and version 2 (as G = 0).
 pub fn decode(bytes: &[u8]) -> Result<Calibration, BlobError> {
-    let bytes: &[u8; BLOB_LEN] = bytes
-        .try_into()
-        .map_err(|_| BlobError::WrongLength { len: bytes.len() })?;
-    let magic = [bytes[0], bytes[1], bytes[2], bytes[3]];
+    let Some(header) = bytes.get(..5) else {
+        return Err(BlobError::WrongLength {
+            len: bytes.len(),
+            expected: BLOB_LEN,
+        });
+    };
+    let magic = [header[0], header[1], header[2], header[3]];
     if magic != MAGIC {
         return Err(BlobError::BadMagic { found: magic });
     }
-    if bytes[4] != VERSION {
-        return Err(BlobError::UnsupportedVersion { version: bytes[4] });
+    let (expected, known_flags) = match header[4] {
+        2 => (V2_LEN, FLAG_ACCEL_TEMPERATURE | FLAG_GYRO_TEMPERATURE),
+        VERSION => (
+            BLOB_LEN,
+            FLAG_ACCEL_TEMPERATURE | FLAG_GYRO_TEMPERATURE | FLAG_G_SENSITIVITY,
+        ),
+        version => return Err(BlobError::UnsupportedVersion { version }),
+    };
+    if bytes.len() != expected {
+        return Err(BlobError::WrongLength {
+            len: bytes.len(),
+            expected,
+        });
     }
+    let crc_at = expected - 4;
     let stored = u32::from_le_bytes([
-        bytes[CRC_AT],
-        bytes[CRC_AT + 1],
-        bytes[CRC_AT + 2],
-        bytes[CRC_AT + 3],
+        bytes[crc_at],
+        bytes[crc_at + 1],
+        bytes[crc_at + 2],
+        bytes[crc_at + 3],
     ]);
-    let computed = crc32c(&bytes[..CRC_AT]);
+    let computed = crc32c(&bytes[..crc_at]);
     if stored != computed {
         return Err(BlobError::CrcMismatch { stored, computed });
     }
     let flags = bytes[5];
-    if flags & !(FLAG_ACCEL_TEMPERATURE | FLAG_GYRO_TEMPERATURE) != 0 {
+    if flags & !known_flags != 0 {
         return Err(BlobError::ReservedBits {
             offset: 5,
             value: flags,
@@ -237,13 +289,22 @@ pub fn decode(bytes: &[u8]) -> Result<Calibration, BlobError> {
             return Err(BlobError::ReservedBits { offset, value });
         }
     }
+    let g_sensitivity = (flags & FLAG_G_SENSITIVITY != 0).then(|| {
+        let mut g = [[0.0; 3]; 3];
+        let mut at = G_SENSITIVITY.start;
+        for row in g.iter_mut() {
+            get(bytes, &mut at, row);
+        }
+        g
+    });
     Ok(Calibration {
         id: u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]),
-        accel: get_triad(bytes, PARAMS.start, flags & FLAG_ACCEL_TEMPERATURE != 0),
+        accel: get_triad(bytes, TRIADS.start, flags & FLAG_ACCEL_TEMPERATURE != 0),
         gyro: get_triad(
             bytes,
-            PARAMS.start + TRIAD_LEN,
+            TRIADS.start + TRIAD_LEN,
             flags & FLAG_GYRO_TEMPERATURE != 0,
         ),
+        g_sensitivity,
     })
 }

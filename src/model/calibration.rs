@@ -1,9 +1,13 @@
 //! What a lab measures: per triad the matrix (I+Σ) and the bias b, in SI
-//! units, optionally with temperature terms, plus the calibration identity.
+//! units, optionally with temperature terms and the gyroscope's
+//! g-sensitivity G, plus the calibration identity.
 //!
 //! The measurement model (DESIGN.md): m̂ = (I+Σ)·m + b, so the correction is
-//! m = (I+Σ)⁻¹·(m̂ − b). Everything here is in the sensor's own axes; the
-//! board's mounting [`Orientation`](super::Orientation) is applied after.
+//! m = (I+Σ)⁻¹·(m̂ − b). With G the gyroscope's is m̂_g = (I+Σ_g)·ω + b_g +
+//! G·f, f the specific force (the corrected accelerometer sample), so
+//! ω = (I+Σ_g)⁻¹·(m̂_g − b_g − G·f). Everything here is in the sensor's own
+//! axes (the accelerometer's and the gyroscope's are the chip's one frame);
+//! the board's mounting [`Orientation`](super::Orientation) is applied after.
 
 /// Which triad: the accelerometer or the gyroscope. The one such enum of the
 /// project (parameters, scenes, reports). The discriminants are part of every
@@ -104,6 +108,10 @@ pub struct Calibration {
     pub accel: TriadCalibration,
     /// The gyroscope triad.
     pub gyro: TriadCalibration,
+    /// The gyroscope's g-sensitivity G in (rad/s)/(m/s²), sensor axes: row i
+    /// is the gyro axis, column j the specific-force axis. `None` is G = 0
+    /// (and costs nothing per sample).
+    pub g_sensitivity: Option<[[f64; 3]; 3]>,
 }
 
 impl Calibration {
@@ -113,6 +121,7 @@ impl Calibration {
             id,
             accel: TriadCalibration::IDENTITY,
             gyro: TriadCalibration::IDENTITY,
+            g_sensitivity: None,
         }
     }
 

@@ -1,12 +1,17 @@
 //! The corrector: a validated calibration, inverted in f64 once, folded with
 //! the chip's sensitivity and the mounting orientation into the f32 hot path
-//! m = K·raw + k, with the f64 reference beside it.
+//! m = K·raw + k, with the f64 reference beside it. With a g-sensitivity G
+//! the gyro's row also reads the raw accelerometer sample
+//! ([`super::g_sensitivity`]): one 3×6 map.
 
 use super::calibration::{Calibration, Triad, TriadCalibration};
 use super::fold::FoldedTriad;
+use super::g_sensitivity;
 use super::matrix::{self, Mat3};
 use super::orientation::Orientation;
-use super::validate::{positive_finite, validate_triad, CalibrationError, TEMPERATURE_RANGE_C};
+use super::validate::{
+    positive_finite, validate_g_sensitivity, validate_triad, CalibrationError, TEMPERATURE_RANGE_C,
+};
 use crate::sensor::{ImuScale, RawSample, TriadScale};
 
 /// Which triads had a raw axis at the chip's limit code (i16::MIN or
@@ -103,6 +108,61 @@ impl KernelF32 {
     }
 }
 
+/// The gyro's f32 row with g-sensitivity: ω = o + K_g·raw_g + C·raw_a, with
+/// o = k_g + c rounded once from f64 (see [`super::g_sensitivity`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct GSensitivityState {
+    /// C in f32 (rate per accelerometer LSB).
+    k_accel: [[f32; 3]; 3],
+    /// k_g + c in f32.
+    offset: [f32; 3],
+}
+
+impl GSensitivityState {
+    // Out of line: its f64 work would otherwise enlarge the stack frame of
+    // every corrector's construction, with or without G (the Cortex-M0
+    // benchmark's 16 KiB).
+    #[inline(never)]
+    fn new(
+        g: &Mat3,
+        gyro: &TriadState,
+        accel: &TriadState,
+        orientation: Orientation,
+    ) -> Result<Self, CalibrationError> {
+        let folded = g_sensitivity::fold(g, &gyro.matrix, &accel.folded, orientation).ok_or(
+            CalibrationError::Singular {
+                triad: Triad::Gyro,
+                determinant: matrix::determinant(&gyro.matrix),
+                temperature_c: None,
+            },
+        )?;
+        let r = |row: &[f64; 3]| [row[0] as f32, row[1] as f32, row[2] as f32];
+        let o = &gyro.folded.offset;
+        Ok(GSensitivityState {
+            k_accel: [r(&folded.k[0]), r(&folded.k[1]), r(&folded.k[2])],
+            offset: r(&[
+                o[0] + folded.offset[0],
+                o[1] + folded.offset[1],
+                o[2] + folded.offset[2],
+            ]),
+        })
+    }
+
+    /// o + K_g·g + C·a, each row left to right as [`KernelF32::apply`] does,
+    /// the accelerometer's three products after the gyro's.
+    #[inline(always)]
+    fn apply(&self, k_gyro: &[[f32; 3]; 3], g: [f32; 3], a: [f32; 3]) -> [f32; 3] {
+        let row = |k: &[f32; 3], c: &[f32; 3], o: f32| {
+            o + k[0] * g[0] + k[1] * g[1] + k[2] * g[2] + c[0] * a[0] + c[1] * a[1] + c[2] * a[2]
+        };
+        [
+            row(&k_gyro[0], &self.k_accel[0], self.offset[0]),
+            row(&k_gyro[1], &self.k_accel[1], self.offset[1]),
+            row(&k_gyro[2], &self.k_accel[2], self.offset[2]),
+        ]
+    }
+}
+
 /// One triad as currently folded: (I+Σ)(T), b(T) for the reference, K and k
 /// in f64 and f32.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -135,17 +195,15 @@ impl TriadState {
         })
     }
 
-    /// R·(I+Σ)⁻¹·(x − b) by Gaussian elimination: independent of the fold.
-    fn reference(&self, x: [f64; 3], orientation: Orientation) -> [f64; 3] {
+    /// (I+Σ)⁻¹·(x − b) in the sensor's axes, by Gaussian elimination:
+    /// independent of the fold.
+    fn solve(&self, x: [f64; 3]) -> [f64; 3] {
         let d = [
             x[0] - self.bias[0],
             x[1] - self.bias[1],
             x[2] - self.bias[2],
         ];
-        match matrix::solve(&self.matrix, &d) {
-            Some(y) => orientation.rotate(y),
-            None => [f64::NAN; 3],
-        }
+        matrix::solve(&self.matrix, &d).unwrap_or([f64::NAN; 3])
     }
 }
 
@@ -158,6 +216,7 @@ pub struct Corrector {
     fold_temperature_c: Option<f64>,
     accel: TriadState,
     gyro: TriadState,
+    g_sensitivity: Option<GSensitivityState>,
     temperature_scale: f32,
     temperature_offset: f32,
 }
@@ -184,25 +243,33 @@ impl Corrector {
         }
         validate_triad(Triad::Accel, &cal.accel, scale.accel.full_scale)?;
         validate_triad(Triad::Gyro, &cal.gyro, scale.gyro.full_scale)?;
+        validate_g_sensitivity(cal.g_sensitivity.as_ref())?;
         let at_reference =
             |t: &TriadCalibration| t.at_temperature(t.temperature.map_or(0.0, |x| x.reference_c));
+        let accel = TriadState::new(
+            Triad::Accel,
+            at_reference(&cal.accel),
+            scale.accel.si_per_lsb,
+            orientation,
+        )?;
+        let gyro = TriadState::new(
+            Triad::Gyro,
+            at_reference(&cal.gyro),
+            scale.gyro.si_per_lsb,
+            orientation,
+        )?;
+        let g_sensitivity = cal
+            .g_sensitivity
+            .map(|g| GSensitivityState::new(&g, &gyro, &accel, orientation))
+            .transpose()?;
         Ok(Corrector {
             calibration: *cal,
             orientation,
             scale: *scale,
             fold_temperature_c: None,
-            accel: TriadState::new(
-                Triad::Accel,
-                at_reference(&cal.accel),
-                scale.accel.si_per_lsb,
-                orientation,
-            )?,
-            gyro: TriadState::new(
-                Triad::Gyro,
-                at_reference(&cal.gyro),
-                scale.gyro.si_per_lsb,
-                orientation,
-            )?,
+            accel,
+            gyro,
+            g_sensitivity,
             temperature_scale: scale.temperature_per_lsb as f32,
             temperature_offset: scale.temperature_offset as f32,
         })
@@ -233,15 +300,78 @@ impl Corrector {
         Corrector::new(cal, &scale, orientation)
     }
 
-    /// The f32 hot path: m = K·raw + k per triad, temperature to °C, clip flags.
+    /// The f32 hot path: m = K·raw + k per triad (the gyro's with C·raw_a
+    /// too when the calibration has a g-sensitivity), temperature to °C, clip flags.
+    ///
+    /// Over many samples prefer [`Self::correct_batch`]: it chooses between
+    /// the forms with and without G once, where a loop of this function's
+    /// calls tests it per sample, which on a Cortex-M4F keeps the
+    /// coefficients out of registers (about 40 instructions per sample more,
+    /// docs/BENCHMARKS.md: full_f32 against full_f32_per_call).
     #[inline]
     pub fn correct(&self, raw: &RawSample) -> Sample {
+        match &self.g_sensitivity {
+            None => self.correct_without_g(raw),
+            Some(s) => self.correct_with_g(s, raw),
+        }
+    }
+
+    /// [`Self::correct`] of each sample of `raw` into the front of `out` (as
+    /// many as both hold), with the choice of form made once for the batch.
+    pub fn correct_batch(&self, raw: &[RawSample], out: &mut [Sample]) {
+        match &self.g_sensitivity {
+            None => self.batch_without_g(raw, out),
+            Some(s) => self.batch_with_g(s, raw, out),
+        }
+    }
+
+    /// The loop of [`Self::correct_batch`] without G, a function of its own
+    /// so that its coefficients have the registers to themselves.
+    #[inline(never)]
+    fn batch_without_g(&self, raw: &[RawSample], out: &mut [Sample]) {
+        for (r, o) in raw.iter().zip(out.iter_mut()) {
+            *o = self.correct_without_g(r);
+        }
+    }
+
+    /// The loop of [`Self::correct_batch`] with G.
+    #[inline(never)]
+    fn batch_with_g(&self, s: &GSensitivityState, raw: &[RawSample], out: &mut [Sample]) {
+        for (r, o) in raw.iter().zip(out.iter_mut()) {
+            *o = self.correct_with_g(s, r);
+        }
+    }
+
+    #[inline(always)]
+    fn correct_without_g(&self, raw: &RawSample) -> Sample {
         let f = |v: &[i16; 3]| [f32::from(v[0]), f32::from(v[1]), f32::from(v[2])];
         Sample {
             accel: self.accel.kernel.apply(f(&raw.accel)),
             gyro: self.gyro.kernel.apply(f(&raw.gyro)),
             temperature: self.temperature_c(f32::from(raw.temperature)),
             clip: ClipFlags::of(raw),
+        }
+    }
+
+    #[inline(always)]
+    fn correct_with_g(&self, s: &GSensitivityState, raw: &RawSample) -> Sample {
+        let f = |v: &[i16; 3]| [f32::from(v[0]), f32::from(v[1]), f32::from(v[2])];
+        let accel = f(&raw.accel);
+        Sample {
+            accel: self.accel.kernel.apply(accel),
+            gyro: s.apply(&self.gyro.kernel.k, f(&raw.gyro), accel),
+            temperature: self.temperature_c(f32::from(raw.temperature)),
+            clip: ClipFlags::of(raw),
+        }
+    }
+
+    /// The gyro's f32 row on the gyro input `g` and the accelerometer input
+    /// `a` (raw counts, or SI for a [`Corrector::new_si`] corrector).
+    #[inline(always)]
+    fn gyro_rate(&self, g: [f32; 3], a: [f32; 3]) -> [f32; 3] {
+        match &self.g_sensitivity {
+            None => self.gyro.kernel.apply(g),
+            Some(s) => s.apply(&self.gyro.kernel.k, g, a),
         }
     }
 
@@ -258,14 +388,16 @@ impl Corrector {
     pub fn correct_si(&self, accel: [f32; 3], gyro: [f32; 3], temperature: f32) -> Sample {
         Sample {
             accel: self.accel.kernel.apply(accel),
-            gyro: self.gyro.kernel.apply(gyro),
+            gyro: self.gyro_rate(gyro, accel),
             temperature,
             clip: ClipFlags::default(),
         }
     }
 
     /// The f64 reference (ground truth): R·(I+Σ)⁻¹·(s·raw − b) solved by
-    /// Gaussian elimination with the calibration as currently folded.
+    /// Gaussian elimination with the calibration as currently folded (for
+    /// the gyro R·(I+Σ_g)⁻¹·(s·raw − b_g − G·f), f the accelerometer's
+    /// solution in the sensor's axes).
     pub fn reference(&self, raw: &RawSample) -> ReferenceSample {
         let si = |v: &[i16; 3], s: f64| {
             [
@@ -274,17 +406,32 @@ impl Corrector {
                 f64::from(v[2]) * s,
             ]
         };
+        let (accel, gyro) = self.reference_pair(
+            si(&raw.accel, self.scale.accel.si_per_lsb),
+            si(&raw.gyro, self.scale.gyro.si_per_lsb),
+        );
         ReferenceSample {
-            accel: self.accel.reference(
-                si(&raw.accel, self.scale.accel.si_per_lsb),
-                self.orientation,
-            ),
-            gyro: self
-                .gyro
-                .reference(si(&raw.gyro, self.scale.gyro.si_per_lsb), self.orientation),
+            accel,
+            gyro,
             temperature: self.scale.temperature_c(raw.temperature),
             clip: ClipFlags::of(raw),
         }
+    }
+
+    /// Both triads' f64 reference on SI inputs, in the board's axes.
+    fn reference_pair(&self, accel: [f64; 3], gyro: [f64; 3]) -> ([f64; 3], [f64; 3]) {
+        let f = self.accel.solve(accel);
+        let gyro = match &self.calibration.g_sensitivity {
+            None => gyro,
+            Some(g) => {
+                let gf = matrix::mul_vec(g, &f);
+                [gyro[0] - gf[0], gyro[1] - gf[1], gyro[2] - gf[2]]
+            }
+        };
+        (
+            self.orientation.rotate(f),
+            self.orientation.rotate(self.gyro.solve(gyro)),
+        )
     }
 
     /// The f64 reference on inputs in SI units (for a corrector from [`Corrector::new_si`]).
@@ -294,9 +441,10 @@ impl Corrector {
         gyro: [f64; 3],
         temperature: f64,
     ) -> ReferenceSample {
+        let (accel, gyro) = self.reference_pair(accel, gyro);
         ReferenceSample {
-            accel: self.accel.reference(accel, self.orientation),
-            gyro: self.gyro.reference(gyro, self.orientation),
+            accel,
+            gyro,
             temperature,
             clip: ClipFlags::default(),
         }
@@ -328,8 +476,13 @@ impl Corrector {
         // Both triads first, then assign: a failed refold changes nothing.
         let accel = refolded(Triad::Accel, &self.accel, self.scale.accel.si_per_lsb)?;
         let gyro = refolded(Triad::Gyro, &self.gyro, self.scale.gyro.si_per_lsb)?;
+        let g_sensitivity = cal
+            .g_sensitivity
+            .map(|g| GSensitivityState::new(&g, &gyro, &accel, self.orientation))
+            .transpose()?;
         self.accel = accel;
         self.gyro = gyro;
+        self.g_sensitivity = g_sensitivity;
         self.fold_temperature_c = Some(t);
         Ok(())
     }
@@ -366,6 +519,22 @@ impl Corrector {
             Triad::Accel => &self.accel.folded,
             Triad::Gyro => &self.gyro.folded,
         }
+    }
+
+    /// The g-sensitivity's contribution to the gyro's correction, C·raw_a + c
+    /// in f64 ([`super::g_sensitivity`]), as currently folded; `None` without
+    /// G. Folded again at each call (it is not kept: the corrector stays small
+    /// for the Cortex-M0's 16 KiB, and only construction-time checks need it).
+    pub fn folded_g_sensitivity(&self) -> Option<FoldedTriad> {
+        let g = self.calibration.g_sensitivity.as_ref()?;
+        g_sensitivity::fold(g, &self.gyro.matrix, &self.accel.folded, self.orientation)
+    }
+
+    /// With G, the gyro row's f32 C and its whole offset k_g + c, exactly as
+    /// the hot path applies them after [`Self::folded_f32`]'s K_g (whose
+    /// offset it then does not use); `None` without G.
+    pub fn g_sensitivity_f32(&self) -> Option<([[f32; 3]; 3], [f32; 3])> {
+        self.g_sensitivity.as_ref().map(|s| (s.k_accel, s.offset))
     }
 
     /// A triad's f32 K and k, exactly as the hot path applies them.

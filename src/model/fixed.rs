@@ -44,6 +44,14 @@
 //! The bound is therefore ≤ 0.5 LSB whenever the LSB is ≥ 2^−F·1.001: down to
 //! 1.5e−5 m/s² for accelerometers (a 16-bit ±2 g one has 6e−4) and 9.5e−7
 //! rad/s for gyroscopes. tests/model_fixed.rs asserts it for every range.
+//!
+//! A g-sensitivity adds the accelerometer's contribution C·raw_a + c to the
+//! gyro's rate ([`super::g_sensitivity`]). It is a second set of rows on the
+//! raw accelerometer sample with the gyro's output format (Q12.20), in
+//! whichever form fits, and the two i32 outputs are added: construction
+//! checks that the largest possible sum fits i32, and the error bound is the
+//! sum of the two rows' bounds (each rounds once at its own shift), ≤ one
+//! Q12.20 quantum (9.5e−7 rad/s) plus the coefficient terms.
 
 use super::corrector::{ClipFlags, Corrector, ReferenceSample};
 use super::fixed_narrow::NarrowRows;
@@ -211,6 +219,8 @@ impl FixedRows<3> {
 pub struct FixedCorrector {
     accel: Form<3>,
     gyro: Form<3>,
+    /// C·raw_a + c in Q12.20, with a g-sensitivity.
+    g_sensitivity: Option<Form<3>>,
     temperature: Form<1>,
 }
 
@@ -280,9 +290,15 @@ impl FixedCorrector {
         use super::calibration::Triad;
         let rows = |quantity, bits, f: &FoldedTriad| Form::new(quantity, bits, &f.k, &f.offset);
         let scale = corrector.scale();
+        let gyro = corrector.folded(Triad::Gyro);
+        let g_sensitivity = match corrector.folded_g_sensitivity() {
+            None => None,
+            Some(cross) => Some(g_sensitivity_rows(gyro, &cross)?),
+        };
         Ok(FixedCorrector {
             accel: rows("accel", ACCEL_FRACTION_BITS, corrector.folded(Triad::Accel))?,
-            gyro: rows("gyro", GYRO_FRACTION_BITS, corrector.folded(Triad::Gyro))?,
+            gyro: rows("gyro", GYRO_FRACTION_BITS, gyro)?,
+            g_sensitivity,
             temperature: Form::new(
                 "temperature",
                 TEMPERATURE_FRACTION_BITS,
@@ -292,12 +308,31 @@ impl FixedCorrector {
         })
     }
 
+    /// The gyro's rate: its rows on the raw gyro sample, plus with a
+    /// g-sensitivity the accelerometer's contribution (whose sum
+    /// construction proved to fit i32).
+    #[inline(always)]
+    fn gyro_rate(&self, raw: &RawSample) -> [i32; 3] {
+        let rate = self.gyro.apply(&raw.gyro);
+        match &self.g_sensitivity {
+            None => rate,
+            Some(cross) => {
+                let c = cross.apply(&raw.accel);
+                [
+                    rate[0].wrapping_add(c[0]),
+                    rate[1].wrapping_add(c[1]),
+                    rate[2].wrapping_add(c[2]),
+                ]
+            }
+        }
+    }
+
     /// The integer hot path: fixed-point SI outputs and clip flags.
     #[inline]
     pub fn correct(&self, raw: &RawSample) -> FixedSample {
         FixedSample {
             accel: self.accel.apply(&raw.accel),
-            gyro: self.gyro.apply(&raw.gyro),
+            gyro: self.gyro_rate(raw),
             temperature: self.temperature.apply_one(raw.temperature),
             clip: ClipFlags::of(raw),
         }
@@ -307,8 +342,13 @@ impl FixedCorrector {
     /// many as both hold), with the choice of form made once for the batch
     /// rather than per sample and triad.
     pub fn correct_batch(&self, raw: &[RawSample], out: &mut [FixedSample]) {
-        match (&self.accel, &self.gyro, &self.temperature) {
-            (Form::Narrow(accel), Form::Narrow(gyro), Form::Narrow(temperature)) => {
+        match (
+            &self.accel,
+            &self.gyro,
+            &self.temperature,
+            &self.g_sensitivity,
+        ) {
+            (Form::Narrow(accel), Form::Narrow(gyro), Form::Narrow(temperature), None) => {
                 for (r, o) in raw.iter().zip(out.iter_mut()) {
                     *o = FixedSample {
                         accel: accel.apply(&r.accel),
@@ -327,11 +367,12 @@ impl FixedCorrector {
     }
 
     /// Per output `[accel, gyro, temperature]`: true where the 32-bit form
-    /// ([`super::fixed_narrow`]) is in use, false for the i64 form.
+    /// ([`super::fixed_narrow`]) is in use (for the gyro with a g-sensitivity:
+    /// for both its sets of rows), false for the i64 form.
     pub fn uses_32_bit_products(&self) -> [bool; 3] {
         [
             self.accel.is_narrow(),
-            self.gyro.is_narrow(),
+            self.gyro.is_narrow() && self.g_sensitivity.as_ref().is_none_or(Form::is_narrow),
             self.temperature.is_narrow(),
         ]
     }
@@ -339,14 +380,48 @@ impl FixedCorrector {
     /// The proven bound on |fixed − exact| in SI units for every input, per
     /// output `[accel, gyro, temperature]`: for the i64 form
     /// 2^−(F+1) + (N·32768 + 1)·2^−(S+1), for the 32-bit form the sum in
-    /// [`super::fixed_narrow`].
+    /// [`super::fixed_narrow`]; with a g-sensitivity the gyro's adds the
+    /// bound of its accelerometer rows.
     pub fn error_bound(&self) -> [f64; 3] {
         [
             self.accel.error_bound(),
-            self.gyro.error_bound(),
+            self.gyro.error_bound() + self.g_sensitivity.as_ref().map_or(0.0, Form::error_bound),
             self.temperature.error_bound(),
         ]
     }
+}
+
+/// The rows of a g-sensitivity's contribution `cross` (C·raw_a + c) in the
+/// gyro's output format, after checking that their outputs and the gyro's
+/// (`gyro`) add up within i32 for any input. Out of line, so that a
+/// calibration without G does not carry its frame.
+#[inline(never)]
+fn g_sensitivity_rows(
+    gyro: &FoldedTriad,
+    cross: &FoldedTriad,
+) -> Result<Form<3>, CalibrationError> {
+    let largest = |f: &FoldedTriad, i: usize| {
+        f.k[i].iter().map(|x| x.abs() * 32768.0).sum::<f64>() + f.offset[i].abs()
+    };
+    let max_output = (0..3)
+        .map(|i| largest(gyro, i) + largest(cross, i))
+        .fold(0.0f64, f64::max);
+    // Each row's output is within one quantum of its exact value.
+    if !at_most(
+        max_output * pow2(GYRO_FRACTION_BITS as i32) + 2.0,
+        2_147_483_647.0,
+    ) {
+        return Err(CalibrationError::FixedPointRange {
+            quantity: "gyro",
+            max_output,
+        });
+    }
+    Form::new(
+        "gyro g-sensitivity",
+        GYRO_FRACTION_BITS,
+        &cross.k,
+        &cross.offset,
+    )
 }
 
 impl Corrector {

@@ -16,6 +16,7 @@ pub mod corrector;
 pub mod fixed;
 pub mod fixed_narrow;
 pub mod fold;
+pub mod g_sensitivity;
 pub mod matrix;
 pub mod orientation;
 pub mod validate;

@@ -19,6 +19,7 @@
 //! - Temperature terms hold over [`TEMPERATURE_RANGE_C`]: (I+Σ)(T) is linear
 //!   in T, so its entry bounds are checked exactly at the two ends; the bias
 //!   cubic is checked at its extremes (ends and stationary points).
+//! - [`MAX_G_SENSITIVITY`]: the gyroscope's g-sensitivity G, entry by entry.
 
 use core::fmt;
 
@@ -53,6 +54,14 @@ pub const TEMPERATURE_RANGE_C: (f64, f64) = (-40.0, 85.0);
 /// coefficients are 0.005..0.03 %/°C (50..300 ppm/°C); 1 %/°C is absurd.
 pub const MAX_SCALE_MISALIGNMENT_PER_C: f64 = 0.01;
 
+/// Largest |G| entry of the gyroscope's g-sensitivity, in (rad/s)/(m/s²):
+/// 1 °/s per g. MEMS data sheets give about 0.1 °/s per g (the "linear
+/// acceleration sensitivity" of the MPU-6000/6050 and the BMI088's
+/// "g-sensitivity"), and issue 22's real unit showed 0.12; ten times that
+/// accepts every physical gyro and rejects a unit mistake (G in °/s per g
+/// written as SI is 561 times the value).
+pub const MAX_G_SENSITIVITY: f64 = core::f64::consts::PI / 180.0 / 9.80665;
+
 /// One number of a triad's calibration, named as in the calibration file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -85,6 +94,13 @@ pub enum Entry {
         /// Column 0..3.
         col: u8,
     },
+    /// `g_sensitivity[row][col]` (the gyroscope's only).
+    GSensitivity {
+        /// Row 0..3: the gyro axis.
+        row: u8,
+        /// Column 0..3: the specific-force axis.
+        col: u8,
+    },
 }
 
 impl fmt::Display for Entry {
@@ -103,6 +119,7 @@ impl fmt::Display for Entry {
             Entry::ScaleMisalignmentPerC { row, col } => {
                 write!(f, "temperature.scale_misalignment_per_c[{row}][{col}]")
             }
+            Entry::GSensitivity { row, col } => write!(f, "g_sensitivity[{row}][{col}]"),
         }
     }
 }
@@ -194,6 +211,15 @@ pub enum CalibrationError {
         value: f64,
         /// The bound on |value|.
         limit: f64,
+    },
+    /// A g-sensitivity entry with |value| above [`MAX_G_SENSITIVITY`].
+    GSensitivityAbsurd {
+        /// Row: the gyro axis.
+        row: u8,
+        /// Column: the specific-force axis.
+        col: u8,
+        /// The value in (rad/s)/(m/s²).
+        value: f64,
     },
     /// A sensor scale that cannot be folded: `quantity` names it.
     InvalidScale {
@@ -303,6 +329,13 @@ impl fmt::Display for CalibrationError {
                 triad.name(),
                 value = Readable(value)
             ),
+            CalibrationError::GSensitivityAbsurd { row, col, value } => write!(
+                f,
+                "gyro g_sensitivity[{row}][{col}] = {value} (rad/s)/(m/s²) ({per_g:.4} °/s per g): \
+                 beyond the physical bound ±{MAX_G_SENSITIVITY:.4e} (1 °/s per g; MEMS gyros show about 0.1)",
+                value = Readable(value),
+                per_g = crate::units::si_to_dps_per_g(value)
+            ),
             CalibrationError::InvalidScale { quantity, value } => {
                 let value = Readable(value);
                 write!(f, "sensor scale {quantity} = {value}: must be finite and positive")
@@ -334,8 +367,30 @@ impl Calibration {
         positive_finite("accel.full_scale", accel_full_scale)?;
         positive_finite("gyro.full_scale", gyro_full_scale)?;
         validate_triad(Triad::Accel, &self.accel, accel_full_scale)?;
-        validate_triad(Triad::Gyro, &self.gyro, gyro_full_scale)
+        validate_triad(Triad::Gyro, &self.gyro, gyro_full_scale)?;
+        validate_g_sensitivity(self.g_sensitivity.as_ref())
     }
+}
+
+/// Checks the gyroscope's g-sensitivity G (if any): finite, and each entry
+/// within ±[`MAX_G_SENSITIVITY`].
+pub fn validate_g_sensitivity(g: Option<&Mat3>) -> Result<(), CalibrationError> {
+    let Some(g) = g else { return Ok(()) };
+    for (row, r) in (0u8..).zip(g.iter()) {
+        for (col, &value) in (0u8..).zip(r.iter()) {
+            if !value.is_finite() {
+                return Err(CalibrationError::NonFinite {
+                    triad: Triad::Gyro,
+                    entry: Entry::GSensitivity { row, col },
+                    value,
+                });
+            }
+            if !at_most(value.abs(), MAX_G_SENSITIVITY) {
+                return Err(CalibrationError::GSensitivityAbsurd { row, col, value });
+            }
+        }
+    }
+    Ok(())
 }
 
 /// `Ok` if `value` is finite and > 0, else [`CalibrationError::InvalidScale`].

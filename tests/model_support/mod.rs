@@ -82,12 +82,17 @@ pub fn random_triad(rng: &mut SmallRng, full_scale: f64) -> TriadCalibration {
     }
 }
 
-/// A random valid calibration for `scale`.
+/// A random valid calibration for `scale`: half of them with a gyro
+/// g-sensitivity G, entries anywhere within the validated bound.
 pub fn random_calibration(rng: &mut SmallRng, scale: &ImuScale) -> Calibration {
+    let limit = triad::model::validate::MAX_G_SENSITIVITY;
     Calibration {
         id: rng.random(),
         accel: random_triad(rng, scale.accel.full_scale),
         gyro: random_triad(rng, scale.gyro.full_scale),
+        g_sensitivity: rng
+            .random_bool(0.5)
+            .then(|| [(); 3].map(|_| [(); 3].map(|_| rng.random_range(-limit..=limit)))),
     }
 }
 

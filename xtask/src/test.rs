@@ -71,7 +71,7 @@ pub fn run(scope: Scope) -> Result<()> {
             "thermal_gyro",
         ];
         step(
-            "cargo test --release (the Allan coverage sweep, the rig-free and thermal fits' σ coverage over 60 seeds)",
+            "cargo test --release (the Allan coverage sweep, the rig-free, g-sensitivity and thermal fits' σ coverage over 60 seeds)",
             &sweeps,
         )?;
         note!("xtask: cargo doc (core, sim, lab)");

@@ -7,6 +7,7 @@ use std::process::ExitCode;
 
 use anyhow::anyhow;
 use triad::model::{Corrector, FixedCorrector, Triad};
+use triad::units::si_to_dps_per_g;
 
 use super::{si_corrector, Ranges};
 use crate::calib_file::CalibFile;
@@ -95,6 +96,30 @@ fn print_triad(
     );
     print_matrix(out, "K", &f.k);
     outln!(out, "    k = {}", vector(&f.offset));
+    if let (Triad::Gyro, Some(g), Some(c_si), Some(c_lsb)) = (
+        triad,
+        &file.calibration.g_sensitivity,
+        si.folded_g_sensitivity(),
+        per_lsb.folded_g_sensitivity(),
+    ) {
+        outln!(
+            out,
+            "  g-sensitivity G in °/s per g (gyro bias per unit specific force, sensor axes):"
+        );
+        print_matrix(out, "G", &g.map(|row| row.map(si_to_dps_per_g)));
+        outln!(
+            out,
+            "  + C·f + c with f the accelerometer's input in m/s² (triad correct):"
+        );
+        print_matrix(out, "C", &c_si.k);
+        outln!(out, "    c = {}", vector(&c_si.offset));
+        outln!(
+            out,
+            "  + C·raw + c with raw the accelerometer's LSB (the firmware's fold):"
+        );
+        print_matrix(out, "C", &c_lsb.k);
+        outln!(out, "    c = {}", vector(&c_lsb.offset));
+    }
     outln!(
         out,
         "  fixed point ({q_format}) error bound: {bound:.3e} {unit} = {:.4} LSB",

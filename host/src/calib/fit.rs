@@ -139,6 +139,9 @@ pub struct Base {
     /// Its `[fit]` table.
     fit_meta: toml::Table,
     note: String,
+    /// The gyroscope's g-sensitivity a fit of the gyroscope found (the
+    /// base's own is dropped with the gyroscope it was fitted with).
+    g_sensitivity: Option<[[f64; 3]; 3]>,
 }
 
 impl Base {
@@ -157,6 +160,13 @@ impl Base {
         self
     }
 
+    /// The base with the gyroscope's g-sensitivity `g` found by the fit
+    /// that fits the gyroscope ([`write_calibration`] applies it with it).
+    pub fn with_g_sensitivity(mut self, g: Option<[[f64; 3]; 3]>) -> Base {
+        self.g_sensitivity = g;
+        self
+    }
+
     /// The calibration read from `path` (`--base`), or the identity.
     fn of(path: Option<&Path>) -> anyhow::Result<Base> {
         let Some(path) = path else {
@@ -165,6 +175,7 @@ impl Base {
                 orientation: Orientation::RotationNone,
                 fit_meta: toml::Table::new(),
                 note: "The other triad is the identity (no --base given).".to_string(),
+                g_sensitivity: None,
             });
         };
         let file = calib_file::load(path)?;
@@ -172,6 +183,7 @@ impl Base {
             calibration: file.calibration,
             orientation: file.orientation,
             fit_meta: file.fit,
+            g_sensitivity: None,
             note: format!(
                 "The other triad and the orientation are those of {}.",
                 path.display()
@@ -209,7 +221,12 @@ pub fn write_calibration(
 ) -> anyhow::Result<ExitCode> {
     let to_stdout = outfile::is_stdout(&output.out);
     let show = |text: &str| stdio::report(text, to_stdout);
-    let calibration = with_triad(base.calibration, triad, fitted);
+    let mut calibration = with_triad(base.calibration, triad, fitted);
+    if triad == Triad::Gyro {
+        // A G belongs to the gyro fit that found it: the bias of a fit
+        // without one has absorbed G·f at its orientation.
+        calibration.g_sensitivity = base.g_sensitivity;
+    }
     let (a, g) = output.ranges.full_scale_si();
     if let Err(e) = triad::model::Corrector::new_si(&calibration, a, g, base.orientation) {
         show(report)?;

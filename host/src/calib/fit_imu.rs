@@ -19,6 +19,8 @@ use triad_lab::calib_fit::rig_free::{self, RigFreeGyroFit, MAX_RANGE_FRACTION};
 use triad_lab::calib_fit::static_segments::{self, Segment};
 use triad_lab::calib_fit::{accel_cube, accel_fit, FitError};
 
+use super::g_sensitivity_report;
+
 use super::fit::{file_list, inputs, write_calibration, Output};
 use super::fit_csv::{self, Reading, Record};
 use super::report::{method_table, FitReport, FRAME};
@@ -103,7 +105,9 @@ pub fn run(args: ImuArgs) -> anyhow::Result<ExitCode> {
     if let Some(note) = fit_csv::time_note(&crate::input::name(&args.positions), &time, &accel) {
         fit.report = format!("{note}\n{}", fit.report);
     }
-    let base = base.with_fitted(Triad::Accel, fit.accel, fit.accel_table);
+    let base = base
+        .with_fitted(Triad::Accel, fit.accel, fit.accel_table)
+        .with_g_sensitivity(fit.g_sensitivity);
     write_calibration(
         &args.output,
         base,
@@ -122,6 +126,8 @@ pub struct ImuFit {
     pub accel: TriadCalibration,
     /// The gyroscope's (I+Σ) (in the accelerometer's corrected axes) and b.
     pub gyro: TriadCalibration,
+    /// The gyroscope's g-sensitivity G where the poses show one.
+    pub g_sensitivity: Option<[[f64; 3]; 3]>,
     /// The accelerometer fit's statistics, `[fit.accel]`.
     pub accel_table: toml::Table,
     /// The gyroscope fit's statistics, `[fit.gyro]`.
@@ -495,6 +501,12 @@ pub fn fit_record_with(accel: &Record, gyro: &Record, options: &Options) -> anyh
         "too few moves for the 9 unknowns",
     );
     print_gyro_extras(&mut out, &gyro_fit);
+    g_sensitivity_report::print(
+        &mut out,
+        &gyro_fit.g_sensitivity,
+        &gyro_fit.pose_check,
+        gyro_fit.segments,
+    );
     outln!(
         out,
         "  frame: both (I+Σ) map the accelerometer's corrected axes to the sensing axes; {frame} (of the \
@@ -530,6 +542,11 @@ pub fn fit_record_with(accel: &Record, gyro: &Record, options: &Options) -> anyh
         toml::Value::Integer(gyro_fit.bias_dof as i64),
     );
     gyro_report.insert_statistics(&mut gyro_table);
+    g_sensitivity_report::insert(
+        &mut gyro_table,
+        &gyro_fit.g_sensitivity,
+        &gyro_fit.pose_check,
+    );
     let header = format!(
         "Both triads fitted by `triad calib fit imu` from {} hand-turned poses of {name}\n\
          (no rig): accelerometer residual RMS {:.3e} m/s², gyroscope direction residual RMS {:.3e} rad.",
@@ -544,6 +561,7 @@ pub fn fit_record_with(accel: &Record, gyro: &Record, options: &Options) -> anyh
             temperature: None,
         },
         gyro: gyro_report.triad(),
+        g_sensitivity: gyro_fit.g_sensitivity.applied().map(|g| g.g),
         accel_table,
         gyro_table,
         header,
@@ -604,9 +622,14 @@ fn gyro_report(fit: &RigFreeGyroFit) -> FitReport<'_> {
 /// What only the rig-free fit has: how the bias σ's were found, the turns'
 /// spread and the record's fastest turn.
 fn print_gyro_extras(out: &mut String, fit: &RigFreeGyroFit) {
+    let model = if fit.g_sensitivity.applied().is_some() {
+        "about the fit of bias and g-sensitivity to them"
+    } else {
+        "about their mean"
+    };
     outln!(
         out,
-        "  (bias σ's: the scatter of the {} poses' means, {} degrees of freedom, so drift between poses is in them; \
+        "  (bias σ's: the scatter of the {} poses' means {model}, {} degrees of freedom, so drift between poses is in them; \
          the Earth's rate is not removed from the bias)",
         fit.segments,
         fit.bias_dof

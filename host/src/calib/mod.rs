@@ -11,6 +11,7 @@ pub mod fit_csv;
 pub mod fit_gyro;
 pub mod fit_imu;
 pub mod fit_thermal;
+pub mod g_sensitivity_report;
 pub mod report;
 pub mod segments;
 pub mod session;

@@ -18,7 +18,6 @@ use triad::device::{
     Handled, Outgoing, Sampler, SharedCounters, StepOutcome,
 };
 use triad::link::{CalibrationSource, Mode, Reply, StoredState, MAX_WIRE_LEN};
-use triad::model::blob::BLOB_LEN;
 use triad::model::Orientation;
 use triad::sensor::interface::SpiInterface;
 use triad::sensor::{AnyChip, Imu, ImuScale, RawSample};
@@ -183,7 +182,7 @@ impl<'m> Device<'m> {
         .expect("the chip's scale is valid");
         let blob = match startup.source {
             CalibrationSource::Stored => stored_blob,
-            CalibrationSource::BuiltIn => <[u8; BLOB_LEN]>::try_from(&options.built_in[..]).ok(),
+            CalibrationSource::BuiltIn => triad::model::blob::upgrade(&options.built_in),
             _ => None,
         };
         let active = ActiveCalibration {

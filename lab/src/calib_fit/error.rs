@@ -140,16 +140,27 @@ pub enum FitError {
         /// The record's sample rate, Hz.
         rate_hz: f64,
     },
-    /// The gyro's mean over a static pose strays from the other poses' mean
-    /// rate: the unit turned during the pose (about the vertical, which the
-    /// accelerometer does not see).
+    /// The gyro's mean over a static pose strays from what the other poses
+    /// predict for it (their bias, and their g-sensitivity where they
+    /// support one): the unit turned during the pose (about the vertical,
+    /// which the accelerometer does not see).
     PoseNotStatic {
         /// The pose (0-based).
         pose: usize,
-        /// The worst axis's distance from the other poses' mean, rad/s.
+        /// Its first and last sample's times, s.
+        time_s: [f64; 2],
+        /// The gyro axis (0..3).
+        axis: usize,
+        /// Its mean minus the others' prediction, rad/s.
         rate: f64,
         /// The largest accepted, rad/s.
         limit: f64,
+        /// The limit in σ's of the residual.
+        sigmas: f64,
+        /// Whether the prediction included the g-sensitivity.
+        with_g: bool,
+        /// Poses checked.
+        poses: usize,
     },
     /// Fewer turns between consecutive poses than the gyro fit needs.
     TooFewRotations {
@@ -318,14 +329,21 @@ impl fmt::Display for FitError {
                 sample + 1,
                 limit_deg * rate_hz
             ),
-            FitError::PoseNotStatic { pose, rate, limit } => write!(
+            FitError::PoseNotStatic { pose, time_s, axis, rate, limit, sigmas, with_g, poses } => write!(
                 f,
-                "pose {}: the gyro's mean differs from the other poses' by {:.4} °/s (limit {:.4} °/s): \
-                 the unit turned during that pose (about the vertical, which the accelerometer does not see); \
-                 hold it still at each pose",
+                "pose {} ({:.2}–{:.2} s): the gyro's {} mean differs from what the other poses predict \
+                 (their bias{}) by {:.4} °/s (limit {:.4} °/s: {sigmas:.1} σ of that difference, \
+                 from the poses' own scatter and standard errors, at a family-wise level of {} over \
+                 {poses} poses × 3 axes): the unit turned during that pose (about the vertical, which \
+                 the accelerometer does not see); hold it still at each pose",
                 pose + 1,
+                time_s[0],
+                time_s[1],
+                ["x", "y", "z"].get(axis).copied().unwrap_or("?"),
+                if with_g { " and g-sensitivity" } else { "" },
                 rate.to_degrees(),
-                limit.to_degrees()
+                limit.to_degrees(),
+                super::g_sensitivity::POSE_FAMILY_LEVEL,
             ),
             FitError::TooFewRotations { rotations, turns, needed } => write!(
                 f,

@@ -3,7 +3,8 @@
 //! orientation, then is turned about a random body axis (by a random angle,
 //! with a smooth rate profile that starts and ends at rest) and rests again,
 //! pose after pose, as a person turns a board on a table. Each sample is
-//! f̂ = (I+Σ)_a·f + b_a + noise and ω̂ = (I+Σ)_g·ω + b_g + noise, with f
+//! f̂ = (I+Σ)_a·f + b_a + noise and ω̂ = (I+Σ)_g·ω + b_g + G·f + noise
+//! (G the gyro's g-sensitivity, when the unit has one), with f
 //! the exact specific force in body axes and ω the exact body rate (no
 //! Earth rate). No allocation: samples go to a callback, randomness comes
 //! from the caller's uniform generator.
@@ -32,6 +33,8 @@ pub struct Unit {
     pub gyro: TriadTruth,
     /// |g|, m/s².
     pub gravity: f64,
+    /// The gyro's g-sensitivity G, (rad/s)/(m/s²), on the body-axis specific force.
+    pub g_sensitivity: Option<Mat3>,
 }
 
 /// Which body axes the turns are about.
@@ -96,6 +99,7 @@ pub const MEMS_UNIT: Unit = Unit {
         bias: [0.01, -0.02, 0.015],
         noise: 1e-3,
     },
+    g_sensitivity: None,
     gravity: 9.80665,
 };
 
@@ -167,10 +171,15 @@ pub fn generate(
         |attitude: &Quat, w: &[f64; 3], uniform: &mut dyn FnMut() -> f64, k: &mut usize| {
             let mut u = || uniform();
             let f = quaternion::rotate_inverse(attitude, &up);
+            let mut gyro = measured(&unit.gyro, w, &mut u);
+            if let Some(g) = &unit.g_sensitivity {
+                let gf = mul_vec(g, &f);
+                gyro = [0, 1, 2].map(|i| gyro[i] + gf[i]);
+            }
             out(Sample {
                 t: *k as f64 * dt,
                 accel: measured(&unit.accel, &f, &mut u),
-                gyro: measured(&unit.gyro, w, &mut u),
+                gyro,
             });
             *k += 1;
         };

@@ -14,6 +14,8 @@
 //! - [`rig_free`]: the gyroscope from one hand-rotated record (turns
 //!   between static poses integrated and matched to the accelerometer's
 //!   gravity directions); [`hand_record`] makes such records with known truth.
+//! - [`g_sensitivity`]: the gyroscope's g-sensitivity G from static poses in
+//!   several orientations, and the poses' consistency test that accounts for it.
 //! - Across temperature: [`thermal_coverage`] (the range, the reference
 //!   and which terms the temperatures support), [`thermal_accel`] (the
 //!   accelerometer's (I+Σ) linear and b cubic in ΔT from poses in unknown
@@ -34,6 +36,7 @@ pub mod accel_frame;
 pub mod bias_polynomial;
 pub mod ellipsoid;
 pub mod error;
+pub mod g_sensitivity;
 pub mod gyro_fit;
 pub mod hand_record;
 pub mod levenberg_marquardt;

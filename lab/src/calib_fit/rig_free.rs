@@ -5,11 +5,14 @@
 //!
 //! 1. The accelerometer is fitted first ([`super::accel_fit`]) from the
 //!    poses' static means; its corrected frame is the frame of the result.
-//! 2. The gyro bias is the mean of the poses' gyro means. Its σ is the
-//!    scatter of those means over √(poses), with poses − 1 degrees of
-//!    freedom: drift of the bias from pose to pose (correlated noise) is in
-//!    it, not only white noise. A pose whose gyro mean strays from the
-//!    others' is refused (the unit turned about the vertical during it).
+//! 2. The poses' gyro means give the g-sensitivity G where the poses
+//!    support one ([`g_sensitivity`]); each pose is checked against what the
+//!    others predict for it (their bias and G), and one that strays is
+//!    refused (the unit turned about the vertical during it). The gyro bias
+//!    is then the fit's intercept when the poses show a G, else the mean of
+//!    the poses' gyro means, its σ the scatter of those means over
+//!    √(poses), with poses − 1 degrees of freedom: drift of the bias from
+//!    pose to pose (correlated noise) is in it, not only white noise.
 //! 3. The gyro's (I+Σ), all nine entries: for each move from pose j to pose
 //!    j+1 the corrected rate ω = (I+Σ)⁻¹(ω̂ − b) is integrated from the last
 //!    sample of pose j to the first of pose j+1 (RK4 on the quaternion at
@@ -19,7 +22,9 @@
 //!    across u_{j+1} (along u_{j+1} it is second order). Levenberg–Marquardt
 //!    ([`levenberg_marquardt`]) from (I+Σ) = I over all moves, with a
 //!    central-difference Jacobian; covariance s²·(JᵀJ)⁻¹ with
-//!    2·moves − 9 degrees of freedom.
+//!    2·moves − 9 degrees of freedom. With a G the bias during a move is
+//!    c + G·f, f interpolated from one pose's specific force to the next's
+//!    (normalised linear interpolation of the direction, linear in magnitude).
 //!
 //! The gravity directions come from the fitted accelerometer, whose error
 //! (common to all poses) is not in the gyro's σ's; nor is the bias's (its
@@ -28,6 +33,7 @@
 
 use super::accel_fit::{self, AccelFit};
 use super::error::FitError;
+use super::g_sensitivity::{self, Consistency, PoseMean, Support};
 use super::levenberg_marquardt::{self, Problem};
 use super::qr::GivensLs;
 use super::quaternion::{self, Quat};
@@ -61,15 +67,6 @@ pub const MAX_RANGE_FRACTION: f64 = 0.9;
 /// change of 10 % within one sample already moves the turn by 0.3°·0.1/2 ≈
 /// 3e-4 rad, above the noise a MEMS gyro integrates over a turn (~1e-4 rad).
 pub const MAX_ROTATION_PER_SAMPLE_DEG: f64 = 3.0;
-
-/// A pose's gyro mean may stray from the other poses' by this many of its
-/// standard errors (white noise: exceeded with probability ~1e-8 per axis)…
-pub const STILL_SIGMAS: f64 = 6.0;
-
-/// …or by this floor (rad/s, 0.1 °/s), whichever is larger: above how far
-/// the bias of a MEMS gyro wanders between poses a few seconds apart; a
-/// turn about the vertical of 1° over a 10 s pose already exceeds it.
-pub const STILL_FLOOR: f64 = 0.1 * core::f64::consts::PI / 180.0;
 
 /// The largest accepted condition number of the column-scaled Jacobian
 /// (see [`super::accel_fit::MAX_CONDITION`]).
@@ -116,7 +113,8 @@ pub struct RigFreeGyroFit {
     pub dof_entries: Option<Mat3>,
     /// Degrees of freedom of the gyro's own residuals: 2·rotations − 9.
     pub gyro_dof: usize,
-    /// Degrees of freedom of the bias σ's: poses − 1.
+    /// Degrees of freedom of the bias σ's: poses − 1, or poses − 4 when the
+    /// bias is the intercept of a fit with G.
     pub bias_dof: usize,
     /// RMS of the direction residuals, rad.
     pub residual_rms: f64,
@@ -132,13 +130,61 @@ pub struct RigFreeGyroFit {
     pub max_rotation_per_sample_deg: f64,
     /// The largest |gyro axis| in the record, rad/s.
     pub peak_rate: f64,
+    /// The g-sensitivity G from the poses, or why they do not give one; the
+    /// fit (bias, turns) used it when [`Support::applied`].
+    pub g_sensitivity: Support,
+    /// How the poses were checked against each other.
+    pub pose_check: Consistency,
+}
+
+/// The gyro's bias during a move from one pose to the next: constant, or
+/// c + G·f with f going from the first pose's specific force to the second's.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MoveBias {
+    /// c (the bias at f = 0), rad/s.
+    pub bias: [f64; 3],
+    /// G and the two poses' specific forces, m/s²; `None` for a constant bias.
+    pub g_sensitivity: Option<(Mat3, [[f64; 3]; 2])>,
+}
+
+impl MoveBias {
+    /// A bias that does not change during the move.
+    pub fn constant(bias: [f64; 3]) -> MoveBias {
+        MoveBias {
+            bias,
+            g_sensitivity: None,
+        }
+    }
+
+    /// The bias at fraction `s` (0..=1) of the move.
+    fn at(&self, s: f64) -> [f64; 3] {
+        let Some((g, [from, to])) = &self.g_sensitivity else {
+            return self.bias;
+        };
+        let norm = |v: &[f64; 3]| libm::sqrt(dot(v, v));
+        let mixed = [0, 1, 2].map(|i| from[i] + s * (to[i] - from[i]));
+        let magnitude = norm(from) + s * (norm(to) - norm(from));
+        let n = norm(&mixed);
+        let f = if n > 0.0 {
+            mixed.map(|x| x * magnitude / n)
+        } else {
+            mixed
+        };
+        let gf = matrix::mul_vec(g, &f);
+        [0, 1, 2].map(|i| self.bias[i] + gf[i])
+    }
 }
 
 /// The unit gravity direction of a pose in the accelerometer's corrected
 /// frame, for accelerometer parameters `a` ([`accel_fit::Params`]).
 fn up(a: &accel_fit::Params, mean: &[f64; 3]) -> [f64; 3] {
+    unit(force(a, mean))
+}
+
+/// The specific force of a pose in the accelerometer's corrected frame, m/s².
+fn force(a: &accel_fit::Params, mean: &[f64; 3]) -> [f64; 3] {
     let v = [0, 1, 2].map(|i| mean[i] - a[6 + i]);
-    unit(matrix::mul_vec(&accel_fit::t_of(a), &v))
+    matrix::mul_vec(&accel_fit::t_of(a), &v)
 }
 
 pub(crate) fn unit(v: [f64; 3]) -> [f64; 3] {
@@ -170,17 +216,19 @@ pub(crate) fn across(u: &[f64; 3]) -> [[f64; 3]; 2] {
 }
 
 /// The turn from the last sample of `from` to the first of `to`, integrating
-/// (I+Σ)⁻¹(ω̂ − b) = `k`·(ω̂ − b).
+/// (I+Σ)⁻¹(ω̂ − b) = `k`·(ω̂ − b), b as `bias` gives it along the move.
 pub(crate) fn integrate(
     record: &Record,
     from: &Segment,
     to: &Segment,
     k: &Mat3,
-    bias: &[f64; 3],
+    bias: &MoveBias,
 ) -> Quat {
+    let (t0, t1) = (record.t[from.end - 1], record.t[to.start]);
     let rate = |i: usize| {
         let w = record.gyro[i];
-        matrix::mul_vec(k, &[w[0] - bias[0], w[1] - bias[1], w[2] - bias[2]])
+        let b = bias.at(((record.t[i] - t0) / (t1 - t0)).clamp(0.0, 1.0));
+        matrix::mul_vec(k, &[w[0] - b[0], w[1] - b[1], w[2] - b[2]])
     };
     let mut q = quaternion::IDENTITY;
     let mut w0 = rate(from.end - 1);
@@ -206,6 +254,8 @@ struct Moves<'a> {
     accel_means: &'a [[f64; 3]],
     accel: &'a AccelFit,
     bias: [f64; 3],
+    /// G when the poses show one.
+    g_sensitivity: Option<Mat3>,
 }
 
 impl Moves<'_> {
@@ -231,7 +281,7 @@ impl Moves<'_> {
             &self.poses[j],
             &self.poses[j + 1],
             &k,
-            &self.bias,
+            &move_bias(self.bias, self.g_sensitivity, a, self.accel_means, j),
         );
         let before = up(a, &self.accel_means[j]);
         let after = up(a, &self.accel_means[j + 1]);
@@ -379,39 +429,82 @@ fn mean_and_error(samples: &[[f64; 3]]) -> ([f64; 3], [f64; 3]) {
     (mean, sd.map(|s| s / libm::sqrt(samples.len() as f64)))
 }
 
-/// The bias (mean of the poses' gyro means) and its σ, after checking each
-/// pose against the mean of the others.
-fn bias_of_poses(
+/// The bias during move `j` (pose j to j+1): with G, c + G·f along the move.
+fn move_bias(
+    bias: [f64; 3],
+    g: Option<Mat3>,
+    a: &accel_fit::Params,
+    accel_means: &[[f64; 3]],
+    j: usize,
+) -> MoveBias {
+    MoveBias {
+        bias,
+        g_sensitivity: g.map(|g| {
+            (
+                g,
+                [force(a, &accel_means[j]), force(a, &accel_means[j + 1])],
+            )
+        }),
+    }
+}
+
+/// What the poses say about the gyro at rest: the g-sensitivity (where they
+/// support one), the check of each pose against the others, and the bias
+/// with its σ: the fit's intercept when the poses show a G, else the mean of
+/// the poses' means.
+#[allow(clippy::type_complexity)]
+fn poses_at_rest(
     record: &Record,
     poses: &[Segment],
-) -> Result<([f64; 3], Option<[f64; 3]>), FitError> {
-    let n = poses.len() as f64;
+    accel_means: &[[f64; 3]],
+    accel: &AccelFit,
+) -> Result<([f64; 3], Option<[f64; 3]>, Support, Consistency), FitError> {
+    let n = poses.len();
+    let pose = |q: usize| {
+        let s = &poses[q];
+        let (gyro, standard_error) = mean_and_error(&record.gyro[s.start..s.end]);
+        PoseMean {
+            gyro,
+            standard_error,
+            force: force(&accel.params, &accel_means[q]),
+        }
+    };
+    let support = g_sensitivity::fit(n, pose);
+    let with_g = matches!(support, Support::Fitted(_));
+    let check = g_sensitivity::check_poses(n, pose, with_g).map_err(|stray| {
+        let s = &poses[stray.pose];
+        FitError::PoseNotStatic {
+            pose: stray.pose,
+            time_s: [record.t[s.start], record.t[s.end - 1]],
+            axis: stray.axis,
+            rate: stray.residual.abs(),
+            limit: stray.limit,
+            sigmas: stray.check.sigmas,
+            with_g: stray.check.with_g,
+            poses: n,
+        }
+    })?;
+    if let Some(fit) = support.applied() {
+        return Ok((fit.bias, Some(fit.sigma_bias), support, check));
+    }
+    let nf = n as f64;
     let mut sum = [0.0; 3];
-    for s in poses {
-        let (m, _) = mean_and_error(&record.gyro[s.start..s.end]);
+    for q in 0..n {
+        let m = pose(q).gyro;
         for i in 0..3 {
             sum[i] += m[i];
         }
     }
+    let bias = sum.map(|x| x / nf);
     let mut sum_sq = [0.0; 3];
-    let bias = sum.map(|x| x / n);
-    for (pose, s) in poses.iter().enumerate() {
-        let (m, se) = mean_and_error(&record.gyro[s.start..s.end]);
+    for q in 0..n {
+        let m = pose(q).gyro;
         for i in 0..3 {
             sum_sq[i] += (m[i] - bias[i]) * (m[i] - bias[i]);
-            if poses.len() < 2 {
-                continue;
-            }
-            let others = (sum[i] - m[i]) / (n - 1.0);
-            let limit = (STILL_SIGMAS * se[i]).max(STILL_FLOOR);
-            let rate = (m[i] - others).abs();
-            if rate > limit {
-                return Err(FitError::PoseNotStatic { pose, rate, limit });
-            }
         }
     }
-    let sigma = (poses.len() >= 2).then(|| sum_sq.map(|s| libm::sqrt(s / (n - 1.0) / n)));
-    Ok((bias, sigma))
+    let sigma = (n >= 2).then(|| sum_sq.map(|s| libm::sqrt(s / (nf - 1.0) / nf)));
+    Ok((bias, sigma, support, check))
 }
 
 /// The largest rotation between two samples of the moves (rad), and where.
@@ -456,7 +549,13 @@ fn axis_spread(
     let mut scatter = [[0.0; 3]; 3];
     let mut turns = 0;
     for pair in (0..used.len()).map(|m| &poses[used.get(m)..used.get(m) + 2]) {
-        let q = integrate(record, &pair[0], &pair[1], &matrix::IDENTITY, bias);
+        let q = integrate(
+            record,
+            &pair[0],
+            &pair[1],
+            &matrix::IDENTITY,
+            &MoveBias::constant(*bias),
+        );
         let phi = quaternion::to_rotation_vector(&q);
         let angle = libm::sqrt(dot(&phi, &phi));
         if angle < MIN_TURN_DEG.to_radians() {
@@ -607,7 +706,9 @@ fn fit_used(
             needed: MIN_ROTATIONS,
         });
     }
-    let (bias, sigma_bias) = bias_of_poses(&record, poses)?;
+    let (bias, sigma_bias, g_support, pose_check) =
+        poses_at_rest(&record, poses, accel_means, accel)?;
+    let g_applied = g_support.applied().map(|fit| fit.g);
     let (sample, step) = fastest_step_of(&record, poses, &bias, used);
     let limit = MAX_ROTATION_PER_SAMPLE_DEG.to_radians();
     if step > limit {
@@ -640,6 +741,7 @@ fn fit_used(
         accel_means,
         accel,
         bias,
+        g_sensitivity: g_applied,
     };
     let start = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
     let (p, iterations) = levenberg_marquardt::minimise(&problem, start, MAX_ITERATIONS)?;
@@ -692,7 +794,7 @@ fn fit_used(
         dof,
         dof_entries,
         gyro_dof,
-        bias_dof: poses.len() - 1,
+        bias_dof: g_support.applied().map_or(poses.len() - 1, |g| g.dof),
         residual_rms: libm::sqrt(sum_sq / residuals as f64),
         residual_max: worst,
         condition,
@@ -700,5 +802,7 @@ fn fit_used(
         axis_spread: spread,
         max_rotation_per_sample_deg: step.to_degrees(),
         peak_rate,
+        g_sensitivity: g_support,
+        pose_check,
     })
 }

@@ -126,7 +126,7 @@ impl Moves<'_> {
             &s.segments[m.pose],
             &s.segments[m.pose + 1],
             k,
-            &bias,
+            &rig_free::MoveBias::constant(bias),
         )
     }
 

@@ -29,7 +29,8 @@ pub type VariantAccuracy = (Variant, Option<Accuracy>, Option<Accuracy>);
 /// (`None` where the row does not depend on the calibration or has no
 /// sample output to compare: the refold rows use their own calibration with
 /// temperature terms, the pipeline row streams frames of the full_f32
-/// values, the sensor-read rows correct nothing).
+/// values, the sensor-read rows correct nothing; the g-sensitivity rows
+/// have the realistic calibration with a G only).
 pub fn all() -> Result<Vec<VariantAccuracy>> {
     let realistic = Bench::new(&inputs::realistic());
     let extreme = Bench::new(&inputs::extreme());
@@ -44,6 +45,12 @@ pub fn all() -> Result<Vec<VariantAccuracy>> {
                 | Variant::ReadFifo32 => (v, None, None),
                 Variant::RefoldEverySample | Variant::RefoldLowRate => {
                     (v, Some(of(&realistic, v)?), None)
+                }
+                // The realistic calibration with a g-sensitivity, against
+                // its own reference.
+                Variant::FullF32G | Variant::FullFixedG | Variant::BatchF32W32G => {
+                    let with_g = Bench::new(&inputs::with_g_sensitivity());
+                    (v, Some(of(&with_g, v)?), None)
                 }
                 _ => (v, Some(of(&realistic, v)?), Some(of(&extreme, v)?)),
             })

@@ -181,6 +181,26 @@ pub fn markdown(rows: &[Row], commands: &[CommandRow], host: &[(Variant, f64)]) 
             )?;
         }
     }
+    for (with_g, without) in [
+        (Variant::FullF32G, Variant::FullF32),
+        (Variant::FullFixedG, Variant::FullFixed),
+        (Variant::BatchF32W32G, Variant::BatchF32W32),
+    ] {
+        for core in Core::ALL {
+            if let (Some(g), Some(plain)) = (find(rows, core, with_g), find(rows, core, without)) {
+                writeln!(
+                    md,
+                    "- The gyroscope's g-sensitivity G (the gyro's row reads the raw accelerometer sample too, a 3×6 map), `{}` on the {}: **{:.1}** instructions per sample, {:+.1} against `{}` without G ({:.1}).",
+                    with_g.name(),
+                    core.name(),
+                    g.instructions_per_sample,
+                    g.instructions_per_sample - plain.instructions_per_sample,
+                    without.name(),
+                    plain.instructions_per_sample
+                )?;
+            }
+        }
+    }
     if let (Some(f32_row), Some(fixed)) = (m0_f32, m0_fixed) {
         writeln!(
             md,
@@ -300,7 +320,11 @@ k in f64 (software floating point on both cores); `refold_every_sample` and
 sample or once per 100 samples; `pipeline` the whole data-ready step (the
 driver's burst read from a bus that only copies 14 canned bytes, so no chip
 model's instructions are counted; correction, averaging, framing, CRC-32C,
-COBS).
+COBS); `full_f32_g`, `full_fixed_g` and `batch_f32_w32_g` the rows of the same
+names without `_g` on the realistic calibration with a gyroscope
+g-sensitivity G (about 0.1 °/s per g, `inputs::with_g_sensitivity`): the
+gyro's row adds C·raw_a, three more products per axis (their flash is the
+same kernel function's as the row without G: one function serves both).
 ";
 
 /// Bytes per streamed sample, the highest frame rate per baud rate, and the

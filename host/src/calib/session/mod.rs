@@ -445,6 +445,7 @@ fn calibration_file(
         id: 0,
         accel: fit.accel,
         gyro: fit.gyro,
+        g_sensitivity: fit.g_sensitivity,
     };
     Corrector::new_si(
         &calibration,
@@ -633,6 +634,7 @@ mod tests {
             accel: triad(0.01),
             gyro: triad(0.001),
             gravity: STANDARD_GRAVITY,
+            g_sensitivity: None,
         };
         let script = Script {
             rate_hz: 100.0,
