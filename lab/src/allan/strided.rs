@@ -32,6 +32,11 @@
 use super::accumulate::{OctaveResult, BLOCK};
 use super::sum::CompensatedSum;
 
+/// The base M of `triad allan`: fully overlapping octaves up to m = 2^17
+/// (a ring of 2^18 sums, 2 MiB per column), strided ones above, each with
+/// its own ring of 2^18 sums.
+pub const BASE: u64 = 1 << 17;
+
 /// The stride of octave `m` over a base factor `base` (both powers of two):
 /// 1 up to the base, m/base above it.
 pub fn stride(m: u64, base: u64) -> u64 {
@@ -214,17 +219,8 @@ mod tests {
         for o in &octaves {
             let (m, d) = (o.m() as usize, o.stride() as usize);
             let r = o.result().unwrap();
-            // By the definition: every d-th second difference from k = 2m.
-            let mut total = 0.0;
-            let mut terms = 0u64;
-            let mut k = 2 * m;
-            while k < s.len() {
-                let x = s[k] - 2.0 * s[k - m] + s[k - 2 * m];
-                total += x * x;
-                terms += 1;
-                k += d;
-            }
-            let want = total / (2.0 * (m * m) as f64 * terms as f64);
+            // Every d-th second difference from k = 2m: the in-memory stride d.
+            let (want, terms) = direct::allan_variance(&s, m, d).unwrap();
             assert_eq!(r.overlapping_terms, terms, "m = {m}");
             assert!(
                 (r.overlapping - want).abs() <= 1e-12 * want,
