@@ -62,6 +62,8 @@ pub fn run(scope: Scope) -> Result<()> {
             "--test",
             "allan_coverage",
             "--test",
+            "allan_strided_coverage",
+            "--test",
             "rig_free",
             "--test",
             "thermal_fit",
@@ -69,7 +71,7 @@ pub fn run(scope: Scope) -> Result<()> {
             "thermal_gyro",
         ];
         step(
-            "cargo test --release (the Allan coverage sweep, the rig-free and thermal fits' σ coverage over 60 seeds)",
+            "cargo test --release (the Allan coverage sweeps, fully overlapping and strided, the rig-free and thermal fits' σ coverage over 60 seeds)",
             &sweeps,
         )?;
         eprintln!("xtask: cargo doc (core, sim, lab)");
