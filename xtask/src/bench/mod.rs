@@ -4,6 +4,7 @@
 //! reference, and the report (docs/BENCHMARKS.md, or JSON on stdout).
 
 mod accuracy;
+pub mod allan;
 mod command_report;
 mod commands;
 mod cores;
