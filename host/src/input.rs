@@ -38,8 +38,19 @@ pub fn name(path: &Path) -> String {
     }
 }
 
-/// Opens `path` (`-`: standard input) with a `capacity`-byte buffer.
+/// Opens `path` (`-`: standard input) with a `capacity`-byte buffer; a
+/// recording in another format than triad's CSV is read as its CSV.
 pub fn open(path: &Path, capacity: usize) -> anyhow::Result<Input> {
+    if !is_stdin(path) {
+        if let Some(record) = foreign_record(path, capacity)? {
+            return Ok(record);
+        }
+    }
+    open_bytes(path, capacity)
+}
+
+/// Opens `path` (`-`: standard input) as it is, with a `capacity`-byte buffer.
+pub fn open_bytes(path: &Path, capacity: usize) -> anyhow::Result<Input> {
     let name = name(path);
     if is_stdin(path) {
         return Ok(Input {
@@ -47,9 +58,6 @@ pub fn open(path: &Path, capacity: usize) -> anyhow::Result<Input> {
             reader: Box::new(BufReader::with_capacity(capacity, io::stdin())),
             size: 0,
         });
-    }
-    if let Some(record) = foreign_record(path, capacity)? {
-        return Ok(record);
     }
     let file = File::open(path).with_context(|| format!("{name}: cannot open"))?;
     let size = file.metadata().map(|m| m.len()).unwrap_or(0);

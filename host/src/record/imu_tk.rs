@@ -16,13 +16,13 @@ use crate::input;
 /// Opens the imu_tk file at `path`.
 pub fn open(path: &Path, options: &Options) -> anyhow::Result<Opened> {
     let name = input::name(path);
-    let triad = match options.triad.or_else(|| triad_from_name(path)) {
+    let triad = match options.imu_tk_triad.or_else(|| triad_from_name(path)) {
         Some(t) => t,
         None => bail!(
             "{name}: an imu_tk file holds one triad and its name does not say which (acc… or gyr…): give --imu-tk-triad accel or --imu-tk-triad gyro"
         ),
     };
-    let opened = input::open(path, 1 << 20)?;
+    let opened = input::open_bytes(path, 1 << 20)?;
     let parse = Box::new(move |line: &str, at: u64| {
         let cells: Vec<&str> = line.split_whitespace().collect();
         if cells.len() != 4 {

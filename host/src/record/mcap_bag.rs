@@ -25,8 +25,13 @@ const TEMPERATURE_TYPE: &str = "sensor_msgs/msg/Temperature";
 pub fn open(path: &Path, options: &Options) -> anyhow::Result<Opened> {
     let name = input::name(path);
     let all = topics_of(path, &name)?;
-    let topic = topics::choose(&name, &all, options.topic.as_deref(), imu_msg::is_imu)?;
-    let time = options.time;
+    let topic = topics::choose(
+        &name,
+        &all,
+        options.record_topic.as_deref(),
+        imu_msg::is_imu,
+    )?;
+    let time = options.record_time;
     let beside = format!("{topic}/temperature");
     let temperature = all
         .iter()

@@ -23,18 +23,18 @@ pub struct Options {
     /// The IMU topic (ROS bags) or message (ULog: sensor_combined or
     /// sensor_accel+sensor_gyro) to read where a recording has several.
     #[arg(
-        long,
+        long = "topic",
         global = true,
         value_name = "NAME",
         help_heading = "Reading recordings"
     )]
-    pub topic: Option<String>,
+    pub record_topic: Option<String>,
     /// The time of each sample in a bag or ULog: the message's stamp or when it was logged.
     #[arg(long = "time", global = true, value_enum, default_value_t = TimeSource::Header, help_heading = "Reading recordings")]
-    pub time: TimeSource,
+    pub record_time: TimeSource,
     /// The triad an imu_tk text file holds (default: from its name: acc… or gyr…).
     #[arg(long = "imu-tk-triad", global = true, value_name = "accel|gyro", value_parser = parse_triad, help_heading = "Reading recordings")]
-    pub triad: Option<Triad>,
+    pub imu_tk_triad: Option<Triad>,
 }
 
 /// `accel` or `gyro`.

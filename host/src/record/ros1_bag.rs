@@ -28,9 +28,14 @@ pub fn open(path: &Path, options: &Options) -> anyhow::Result<Opened> {
         p.dedup();
         p
     };
-    let topic = topics::choose(&name, &pairs, options.topic.as_deref(), imu_msg::is_imu)?;
+    let topic = topics::choose(
+        &name,
+        &pairs,
+        options.record_topic.as_deref(),
+        imu_msg::is_imu,
+    )?;
     let ids: Vec<u32> = conns.iter().filter(|c| c.1 == topic).map(|c| c.0).collect();
-    let time = options.time;
+    let time = options.record_time;
     let (path_, name_, topic_) = (path.to_path_buf(), name.clone(), topic.clone());
     let reader = spawn(&name, move |sink| {
         read(&path_, &name_, &topic_, &ids, time, sink)

@@ -18,13 +18,13 @@ use crate::input;
 pub fn open(path: &Path, options: &Options) -> anyhow::Result<Opened> {
     let name = input::name(path);
     let db = connect(path, &name)?;
-    let all =
-        topics_of(&db).map_err(|e| anyhow!("{name}: not a ROS 2 bag (its topics table: {e})"))?;
+    let all = topics_of(&db)
+        .map_err(|e| anyhow!("{name}: cannot read a ROS 2 bag's topics table: {e}"))?;
     let (id, topic, format) = {
         let topic = topics::choose(
             &name,
             &strip_ids(&all),
-            options.topic.as_deref(),
+            options.record_topic.as_deref(),
             imu_msg::is_imu,
         )?;
         let (id, _, _, format) = all
@@ -37,7 +37,7 @@ pub fn open(path: &Path, options: &Options) -> anyhow::Result<Opened> {
     if format != "cdr" {
         bail!("{name}: topic {topic} is serialised as `{format}`, not ROS 2's cdr");
     }
-    let time = options.time;
+    let time = options.record_time;
     let (path_, name_, topic_) = (path.to_path_buf(), name.clone(), topic.clone());
     let reader = spawn(&name, move |sink| {
         let db = connect(&path_, &name_)?;

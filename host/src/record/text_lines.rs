@@ -28,7 +28,7 @@ pub struct TextLines {
 pub fn open_with_header(
     path: &Path,
 ) -> anyhow::Result<(String, String, Box<dyn BufRead + Send>, u64)> {
-    let opened = input::open(path, 1 << 20)?;
+    let opened = input::open_bytes(path, 1 << 20)?;
     let mut reader = opened.reader;
     let mut line = String::new();
     let mut number = 0;

@@ -46,7 +46,7 @@ pub fn open(path: &Path, options: &Options) -> anyhow::Result<Opened> {
         pairs.push((PAIR.to_string(), PAIR.to_string()));
     }
     pairs.sort();
-    let topic = topics::choose(&name, &pairs, options.topic.as_deref(), |t| {
+    let topic = topics::choose(&name, &pairs, options.record_topic.as_deref(), |t| {
         t == COMBINED || t == PAIR
     })?;
     let channels = Channels {
@@ -54,7 +54,7 @@ pub fn open(path: &Path, options: &Options) -> anyhow::Result<Opened> {
         gyro: true,
         temp: topic == PAIR,
     };
-    let time = options.time;
+    let time = options.record_time;
     let (path_, name_, pair_) = (path.to_path_buf(), name.clone(), topic == PAIR);
     let reader = spawn(&name, move |sink| read(&path_, &name_, pair_, time, sink));
     Ok(Opened {
