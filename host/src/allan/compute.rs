@@ -136,8 +136,8 @@ fn push_block(states: &mut [ColumnState], block: &[f64], width: usize) {
 /// Two threads: one splits and parses the rows, the other integrates them
 /// (on two cores the parsing and the accumulation overlap).
 pub fn analyse(args: &AllanArgs) -> anyhow::Result<Analysis> {
-    let name = crate::input::name(&args.input);
-    let opened = rows::open(&args.input, &name)?;
+    let opened = rows::open(&args.input, &crate::input::name(&args.input))?;
+    let name = opened.name.clone();
     let size = opened.size;
     let layout = Layout::new(&opened.header, args.columns.as_deref(), args.rate.is_none())
         .map_err(|e| anyhow!("{name}: {e}"))?;

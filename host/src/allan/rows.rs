@@ -96,6 +96,8 @@ fn trim_line(line: &[u8]) -> &[u8] {
 
 /// The CSV opened: its header line, its size, and the reader after the header.
 pub(crate) struct Opened {
+    /// Its name in messages (a recording read as CSV says so).
+    pub(crate) name: String,
     /// The header, trimmed.
     pub(crate) header: String,
     /// The file's size in bytes (0 when unknown).
@@ -117,6 +119,7 @@ pub(crate) fn open(path: &Path, name: &str) -> anyhow::Result<Opened> {
         bail!("{name}: empty file (no header)");
     }
     Ok(Opened {
+        name: opened.name,
         header: String::from_utf8_lossy(strip_bom_bytes(&line))
             .trim()
             .to_string(),
