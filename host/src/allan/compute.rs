@@ -20,7 +20,8 @@ use super::columns::{Layout, Selected};
 use super::curve::{self, Point};
 use super::fit::{fit_octaves, CovarianceCache, NoFit};
 use super::parallel;
-use super::rows::{self, Rows};
+use super::record_rows::{self, RecordRows};
+use super::rows::{self, RowSource, Rows};
 use super::time;
 use super::AllanArgs;
 use crate::progress::{Progress, Unit};
@@ -131,30 +132,60 @@ fn push_block(states: &mut [ColumnState], block: &[f64], width: usize) {
     }
 }
 
-/// Reads the CSV once and computes every column's curve and fit.
-///
-/// Two threads: one splits and parses the rows, the other integrates them
-/// (on two cores the parsing and the accumulation overlap).
+/// Reads the record once and computes every column's curve and fit: a
+/// recording in another format from its reader's samples
+/// ([`record_rows`](super::record_rows)), a CSV from its lines.
 pub fn analyse(args: &AllanArgs) -> anyhow::Result<Analysis> {
+    if let Some(opened) = record_rows::open(&args.input)? {
+        let name = opened.name.clone();
+        let header = opened.header.clone();
+        return analyse_rows(args, &header, &name, 0, |layout| {
+            RecordRows::new(opened, layout)
+        });
+    }
     let opened = rows::open(&args.input, &crate::input::name(&args.input))?;
     let name = opened.name.clone();
-    let size = opened.size;
-    let layout = Layout::new(&opened.header, args.columns.as_deref(), args.rate.is_none())
+    let (header, size) = (opened.header.clone(), opened.size);
+    analyse_rows(args, &header, &name, size, |layout| {
+        Rows::new(opened, layout, &name)
+    })
+}
+
+/// The analysis of the rows `rows_of` gives for the layout of `header`
+/// (`name` in messages; `size` bytes, 0 when unknown).
+///
+/// One thread reads (splits and parses the CSV, or runs the recording's
+/// reader), the others integrate the rows, the columns shared among them.
+fn analyse_rows<R: RowSource>(
+    args: &AllanArgs,
+    header: &str,
+    name: &str,
+    size: u64,
+    rows_of: impl FnOnce(&Layout) -> R,
+) -> anyhow::Result<Analysis> {
+    let layout = Layout::new(header, args.columns.as_deref(), args.rate.is_none())
         .map_err(|e| anyhow!("{name}: {e}"))?;
-    let mut rows = Rows::new(opened, &layout, &name);
+    let mut rows = rows_of(&layout);
     let width = layout.width();
     let first = first_block(&mut rows, width)?;
     let first_rows = first.len() / width;
     let mut states = column_states(args, &rows, &first, width, layout.selected.len())?;
     push_block(&mut states, &first, width);
     drop(first);
-    let bytes_per_row = rows.bytes as f64 / first_rows.max(1) as f64;
-    let rows = stream(rows, &mut states, width, size, bytes_per_row, &name)?;
+    // Progress in bytes where they are counted (a CSV), else in samples.
+    let progress = match rows.bytes() {
+        0 => (Progress::new(0, 0, Unit::Samples), 1.0),
+        bytes => (
+            Progress::new(size, 64 << 20, Unit::Bytes),
+            bytes as f64 / first_rows.max(1) as f64,
+        ),
+    };
+    let rows = stream(rows, &mut states, width, progress, name)?;
     let samples = states[0].acc.samples();
     if samples < MIN_SAMPLES {
         anyhow::bail!("{name}: too few samples: {samples} rows; the Allan deviation needs at least {MIN_SAMPLES}");
     }
-    let (rate, rate_source) = time::sample_rate(args.rate, rows.time.as_ref(), samples, &name)?;
+    let (rate, rate_source) = time::sample_rate(args.rate, rows.time(), samples, name)?;
     let columns = results(args, layout.selected, states, rate, samples)
         .map_err(|e| anyhow!("{name}: {e}"))?;
     Ok(Analysis {
@@ -166,8 +197,8 @@ pub fn analyse(args: &AllanArgs) -> anyhow::Result<Analysis> {
 }
 
 /// The first [`OFFSET_ROWS`] rows, `width` values each: they give the
-/// offsets (means), the rate from t and the record's length from the file's size.
-fn first_block(rows: &mut Rows, width: usize) -> anyhow::Result<Vec<f64>> {
+/// offsets (means) and the rate from t.
+fn first_block(rows: &mut impl RowSource, width: usize) -> anyhow::Result<Vec<f64>> {
     let mut values = vec![0.0; width];
     let mut first: Vec<f64> = Vec::with_capacity(OFFSET_ROWS * width);
     while first.len() < OFFSET_ROWS * width && rows.next_row(&mut values)? {
@@ -179,13 +210,13 @@ fn first_block(rows: &mut Rows, width: usize) -> anyhow::Result<Vec<f64>> {
 /// One accumulator per column, its offset the column's mean over `first`.
 fn column_states(
     args: &AllanArgs,
-    rows: &Rows,
+    rows: &impl RowSource,
     first: &[f64],
     width: usize,
     columns: usize,
 ) -> anyhow::Result<Vec<ColumnState>> {
     let first_rows = first.len() / width;
-    let max_m = max_m(args, time::provisional_rate(args.rate, rows.time.as_ref()));
+    let max_m = max_m(args, time::provisional_rate(args.rate, rows.time()));
     (0..columns)
         .map(|c| {
             let offset = if first_rows == 0 {
@@ -198,29 +229,26 @@ fn column_states(
         .collect()
 }
 
-/// The rest of the rows: parsed in blocks by a second thread, integrated
-/// by the others ([`parallel::accumulate`]). Returns the rows (their t
-/// check) once the file is read.
-fn stream(
-    rows: Rows,
+/// The rest of the rows: read in blocks by a second thread, integrated by
+/// the others ([`parallel::accumulate`]); `progress` shows the rows done
+/// times its scale (bytes per row, or 1). Returns the rows (their t check)
+/// once the record is read.
+fn stream<R: RowSource>(
+    rows: R,
     states: &mut [ColumnState],
     width: usize,
-    size: u64,
-    bytes_per_row: f64,
+    (progress, scale): (Progress, f64),
     name: &str,
-) -> anyhow::Result<Rows> {
-    // Inputs over 64 MB show the bar.
-    let progress = Progress::new(size, 64 << 20, Unit::Bytes);
+) -> anyhow::Result<R> {
     let (tx, rx) = std::sync::mpsc::sync_channel::<anyhow::Result<Vec<f64>>>(4);
     let rows = std::thread::scope(|scope| {
         let parser = scope.spawn(move || parse_blocks(rows, width, tx));
         let failure = parallel::accumulate(rx, states, width, |consumed| {
-            // Bytes done, from the rows done and the first rows' mean length.
-            progress.update((consumed as f64 * bytes_per_row) as u64)
+            progress.update((consumed as f64 * scale) as u64)
         });
         let rows = parser
             .join()
-            .map_err(|_| anyhow!("{name}: the parsing thread failed"))?;
+            .map_err(|_| anyhow!("{name}: the reading thread failed"))?;
         match failure {
             Some(e) => Err(e),
             None => Ok(rows),
@@ -232,7 +260,11 @@ fn stream(
 
 /// The parsing thread: blocks of [`BLOCK_ROWS`] rows sent on `tx`, then the
 /// first error if any; returns the rows when done.
-fn parse_blocks(mut rows: Rows, width: usize, tx: SyncSender<anyhow::Result<Vec<f64>>>) -> Rows {
+fn parse_blocks<R: RowSource>(
+    mut rows: R,
+    width: usize,
+    tx: SyncSender<anyhow::Result<Vec<f64>>>,
+) -> R {
     let mut values = vec![0.0; width];
     loop {
         let mut block = Vec::with_capacity(BLOCK_ROWS * width);

@@ -37,6 +37,7 @@ pub mod json;
 pub mod kalibr;
 mod parallel;
 pub mod plot;
+mod record_rows;
 mod rows;
 pub mod summary;
 pub mod table;
