@@ -45,8 +45,10 @@ fn peer_python() -> Result<PathBuf> {
 }
 
 /// Builds `triad` and the benchmark (release), installs the peer, runs it
-/// (`long`: the 24-hour, 2 kHz case too); its figures on stdout.
-pub fn run(long: bool) -> Result<()> {
+/// (`long`: the 24-hour, 2 kHz case too) and returns its figures as the
+/// markdown section of docs/BENCHMARKS.md (the benchmark's own progress on
+/// stderr).
+pub fn section(long: bool) -> Result<String> {
     let python = peer_python()?;
     build_host_tool()?;
     let mut build = cargo();
@@ -66,9 +68,35 @@ pub fn run(long: bool) -> Result<()> {
     if long {
         bench.arg("--long");
     }
-    let status = bench
-        .status()
+    eprintln!(
+        "xtask: Allan at scale (an 8-hour record{})",
+        if long { " and a 24-hour one" } else { "" }
+    );
+    let out = bench
+        .stderr(std::process::Stdio::inherit())
+        .output()
         .with_context(|| format!("starting {}", exe.display()))?;
-    anyhow::ensure!(status.success(), "the Allan benchmark failed ({status})");
+    anyhow::ensure!(
+        out.status.success(),
+        "the Allan benchmark failed ({})",
+        out.status
+    );
+    let mut md = String::from(
+        "## Allan at the scale of real recordings\n\n\
+         `cargo xtask bench --allan --long` (this section alone; `cargo xtask bench` writes it with the rest): \
+         host/examples/bench_allan_scale.rs on this machine, `triad allan` timed by `/usr/bin/time` \
+         (wall, user + system CPU, peak resident memory), allantools' `oadev` (octave taus) on the same \
+         six columns already in memory, timed in its process (bench/allan_peer.py), one after the other in one run.\n\n",
+    );
+    for line in String::from_utf8_lossy(&out.stdout).lines() {
+        md += &format!("- {line}\n");
+    }
+    md.push('\n');
+    Ok(md)
+}
+
+/// `cargo xtask bench --allan`: the section on stdout.
+pub fn run(long: bool) -> Result<()> {
+    print!("{}", section(long)?);
     Ok(())
 }

@@ -97,6 +97,7 @@ pub fn run(json: bool) -> Result<()> {
     let mut markdown = report::markdown(&rows, &command_rows, &host)?;
     markdown += "\n";
     markdown += &whole_firmware_report::markdown(&firmware_rows, &long_run, fusion);
+    markdown += &allan::section(true)?;
     std::fs::write(docs.join("BENCHMARKS.md"), markdown)?;
     eprintln!("xtask: wrote docs/BENCHMARKS.md and docs/benchmarks.svg");
     Ok(())
