@@ -13,7 +13,7 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use triad_host::calib::fit_csv::{self, Record};
 use triad_host::calib::fit_imu;
 use triad_lab::calib_fit::hand_record::{self, Axes, Script};
-use triad_sim::rng::Rng;
+use triad_sim::effects::rng::Rng;
 
 /// Samples per second of the benchmark's record.
 pub const RATE_HZ: f64 = 400.0;

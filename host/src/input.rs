@@ -1,12 +1,18 @@
 //! Opening a CSV input: a file, or standard input for `-`; a UTF-8
 //! byte-order mark (as some spreadsheet exports write) is not part of the
-//! first column's name.
+//! first column's name. A recording in another format (a bag, a ULog,
+//! EuRoC, imu_tk: see [`crate::record`]) is read as the CSV of its samples
+//! (`t,ax,ay,az,gx,gy,gz[,temp]`, SI, every number exact), so every command
+//! that reads CSV reads them; its name in messages then says so, and a
+//! "line" there is the header (1) or a sample (2 on).
 
 use std::fs::File;
 use std::io::{self, BufRead, BufReader};
 use std::path::Path;
 
 use anyhow::Context;
+
+use crate::record;
 
 /// An opened input.
 pub struct Input {
@@ -32,8 +38,19 @@ pub fn name(path: &Path) -> String {
     }
 }
 
-/// Opens `path` (`-`: standard input) with a `capacity`-byte buffer.
+/// Opens `path` (`-`: standard input) with a `capacity`-byte buffer; a
+/// recording in another format than triad's CSV is read as its CSV.
 pub fn open(path: &Path, capacity: usize) -> anyhow::Result<Input> {
+    if !is_stdin(path) {
+        if let Some(record) = foreign_record(path, capacity)? {
+            return Ok(record);
+        }
+    }
+    open_bytes(path, capacity)
+}
+
+/// Opens `path` (`-`: standard input) as it is, with a `capacity`-byte buffer.
+pub fn open_bytes(path: &Path, capacity: usize) -> anyhow::Result<Input> {
     let name = name(path);
     if is_stdin(path) {
         return Ok(Input {
@@ -49,6 +66,33 @@ pub fn open(path: &Path, capacity: usize) -> anyhow::Result<Input> {
         reader: Box::new(BufReader::with_capacity(capacity, file)),
         size,
     })
+}
+
+/// A recording at `path` that is not triad's CSV (a regular file or a bag
+/// directory; FIFOs and devices are not looked into), as a CSV stream.
+fn foreign_record(path: &Path, capacity: usize) -> anyhow::Result<Option<Input>> {
+    let Ok(meta) = std::fs::metadata(path) else {
+        return Ok(None);
+    };
+    if !(meta.is_file() || meta.is_dir())
+        || !record::detect::detect(path)?.is_container_or_foreign()
+    {
+        return Ok(None);
+    }
+    let opened = record::open(path, &record::options::global())?;
+    let name = format!(
+        "{} (read as CSV from {})",
+        name(path),
+        opened.source.format.name()
+    );
+    Ok(Some(Input {
+        name,
+        reader: Box::new(BufReader::with_capacity(
+            capacity,
+            record::to_csv::CsvStream::new(opened),
+        )),
+        size: 0,
+    }))
 }
 
 /// The UTF-8 byte-order mark.

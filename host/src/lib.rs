@@ -9,6 +9,7 @@
 //! - [`calib`]: check, pack and fit calibration files ([`calib_file`]);
 //! - [`sim`]: what a sensor measures in a scene ([`scene_file`]);
 //! - [`allan`]: Allan deviation, noise terms and grade of rate columns;
+//! - [`convert`]: a recording of any format read ([`record`]) → CSV or MCAP;
 //! - [`cli_docs`]: shell completions and man pages of the command line.
 //!
 //! What every command shares: [`input`] (a CSV file or stdin), [`outfile`]
@@ -24,6 +25,7 @@ pub mod allan;
 pub mod calib;
 pub mod calib_file;
 pub mod cli_docs;
+pub mod convert;
 pub mod correct;
 pub mod decode;
 pub mod device;
@@ -33,6 +35,7 @@ pub mod interrupt;
 pub mod number;
 pub mod outfile;
 pub mod progress;
+pub mod record;
 pub mod row_writer;
 pub mod scene_file;
 pub mod serial;

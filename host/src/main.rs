@@ -12,7 +12,9 @@ use std::process::ExitCode;
 use clap::CommandFactory;
 use clap::{Parser, Subcommand};
 use triad_host::stdio::{self, READER_GONE_STATUS};
-use triad_host::{allan, calib, cli_docs, correct, decode, device, progress, sim, units, version};
+use triad_host::{
+    allan, calib, cli_docs, convert, correct, decode, device, progress, record, sim, units, version,
+};
 
 #[derive(Parser)]
 #[command(
@@ -24,6 +26,9 @@ struct Cli {
     /// No progress lines on stderr.
     #[arg(long, short, global = true)]
     quiet: bool,
+    /// How recordings (bags, ULogs) are read, for every command that reads one.
+    #[command(flatten)]
+    record: record::Options,
     #[command(subcommand)]
     command: Command,
 }
@@ -42,6 +47,8 @@ enum Command {
     Sim(sim::SimArgs),
     /// Allan deviation, IEEE 952 noise terms and sensor grade of rate columns.
     Allan(allan::AllanArgs),
+    /// Convert a recording (CSV, EuRoC, imu_tk, ROS 1/2 bag, MCAP, ULog) to triad's CSV or to MCAP.
+    Convert(convert::ConvertArgs),
     /// Convert a specification value between data-sheet, Allan and Kalibr units.
     Units(units::UnitsArgs),
     /// Print a shell completion script (bash, zsh, fish, elvish, powershell).
@@ -62,6 +69,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     if cli.quiet {
         progress::silence();
     }
+    record::options::set(cli.record);
     stdio::check_stdout_open()?;
     match cli.command {
         Command::Decode(args) => decode::run(args),
@@ -70,6 +78,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Calib(args) => calib::run(args),
         Command::Sim(args) => sim::run(args),
         Command::Allan(args) => allan::run(args),
+        Command::Convert(args) => convert::run(args),
         Command::Units(args) => units::run(args),
         Command::Completions(args) => cli_docs::completions(args, Cli::command()),
         Command::Man(args) => cli_docs::man(args, Cli::command()),

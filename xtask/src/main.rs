@@ -8,7 +8,8 @@
 //!   on a pseudo-terminal for `triad device --port`.
 //! - `cargo xtask man DIR`: the `triad` man pages, from its argument definitions.
 //! - `cargo xtask bench`: the benchmark firmware on emulated cores; writes
-//!   docs/BENCHMARKS.md.
+//!   docs/BENCHMARKS.md; `cargo xtask bench --allan`: Allan at the scale of
+//!   real recordings beside allantools.
 
 use clap::{Parser, Subcommand};
 
@@ -72,6 +73,13 @@ enum Command {
         /// bytes (10⁷ inputs each; host/examples/bench_fuzz.rs).
         #[arg(long, conflicts_with_all = ["json", "whole_firmware"])]
         fuzz: bool,
+        /// Only Allan at scale: an 8-hour 400 Hz six-axis record through
+        /// `triad allan` beside allantools (installed in a venv under target/).
+        #[arg(long, conflicts_with_all = ["json", "whole_firmware", "fuzz"])]
+        allan: bool,
+        /// With --allan: the 24-hour, 2 kHz record too (streamed from a generator).
+        #[arg(long, requires = "allan")]
+        long: bool,
     },
     /// Serve the emulated board like hardware: QEMU in real time, its link on
     /// a pseudo-terminal whose path is the first line on stdout; runs until killed.
@@ -197,9 +205,13 @@ fn main() -> std::process::ExitCode {
             _ => test::Scope::All,
         }),
         Command::Bench {
+            allan: true, long, ..
+        } => bench::allan::run(long),
+        Command::Bench {
             json,
             whole_firmware,
             fuzz,
+            ..
         } => match fuzz {
             true => bench::run_fuzz(),
             false => setup::ensure_all().and_then(|()| match whole_firmware {

@@ -54,6 +54,7 @@ pub fn run(scope: Scope) -> Result<()> {
         let clippy = ["clippy", "--all-targets", "--quiet", "--", "-D", "warnings"];
         step("cargo clippy (host)", &clippy)?;
         step("cargo test (host)", &["test", "--quiet"])?;
+        recordings_peers()?;
         // Statistical sweeps are ignored in debug builds: run here in release.
         let sweeps = [
             "test",
@@ -64,6 +65,8 @@ pub fn run(scope: Scope) -> Result<()> {
             "--test",
             "allan_coverage",
             "--test",
+            "allan_strided_coverage",
+            "--test",
             "rig_free",
             "--test",
             "thermal_fit",
@@ -71,7 +74,7 @@ pub fn run(scope: Scope) -> Result<()> {
             "thermal_gyro",
         ];
         step(
-            "cargo test --release (the Allan coverage sweep, the rig-free, g-sensitivity and thermal fits' σ coverage over 60 seeds)",
+            "cargo test --release (the Allan coverage sweeps, fully overlapping and strided, the rig-free, g-sensitivity and thermal fits' σ coverage over 60 seeds)",
             &sweeps,
         )?;
         note!("xtask: cargo doc (core, sim, lab)");
@@ -297,6 +300,17 @@ fn ignored_host_tests(name: &str, harness: &[&str]) -> std::process::Command {
         .args(["--", "--ignored"])
         .args(harness);
     command
+}
+
+/// host/tests/recordings_peers.rs: bags written by Python's rosbags, an
+/// MCAP of triad's read by Python's mcap-ros2-support, a ULog as pyulog
+/// reads it; the Python peers installed first ([`setup::python_peers`]).
+fn recordings_peers() -> Result<()> {
+    let python = setup::python_peers::ensure()?;
+    note!("xtask: recordings against the Python peers (rosbags, pyulog, mcap)");
+    let mut command = ignored_host_tests("recordings_peers", &[]);
+    command.env("TRIAD_PEERS_PYTHON", python);
+    check(command, "the recordings tests against the Python peers")
 }
 
 fn step(what: &str, args: &[&str]) -> Result<()> {

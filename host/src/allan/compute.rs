@@ -1,19 +1,27 @@
 //! Streaming the Allan deviation: the file read once, one thread splitting
-//! and parsing rows in blocks while this one integrates them into each
-//! column's [`OctaveAccumulator`] (whose ring grows, before it wraps, up to
-//! what the τ grid and the record need), then each column's curve and fit.
+//! and parsing rows in blocks while the others integrate them, the columns
+//! shared among the cores ([`parallel`](super::parallel)), each column into
+//! its [`ColumnState`]: an [`OctaveAccumulator`] (fully overlapping octaves
+//! up to m = [`BASE`], in a ring grown before it wraps up to 2·BASE sums)
+//! and, above, [`StridedOctave`]s (terms every m/BASE samples, 2·BASE sums
+//! each); then each column's curve and fit. Memory per column is therefore
+//! at most 16·BASE bytes per octave up to the τ grid's end (2 MiB each, 16
+//! MiB at the default m = 2^24), whatever the record's length.
 
-use std::sync::mpsc::{Receiver, SyncSender};
+use std::sync::mpsc::SyncSender;
 
 use anyhow::anyhow;
 use triad::model::Triad;
 use triad_lab::allan::accumulate::OctaveAccumulator;
 use triad_lab::allan::noise_terms::NoiseFit;
+use triad_lab::allan::strided::{StridedOctave, BASE};
 
 use super::columns::{Layout, Selected};
 use super::curve::{self, Point};
 use super::fit::{fit_octaves, CovarianceCache, NoFit};
-use super::rows::{self, Rows};
+use super::parallel;
+use super::record_rows::{self, RecordRows};
+use super::rows::{self, RowSource, Rows};
 use super::time;
 use super::AllanArgs;
 use crate::progress::{Progress, Unit};
@@ -33,8 +41,8 @@ const DEFAULT_MAX_M_ALL_TAU: u64 = 1 << 14;
 /// First ring length.
 const FIRST_RING: usize = 4096;
 
-/// Rows per block handed from the parsing thread to the accumulating one.
-const BLOCK_ROWS: usize = 8192;
+/// Rows per block handed from the parsing thread to the accumulating ones.
+pub(super) const BLOCK_ROWS: usize = 8192;
 
 /// One analysed column.
 pub struct ColumnResult {
@@ -61,57 +69,123 @@ pub struct Analysis {
 }
 
 /// Per-column streaming state.
-struct ColumnState {
-    acc: OctaveAccumulator<Vec<f64>>,
+pub(super) struct ColumnState {
+    pub(super) acc: OctaveAccumulator<Vec<f64>>,
+    /// The octaves above BASE, shortest first (empty when the grid stops below).
+    pub(super) above: Vec<StridedOctave<Vec<f64>>>,
     all: Option<Vec<f64>>,
     ring_cap: usize,
 }
 
 impl ColumnState {
+    /// A column whose samples have mean ≈ `offset`, for octaves up to
+    /// `max_m` (`all_tau`: the record kept for every τ as well).
+    fn new(offset: f64, max_m: u64, all_tau: bool) -> anyhow::Result<Self> {
+        let ring_cap = ring_cap(max_m);
+        let acc = OctaveAccumulator::new(vec![0.0; FIRST_RING.min(ring_cap)], offset)
+            .map_err(|e| anyhow!("{e}"))?;
+        // Every τ holds the record: no octave strided there.
+        let top = if all_tau { BASE } else { max_m.max(1) };
+        // Zeroed rings: pages untouched by a short record cost no memory.
+        let above = (BASE.ilog2() + 1..=top.ilog2())
+            .map(|o| StridedOctave::new(1 << o, BASE, vec![0.0; 2 * BASE as usize]))
+            .collect::<Result<_, _>>()
+            .map_err(|e| anyhow!("{e}"))?;
+        Ok(ColumnState {
+            acc,
+            above,
+            all: all_tau.then(Vec::new),
+            ring_cap,
+        })
+    }
+
     /// Pushes one sample, growing the ring (before it wraps) up to its cap.
+    #[inline]
     fn push(&mut self, v: f64) {
         // Cannot fail: the ring is of the length asked for.
         let _ = self.acc.grow_before_wrap(self.ring_cap, |n| vec![0.0; n]);
         self.acc.push(v);
+        let k = self.acc.samples();
+        // Every strided stride is a multiple of 2: the others see nothing.
+        if k & 1 == 0 {
+            for o in self.above.iter_mut() {
+                o.push(k, self.acc.cumulative());
+            }
+        }
         if let Some(all) = self.all.as_mut() {
             all.push(v);
         }
     }
 }
 
-/// Pushes a block of rows (`states.len()` leading values per row of `width`).
-fn push_block(states: &mut [ColumnState], block: &[f64], width: usize) {
+/// Pushes column `c` of a block of rows of `width` values into `state`.
+pub(super) fn push_column(state: &mut ColumnState, block: &[f64], width: usize, c: usize) {
     for row in block.chunks_exact(width) {
-        for (st, &v) in states.iter_mut().zip(row) {
-            st.push(v);
-        }
+        state.push(row[c]);
     }
 }
 
-/// Reads the CSV once and computes every column's curve and fit.
-///
-/// Two threads: one splits and parses the rows, the other integrates them
-/// (on two cores the parsing and the accumulation overlap).
+/// Pushes a block of rows (`states.len()` leading values per row of `width`).
+fn push_block(states: &mut [ColumnState], block: &[f64], width: usize) {
+    for (c, st) in states.iter_mut().enumerate() {
+        push_column(st, block, width, c);
+    }
+}
+
+/// Reads the record once and computes every column's curve and fit: a
+/// recording in another format from its reader's samples
+/// ([`record_rows`](super::record_rows)), a CSV from its lines.
 pub fn analyse(args: &AllanArgs) -> anyhow::Result<Analysis> {
-    let name = crate::input::name(&args.input);
-    let opened = rows::open(&args.input, &name)?;
-    let size = opened.size;
-    let layout = Layout::new(&opened.header, args.columns.as_deref(), args.rate.is_none())
+    if let Some(opened) = record_rows::open(&args.input)? {
+        let name = opened.name.clone();
+        let header = opened.header.clone();
+        return analyse_rows(args, &header, &name, 0, |layout| {
+            RecordRows::new(opened, layout)
+        });
+    }
+    let opened = rows::open(&args.input, &crate::input::name(&args.input))?;
+    let name = opened.name.clone();
+    let (header, size) = (opened.header.clone(), opened.size);
+    analyse_rows(args, &header, &name, size, |layout| {
+        Rows::new(opened, layout, &name)
+    })
+}
+
+/// The analysis of the rows `rows_of` gives for the layout of `header`
+/// (`name` in messages; `size` bytes, 0 when unknown).
+///
+/// One thread reads (splits and parses the CSV, or runs the recording's
+/// reader), the others integrate the rows, the columns shared among them.
+fn analyse_rows<R: RowSource>(
+    args: &AllanArgs,
+    header: &str,
+    name: &str,
+    size: u64,
+    rows_of: impl FnOnce(&Layout) -> R,
+) -> anyhow::Result<Analysis> {
+    let layout = Layout::new(header, args.columns.as_deref(), args.rate.is_none())
         .map_err(|e| anyhow!("{name}: {e}"))?;
-    let mut rows = Rows::new(opened, &layout, &name);
+    let mut rows = rows_of(&layout);
     let width = layout.width();
     let first = first_block(&mut rows, width)?;
     let first_rows = first.len() / width;
-    let mut states = column_states(args, &rows, &first, width, layout.selected.len(), size)?;
+    let mut states = column_states(args, &rows, &first, width, layout.selected.len())?;
     push_block(&mut states, &first, width);
     drop(first);
-    let bytes_per_row = rows.bytes as f64 / first_rows.max(1) as f64;
-    let rows = stream(rows, &mut states, width, size, bytes_per_row, &name)?;
+    // Progress in bytes where they are counted (a CSV), else in samples.
+    let progress = match rows.bytes() {
+        0 => (Progress::new(0, 0, Unit::Samples), 1.0),
+        bytes => (
+            Progress::new(size, 64 << 20, Unit::Bytes),
+            bytes as f64 / first_rows.max(1) as f64,
+        ),
+    };
+    let rows = stream(rows, &mut states, width, progress, name)?;
     let samples = states[0].acc.samples();
     if samples < MIN_SAMPLES {
         anyhow::bail!("{name}: too few samples: {samples} rows; the Allan deviation needs at least {MIN_SAMPLES}");
     }
-    let (rate, rate_source) = time::sample_rate(args.rate, rows.time.as_ref(), samples, &name)?;
+    let (rate, rate_source) = time::sample_rate(args.rate, rows.time(), samples, name)?;
     let columns = results(args, layout.selected, states, rate, samples)
         .map_err(|e| anyhow!("{name}: {e}"))?;
     Ok(Analysis {
@@ -123,8 +197,8 @@ pub fn analyse(args: &AllanArgs) -> anyhow::Result<Analysis> {
 }
 
 /// The first [`OFFSET_ROWS`] rows, `width` values each: they give the
-/// offsets (means), the rate from t and the record's length from the file's size.
-fn first_block(rows: &mut Rows, width: usize) -> anyhow::Result<Vec<f64>> {
+/// offsets (means) and the rate from t.
+fn first_block(rows: &mut impl RowSource, width: usize) -> anyhow::Result<Vec<f64>> {
     let mut values = vec![0.0; width];
     let mut first: Vec<f64> = Vec::with_capacity(OFFSET_ROWS * width);
     while first.len() < OFFSET_ROWS * width && rows.next_row(&mut values)? {
@@ -136,15 +210,13 @@ fn first_block(rows: &mut Rows, width: usize) -> anyhow::Result<Vec<f64>> {
 /// One accumulator per column, its offset the column's mean over `first`.
 fn column_states(
     args: &AllanArgs,
-    rows: &Rows,
+    rows: &impl RowSource,
     first: &[f64],
     width: usize,
     columns: usize,
-    size: u64,
 ) -> anyhow::Result<Vec<ColumnState>> {
     let first_rows = first.len() / width;
-    let rate = time::provisional_rate(args.rate, rows.time.as_ref());
-    let ring_cap = ring_cap(args, rate, size, rows.bytes, first_rows);
+    let max_m = max_m(args, time::provisional_rate(args.rate, rows.time()));
     (0..columns)
         .map(|c| {
             let offset = if first_rows == 0 {
@@ -152,39 +224,31 @@ fn column_states(
             } else {
                 (0..first_rows).map(|r| first[r * width + c]).sum::<f64>() / first_rows as f64
             };
-            let acc = OctaveAccumulator::new(vec![0.0; FIRST_RING.min(ring_cap)], offset)
-                .map_err(|e| anyhow!("{e}"))?;
-            Ok(ColumnState {
-                acc,
-                all: args.all_tau.then(Vec::new),
-                ring_cap,
-            })
+            ColumnState::new(offset, max_m, args.all_tau)
         })
         .collect()
 }
 
-/// The rest of the rows: parsed in blocks by a second thread, pushed here.
-/// Returns the rows (their t check) once the file is read.
-fn stream(
-    rows: Rows,
+/// The rest of the rows: read in blocks by a second thread, integrated by
+/// the others ([`parallel::accumulate`]); `progress` shows the rows done
+/// times its scale (bytes per row, or 1). Returns the rows (their t check)
+/// once the record is read.
+fn stream<R: RowSource>(
+    rows: R,
     states: &mut [ColumnState],
     width: usize,
-    size: u64,
-    bytes_per_row: f64,
+    (progress, scale): (Progress, f64),
     name: &str,
-) -> anyhow::Result<Rows> {
-    // Inputs over 64 MB show the bar.
-    let progress = Progress::new(size, 64 << 20, Unit::Bytes);
+) -> anyhow::Result<R> {
     let (tx, rx) = std::sync::mpsc::sync_channel::<anyhow::Result<Vec<f64>>>(4);
     let rows = std::thread::scope(|scope| {
         let parser = scope.spawn(move || parse_blocks(rows, width, tx));
-        let failure = accumulate(rx, states, width, |consumed| {
-            // Bytes done, from the rows done and the first rows' mean length.
-            progress.update((consumed as f64 * bytes_per_row) as u64)
+        let failure = parallel::accumulate(rx, states, width, |consumed| {
+            progress.update((consumed as f64 * scale) as u64)
         });
         let rows = parser
             .join()
-            .map_err(|_| anyhow!("{name}: the parsing thread failed"))?;
+            .map_err(|_| anyhow!("{name}: the reading thread failed"))?;
         match failure {
             Some(e) => Err(e),
             None => Ok(rows),
@@ -196,7 +260,11 @@ fn stream(
 
 /// The parsing thread: blocks of [`BLOCK_ROWS`] rows sent on `tx`, then the
 /// first error if any; returns the rows when done.
-fn parse_blocks(mut rows: Rows, width: usize, tx: SyncSender<anyhow::Result<Vec<f64>>>) -> Rows {
+fn parse_blocks<R: RowSource>(
+    mut rows: R,
+    width: usize,
+    tx: SyncSender<anyhow::Result<Vec<f64>>>,
+) -> R {
     let mut values = vec![0.0; width];
     loop {
         let mut block = Vec::with_capacity(BLOCK_ROWS * width);
@@ -226,30 +294,6 @@ fn parse_blocks(mut rows: Rows, width: usize, tx: SyncSender<anyhow::Result<Vec<
     rows
 }
 
-/// This thread: pushes each block as it comes, reporting the rows consumed
-/// every 16 blocks; returns the parsing thread's error, if any.
-fn accumulate(
-    rx: Receiver<anyhow::Result<Vec<f64>>>,
-    states: &mut [ColumnState],
-    width: usize,
-    report: impl Fn(u64),
-) -> Option<anyhow::Error> {
-    let mut consumed = 0u64;
-    for msg in rx {
-        match msg {
-            Ok(block) => {
-                push_block(states, &block, width);
-                consumed += (block.len() / width) as u64;
-                if consumed % (16 * BLOCK_ROWS as u64) == 0 {
-                    report(consumed);
-                }
-            }
-            Err(e) => return Some(e),
-        }
-    }
-    None
-}
-
 /// Each column's curve (octaves or every τ, up to the largest m) and fit;
 /// an estimate that is not finite (values so large that their squares
 /// overflow) is an error naming the column and τ.
@@ -268,7 +312,7 @@ fn results(
         .map(|(sel, st)| {
             let raw = match &st.all {
                 Some(all) => curve::every_tau(all, st.acc.offset(), rate, max_m),
-                None => curve::octaves(&st.acc, rate, max_m),
+                None => curve::octaves(&st.acc, &st.above, rate, max_m),
             };
             if let Some(p) = raw.iter().find(|p| !p.avar.is_finite()) {
                 anyhow::bail!(
@@ -291,21 +335,11 @@ fn results(
 }
 
 /// The ring length cap: twice the largest m (from --max-tau or the mode's
-/// default), and no longer than the record needs: the largest octave with
-/// 2m ≤ N wants 2^⌊log2 N⌋ slots, N estimated from the file's size and the
-/// first rows' mean length with a 1.5 margin (rows that later get much
-/// shorter could cost the last octave; longer ones only memory).
-fn ring_cap(args: &AllanArgs, rate: f64, size: u64, bytes_read: u64, rows_read: usize) -> usize {
-    let by_grid = (2 * max_m(args, rate)).next_power_of_two();
-    // Standard input has no size (0): the grid alone bounds the ring.
-    let by_record = if rows_read > 0 && bytes_read > 0 && size > 0 {
-        let per_row = bytes_read as f64 / rows_read as f64;
-        let estimate = (1.5 * size as f64 / per_row).max(2.0) as u64;
-        1u64 << estimate.ilog2()
-    } else {
-        by_grid
-    };
-    by_grid.min(by_record).clamp(2, 1 << 40) as usize
+/// default), and no more than the fully overlapping octaves need (2·BASE:
+/// the octaves above are strided). The ring grows only as the record
+/// reaches its length, so a short record keeps a short ring.
+fn ring_cap(max_m: u64) -> usize {
+    (2 * max_m).next_power_of_two().clamp(2, 2 * BASE) as usize
 }
 
 /// The largest averaging factor: from --max-tau, else the mode's default.
@@ -339,22 +373,27 @@ mod tests {
     }
 
     #[test]
-    fn the_ring_is_no_longer_than_the_grid_or_the_record_needs() {
-        let mut a = args("x.csv");
-        // 1000 rows of 10 bytes in the first block, a 10 MB file: ~1.5e6
-        // rows estimated, so 2^20 slots, below the grid's 2^25.
-        assert_eq!(ring_cap(&a, 100.0, 10_000_000, 10_000, 1000), 1 << 20);
+    fn the_ring_is_no_longer_than_the_grid_or_the_base_needs() {
+        // The default grid: the base's 2^18 sums, the octaves above strided.
+        assert_eq!(ring_cap(1 << 24), 2 * BASE as usize);
         // A short --max-tau bounds it by the grid: 2·500 → 1024.
-        a.max_tau = Some(5.0);
-        assert_eq!(ring_cap(&a, 100.0, 10_000_000, 10_000, 1000), 1024);
-        // Nothing read yet: the grid alone.
-        assert_eq!(ring_cap(&a, 100.0, 0, 0, 0), 1024);
+        assert_eq!(ring_cap(500), 1024);
+        assert_eq!(ring_cap(0), 2);
+        let st = ColumnState::new(0.0, 1 << 20, false).unwrap();
+        let m: Vec<u64> = st.above.iter().map(|o| o.m()).collect();
+        assert_eq!(m, [1 << 18, 1 << 19, 1 << 20]);
+        assert!(ColumnState::new(0.0, 1 << 20, true)
+            .unwrap()
+            .above
+            .is_empty());
+        assert!(ColumnState::new(0.0, BASE, false).unwrap().above.is_empty());
     }
 
     #[test]
     fn a_pushed_column_grows_its_ring_up_to_the_cap() {
         let mut st = ColumnState {
             acc: OctaveAccumulator::new(vec![0.0; 4], 0.0).unwrap(),
+            above: Vec::new(),
             all: Some(Vec::new()),
             ring_cap: 16,
         };

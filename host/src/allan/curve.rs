@@ -6,6 +6,7 @@
 use triad_lab::allan::accumulate::OctaveAccumulator;
 use triad_lab::allan::direct;
 use triad_lab::allan::edf::{self, NoiseType};
+use triad_lab::allan::strided::StridedOctave;
 
 use crate::progress::{Progress, Unit};
 
@@ -22,6 +23,8 @@ pub struct Point {
     pub avar_non_overlapping: f64,
     /// Second differences in the overlapping estimate.
     pub terms: u64,
+    /// Samples between its terms: 1 fully overlapping, m/M strided (`triad_lab::allan::strided`).
+    pub stride: u64,
     /// Noise type assumed for the EDF.
     pub noise: NoiseType,
     /// Equivalent degrees of freedom.
@@ -43,18 +46,31 @@ pub struct RawPoint {
     pub avar_non_overlapping: f64,
     /// Second differences in the overlapping estimate.
     pub terms: u64,
+    /// Samples between its terms (1: fully overlapping).
+    pub stride: u64,
 }
 
-/// The octave points of a streamed column, m ≤ `max_m`.
-pub fn octaves(acc: &OctaveAccumulator<Vec<f64>>, rate: f64, max_m: u64) -> Vec<RawPoint> {
-    acc.results()
-        .filter(|r| r.m <= max_m)
-        .map(|r| RawPoint {
+/// The octave points of a streamed column, m ≤ `max_m`: the fully
+/// overlapping ones of `acc`, then the strided ones of `above`.
+pub fn octaves(
+    acc: &OctaveAccumulator<Vec<f64>>,
+    above: &[StridedOctave<Vec<f64>>],
+    rate: f64,
+    max_m: u64,
+) -> Vec<RawPoint> {
+    let full = acc.results().map(|r| (r, 1));
+    let strided = above
+        .iter()
+        .map_while(|o| o.result().map(|r| (r, o.stride())));
+    full.chain(strided)
+        .filter(|(r, _)| r.m <= max_m)
+        .map(|(r, stride)| RawPoint {
             m: r.m,
             tau: r.m as f64 / rate,
             avar: r.overlapping,
             avar_non_overlapping: r.non_overlapping,
             terms: r.overlapping_terms,
+            stride,
         })
         .collect()
 }
@@ -78,6 +94,7 @@ pub fn every_tau(y: &[f64], offset: f64, rate: f64, max_m: u64) -> Vec<RawPoint>
                 avar,
                 avar_non_overlapping: non,
                 terms,
+                stride: 1,
             })
         })
         .collect();
@@ -101,6 +118,7 @@ pub fn with_intervals(raw: &[RawPoint], samples: u64, level: f64) -> Vec<Point> 
                 avar: p.avar,
                 avar_non_overlapping: p.avar_non_overlapping,
                 terms: p.terms,
+                stride: p.stride,
                 noise,
                 edf: nu,
                 ci: edf::deviation_interval(p.avar, nu, level),
@@ -120,6 +138,7 @@ mod tests {
             avar,
             avar_non_overlapping: f64::NAN,
             terms: 100,
+            stride: 1,
         }
     }
 

@@ -50,34 +50,43 @@ const ROUNDING: f64 = 64.0 * f64::EPSILON;
 
 /// The octave points of a curve (m a power of two: in every-τ mode the
 /// neighbouring points are strongly correlated and would overstate the
-/// information).
-fn octave_curve(points: &[Point]) -> (Vec<CurvePoint>, Vec<u64>) {
-    points
-        .iter()
-        .filter(|p| p.m.is_power_of_two())
-        .map(|p| {
-            let c = CurvePoint {
-                tau: p.tau,
-                avar: p.avar,
-                edf: p.edf,
-            };
-            (c, p.m)
-        })
-        .unzip()
+/// information), with their averaging factors and strides.
+fn octave_curve(points: &[Point]) -> (Vec<CurvePoint>, Vec<u64>, Vec<u64>) {
+    let mut curve = Vec::new();
+    let (mut m, mut strides) = (Vec::new(), Vec::new());
+    for p in points.iter().filter(|p| p.m.is_power_of_two()) {
+        curve.push(CurvePoint {
+            tau: p.tau,
+            avar: p.avar,
+            edf: p.edf,
+        });
+        m.push(p.m);
+        strides.push(p.stride);
+    }
+    (curve, m, strides)
 }
 
 /// The covariance of a record's octave estimates, computed once for all its
-/// columns (they share the record's length and τ grid).
+/// columns (they share the record's length, τ grid and strides).
 #[derive(Default)]
 pub struct CovarianceCache {
     cached: Option<Box<OctaveCovariance>>,
 }
 
 impl CovarianceCache {
-    fn get(&mut self, samples: u64, rate: f64, m: &[u64]) -> Result<&OctaveCovariance, NoFit> {
-        let stale = self.cached.as_ref().is_none_or(|c| c.factors() != m);
+    fn get(
+        &mut self,
+        samples: u64,
+        rate: f64,
+        m: &[u64],
+        strides: &[u64],
+    ) -> Result<&OctaveCovariance, NoFit> {
+        let stale = self
+            .cached
+            .as_ref()
+            .is_none_or(|c| c.factors() != m || c.strides() != strides);
         if stale {
-            let cov = OctaveCovariance::new(samples, 1.0 / rate, m)
+            let cov = OctaveCovariance::with_strides(samples, 1.0 / rate, m, strides)
                 .map_err(|e| NoFit::Failed(e.to_string()))?;
             self.cached = Some(Box::new(cov));
         }
@@ -100,14 +109,14 @@ pub fn fit_octaves(
     if points.iter().all(|p| p.avar.sqrt() <= floor) {
         return Err(NoFit::NoNoise);
     }
-    let (curve, m) = octave_curve(points);
+    let (curve, m, strides) = octave_curve(points);
     if curve.len() < gls::MIN_POINTS {
         return Err(NoFit::TooFewPoints {
             count: curve.len(),
             needed: gls::MIN_POINTS,
         });
     }
-    let cov = cache.get(samples, rate, &m)?;
+    let cov = cache.get(samples, rate, &m, &strides)?;
     gls::fit(&curve, cov).map_err(|e| match e {
         FitError::NoNoise => NoFit::NoNoise,
         FitError::TooFewPoints { count, needed } => NoFit::TooFewPoints { count, needed },
@@ -194,6 +203,7 @@ mod tests {
                     avar: avar(m as f64),
                     avar_non_overlapping: f64::NAN,
                     terms: 1000,
+                    stride: 1,
                     noise: NoiseType::from_slope(-1.0),
                     edf: 1000.0,
                     ci: (0.0, 1.0),

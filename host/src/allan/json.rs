@@ -49,7 +49,7 @@ fn column(col: &ColumnResult, inputs: &[GradeInput]) -> Value {
     let curve: Vec<_> = col
         .points
         .iter()
-        .map(|p| json!({"tau": p.tau, "oadev": p.avar.sqrt(), "ci_low": p.ci.0, "ci_high": p.ci.1, "edf": p.edf}))
+        .map(|p| json!({"tau": p.tau, "oadev": p.avar.sqrt(), "ci_low": p.ci.0, "ci_high": p.ci.1, "edf": p.edf, "stride": p.stride}))
         .collect();
     let fit = col.fit.as_ref().ok().map(|f| {
         json!({

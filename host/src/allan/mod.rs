@@ -3,14 +3,18 @@
 //! (Q, N, B, K, R) in data-sheet units, and the sensor grade.
 //!
 //! Octave τ (the default) streams: the file is read once (one thread splits
-//! and parses, another integrates), each column feeds an
+//! and parses, the others integrate, the columns shared among the cores),
+//! each column feeds an
 //! [`OctaveAccumulator`](triad_lab::allan::accumulate::OctaveAccumulator)
-//! whose ring of cumulative sums starts at 4096 slots and doubles (before it
-//! wraps) up to what the τ grid needs: 2·m_max slots, m_max = 2^24 by default
-//! or from `--max-tau`, and no more than the record needs (N estimated from
-//! the file's size). Memory is therefore at most 8·2·m_max bytes per column
-//! (256 MiB by default) whatever the record's length, and time is linear in
-//! N. `--all-tau` holds the whole record in memory (8·N bytes per column) and
+//! for the fully overlapping octaves up to m = 2^17 (its ring of cumulative
+//! sums starts at 4096 slots and doubles, before it wraps, up to 2^18) and,
+//! above, up to m_max (2^24 by default, or from `--max-tau`), one
+//! [`StridedOctave`](triad_lab::allan::strided::StridedOctave) each: the
+//! overlapping estimator with its terms every m/2^17 samples (τ ≥ 2^18·τ₀,
+//! 655 s at 400 Hz), in a ring of 2^18 sums. Memory is therefore at most
+//! 2 MiB per octave per column (16 MiB at the default m_max) whatever the
+//! record's length, and time is linear in N. `--all-tau` holds the whole
+//! record in memory (8·N bytes per column) and
 //! costs O(N) per τ, O(N·m_max) in all, so its largest m defaults to 2^14
 //! (change it with `--max-tau`).
 //!
@@ -31,7 +35,9 @@ pub mod fit;
 pub mod grade;
 pub mod json;
 pub mod kalibr;
+mod parallel;
 pub mod plot;
+mod record_rows;
 mod rows;
 pub mod summary;
 pub mod table;
@@ -79,7 +85,8 @@ pub struct AllanArgs {
     /// octaves; holds the record in memory, costs N per τ.
     #[arg(long)]
     pub all_tau: bool,
-    /// Longest averaging time, seconds (bounds the memory of the octave mode).
+    /// Longest averaging time, seconds (default 2^24 samples; octaves above
+    /// 2^17 samples take their terms every m/2^17 samples: 2 MiB per octave per column).
     #[arg(long, allow_hyphen_values = true)]
     pub max_tau: Option<f64>,
     /// Confidence level of the intervals (default 0.6827, one sigma).

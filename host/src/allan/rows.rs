@@ -63,13 +63,45 @@ impl RowParser {
                 String::from_utf8_lossy(cell).trim()
             )
         })?;
-        if v.abs() > MAX_MAGNITUDE {
-            bail!(
-                "line {line_no}, column {}: {v:e} is too large (|value| above {MAX_MAGNITUDE:e}: the Allan sums of its squares would overflow)",
-                self.names[slot]
-            );
-        }
-        Ok(v)
+        in_range(v).map_err(|why| anyhow!("line {line_no}, column {}: {why}", self.names[slot]))
+    }
+}
+
+/// `v` when it is a number the Allan sums can take, else why not.
+pub(crate) fn in_range(v: f64) -> Result<f64, String> {
+    if !v.is_finite() {
+        return Err(format!("{v} is not a finite number"));
+    }
+    if v.abs() > MAX_MAGNITUDE {
+        return Err(format!(
+            "{v:e} is too large (|value| above {MAX_MAGNITUDE:e}: the Allan sums of its squares would overflow)"
+        ));
+    }
+    Ok(v)
+}
+
+/// Where the rows come from: the CSV's lines ([`Rows`]) or a recording's
+/// samples (`super::record_rows`).
+pub(crate) trait RowSource: Send {
+    /// Reads the next row into `values` (by slot); false at the end.
+    fn next_row(&mut self, values: &mut [f64]) -> anyhow::Result<bool>;
+    /// The t column's check, from its first row on.
+    fn time(&self) -> Option<&TimeCheck>;
+    /// Bytes read so far (0: not counted).
+    fn bytes(&self) -> u64;
+}
+
+impl RowSource for Rows {
+    fn next_row(&mut self, values: &mut [f64]) -> anyhow::Result<bool> {
+        Rows::next_row(self, values)
+    }
+
+    fn time(&self) -> Option<&TimeCheck> {
+        self.time.as_ref()
+    }
+
+    fn bytes(&self) -> u64 {
+        self.bytes
     }
 }
 
@@ -96,6 +128,8 @@ fn trim_line(line: &[u8]) -> &[u8] {
 
 /// The CSV opened: its header line, its size, and the reader after the header.
 pub(crate) struct Opened {
+    /// Its name in messages (a recording read as CSV says so).
+    pub(crate) name: String,
     /// The header, trimmed.
     pub(crate) header: String,
     /// The file's size in bytes (0 when unknown).
@@ -117,6 +151,7 @@ pub(crate) fn open(path: &Path, name: &str) -> anyhow::Result<Opened> {
         bail!("{name}: empty file (no header)");
     }
     Ok(Opened {
+        name: opened.name,
         header: String::from_utf8_lossy(strip_bom_bytes(&line))
             .trim()
             .to_string(),

@@ -78,6 +78,7 @@ pub(crate) mod tests {
             avar,
             avar_non_overlapping: f64::NAN,
             terms: 9,
+            stride: 1,
             noise: NoiseType::from_slope(-1.0),
             edf: 4.5,
             ci: (0.5, 3.0),

@@ -25,13 +25,19 @@ impl TimeCheck {
 
     /// Checks the next row's t (at `line_no`) against the first step.
     pub(crate) fn next(&mut self, t: f64, line_no: u64) -> anyhow::Result<()> {
+        self.next_at(t, || format!("line {line_no}"))
+    }
+
+    /// Checks the next row's t (at the place `at` says) against the first step.
+    pub(crate) fn next_at(&mut self, t: f64, at: impl Fn() -> String) -> anyhow::Result<()> {
         let dt = t - self.last;
         match self.step {
             None => {
                 // Also catches NaN: only a positive step passes.
                 if dt.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
                     bail!(
-                        "line {line_no}: t = {t} after {}: t must increase (non-positive sample period {dt} s)",
+                        "{}: t = {t} after {}: t must increase (non-positive sample period {dt} s)",
+                        at(),
                         self.last
                     );
                 }
@@ -42,7 +48,8 @@ impl TimeCheck {
                 let tol = T_JITTER * step + 8.0 * f64::EPSILON * t.abs();
                 if (dt - step).abs() > tol {
                     bail!(
-                        "line {line_no}: t = {t} after {}: step {dt} s differs from the sample period {step} s by more than {} % (non-uniform t: a gap or jitter; resample or give --rate)",
+                        "{}: t = {t} after {}: step {dt} s differs from the sample period {step} s by more than {} % (non-uniform t: a gap or jitter; resample or give --rate)",
+                        at(),
                         self.last,
                         100.0 * T_JITTER
                     );

@@ -199,6 +199,12 @@ impl<R: AsMut<[f64]> + AsRef<[f64]>> OctaveAccumulator<R> {
         self.offset
     }
 
+    /// The cumulative sum S_k after the last push (k = [`Self::samples`]),
+    /// the value the ring holds: what [`super::strided`] octaves take.
+    pub fn cumulative(&self) -> f64 {
+        self.running.value()
+    }
+
     /// Adds one rate sample.
     #[inline]
     pub fn push(&mut self, y: f64) {

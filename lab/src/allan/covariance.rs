@@ -87,6 +87,8 @@ pub enum CovarianceError {
     TooManyPoints(usize),
     /// The sample period is not a positive finite number.
     Period(f64),
+    /// Strides not one per factor, or one of 0 or above its factor.
+    Strides,
     /// An averaging factor of 0 or with fewer than one term (2m > N).
     Factor {
         /// The averaging factor.
@@ -105,6 +107,10 @@ impl core::fmt::Display for CovarianceError {
             CovarianceError::Period(p) => {
                 write!(f, "sample period {p} s: must be a positive number")
             }
+            CovarianceError::Strides => write!(
+                f,
+                "one stride per averaging factor, each between 1 and its factor"
+            ),
             CovarianceError::Factor { m, samples } => write!(
                 f,
                 "averaging factor {m} has no Allan term in {samples} samples (needs 1 ≤ 2m ≤ N)"
@@ -119,6 +125,7 @@ impl core::fmt::Display for CovarianceError {
 pub struct OctaveCovariance {
     points: usize,
     m: [u64; MAX_POINTS],
+    strides: [u64; MAX_POINTS],
     /// Σ_L w C_a C_b / (2τ_i²τ_j² n_i n_j), per pair of noise terms (a ≤ b).
     quadratic: [[[f64; MAX_POINTS]; MAX_POINTS]; PAIRS],
     /// Σ_L w C_a / (n_i n_j), per noise term (the ramp's cross term).
@@ -135,6 +142,27 @@ impl OctaveCovariance {
     /// The sums for the overlapping estimates at averaging factors `m` of a
     /// record of `samples` rate samples taken every `period` seconds.
     pub fn new(samples: u64, period: f64, m: &[u64]) -> Result<Self, CovarianceError> {
+        Self::with_strides(
+            samples,
+            period,
+            m,
+            &[1; MAX_POINTS][..m.len().min(MAX_POINTS)],
+        )
+    }
+
+    /// The sums for estimates whose terms are taken every `strides[i]`
+    /// samples at `m[i]` ([`super::strided`]: d = m/M, M ≫ 1; 1 is the fully
+    /// overlapping estimator). For N, B and K the sum over every d-th lag is
+    /// a Riemann sum of the fully overlapping one's integral (equal to
+    /// O(d/m)); quantisation's C lives on a few lags alone, where the pairs
+    /// of strided terms are counted exactly (about a min(d_i, d_j)-fold
+    /// variance: a d-th of the terms carry it).
+    pub fn with_strides(
+        samples: u64,
+        period: f64,
+        m: &[u64],
+        strides: &[u64],
+    ) -> Result<Self, CovarianceError> {
         if m.len() > MAX_POINTS {
             return Err(CovarianceError::TooManyPoints(m.len()));
         }
@@ -144,16 +172,21 @@ impl OctaveCovariance {
         if let Some(&bad) = m.iter().find(|&&x| x == 0 || x > samples / 2) {
             return Err(CovarianceError::Factor { m: bad, samples });
         }
+        if strides.len() != m.len() || strides.iter().zip(m).any(|(&d, &x)| d == 0 || d > x) {
+            return Err(CovarianceError::Strides);
+        }
         let mut cov = OctaveCovariance {
             points: m.len(),
             m: [0; MAX_POINTS],
+            strides: [1; MAX_POINTS],
             quadratic: [[[0.0; MAX_POINTS]; MAX_POINTS]; PAIRS],
             linear: [[[0.0; MAX_POINTS]; MAX_POINTS]; NOISES],
         };
         cov.m[..m.len()].copy_from_slice(m);
+        cov.strides[..m.len()].copy_from_slice(strides);
         for i in 0..m.len() {
             for j in i..m.len() {
-                let sums = PairSums::of(samples, period, m[i], m[j]);
+                let sums = PairSums::of(samples, period, [m[i], m[j]], [strides[i], strides[j]]);
                 let (ni, nj) = (
                     (samples - 2 * m[i] + 1) as f64,
                     (samples - 2 * m[j] + 1) as f64,
@@ -181,6 +214,11 @@ impl OctaveCovariance {
     /// The averaging factors, in the order given.
     pub fn factors(&self) -> &[u64] {
         &self.m[..self.points]
+    }
+
+    /// The strides of the estimates (1: fully overlapping).
+    pub fn strides(&self) -> &[u64] {
+        &self.strides[..self.points]
     }
 
     /// The covariance of the estimates under the model with squared
@@ -222,9 +260,12 @@ struct Pair {
     /// The smaller and the larger step.
     h: f64,
     big: f64,
-    /// Terms of each estimate.
+    /// Terms of each estimate (fully overlapping).
     ni: i64,
     nj: i64,
+    /// Strides of each estimate.
+    di: i64,
+    dj: i64,
     /// τ₀ factors of each generalised covariance.
     unit: [f64; NOISES],
 }
@@ -242,6 +283,8 @@ impl Pair {
             big: mi.max(mj) as f64,
             ni: n - 2 * mi + 1,
             nj: n - 2 * mj + 1,
+            di: 1,
+            dj: 1,
             unit: [
                 1.0,
                 -period / 2.0,
@@ -256,6 +299,32 @@ impl Pair {
         let hi = (self.ni as f64).min(self.nj as f64 - lag);
         let lo = (-lag).max(0.0);
         (hi - lo).max(0.0)
+    }
+
+    /// The strides of the two estimates (1: fully overlapping).
+    fn with_strides(mut self, [di, dj]: [u64; 2]) -> Self {
+        self.di = di as i64;
+        self.dj = dj as i64;
+        self
+    }
+
+    /// The pairs of terms at lag L (a ≡ 0 mod d_i, a + L ≡ 0 mod d_j)
+    /// scaled to the fully overlapping normalisation: w′(L)·n_i n_j/(n′_i n′_j)
+    /// with n′ the strided term counts; [`Self::count`] at strides 1.
+    fn strided_count(&self, lag: i64) -> f64 {
+        let (di, dj) = (self.di, self.dj);
+        let (lo, hi) = ((-lag).max(0), self.ni.min(self.nj - lag));
+        if hi <= lo || lag.rem_euclid(di.min(dj)) != 0 {
+            return 0.0;
+        }
+        // Powers of two: a multiple of the larger stride is one of the smaller.
+        let pairs = if di >= dj {
+            congruent(lo, hi, 0, di)
+        } else {
+            congruent(lo, hi, (-lag).rem_euclid(dj), dj)
+        };
+        let n = |n: i64, d: i64| ((n - 1) / d + 1) as f64;
+        pairs as f64 * (self.ni as f64 / n(self.ni, di)) * (self.nj as f64 / n(self.nj, dj))
     }
 
     /// The centre of the double difference at lag L.
@@ -306,6 +375,12 @@ impl Pair {
         }
         sum
     }
+}
+
+/// The integers a in lo..hi (lo ≥ 0) with a ≡ r (mod d), 0 ≤ r < d.
+fn congruent(lo: i64, hi: i64, r: i64, d: i64) -> i64 {
+    let below = |x: i64| (x - r + d - 1).div_euclid(d); // a < x
+    (below(hi) - below(lo)).max(0)
 }
 
 /// D_h of |x|³: 6h²|x| beyond h, a cubic inside.
@@ -393,8 +468,8 @@ const GAUSS: [(f64, f64); 4] = [
 ];
 
 impl PairSums {
-    fn of(samples: u64, period: f64, mi: u64, mj: u64) -> Self {
-        let p = Pair::new(samples, period, mi, mj);
+    fn of(samples: u64, period: f64, [mi, mj]: [u64; 2], strides: [u64; 2]) -> Self {
+        let p = Pair::new(samples, period, mi, mj).with_strides(strides);
         let (mi, mj) = (p.mi, p.mj);
         let mut sums = PairSums {
             quadratic: [0.0; PAIRS],
@@ -498,7 +573,7 @@ impl PairSums {
             if cq == 0.0 {
                 continue;
             }
-            let w = p.count(lag as f64);
+            let w = p.strided_count(lag);
             let c = p.smooth(lag as f64);
             self.linear[Q] += w * cq;
             self.quadratic[pair(Q, Q)] += w * cq * cq;
@@ -546,7 +621,7 @@ mod tests {
 
     /// The sums lag by lag, without the integrals (the reference for them).
     fn brute(samples: u64, period: f64, mi: u64, mj: u64) -> PairSums {
-        let quick = PairSums::of(samples, period, mi, mj);
+        let quick = PairSums::of(samples, period, [mi, mj], [1, 1]);
         let p = Pair::new(samples, period, mi, mj);
         let mut sums = PairSums {
             quadratic: [0.0; PAIRS],
@@ -573,7 +648,7 @@ mod tests {
             (5000, 128, 512),
             (3000, 1, 1024),
         ] {
-            let quick = PairSums::of(samples, 0.1, mi, mj);
+            let quick = PairSums::of(samples, 0.1, [mi, mj], [1, 1]);
             let slow = brute(samples, 0.1, mi, mj);
             for (k, (a, b)) in quick.quadratic.iter().zip(&slow.quadratic).enumerate() {
                 assert!(

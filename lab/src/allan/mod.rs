@@ -10,6 +10,8 @@
 //!
 //! - [`accumulate`]: streaming, at octave m = 1, 2, 4, …, memory bounded by
 //!   the largest m (a caller-provided ring), one pass;
+//! - [`strided`]: the octaves beyond the ring (m > M), their terms every
+//!   m/M samples, in a ring of 2M sums whatever m;
 //! - [`direct`]: any m on a record held in memory (every-τ mode, reference sets);
 //! - [`chi2`]: the χ² distribution and its quantile;
 //! - [`edf`]: equivalent degrees of freedom and confidence intervals;
@@ -28,6 +30,7 @@ pub mod gls;
 pub mod grade;
 mod nnls;
 pub mod noise_terms;
+pub mod strided;
 mod sum;
 
 pub use sum::CompensatedSum;

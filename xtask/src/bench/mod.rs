@@ -4,6 +4,7 @@
 //! reference, and the report (docs/BENCHMARKS.md, or JSON on stdout).
 
 mod accuracy;
+pub mod allan;
 mod command_report;
 mod commands;
 mod cores;
@@ -119,6 +120,7 @@ pub fn run(json: bool) -> Result<()> {
          10-minute 400 Hz hand-pose record (109 poses, 240 000 samples; `cargo bench -p triad-host --bench \
          fit_imu`, criterion's mean): {fit_imu_s:.2} s (goal ≤ 1 s).\n"
     );
+    markdown += &allan::section(true)?;
     std::fs::write(docs.join("BENCHMARKS.md"), markdown)?;
     note!("xtask: wrote docs/BENCHMARKS.md and docs/benchmarks.svg");
     Ok(())

@@ -12,6 +12,7 @@ mod apt;
 mod apt_cache;
 mod depends;
 mod privilege;
+pub mod python_peers;
 mod qemu_binary;
 mod qemu_unpacked;
 

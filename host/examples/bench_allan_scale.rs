@@ -1,0 +1,344 @@
+//! Allan at the scale of real recordings: figures, not pass/fail.
+//!
+//!     cargo run --release -p triad-host --example bench_allan_scale [-- --long]
+//!
+//! (`cargo xtask bench --allan` builds `triad`, installs allantools in a
+//! venv under target/ and runs this.) An 8-hour, 400 Hz six-axis record
+//! (11.52 M samples: white noise, a random walk, 1 g on az) is written as
+//! triad's CSV and, when `triad convert` can, as an MCAP bag of
+//! sensor_msgs/msg/Imu; then, one after the other on this machine:
+//!
+//! - `triad allan REC --json --kalibr imu.yaml` (octave Allan deviation of
+//!   the six columns, the noise-term fit, the grade, Kalibr's YAML), under
+//!   `/usr/bin/time`: wall time, CPU time, peak resident memory;
+//! - allantools' `oadev(..., taus="octave")` on the same six columns already
+//!   in memory (bench/allan_peer.py, python from `$TRIAD_PYTHON`, else
+//!   target/allan-peer-venv/bin/python): the oadev calls' time, its peak;
+//!
+//! and prints both, their ratio and the largest relative difference of the
+//! deviations over the common τ (fully overlapping octaves, where the
+//! estimator is allantools', and strided ones apart). With `--long` also the
+//! 24-hour, 2 kHz case (172.8 M samples), streamed as CSV from a generator
+//! (this program, `gen`) through a pipe into `triad allan -`: time and peak
+//! memory of triad alone (allantools is not run: its six columns alone
+//! would take 8.3 GB).
+
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+
+use serde_json::Value;
+use triad_sim::effects::rng::Rng;
+
+/// The six columns, in the CSV's order.
+const COLUMNS: [&str; 6] = ["ax", "ay", "az", "gx", "gy", "gz"];
+
+/// Fully overlapping octaves go up to this m (`triad_lab::allan::strided::BASE`).
+const BASE: u64 = triad_lab::allan::strided::BASE;
+
+/// The record's generator: per column, white noise and a random walk (SI),
+/// 1 g added to az.
+struct Generator {
+    rng: Rng,
+    walk: [f64; 6],
+}
+
+impl Generator {
+    fn new() -> Self {
+        Generator {
+            rng: Rng::from_seed(24),
+            walk: [0.0; 6],
+        }
+    }
+
+    fn next(&mut self) -> [f64; 6] {
+        let mut row = [0.0; 6];
+        for (c, v) in row.iter_mut().enumerate() {
+            let (white, step) = if c < 3 { (2e-3, 2e-6) } else { (1e-3, 1e-6) };
+            self.walk[c] += step * self.rng.gaussian();
+            *v = white * self.rng.gaussian() + self.walk[c];
+        }
+        row[2] += 9.806_65;
+        row
+    }
+}
+
+/// Writes `n` rows at `rate` Hz as CSV (`t,ax,…,gz`) to `w`.
+fn write_csv(w: &mut impl Write, n: u64, rate: f64, mut raw: Option<&mut [Vec<f64>; 6]>) {
+    let mut g = Generator::new();
+    writeln!(w, "t,{}", COLUMNS.join(",")).expect("write");
+    for k in 0..n {
+        let r = g.next();
+        let t = k as f64 / rate;
+        writeln!(
+            w,
+            "{t},{},{},{},{},{},{}",
+            r[0], r[1], r[2], r[3], r[4], r[5]
+        )
+        .expect("write");
+        if let Some(cols) = raw.as_deref_mut() {
+            for (col, v) in cols.iter_mut().zip(r) {
+                col.push(v);
+            }
+        }
+    }
+    w.flush().expect("write");
+}
+
+/// The record as CSV at `csv` and as raw f64 columns, one after the other, at `raw`.
+fn write_record(csv: &Path, raw: &Path, n: u64, rate: f64) {
+    let mut cols: [Vec<f64>; 6] = Default::default();
+    let mut w = BufWriter::with_capacity(1 << 20, File::create(csv).expect("create the CSV"));
+    write_csv(&mut w, n, rate, Some(&mut cols));
+    let mut w = BufWriter::with_capacity(1 << 20, File::create(raw).expect("create the raw file"));
+    for v in cols.iter().flatten() {
+        w.write_all(&v.to_le_bytes()).expect("write");
+    }
+    w.flush().expect("write");
+}
+
+/// Wall s, CPU s (user + system) and peak MiB of a command run under
+/// `/usr/bin/time -f "%e %U %S %M"`, from its stderr's last line.
+fn timed(stderr: &[u8]) -> (f64, f64, f64) {
+    let text = String::from_utf8_lossy(stderr);
+    let f: Vec<f64> = text
+        .lines()
+        .last()
+        .unwrap_or("")
+        .split_whitespace()
+        .filter_map(|x| x.parse().ok())
+        .collect();
+    match f[..] {
+        [wall, user, sys, kb] => (wall, user + sys, kb / 1024.0),
+        _ => (f64::NAN, f64::NAN, f64::NAN),
+    }
+}
+
+/// `triad` next to this example (target/release/).
+fn triad_exe() -> PathBuf {
+    let exe = std::env::current_exe().expect("own path");
+    exe.parent()
+        .and_then(Path::parent)
+        .map(|d| d.join("triad"))
+        .expect("target dir")
+}
+
+/// `triad allan INPUT --json --kalibr YAML` under /usr/bin/time: the
+/// report and (wall, CPU, peak MiB).
+fn run_triad(input: &Path, yaml: &Path) -> Option<(Value, (f64, f64, f64))> {
+    let out = Command::new("/usr/bin/time")
+        .args(["-f", "%e %U %S %M"])
+        .arg(triad_exe())
+        .arg("allan")
+        .arg(input)
+        .args(["--json", "--kalibr"])
+        .arg(yaml)
+        .output()
+        .expect("run /usr/bin/time triad allan");
+    if !out.status.success() {
+        println!(
+            "triad allan failed (is it built? cargo build --release -p triad-host): {}",
+            String::from_utf8_lossy(&out.stderr).trim()
+        );
+        return None;
+    }
+    let report = serde_json::from_slice(&out.stdout).expect("triad allan's JSON");
+    Some((report, timed(&out.stderr)))
+}
+
+/// `triad convert CSV MCAP`: true when the bag was written.
+fn convert_to_mcap(csv: &Path, mcap: &Path) -> bool {
+    let out = Command::new(triad_exe())
+        .arg("convert")
+        .arg(csv)
+        .arg(mcap)
+        .stderr(Stdio::piped())
+        .output();
+    match out {
+        Ok(o) if o.status.success() => true,
+        Ok(o) => {
+            let why = String::from_utf8_lossy(&o.stderr);
+            println!(
+                "no MCAP (triad convert: {}): triad reads the CSV",
+                why.lines().next().unwrap_or("").trim()
+            );
+            false
+        }
+        Err(e) => {
+            println!("no MCAP ({e}): triad reads the CSV");
+            false
+        }
+    }
+}
+
+/// allantools on the raw columns: its JSON report, or why not.
+fn run_peer(raw: &Path, rate: f64) -> Result<Value, String> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let python = std::env::var("TRIAD_PYTHON").map_or_else(
+        |_| root.join("target/allan-peer-venv/bin/python"),
+        PathBuf::from,
+    );
+    let out = Command::new(&python)
+        .arg(root.join("bench/allan_peer.py"))
+        .arg(raw)
+        .arg(COLUMNS.len().to_string())
+        .arg(rate.to_string())
+        .output()
+        .map_err(|e| {
+            format!(
+                "{}: {e} (cargo xtask bench --allan installs it)",
+                python.display()
+            )
+        })?;
+    if !out.status.success() {
+        let err = String::from_utf8_lossy(&out.stderr);
+        return Err(err.lines().last().unwrap_or("").to_string());
+    }
+    serde_json::from_slice(&out.stdout).map_err(|e| e.to_string())
+}
+
+/// The largest relative difference of triad's deviations from the peer's
+/// over the common m, (fully overlapping, strided), each with its m.
+fn differences(report: &Value, peer: &Value) -> [(f64, u64); 2] {
+    let mut worst = [(0.0f64, 0u64); 2];
+    let peer_m: Vec<u64> = peer["m"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .filter_map(Value::as_u64)
+        .collect();
+    let rate = report["rate_hz"].as_f64().unwrap_or(f64::NAN);
+    for (c, column) in report["columns"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .enumerate()
+    {
+        for p in column["curve"].as_array().into_iter().flatten() {
+            let m = (p["tau"].as_f64().unwrap_or(0.0) * rate).round() as u64;
+            let Some(j) = peer_m.iter().position(|&x| x == m) else {
+                continue;
+            };
+            let theirs = peer["columns"][c][j].as_f64().unwrap_or(f64::NAN);
+            let rel = (p["oadev"].as_f64().unwrap_or(f64::NAN) - theirs).abs() / theirs;
+            let slot = usize::from(m > BASE);
+            if rel > worst[slot].0 {
+                worst[slot] = (rel, m);
+            }
+        }
+    }
+    worst
+}
+
+/// The 8-hour case (or `hours` at `rate`): triad and allantools side by side.
+fn record_case(dir: &Path, hours: f64, rate: f64) {
+    let n = (hours * 3600.0 * rate) as u64;
+    let (csv, raw, mcap, yaml) = (
+        dir.join("record.csv"),
+        dir.join("record.f64"),
+        dir.join("record.mcap"),
+        dir.join("imu.yaml"),
+    );
+    write_record(&csv, &raw, n, rate);
+    let input = if convert_to_mcap(&csv, &mcap) {
+        &mcap
+    } else {
+        &csv
+    };
+    let size = std::fs::metadata(input).map_or(0, |m| m.len());
+    println!(
+        "{hours} h at {rate} Hz, six columns: {n} samples each, read from {} ({:.0} MB)",
+        input.file_name().and_then(|s| s.to_str()).unwrap_or("?"),
+        size as f64 / 1e6
+    );
+    let Some((report, (wall, cpu, peak))) = run_triad(input, &yaml) else {
+        return;
+    };
+    let octaves = report["columns"][0]["curve"].as_array().map_or(0, Vec::len);
+    println!(
+        "triad allan (octave ADEV, noise-term fit, grade, Kalibr imu.yaml): {wall:.2} s wall, {cpu:.2} s CPU, peak {peak:.0} MiB, {octaves} octaves per column"
+    );
+    match run_peer(&raw, rate) {
+        Ok(peer) => {
+            let seconds = peer["seconds"].as_f64().unwrap_or(f64::NAN);
+            let peer_cpu = peer["cpu_seconds"].as_f64().unwrap_or(f64::NAN);
+            let peer_peak = peer["peak_rss_mb"].as_f64().unwrap_or(f64::NAN);
+            println!(
+                "{} oadev, octave taus, the six columns in memory: {seconds:.2} s wall, {peer_cpu:.2} s CPU, peak {peer_peak:.0} MiB",
+                peer["tool"].as_str().unwrap_or("allantools")
+            );
+            let [full, strided] = differences(&report, &peer);
+            println!(
+                "allantools/triad: time {:.1}x (wall), {:.1}x (CPU), peak memory {:.1}x; largest relative difference: {:.1e} over the fully overlapping octaves (m = {}), {:.1e} over the strided ones (m = {})",
+                seconds / wall,
+                peer_cpu / cpu,
+                peer_peak / peak,
+                full.0,
+                full.1,
+                strided.0,
+                strided.1
+            );
+        }
+        Err(why) => println!("allantools not run: {why}"),
+    }
+    for p in [&csv, &raw, &mcap] {
+        let _ = std::fs::remove_file(p);
+    }
+}
+
+/// The 24-hour, 2 kHz case: CSV from `gen` piped into `triad allan -`.
+fn long_case(hours: f64, rate: f64) {
+    let n = (hours * 3600.0 * rate) as u64;
+    let exe = std::env::current_exe().expect("own path");
+    let mut generator = Command::new(exe)
+        .args(["gen", &n.to_string(), &rate.to_string()])
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("run the generator");
+    let stdout = generator.stdout.take().expect("piped");
+    let out = Command::new("/usr/bin/time")
+        .args(["-f", "%e %U %S %M"])
+        .arg(triad_exe())
+        .args(["allan", "-", "--json"])
+        .stdin(stdout)
+        .output()
+        .expect("run /usr/bin/time triad allan -");
+    let _ = generator.wait();
+    if !out.status.success() {
+        println!(
+            "triad allan - failed: {}",
+            String::from_utf8_lossy(&out.stderr).trim()
+        );
+        return;
+    }
+    let report: Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    let (wall, cpu, peak) = timed(&out.stderr);
+    let octaves = report["columns"][0]["curve"].as_array().map_or(0, Vec::len);
+    println!(
+        "{hours} h at {rate} Hz, six columns ({} samples each), CSV streamed from a generator through a pipe: triad allan {wall:.1} s wall (the generator sharing the cores), {cpu:.1} s CPU, peak {peak:.0} MiB, {octaves} octaves per column",
+        report["samples"]
+    );
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    if args.first().map(String::as_str) == Some("gen") {
+        let n: u64 = args[1].parse().expect("rows");
+        let rate: f64 = args[2].parse().expect("rate");
+        let stdout = std::io::stdout().lock();
+        write_csv(
+            &mut BufWriter::with_capacity(1 << 20, stdout),
+            n,
+            rate,
+            None,
+        );
+        return;
+    }
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/allan-bench");
+    std::fs::create_dir_all(&dir).expect("target/allan-bench");
+    record_case(&dir, 8.0, 400.0);
+    if args.iter().any(|a| a == "--long") {
+        long_case(24.0, 2000.0);
+    }
+}

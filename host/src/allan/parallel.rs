@@ -1,0 +1,73 @@
+//! The columns shared among the cores: each block of rows the parsing
+//! thread sends is handed (shared, not copied) to one thread per group of
+//! columns, this one included, each integrating its own columns. The
+//! columns are independent, so the results are those of one thread, bit
+//! for bit; the threads are as many as the cores (no more than the columns).
+
+use std::sync::mpsc::{sync_channel, Receiver};
+use std::sync::Arc;
+
+use super::compute::{push_column, ColumnState, BLOCK_ROWS};
+
+/// Blocks queued per worker before the sender waits.
+const QUEUED_BLOCKS: usize = 4;
+
+/// Pushes column `first + i` of `block` into `group[i]`, one column at a
+/// time (its accumulator stays in cache over the block).
+fn push_group(group: &mut [ColumnState], block: &[f64], width: usize, first: usize) {
+    for (i, state) in group.iter_mut().enumerate() {
+        push_column(state, block, width, first + i);
+    }
+}
+
+/// Threads to share `columns` among: the cores, at most one per column.
+pub(super) fn threads(columns: usize) -> usize {
+    std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .clamp(1, columns.max(1))
+}
+
+/// Pushes each block from `rx` into `states` (slot c of a row of `width`
+/// values is column c), reporting the rows consumed every 16 blocks;
+/// returns the parsing thread's error, if any (the blocks before it pushed).
+pub(super) fn accumulate(
+    rx: Receiver<anyhow::Result<Vec<f64>>>,
+    states: &mut [ColumnState],
+    width: usize,
+    report: impl Fn(u64),
+) -> Option<anyhow::Error> {
+    let per_thread = states.len().div_ceil(threads(states.len())).max(1);
+    let mut groups = states.chunks_mut(per_thread);
+    let mine = groups.next().unwrap_or_default();
+    std::thread::scope(|scope| {
+        let mut workers = Vec::new();
+        for (g, group) in groups.enumerate() {
+            let (tx, blocks) = sync_channel::<Arc<Vec<f64>>>(QUEUED_BLOCKS);
+            let first = (g + 1) * per_thread;
+            scope.spawn(move || {
+                for block in blocks {
+                    push_group(group, &block, width, first);
+                }
+            });
+            workers.push(tx);
+        }
+        let mut consumed = 0u64;
+        for msg in rx {
+            let block = match msg {
+                Ok(block) => Arc::new(block),
+                // The workers stop when their senders drop, at this return.
+                Err(e) => return Some(e),
+            };
+            for tx in &workers {
+                // A worker gone has panicked: the scope's join reports it.
+                let _ = tx.send(Arc::clone(&block));
+            }
+            push_group(mine, &block, width, 0);
+            consumed += (block.len() / width) as u64;
+            if consumed % (16 * BLOCK_ROWS as u64) == 0 {
+                report(consumed);
+            }
+        }
+        None
+    })
+}

@@ -1,0 +1,388 @@
+//! Recordings in the formats people have (host/src/record/): bags written
+//! by an independent implementation (Python's rosbags, the fixtures'
+//! README says how), a real PX4 ULog, EuRoC and imu_tk text, MCAP written by
+//! `triad convert`. Each reads to the same samples as the CSV they were made
+//! from, `allan`, `calib fit` and `calib verify` take them with the CSV's
+//! results, a bag with two IMU topics needs `--topic`, and a truncated or
+//! corrupt file of each format is refused naming the file and where it broke.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use common::{dir, s, simulate_scene, text, triad};
+
+/// `host/tests/fixtures/recordings/NAME`.
+fn fixture(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/recordings")
+        .join(name)
+}
+
+/// The CSV the fixtures were written from, without its temp column (bags
+/// of sensor_msgs/Imu carry none).
+fn source_without_temp() -> String {
+    let csv = std::fs::read_to_string(fixture("imu.csv")).unwrap();
+    csv.lines()
+        .map(|l| l.rsplit_once(',').unwrap().0.to_string() + "\n")
+        .collect()
+}
+
+/// `triad [pre…] convert IN OUT` must succeed; OUT's text.
+fn converted(pre: &[&str], input: &Path, out: &Path) -> String {
+    let mut args = pre.to_vec();
+    args.extend(["convert", s(input), s(out)]);
+    let o = triad(&args);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    // An MCAP's bytes are not text: only a CSV's are compared as text.
+    text(&std::fs::read(out).unwrap())
+}
+
+/// `triad ARGS` must fail with one line naming `what`; the line.
+fn refused(args: &[&str], what: &[&str]) -> String {
+    let o = triad(args);
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{args:?}: {err}");
+    assert!(!err.contains("panicked"), "{err}");
+    for w in what {
+        assert!(err.contains(w), "{args:?}: `{w}` not in: {err}");
+    }
+    err
+}
+
+const BAGS: [&str; 5] = [
+    "imu.bag",
+    "imu.db3",
+    "imu_mcap_bag",
+    "imu_mcap_bag/ros2_mcap.mcap",
+    "two_imus.mcap",
+];
+
+#[test]
+fn every_bag_reads_to_the_samples_it_was_written_from() {
+    let d = dir("same-samples");
+    let want = source_without_temp();
+    for (k, bag) in BAGS.iter().enumerate() {
+        let pre: &[&str] = if bag.starts_with("two") {
+            &["--topic", "/imu1"]
+        } else {
+            &[]
+        };
+        let got = converted(pre, &fixture(bag), &d.join(format!("{k}.csv")));
+        let rows = if bag.starts_with("two") { 21 } else { 201 };
+        let want: String = want.lines().take(rows).map(|l| format!("{l}\n")).collect();
+        assert_eq!(got, want, "{bag}");
+        // The record time (written equal to the stamp) reads the same.
+        let mut pre = pre.to_vec();
+        pre.extend(["--time", "receive"]);
+        let got = converted(&pre, &fixture(bag), &d.join(format!("{k}-receive.csv")));
+        assert_eq!(got, want, "{bag} --time receive");
+    }
+}
+
+/// `triad allan INPUT --json`, its input's name taken out.
+fn allan_json(pre: &[&str], input: &Path) -> serde_json::Value {
+    let mut args = pre.to_vec();
+    args.extend(["allan", s(input), "--json"]);
+    let o = triad(&args);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let mut v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    v.as_object_mut().unwrap().remove("input");
+    v
+}
+
+/// Every number of `a` within `rel` of `b`'s (same shape).
+fn assert_close(a: &serde_json::Value, b: &serde_json::Value, rel: f64, at: &str) {
+    use serde_json::Value::*;
+    match (a, b) {
+        (Number(x), Number(y)) => {
+            let (x, y) = (x.as_f64().unwrap(), y.as_f64().unwrap());
+            assert!(
+                (x - y).abs() <= rel * x.abs().max(y.abs()),
+                "{at}: {x} vs {y}"
+            );
+        }
+        (Array(x), Array(y)) => {
+            assert_eq!(x.len(), y.len(), "{at}");
+            for (k, (x, y)) in x.iter().zip(y).enumerate() {
+                assert_close(x, y, rel, &format!("{at}[{k}]"));
+            }
+        }
+        (Object(x), Object(y)) => {
+            assert_eq!(
+                x.keys().collect::<Vec<_>>(),
+                y.keys().collect::<Vec<_>>(),
+                "{at}"
+            );
+            for (k, x) in x {
+                assert_close(x, &y[k], rel, &format!("{at}.{k}"));
+            }
+        }
+        _ => assert_eq!(a, b, "{at}"),
+    }
+}
+
+#[test]
+fn allan_of_each_format_is_the_csvs() {
+    let d = dir("allan");
+    let csv = d.join("imu.csv");
+    std::fs::write(&csv, source_without_temp()).unwrap();
+    let want = allan_json(&[], &csv);
+    for bag in &BAGS[..4] {
+        // The issue's bound: 1e-9 relative (the samples are the same f64s).
+        assert_close(&allan_json(&[], &fixture(bag)), &want, 1e-9, bag);
+    }
+    // EuRoC (ns, gyro first) and imu_tk (one triad per file) written here
+    // from the same samples.
+    let (mut euroc, mut acc, mut gyr) = (
+        String::from("#timestamp [ns],w_RS_S_x [rad s^-1],w_RS_S_y [rad s^-1],w_RS_S_z [rad s^-1],a_RS_S_x [m s^-2],a_RS_S_y [m s^-2],a_RS_S_z [m s^-2]\n"),
+        String::new(),
+        String::new(),
+    );
+    for line in source_without_temp().lines().skip(1) {
+        let c: Vec<&str> = line.split(',').collect();
+        let ns = (c[0].parse::<f64>().unwrap() * 1e9).round() as u64;
+        euroc += &format!(
+            "{ns},{},{},{},{},{},{}\n",
+            c[4], c[5], c[6], c[1], c[2], c[3]
+        );
+        acc += &format!("{} {} {} {}\n", c[0], c[1], c[2], c[3]);
+        gyr += &format!("{}\t{}\t{}\t{}\n", c[0], c[4], c[5], c[6]);
+    }
+    let (e, a, g) = (d.join("data.csv"), d.join("acc.txt"), d.join("gyro.txt"));
+    std::fs::write(&e, euroc).unwrap();
+    std::fs::write(&a, acc).unwrap();
+    std::fs::write(&g, gyr).unwrap();
+    assert_close(&allan_json(&[], &e), &want, 1e-9, "EuRoC");
+    let columns = |v: &serde_json::Value, names: &[&str]| -> Vec<serde_json::Value> {
+        v["columns"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|c| names.contains(&c["column"].as_str().unwrap()))
+            .cloned()
+            .collect()
+    };
+    let accel = ["ax", "ay", "az"];
+    let gyro = ["gx", "gy", "gz"];
+    assert_close(
+        &serde_json::Value::Array(columns(&allan_json(&[], &a), &accel)),
+        &serde_json::Value::Array(columns(&want, &accel)),
+        1e-9,
+        "imu_tk accel",
+    );
+    let named = allan_json(&["--imu-tk-triad", "gyro"], &d.join("gyro.txt"));
+    assert_close(
+        &serde_json::Value::Array(columns(&named, &gyro)),
+        &serde_json::Value::Array(columns(&want, &gyro)),
+        1e-9,
+        "imu_tk gyro",
+    );
+}
+
+#[test]
+fn two_imu_topics_without_topic_are_refused_naming_both() {
+    for bag in ["two_imus.bag", "two_imus.mcap"] {
+        let f = fixture(bag);
+        refused(
+            &["allan", s(&f)],
+            &[bag, "2 IMU topics (/imu0, /imu1): choose one with --topic"],
+        );
+        refused(
+            &["allan", "--topic", "/imu7", s(&f)],
+            &["no topic /imu7; the recording has: /imu0", "/imu1"],
+        );
+    }
+    let ulog = fixture("px4_sample_log_small.ulg");
+    refused(
+        &["allan", s(&ulog)],
+        &["2 IMU topics (sensor_accel+sensor_gyro, sensor_combined)"],
+    );
+}
+
+#[test]
+fn a_real_px4_ulog_reads_both_ways() {
+    let d = dir("ulog");
+    let f = fixture("px4_sample_log_small.ulg");
+    let combined = converted(&["--topic", "sensor_combined"], &f, &d.join("c.csv"));
+    assert!(combined.starts_with("t,ax,ay,az,gx,gy,gz\n"), "{combined}");
+    // pyulog counts 1298 sensor_combined messages of instance 0 in this log.
+    assert_eq!(combined.lines().count(), 1 + 1298);
+    let pair = converted(
+        &["--topic", "sensor_accel+sensor_gyro"],
+        &f,
+        &d.join("p.csv"),
+    );
+    assert!(pair.starts_with("t,ax,ay,az,gx,gy,gz,temp\n"), "{pair}");
+    // Six sensor_gyro messages of instance 0, each paired; az near -g, temp °C.
+    let rows: Vec<Vec<f64>> = pair
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|c| c.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 6);
+    for r in &rows {
+        assert!((r[3] + 9.8).abs() < 0.3, "{r:?}");
+        assert!((0.0..80.0).contains(&r[7]), "{r:?}");
+    }
+}
+
+#[test]
+fn csv_to_mcap_to_csv_is_identical() {
+    let d = dir("round-trip");
+    let mcap = d.join("imu.mcap");
+    converted(&[], &fixture("imu.csv"), &mcap);
+    assert!(std::fs::read(&mcap).unwrap().starts_with(b"\x89MCAP0\r\n"));
+    let back = converted(&[], &mcap, &d.join("back.csv"));
+    assert_eq!(back, std::fs::read_to_string(fixture("imu.csv")).unwrap());
+}
+
+/// Truncates a copy of `name` to `keep` bytes in `d`.
+fn cut(d: &Path, name: &str, keep: usize) -> PathBuf {
+    let bytes = std::fs::read(fixture(name)).unwrap();
+    let out = d.join(format!("cut-{}", name.replace('/', "-")));
+    std::fs::write(&out, &bytes[..keep.min(bytes.len())]).unwrap();
+    out
+}
+
+#[test]
+fn a_truncated_or_corrupt_file_of_each_format_names_where_it_broke() {
+    let d = dir("broken");
+    let csv = std::fs::read_to_string(fixture("imu.csv")).unwrap();
+    let mcap = d.join("imu.mcap");
+    converted(&[], &fixture("imu.csv"), &mcap);
+    let out = s(&d.join("out.csv")).to_string();
+    let convert = |f: &Path| vec!["convert".to_string(), s(f).to_string(), out.clone()];
+    let check = |args: Vec<String>, what: &[&str]| {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        refused(&args, what)
+    };
+    // Text: a line cut in the middle.
+    let cut_text = d.join("cut.csv");
+    std::fs::write(&cut_text, &csv[..csv.len() / 2]).unwrap();
+    check(convert(&cut_text), &["cut.csv, line", "expected 8 columns"]);
+    let euroc = d.join("data.csv");
+    std::fs::write(&euroc, "#timestamp [ns],w_RS_S_x [rad s^-1],w_RS_S_y [rad s^-1],w_RS_S_z [rad s^-1],a_RS_S_x [m s^-2],a_RS_S_y [m s^-2],a_RS_S_z [m s^-2]\n1000,0,0,0,0,0,9.8\n2000,0,0,").unwrap();
+    check(
+        convert(&euroc),
+        &["data.csv, line 3: expected 7 columns, found 4"],
+    );
+    let imu_tk = d.join("acc.txt");
+    std::fs::write(&imu_tk, "0.01 0 0 9.8\n0.02 0 0\n").unwrap();
+    check(convert(&imu_tk), &["acc.txt, line 2: expected 4 numbers"]);
+    // MCAP: cut in a message.
+    let len = std::fs::metadata(&mcap).unwrap().len() as usize;
+    let f = {
+        let bytes = std::fs::read(&mcap).unwrap();
+        let f = d.join("cut.mcap");
+        std::fs::write(&f, &bytes[..len / 2]).unwrap();
+        f
+    };
+    check(
+        convert(&f),
+        &[
+            "cut.mcap: broken MCAP after",
+            "message(s), within its first",
+        ],
+    );
+    // MCAP: a message's CDR corrupted (its frame_id length made absurd).
+    let corrupt = {
+        let mut bytes = std::fs::read(fixture("imu_mcap_bag/ros2_mcap.mcap")).unwrap();
+        let at = bytes.windows(4).position(|w| w == b"imu\0").unwrap() - 4;
+        bytes[at..at + 4].copy_from_slice(&0x7fff_ffffu32.to_le_bytes());
+        let f = d.join("corrupt.mcap");
+        std::fs::write(&f, bytes).unwrap();
+        f
+    };
+    check(
+        convert(&corrupt),
+        &["corrupt.mcap, message 1 of /imu0", "frame_id's length"],
+    );
+    // SQLite: the database cut in half.
+    let db = cut(&d, "imu.db3", 98304 / 2);
+    check(convert(&db), &["cut-imu.db3"]);
+    // ROS 1: cut before its index, and a chunk's bytes overwritten.
+    let bag = cut(&d, "imu.bag", 40_000);
+    check(
+        convert(&bag),
+        &[
+            "cut-imu.bag: truncated: the index should start at byte",
+            "40000 bytes",
+        ],
+    );
+    let ros1 = {
+        let mut bytes = std::fs::read(fixture("imu.bag")).unwrap();
+        for b in &mut bytes[4200..4400] {
+            *b = 0xff;
+        }
+        let f = d.join("corrupt.bag");
+        std::fs::write(&f, bytes).unwrap();
+        f
+    };
+    check(convert(&ros1), &["corrupt.bag"]);
+    // ULog: cut in the data section, and before it.
+    let ulog = cut(&d, "px4_sample_log_small.ulg", 300_000);
+    check(
+        ["--topic", "sensor_combined"]
+            .iter()
+            .map(|s| s.to_string())
+            .chain(convert(&ulog))
+            .collect(),
+        &["cut-px4_sample_log_small.ulg: truncated ULog: its 300000 bytes end inside a message"],
+    );
+    let ulog = cut(&d, "px4_sample_log_small.ulg", 500);
+    check(
+        convert(&ulog),
+        &["truncated ULog: its 500 bytes end before the data section"],
+    );
+    // Nothing was written by any refused conversion.
+    assert!(!d.join("out.csv").exists());
+}
+
+#[test]
+fn calib_fit_and_verify_read_a_recording_as_its_csv() {
+    let d = dir("calib");
+    let body = "rate_hz = 100.0\nduration_s = 720.0\n[motion]\nkind = \"tumble\"\npositions = 24\n\
+         dwell_s = 25.0\ntransition_s = 5.0\n[accel]\nwhite_noise = \"100 ug/sqrt(Hz)\"\n\
+         bias = [\"1 mg\", \"-2 mg\", \"0.5 mg\"]\nscale_factor = [\"500 ppm\", \"-300 ppm\", \"200 ppm\"]\n";
+    let sim = simulate_scene(&d, "tumble", body, "720", "1");
+    // The MCAP keeps time to the nanosecond: its CSV is the reference.
+    let mcap = d.join("tumble.mcap");
+    converted(&[], &sim, &mcap);
+    let csv = d.join("tumble-ns.csv");
+    converted(&[], &mcap, &csv);
+    let fit = |input: &Path, out: &Path| {
+        let o = triad(&[
+            "calib",
+            "fit",
+            "accel",
+            "--axis-aligned",
+            "--positions",
+            s(input),
+            "--out",
+            s(out),
+        ]);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        text(&o.stdout)
+            .replace(s(input), "INPUT")
+            .replace(s(out), "OUTPUT")
+    };
+    let (from_csv, from_mcap) = (d.join("csv.toml"), d.join("mcap.toml"));
+    assert_eq!(fit(&csv, &from_csv), fit(&mcap, &from_mcap));
+    let strip = |p: &Path| -> String {
+        std::fs::read_to_string(p)
+            .unwrap()
+            .lines()
+            .filter(|l| !l.contains("tumble"))
+            .collect()
+    };
+    assert_eq!(strip(&from_csv), strip(&from_mcap));
+    let verify = |input: &Path| {
+        let o = triad(&["calib", "verify", s(&from_csv), s(input)]);
+        assert!(o.status.success(), "{}{}", text(&o.stdout), text(&o.stderr));
+        text(&o.stdout).replace(s(input), "INPUT")
+    };
+    let v = verify(&mcap);
+    assert!(v.contains("verdict: PASS"), "{v}");
+    assert_eq!(v, verify(&csv));
+}

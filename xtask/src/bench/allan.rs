@@ -1,0 +1,102 @@
+//! `cargo xtask bench --allan`: Allan at the scale of real recordings
+//! (host/examples/bench_allan_scale.rs) beside allantools, the peer, in a
+//! venv under `target/allan-peer-venv` (pinned, installed from PyPI by pip
+//! with its output on stderr; benchmark-only, never a product dependency).
+//! The figures go to stdout; docs/BENCHMARKS.md's "Allan at scale" section
+//! holds the last run's.
+
+use anyhow::{Context, Result};
+use std::path::PathBuf;
+use std::process::Command;
+
+use crate::cmd::{build_host_tool, cargo, check, host_target_dir, root};
+
+/// The peer, pinned (the versions the figures were measured with).
+const PEER: [&str; 2] = ["allantools==2024.06", "numpy==2.4.6"];
+
+/// The venv's python, the peer installed in it (once: a marker lists it).
+fn peer_python() -> Result<PathBuf> {
+    let dir = root().join("target/allan-peer-venv");
+    let python = dir.join("bin/python");
+    let marker = dir.join("triad-peer.txt");
+    let wanted = PEER.join("\n");
+    if python.exists() && std::fs::read_to_string(&marker).ok().as_deref() == Some(&wanted) {
+        return Ok(python);
+    }
+    note!(
+        "xtask: installing the Allan benchmark's peer ({}) into a venv in {} (benchmark-only; pip's output follows)",
+        PEER.join(", "),
+        dir.display()
+    );
+    if !python.exists() {
+        let mut venv = Command::new("python3");
+        venv.args(["-m", "venv"]).arg(&dir);
+        check(
+            venv,
+            "python3 -m venv (Debian: apt-get install python3-venv)",
+        )?;
+    }
+    let mut pip = Command::new(&python);
+    pip.args(["-m", "pip", "install", "--disable-pip-version-check"])
+        .args(PEER);
+    check(pip, "pip install (the Allan benchmark's peer)")?;
+    std::fs::write(&marker, wanted).with_context(|| format!("writing {}", marker.display()))?;
+    Ok(python)
+}
+
+/// Builds `triad` and the benchmark (release), installs the peer, runs it
+/// (`long`: the 24-hour, 2 kHz case too) and returns its figures as the
+/// markdown section of docs/BENCHMARKS.md (the benchmark's own progress on
+/// stderr).
+pub fn section(long: bool) -> Result<String> {
+    let python = peer_python()?;
+    build_host_tool()?;
+    let mut build = cargo();
+    build.args([
+        "build",
+        "--quiet",
+        "--release",
+        "-p",
+        "triad-host",
+        "--example",
+        "bench_allan_scale",
+    ]);
+    check(build, "building the Allan benchmark")?;
+    let exe = host_target_dir().join("release/examples/bench_allan_scale");
+    let mut bench = Command::new(&exe);
+    bench.env("TRIAD_PYTHON", &python);
+    if long {
+        bench.arg("--long");
+    }
+    note!(
+        "xtask: Allan at scale (an 8-hour record{})",
+        if long { " and a 24-hour one" } else { "" }
+    );
+    let out = bench
+        .stderr(std::process::Stdio::inherit())
+        .output()
+        .with_context(|| format!("starting {}", exe.display()))?;
+    anyhow::ensure!(
+        out.status.success(),
+        "the Allan benchmark failed ({})",
+        out.status
+    );
+    let mut md = String::from(
+        "## Allan at the scale of real recordings\n\n\
+         `cargo xtask bench --allan --long` (this section alone; `cargo xtask bench` writes it with the rest): \
+         host/examples/bench_allan_scale.rs on this machine, `triad allan` timed by `/usr/bin/time` \
+         (wall, user + system CPU, peak resident memory), allantools' `oadev` (octave taus) on the same \
+         six columns already in memory, timed in its process (bench/allan_peer.py), one after the other in one run.\n\n",
+    );
+    for line in String::from_utf8_lossy(&out.stdout).lines() {
+        md += &format!("- {line}\n");
+    }
+    md.push('\n');
+    Ok(md)
+}
+
+/// `cargo xtask bench --allan`: the section on stdout.
+pub fn run(long: bool) -> Result<()> {
+    print!("{}", section(long)?);
+    Ok(())
+}
