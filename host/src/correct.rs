@@ -34,7 +34,8 @@ pub struct CorrectArgs {
     #[arg(long)]
     calib: PathBuf,
     /// Input CSV with the columns `t,ax,ay,az,gx,gy,gz` and optionally
-    /// `temp`, found by name among any others (`-` for stdin).
+    /// `temp`, found by name among any others (`-` for stdin), or a
+    /// recording (bag, MCAP, ULog, EuRoC, imu_tk: README, Recordings).
     input: PathBuf,
     /// Use the f64 reference instead of the firmware's f32 hot path.
     #[arg(long)]

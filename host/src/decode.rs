@@ -16,13 +16,14 @@ use std::time::Duration;
 use anyhow::{bail, Context};
 use triad::stream::Decoder;
 
+use crate::distinct::named;
 use crate::input;
 use crate::interrupt;
 use crate::progress::{Progress, Unit};
 use crate::row_writer::RowWriter;
 use crate::serial;
-use crate::stdio;
 use crate::stream_csv::{CsvSink, Failure, Limits, Outcome, Stop};
+use crate::stream_out::StreamOut;
 
 pub use crate::stream_csv::CSV_HEADER;
 
@@ -63,6 +64,12 @@ pub struct DecodeArgs {
     /// Report every rejected frame on stderr, not only the totals.
     #[arg(long)]
     pub verbose: bool,
+    /// Write the rows to FILE, whole or not at all, instead of standard
+    /// output: the CSV, or for a name ending .mcap an MCAP (sensor_msgs/msg/Imu
+    /// on /imu, the temperature on /imu/temperature, each frame's seq and
+    /// flags on /imu/frame).
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
 }
 
 /// Bytes of CSV buffered before a write (a file or a pipe; a live port
@@ -78,12 +85,15 @@ pub fn run(args: DecodeArgs) -> anyhow::Result<ExitCode> {
     }
     let limits = Limits::new(args.max_frames, args.seconds)?;
     let interrupted = interrupt::flag();
+    if let (Some(out), Some(input)) = (&args.out, &args.input) {
+        crate::distinct::check(&[named("input", input)], &[named("--out", out)])?;
+    }
     let source = open_source(&args)?;
-    let mut csv = RowWriter::new(stdio::raw_stdout()?, CSV_BUFFER);
+    let mut csv = RowWriter::new(StreamOut::open(args.out.as_deref())?, CSV_BUFFER);
     let mut outcome = decode_stream(source, &mut csv, limits, &interrupted, args.verbose)?;
     if outcome.failure.is_none() {
-        if let Err(e) = stdio::sync_if_file(csv.get_ref()) {
-            outcome.failure = Some(Failure::Output(format!("{e} (when syncing)")));
+        if let Err(e) = csv.into_inner().finish() {
+            outcome.failure = Some(Failure::Output(format!("{e:#}")));
         }
     }
     let outcome = outcome.report("triad decode")?;
@@ -117,7 +127,8 @@ fn open_source(args: &DecodeArgs) -> anyhow::Result<Source> {
     }
     // No FILE is standard input, as `-` is.
     let path = args.input.as_deref().unwrap_or(Path::new("-"));
-    let opened = input::open(path, 1 << 16)?;
+    // A stream of frames, not a record: its bytes as they are.
+    let opened = input::open_bytes(path, 1 << 16)?;
     Ok(Source {
         bytes: Box::new(opened.reader),
         live: false,

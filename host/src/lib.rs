@@ -43,6 +43,7 @@ pub mod shipped;
 pub mod sim;
 pub mod stdio;
 pub mod stream_csv;
+pub mod stream_out;
 pub mod truth_calibration;
 pub mod units;
 pub mod version;

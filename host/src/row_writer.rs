@@ -48,6 +48,11 @@ impl<W: Write> RowWriter<W> {
         &self.out
     }
 
+    /// The output, once flushed (what is still buffered is dropped).
+    pub fn into_inner(self) -> W {
+        self.out
+    }
+
     /// Writes what is buffered, counting each line as it is taken; on an
     /// error the lines not taken stay buffered (and uncounted).
     pub fn flush(&mut self) -> io::Result<()> {

@@ -386,3 +386,43 @@ fn calib_fit_and_verify_read_a_recording_as_its_csv() {
     assert!(v.contains("verdict: PASS"), "{v}");
     assert_eq!(v, verify(&csv));
 }
+
+#[test]
+fn decode_out_mcap_keeps_every_frame_and_its_seq_and_flags() {
+    let d = dir("decode-mcap");
+    let stream = d.join("stream.bin");
+    std::fs::write(&stream, triad_host::fixtures::stream(500)).unwrap();
+    let stdout = triad(&["decode", s(&stream)]);
+    assert!(stdout.status.success(), "{}", text(&stdout.stderr));
+    let (mcap, csv) = (d.join("rec.mcap"), d.join("rec.csv"));
+    for out in [&mcap, &csv] {
+        let o = triad(&["decode", s(&stream), "--out", s(out)]);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+    }
+    // --out FILE.csv is what standard output gets.
+    assert_eq!(std::fs::read(&csv).unwrap(), stdout.stdout);
+    // The MCAP's samples are the CSV's numbers (t to the nanosecond).
+    let back = converted(&[], &mcap, &d.join("back.csv"));
+    let numbers =
+        |line: &str| -> Vec<f64> { line.split(',').map(|c| c.parse().unwrap()).collect() };
+    let decoded: Vec<Vec<f64>> = text(&stdout.stdout).lines().skip(1).map(numbers).collect();
+    let read: Vec<Vec<f64>> = back.lines().skip(1).map(numbers).collect();
+    assert_eq!(read.len(), 500);
+    for (r, c) in read.iter().zip(&decoded) {
+        // back: t,ax..gz,temp; decoded: seq,t,ax..gz,temp,flags.
+        assert_eq!(r[..], c[1..9]);
+    }
+    // The frame topic is there, with its own schema.
+    let bytes = std::fs::read(&mcap).unwrap();
+    for needle in [
+        &b"/imu/frame"[..],
+        b"triad_msgs/msg/Frame",
+        b"uint32 seq\nuint16 flags",
+    ] {
+        assert!(
+            bytes.windows(needle.len()).any(|w| w == needle),
+            "{}",
+            text(needle)
+        );
+    }
+}

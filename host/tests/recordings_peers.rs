@@ -164,3 +164,27 @@ fn a_real_ulog_reads_as_pyulog_reads_it() {
     assert_eq!(theirs.len(), 1298);
     assert_eq!(theirs, ours);
 }
+
+#[test]
+#[ignore = "needs the Python peers: run by cargo xtask test"]
+fn a_decoded_stream_written_as_mcap_opens_in_python_with_every_frame() {
+    let d = dir("decode-python");
+    let stream = d.join("stream.bin");
+    std::fs::write(&stream, triad_host::fixtures::stream(2000)).unwrap();
+    let (mcap, csv) = (d.join("rec.mcap"), d.join("rec.csv"));
+    for out in [&mcap, &csv] {
+        let o = triad(&["decode", s(&stream), "--out", s(out)]);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+    }
+    let py = d.join("python.csv");
+    peer(&["read-mcap", s(&mcap), s(&py)]);
+    let (theirs, ours) = (rows(&py), rows(&csv));
+    assert_eq!(theirs.len(), 2000);
+    assert_eq!(theirs.len(), ours.len());
+    for (k, (a, b)) in theirs.iter().zip(&ours).enumerate() {
+        // Python: t_ns,ax..gz,temp,seq,flags; triad decode: seq,t,ax..gz,temp,flags.
+        assert_eq!(a[0], (b[1] * 1e9).round(), "row {k}");
+        assert_eq!(a[1..8], b[2..9], "row {k}");
+        assert_eq!((a[8], a[9]), (b[0], b[9]), "row {k}");
+    }
+}

@@ -58,7 +58,8 @@ use crate::stdio;
 /// Arguments of `triad allan`.
 #[derive(clap::Args)]
 pub struct AllanArgs {
-    /// Input CSV with a header (e.g. `t,ax,ay,az,gx,gy,gz,temp` as `triad sim` writes; SI units; `-`: stdin).
+    /// Input CSV with a header (e.g. `t,ax,ay,az,gx,gy,gz,temp` as `triad sim` writes; SI units; `-`: stdin),
+    /// or a recording: EuRoC/TUM-VI CSV, imu_tk text, ROS 1 or 2 bag, MCAP, PX4 ULog (README: Recordings).
     pub input: PathBuf,
     /// Columns to analyse, comma-separated (default: every column whose name
     /// starts with `g` (gyro, rad/s) or `a` (accel, m/s²)).

@@ -30,6 +30,7 @@ use crate::row_writer::RowWriter;
 use crate::serial;
 use crate::stdio::{self, note};
 use crate::stream_csv::{CsvSink, Failure, Limits, Outcome, Stop};
+use crate::stream_out::StreamOut;
 use link::{Link, LinkError, Settings};
 
 /// Arguments of `triad device`.
@@ -104,6 +105,10 @@ enum DeviceCommand {
         /// Report every rejected frame on stderr, not only the totals.
         #[arg(long)]
         verbose: bool,
+        /// Write the rows to FILE, whole or not at all, instead of standard
+        /// output: the CSV, or for a name ending .mcap an MCAP (as `triad decode --out`).
+        #[arg(long, value_name = "FILE")]
+        out: Option<PathBuf>,
     },
 }
 
@@ -181,7 +186,9 @@ pub fn run(args: DeviceArgs) -> anyhow::Result<ExitCode> {
                 return Ok(ExitCode::FAILURE);
             }
         }
-        DeviceCommand::Stream { verbose, .. } => stream(&mut link, limits, verbose)?,
+        DeviceCommand::Stream { verbose, out, .. } => {
+            stream(&mut link, limits, verbose, out.as_deref())?
+        }
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -294,9 +301,10 @@ fn stream<P: Read + Write>(
     link: &mut Link<P>,
     limits: Limits,
     verbose: bool,
+    out: Option<&Path>,
 ) -> anyhow::Result<()> {
     let interrupted = interrupt::flag();
-    let mut csv = RowWriter::new(stdio::raw_stdout()?, 1 << 16);
+    let mut csv = RowWriter::new(StreamOut::open(out)?, 1 << 16);
     let mut sink = CsvSink::new(&mut csv, limits, verbose, "triad device stream");
     let mut stop = sink.start();
     while stop.is_none() {
@@ -323,8 +331,8 @@ fn stream<P: Read + Write>(
     let mut failure = sink.failure.take();
     let rows = sink.rows();
     if failure.is_none() {
-        if let Err(e) = stdio::sync_if_file(csv.get_ref()) {
-            failure = Some(Failure::Output(format!("{e} (when syncing)")));
+        if let Err(e) = csv.into_inner().finish() {
+            failure = Some(Failure::Output(format!("{e:#}")));
         }
     }
     Outcome {

@@ -18,6 +18,9 @@ use super::producer::{spawn, Sink};
 use super::{topics, Channels, Format, Opened, Options, Place, Sample, Source, TimeSource};
 use crate::input;
 
+/// The largest decompressed chunk read.
+const MAX_CHUNK: u64 = 256 << 20;
+
 /// The type of the temperature topic read beside an IMU topic.
 const TEMPERATURE_TYPE: &str = "sensor_msgs/msg/Temperature";
 
@@ -117,12 +120,28 @@ type Messages = mcap::io::MessageReader<Counting<BufReader<File>>>;
 /// The messages of the file and the count of bytes read so far.
 fn messages(path: &Path, name: &str) -> anyhow::Result<(Messages, Arc<AtomicU64>)> {
     let file = File::open(path).with_context(|| format!("{name}: cannot open"))?;
+    // No record is longer than the file, nor a chunk's decompressed records
+    // than 256 MiB (writers' chunks are a few MiB): a corrupt length is then
+    // an error, not an allocation the size of the length. A chunk's CRC (where the
+    // writer gave one) is checked before its records are parsed: the crate
+    // trusts the lengths inside a chunk (mcap 0.26 overflows a subtraction
+    // on a corrupt one).
+    let len = file
+        .metadata()
+        .map(|m| m.len().max(MAX_CHUNK))
+        .unwrap_or(u64::MAX);
+    let options = mcap::sans_io::LinearReaderOptions::default()
+        .with_record_length_limit(usize::try_from(len).unwrap_or(usize::MAX))
+        .with_prevalidate_chunk_crcs(true);
     let read = Arc::new(AtomicU64::new(0));
     let counting = Counting {
         inner: BufReader::with_capacity(1 << 20, file),
         read: read.clone(),
     };
-    Ok((mcap::io::MessageReader::new(counting), read))
+    Ok((
+        mcap::io::MessageReader::new_with_options(counting, options),
+        read,
+    ))
 }
 
 /// The error of a file that broke after `count` messages.

@@ -4,7 +4,11 @@
 //! where the record has a temperature, topic `/imu/temperature` with
 //! sensor_msgs/msg/Temperature. Each message's log time is its stamp.
 //! The orientation is absent (orientation_covariance[0] = -1, as REP 145
-//! says) and the covariances unknown (0).
+//! says) and the covariances unknown (0). A stream decoded from the device
+//! ([`McapWriter::with_frames`]) adds topic `/imu/frame`, message
+//! `triad_msgs/msg/Frame` (header, `uint32 seq`, `uint16 flags`: the
+//! frame's sequence number and flags as docs/PROTOCOL.md gives them, RAW
+//! marking a raw frame whose values are the counts times the nominal scale).
 
 use std::collections::BTreeMap;
 use std::io::Write;
@@ -22,6 +26,12 @@ pub const IMU_TOPIC: &str = "/imu";
 
 /// The temperature topic written.
 pub const TEMPERATURE_TOPIC: &str = "/imu/temperature";
+
+/// The frame topic of a decoded stream.
+pub const FRAME_TOPIC: &str = "/imu/frame";
+
+/// Its message type (triad's own).
+pub const FRAME_TYPE: &str = "triad_msgs/msg/Frame";
 
 /// The frame_id of the messages.
 pub const FRAME_ID: &str = "imu";
@@ -56,6 +66,24 @@ fn temperature_schema() -> String {
     .join(SEPARATOR)
 }
 
+/// triad_msgs/msg/Frame with its dependencies.
+fn frame_schema() -> String {
+    [
+        "std_msgs/Header header\nuint32 seq\nuint16 flags\n",
+        HEADER_DEFINITION,
+        TIME_DEFINITION,
+    ]
+    .join(SEPARATOR)
+}
+
+/// triad_msgs/msg/Frame.
+#[derive(Serialize)]
+struct Frame {
+    header: Header,
+    seq: u32,
+    flags: u16,
+}
+
 /// sensor_msgs/msg/Temperature.
 #[derive(Serialize)]
 struct Temperature {
@@ -70,6 +98,7 @@ pub struct McapWriter<W: Write> {
     channels: Channels,
     imu: u16,
     temperature: Option<u16>,
+    frame: Option<u16>,
     sequence: u32,
 }
 
@@ -110,8 +139,59 @@ impl<W: Write> McapWriter<W> {
             channels,
             imu,
             temperature,
+            frame: None,
             sequence: 0,
         })
+    }
+
+    /// Starts an MCAP on `out` for a decoded stream: every channel, and
+    /// each frame's sequence number and flags on [`FRAME_TOPIC`].
+    pub fn with_frames(out: W) -> anyhow::Result<Self> {
+        let all = Channels {
+            accel: true,
+            gyro: true,
+            temp: true,
+        };
+        let mut w = McapWriter::new(out, all)?;
+        let schema = w
+            .writer
+            .add_schema(FRAME_TYPE, "ros2msg", frame_schema().as_bytes())
+            .map_err(|e| anyhow!("{e}"))?;
+        let channel = w
+            .writer
+            .add_channel(schema, FRAME_TOPIC, "cdr", &BTreeMap::new())
+            .map_err(|e| anyhow!("{e}"))?;
+        w.frame = Some(channel);
+        Ok(w)
+    }
+
+    /// Writes a decoded frame: its sample, then its sequence number and flags.
+    pub fn write_frame(&mut self, s: &Sample, seq: u32, flags: u16) -> anyhow::Result<()> {
+        self.write(s)?;
+        let Some(channel) = self.frame else {
+            return Ok(());
+        };
+        let stamp = imu_msg::stamp_of(s.t);
+        let frame = Frame {
+            header: Header {
+                stamp,
+                frame_id: FRAME_ID.to_string(),
+            },
+            seq,
+            flags,
+        };
+        let time = (stamp.sec as i64 * 1_000_000_000 + stamp.nanosec as i64).max(0) as u64;
+        let data = cdr::serialize::<_, _, cdr::CdrLe>(&frame, cdr::Infinite)
+            .map_err(|e| anyhow!("{e}"))?;
+        let header = MessageHeader {
+            channel_id: channel,
+            sequence: self.sequence,
+            log_time: time,
+            publish_time: time,
+        };
+        self.writer
+            .write_to_known_channel(&header, &data)
+            .map_err(|e| anyhow!("{e}"))
     }
 
     /// Writes one sample (the absent triad as zeros).

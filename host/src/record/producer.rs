@@ -55,6 +55,8 @@ impl Sink {
 pub struct Produced {
     rx: Receiver<anyhow::Result<Vec<Sample>>>,
     thread: Option<JoinHandle<()>>,
+    /// False when the thread could not be started.
+    started: bool,
     name: String,
 }
 
@@ -65,39 +67,63 @@ pub fn spawn(
     produce: impl FnOnce(&mut Sink) -> anyhow::Result<()> + Send + 'static,
 ) -> Produced {
     let (tx, rx) = sync_channel(IN_FLIGHT);
-    let thread = std::thread::spawn(move || {
-        let mut sink = Sink {
-            tx: tx.clone(),
-            chunk: Vec::with_capacity(CHUNK),
-        };
-        let result = produce(&mut sink).and_then(|()| Ok(sink.flush()?));
-        if let Err(e) = result {
-            let _ = tx.send(Err(e));
-        }
-    });
+    quiet_panics_of_readers();
+    let thread = std::thread::Builder::new()
+        .name(THREAD.into())
+        .spawn(move || {
+            let mut sink = Sink {
+                tx: tx.clone(),
+                chunk: Vec::with_capacity(CHUNK),
+            };
+            let result = produce(&mut sink).and_then(|()| Ok(sink.flush()?));
+            if let Err(e) = result {
+                let _ = tx.send(Err(e));
+            }
+        });
     Produced {
         rx,
-        thread: Some(thread),
+        // Without a thread there is no record: the first read says so.
+        started: thread.is_ok(),
+        thread: thread.ok(),
         name: name.to_string(),
     }
+}
+
+/// The name of the reading threads.
+const THREAD: &str = "triad-record-reader";
+
+/// A library that panics on a corrupt file, on a reading thread, becomes
+/// the error [`Produced::next_chunk`] returns: its panic message is not
+/// printed (other threads' panics are, as before).
+fn quiet_panics_of_readers() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        let default = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            if std::thread::current().name() != Some(THREAD) {
+                default(info);
+            }
+        }));
+    });
 }
 
 impl Reader for Produced {
     fn next_chunk(&mut self) -> anyhow::Result<Option<Vec<Sample>>> {
         match self.rx.recv() {
             Ok(chunk) => chunk.map(Some),
-            Err(_) => {
-                // The thread has ended: a panic in a library is an error, not ours.
-                if let Some(t) = self.thread.take() {
-                    if t.join().is_err() {
-                        return Err(anyhow!(
-                            "{}: the reader failed (a library panicked)",
-                            self.name
-                        ));
-                    }
+            Err(_) => match self.thread.take().map(JoinHandle::join) {
+                // A library that panicked on a corrupt file: an error, not a crash.
+                Some(Err(_)) => Err(anyhow!(
+                    "{}: the format's library failed on this file with an internal error (the file is corrupt in a way the library does not check)",
+                    self.name
+                )),
+                Some(Ok(())) => Ok(None),
+                None if self.started => Ok(None),
+                None => {
+                    self.started = true;
+                    Err(anyhow!("{}: cannot start the thread that reads it", self.name))
                 }
-                Ok(None)
-            }
+            },
         }
     }
 }

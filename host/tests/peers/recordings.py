@@ -78,7 +78,7 @@ def read_mcap(path, out):
     from mcap.reader import make_reader
     from mcap_ros2.decoder import DecoderFactory
 
-    imu, temp = [], {}
+    imu, temp, frames = [], {}, {}
     with open(path, "rb") as f:
         reader = make_reader(f, decoder_factories=[DecoderFactory()])
         for schema, channel, message, msg in reader.iter_decoded_messages():
@@ -89,10 +89,13 @@ def read_mcap(path, out):
                 imu.append((key, t, [a.x, a.y, a.z], [g.x, g.y, g.z]))
             elif schema.name == "sensor_msgs/msg/Temperature":
                 temp[key] = msg.temperature
+            elif schema.name == "triad_msgs/msg/Frame":
+                frames[key] = (msg.seq, msg.flags)
     with open(out, "w") as f:
-        f.write("t,ax,ay,az,gx,gy,gz" + (",temp" if temp else "") + "\n")
+        f.write("t,ax,ay,az,gx,gy,gz" + (",temp" if temp else "") + (",seq,flags" if frames else "") + "\n")
         for key, t, a, g in imu:
             cells = [key[0] * 1_000_000_000 + key[1]] + a + g + ([temp[key]] if temp else [])
+            cells += list(frames[key]) if frames else []
             f.write(",".join(repr(c) for c in cells) + "\n")
 
 
