@@ -795,9 +795,10 @@ fn the_documented_edge_cases_are_what_the_handler_does() {
     assert_eq!((reply.sequence, reply.status), (0x42, Status::BadCrc));
 
     // §15: a read at offset = total is the end (ok, no bytes); past it, bad argument.
-    let at_end = device.ok(Command::ReadCalibration { offset: 512 }, 10);
-    assert_eq!(at_end.as_slice(), &512u16.to_le_bytes());
-    let past = device.send(Command::ReadCalibration { offset: 513 }, 11);
+    let total = BLOB_LEN as u16;
+    let at_end = device.ok(Command::ReadCalibration { offset: total }, 10);
+    assert_eq!(at_end.as_slice(), &total.to_le_bytes());
+    let past = device.send(Command::ReadCalibration { offset: total + 1 }, 11);
     assert_eq!(past.status, Status::BadArgument);
     // Reset counters counts itself: the identify after it says 2.
     device.ok(Command::ResetCounters, 12);
@@ -928,8 +929,8 @@ fn flash_gone_bad_is_rejected_at_start_up_with_the_reason_in_identify() {
     // A whole record whose blob is of a later version (its own CRC good).
     let mut future = saved;
     future[4] = blob::VERSION + 1;
-    let crc = crc32c(&future[..508]);
-    future[508..].copy_from_slice(&crc.to_le_bytes());
+    let crc = crc32c(&future[..BLOB_LEN - 4]);
+    future[BLOB_LEN - 4..].copy_from_slice(&crc.to_le_bytes());
     let mut device = restart(flash_with_one_record(&future), &built_in);
     starts_built_in(
         &mut device,
@@ -1013,7 +1014,8 @@ proptest::proptest! {
         }
         let before = device.handler.active().clone();
         let commit = device.upload(&bytes, 0x7000);
-        replies += 5;
+        // Its chunks and the commit: one reply each.
+        replies += BLOB_LEN.div_ceil(CHUNK_LEN) as u32 + 1;
         let after = device.handler.active().clone();
         if commit.status == Status::Ok {
             proptest::prop_assert_eq!(after.blob, Some(bytes));

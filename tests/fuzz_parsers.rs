@@ -158,11 +158,11 @@ proptest! {
             // A well-framed blob of arbitrary values (magic, version, CRC right).
             bytes[..4].copy_from_slice(&blob::MAGIC);
             bytes[4] = blob::VERSION;
-            bytes[5] &= 3;
+            bytes[5] &= 7;
             bytes[6] = 0;
             bytes[7] = 0;
-            let crc = triad::stream::crc32c(&bytes[..508]);
-            bytes[508..].copy_from_slice(&crc.to_le_bytes());
+            let crc = triad::stream::crc32c(&bytes[..BLOB_LEN - 4]);
+            bytes[BLOB_LEN - 4..].copy_from_slice(&crc.to_le_bytes());
         }
         for f in flips {
             bytes[usize::from(f) % BLOB_LEN] ^= 1 << (f % 8);

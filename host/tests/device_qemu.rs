@@ -255,11 +255,12 @@ fn a_stored_record_gone_bad_is_rejected_with_the_reason_and_the_built_in_runs() 
     let mut future = saved.clone();
     let blob_at = 16;
     future[blob_at + 4] = blob::VERSION + 1;
-    let blob_crc = triad::stream::crc32c(&future[blob_at..blob_at + 508]);
-    future[blob_at + 508..blob_at + 512].copy_from_slice(&blob_crc.to_le_bytes());
+    let len = blob::BLOB_LEN;
+    let blob_crc = triad::stream::crc32c(&future[blob_at..blob_at + len - 4]);
+    future[blob_at + len - 4..blob_at + len].copy_from_slice(&blob_crc.to_le_bytes());
     // The record's CRC: its generation and length (header bytes 4..12), then the blob.
     let mut covered = future[4..12].to_vec();
-    covered.extend_from_slice(&future[blob_at..blob_at + 512]);
+    covered.extend_from_slice(&future[blob_at..blob_at + len]);
     let record_crc = triad::stream::crc32c(&covered);
     future[12..16].copy_from_slice(&record_crc.to_le_bytes());
     std::fs::write(&storage, &future).unwrap();

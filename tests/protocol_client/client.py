@@ -176,16 +176,20 @@ def identify(board):
     return info
 
 
+BLOB_LEN = 584
+
+
 def blob(accel_matrix, accel_bias, gyro_matrix, gyro_bias, cal_id=None):
-    """Section 21: a calibration without temperature terms."""
+    """Section 21, version 3: a calibration without temperature terms or G
+    (flags 0, G's 72 bytes 0, the id the CRC-32C of bytes 12..=507)."""
     def triad(matrix, bias):
         values = [v for row in matrix for v in row] + list(bias) + [0.0] * 19
         return struct.pack("<31d", *values)
     params = triad(accel_matrix, accel_bias) + triad(gyro_matrix, gyro_bias)
     if cal_id is None:
         cal_id = crc32c(params)
-    head = b"TRCL" + bytes([2, 0, 0, 0]) + struct.pack("<I", cal_id)
-    body = head + params
+    head = b"TRCL" + bytes([3, 0, 0, 0]) + struct.pack("<I", cal_id)
+    body = head + params + bytes(72)
     return body + struct.pack("<I", crc32c(body)), cal_id
 
 
@@ -256,7 +260,7 @@ def _(b):
     info = identify(b)
     assert (info["calibration_id"], info["calibration_source"]) == (cal_id, 3), info
     total, back = read_back(b)
-    assert (total, back) == (512, data)
+    assert (total, back) == (BLOB_LEN, data)
     # Frames now carry the new id (after the change between two samples).
     b.frames.clear()
     list(b.packets(time.monotonic() + 0.3))
@@ -265,9 +269,9 @@ def _(b):
 
 @check("read calibration at offset = total: ok, no bytes; past it: bad argument")
 def _(b):
-    status, p = b.command(0x06, struct.pack("<H", 512))
-    assert (status, p) == (0, struct.pack("<H", 512)), (status, p)
-    status, _ = b.command(0x06, struct.pack("<H", 513))
+    status, p = b.command(0x06, struct.pack("<H", BLOB_LEN))
+    assert (status, p) == (0, struct.pack("<H", BLOB_LEN)), (status, p)
+    status, _ = b.command(0x06, struct.pack("<H", BLOB_LEN + 1))
     assert status == 8, STATUS.get(status)
 
 
@@ -280,12 +284,12 @@ def _(b):
     cases = [
         ("commit CRC wrong", good, crc32c(good) ^ 1, 1),
         ("blob CRC wrong", bytes(flipped), None, 1),
-        ("blob version 3", bytes(good[:4]) + b"\x03" + bytes(good[5:]), None, 2),
-        ("not 512 bytes", good[:500], None, None),
+        ("blob version 4", bytes(good[:4]) + b"\x04" + bytes(good[5:]), None, 2),
+        ("not 584 bytes", good[:500], None, None),
     ]
     for name, data, crc, expected in cases:
-        if name == "blob version 3":
-            body = data[:508]
+        if name == "blob version 4":
+            body = data[:BLOB_LEN - 4]
             data = body + struct.pack("<I", crc32c(body))
         status, _ = upload(b, data, crc)
         assert status != 0, name
