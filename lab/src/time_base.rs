@@ -170,7 +170,7 @@ pub fn period(stamps: &[f64], scratch: &mut [f64]) -> f64 {
 /// Repairs `stamps` (s, in line order) into `times` (same length): one
 /// straight line t₀ + k·T per part, the record split where a step exceeds
 /// [`GAP_PERIODS`] periods; the first sample of each part goes to
-/// `part_starts` (as long as the record), and [`parts`] reads them back.
+/// `part_starts` (as long as the record), and [`part`] reads them back (the first [`TimeBase::parts`] entries).
 pub fn repair(
     stamps: &[f64],
     times: &mut [f64],
