@@ -504,12 +504,16 @@ fn a_power_cut_during_a_save_leaves_the_old_calibration_or_the_new_one_whole() {
     }
     let slot0 = std::fs::read(&storage).unwrap()[..SLOT].to_vec();
 
-    // A save of the new calibration (into slot 1) is one erase, then eight
-    // 64-byte writes of the blob, then the header's write: ten operations of
-    // the emulated flash. A cut before operation n leaves n done. The order
-    // makes each cut's effect visible: after n = 9 slot 1 holds the whole
-    // blob, so n = 0 (before the erase) is seen to leave it there.
-    for n in [9, 0, 1, 2, 3, 4, 5, 6, 7, 8] {
+    // A save of the new calibration (into slot 1) is one erase, then the
+    // blob's 64-byte writes (the last one short), then the header's write:
+    // `operations` operations of the emulated flash. A cut before operation
+    // n leaves n done. The order makes each cut's effect visible: after
+    // n = operations − 1 slot 1 holds the whole blob, so n = 0 (before the
+    // erase) is seen to leave it there.
+    let writes = new_blob.len().div_ceil(64);
+    let operations = (writes + 2) as u32;
+    let cuts = std::iter::once(operations - 1).chain(0..operations - 1);
+    for n in cuts {
         let mut board = ServedBoard::start(&storage, Clock::Deterministic, Some(n));
         // Whatever the last cut left, the old calibration starts, from flash.
         assert_info(&board, 0x01d0_0001, "stored", "valid");
@@ -527,7 +531,7 @@ fn a_power_cut_during_a_save_leaves_the_old_calibration_or_the_new_one_whole() {
         let slot1 = &flash[SLOT..];
         let written = match n {
             0 => None,
-            n => Some(64 * (n as usize - 1)),
+            n => Some((64 * (n as usize - 1)).min(new_blob.len())),
         };
         if let Some(written) = written {
             assert!(slot1[..HEADER].iter().all(|&b| b == 0xFF), "header at {n}");
@@ -543,8 +547,8 @@ fn a_power_cut_during_a_save_leaves_the_old_calibration_or_the_new_one_whole() {
         }
     }
     {
-        // Ten operations done: the save completes.
-        let board = ServedBoard::start(&storage, Clock::Deterministic, Some(10));
+        // Every operation done: the save completes.
+        let board = ServedBoard::start(&storage, Clock::Deterministic, Some(operations));
         assert_info(&board, 0x01d0_0001, "stored", "valid");
         assert_eq!(
             upload_and_save(&board, &new),
