@@ -321,18 +321,31 @@ fn parse_timed(
         bail!("{name}: no samples after the header");
     }
     let n = samples.len();
-    let mut t = vec![0.0; n];
-    let base = match rate {
-        Some(hz) => time_base::from_rate(n, hz, &mut t),
-        None => time_base::repair(&stamps, &mut t, &mut vec![0; n]),
-    }
-    .map_err(|e| anyhow!("{name}: {e}"))?;
+    let (t, base) = match rate {
+        Some(hz) => {
+            let mut t = vec![0.0; n];
+            let base = time_base::from_rate(n, hz, &mut t).map_err(|e| anyhow!("{name}: {e}"))?;
+            (t, base)
+        }
+        None => repaired_times(&name, &stamps)?,
+    };
     let record = Record {
         path: path.to_path_buf(),
         t,
         samples,
     };
     Ok((record, base))
+}
+
+/// The times every fit uses for the `stamps` of the record `name`:
+/// [`time_base::repair`]'s straight line per part (the session's live
+/// record goes through it too, so that refitting its file gives the same).
+pub fn repaired_times(name: &str, stamps: &[f64]) -> anyhow::Result<(Vec<f64>, TimeBase)> {
+    let n = stamps.len();
+    let mut t = vec![0.0; n];
+    let base =
+        time_base::repair(stamps, &mut t, &mut vec![0; n]).map_err(|e| anyhow!("{name}: {e}"))?;
+    Ok((t, base))
 }
 
 /// The header's column count and the cell index of each `wanted` column.

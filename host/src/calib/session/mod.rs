@@ -242,14 +242,16 @@ pub fn run(args: SessionArgs) -> anyhow::Result<ExitCode> {
         outfile::write_whole(path, record.csv().as_bytes())?;
         guide.say(&format!("wrote the raw record to {}", path.display()));
     }
+    // Timed as `calib fit imu` times the record's file.
+    let (t, _) = crate::calib::fit_csv::repaired_times(&name.display().to_string(), &record.t)?;
     let accel = Record {
         path: name.clone(),
-        t: record.t.clone(),
+        t: t.clone(),
         samples: record.accel.clone(),
     };
     let gyro = Record {
         path: name,
-        t: record.t,
+        t,
         samples: record.gyro,
     };
     let full_scale = (
