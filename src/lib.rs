@@ -6,11 +6,11 @@
 //!
 //! Data flow: [`sensor`] reads a [`sensor::RawSample`] from a chip over any
 //! embedded-hal 1.0 SPI or I²C bus; [`model`] corrects it with a lab
-//! calibration, m = (I+Σ)⁻¹(m̂ − b), into a [`model::Sample`]; [`stream`]
-//! frames it for the serial link, closed by the project's one CRC,
-//! [`crc32c`]. [`device`] holds what a firmware decides (which calibration
-//! starts, the data-ready step) as plain functions; [`units`] the unit
-//! conversions at the edges.
+//! calibration, m = (I+Σ)⁻¹(m̂ − b), into a [`model::Sample`]; [`protocol`]
+//! frames it for the serial link (closed by the project's one CRC,
+//! [`mod@protocol::crc32c`]) and reads the host's commands. [`device`]
+//! holds what a firmware decides (which calibration starts, the data-ready
+//! step) as plain functions; [`units`] the unit conversions at the edges.
 //!
 //! A user's own firmware needs two calls:
 //!
@@ -27,10 +27,8 @@
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
 
-pub mod crc32c;
 pub mod device;
-pub mod link;
 pub mod model;
+pub mod protocol;
 pub mod sensor;
-pub mod stream;
 pub mod units;

@@ -15,13 +15,13 @@ use triad::device::{
     start_calibration, ActiveCalibration, CalibrationStore, CommandHandler, Control, DeviceFacts,
     Handled, SharedCounters,
 };
-use triad::link::{
-    CalibrationSource, Command, DeviceInfo, Mode, Payload, Reply, Status, StoredState, CHUNK_LEN,
-};
 use triad::model::blob::{self, BLOB_LEN};
 use triad::model::{Calibration, Corrector, FixedCorrector, Orientation, TemperatureTerms};
-use triad::stream::cobs::stuff;
-use triad::stream::{crc32c, Decoder};
+use triad::protocol::cobs::stuff;
+use triad::protocol::{crc32c, Decoder};
+use triad::protocol::{
+    CalibrationSource, Command, DeviceInfo, Mode, Payload, Reply, Status, StoredState, CHUNK_LEN,
+};
 
 /// The device under test: its handler, what it queued for the sampling
 /// task, and its flash.
@@ -600,7 +600,7 @@ fn every_malformed_packet_gets_one_reply_naming_its_sequence_number() {
     assert_eq!((reply.sequence, reply.status), (0x1237, Status::Malformed));
     assert!(reply.reason().contains("400 bytes"), "{}", reply.reason());
     // A device ignores what devices send (a looped-back line): no reply.
-    let data = triad::link::RawFrame::default().to_packet().unwrap();
+    let data = triad::protocol::RawFrame::default().to_packet().unwrap();
     assert_eq!(
         device.wire(&on_wire(data.as_bytes())),
         vec![Handled::Nothing]
@@ -859,7 +859,7 @@ fn flash_with_one_record(record: &[u8; BLOB_LEN]) -> RamFlash {
 
 #[test]
 fn flash_gone_bad_is_rejected_at_start_up_with_the_reason_in_identify() {
-    use triad::link::StoredReason;
+    use triad::protocol::StoredReason;
     let built_in = blob::encode(&valid_calibration(7, BUILT_IN_ID));
     let saved = blob::encode(&valid_calibration(40, 0x5A7E_D000));
     let starts_built_in = |device: &mut Device, reason: StoredReason, what: &str| {

@@ -11,10 +11,10 @@ use std::collections::VecDeque;
 
 use model_support::*;
 use triad::device::{Outgoing, Sampler};
-use triad::link::{Mode, MAX_BATCH};
 use triad::model::{BatchKernel, Corrector, Orientation};
+use triad::protocol::Flags;
+use triad::protocol::{Mode, MAX_BATCH};
 use triad::sensor::{FifoImu, FifoRead, Imu, ImuScale, RawSample};
-use triad::stream::Flags;
 
 /// A FIFO that holds what the test puts in it, and may report an overflow
 /// or fail its next read.

@@ -8,10 +8,10 @@
 
 use proptest::collection::vec;
 use proptest::prelude::*;
-use triad::link::{Command, Packet, Payload, Reply, Status};
 use triad::model::blob::{self, BLOB_LEN};
-use triad::stream::cobs::{stuff, Unstuffer};
-use triad::stream::{encode, Decoder, Flags, Frame, MAX_ENCODED_LEN};
+use triad::protocol::cobs::{stuff, Unstuffer};
+use triad::protocol::{encode, Decoder, Flags, Frame, MAX_ENCODED_LEN};
+use triad::protocol::{Command, Packet, Payload, Reply, Status};
 
 fn config() -> ProptestConfig {
     ProptestConfig {
@@ -62,7 +62,7 @@ fn message() -> impl Strategy<Value = Vec<u8>> {
                 .to_packet(sequence)
                 .unwrap()
         };
-        let mut wire = vec![0u8; triad::link::MAX_WIRE_LEN];
+        let mut wire = vec![0u8; triad::protocol::MAX_WIRE_LEN];
         let n = packet.to_wire(&mut wire[..].try_into().unwrap());
         wire.truncate(n);
         wire
@@ -161,7 +161,7 @@ proptest! {
             bytes[5] &= 7;
             bytes[6] = 0;
             bytes[7] = 0;
-            let crc = triad::stream::crc32c(&bytes[..BLOB_LEN - 4]);
+            let crc = triad::protocol::crc32c(&bytes[..BLOB_LEN - 4]);
             bytes[BLOB_LEN - 4..].copy_from_slice(&crc.to_le_bytes());
         }
         for f in flips {

@@ -3,9 +3,9 @@
 //! beyond the range, at most 25 bytes per sample on the wire, and decoded
 //! back through the stream decoder.
 
-use triad::link::batch_frame::{to_counts, BatchFrame, MAX_BATCH};
-use triad::link::{Packet, MAX_WIRE_LEN};
-use triad::stream::{Decoder, Flags};
+use triad::protocol::batch_frame::{to_counts, BatchFrame, MAX_BATCH};
+use triad::protocol::{Decoder, Flags};
+use triad::protocol::{Packet, MAX_WIRE_LEN};
 
 /// The device's LSBs for a ±16 g, ±2000 °/s 16-bit chip (the powers of two
 /// at least 1.5 chip LSBs: `fixed_point_lsb`).
@@ -95,10 +95,10 @@ fn a_batch_whose_count_disagrees_with_its_length_is_malformed() {
     // Claim two samples while carrying one, CRC recomputed.
     bytes[2 + 34] = 2;
     let crc_at = bytes.len() - 4;
-    let crc = triad::crc32c::crc32c(&bytes[..crc_at]);
+    let crc = triad::protocol::crc32c::crc32c(&bytes[..crc_at]);
     bytes[crc_at..].copy_from_slice(&crc.to_le_bytes());
     assert!(matches!(
         Packet::parse(&bytes),
-        Err(triad::stream::DecodeError::Body { kind: 0x04, .. })
+        Err(triad::protocol::DecodeError::Body { kind: 0x04, .. })
     ));
 }

@@ -1,8 +1,8 @@
 //! docs/PROTOCOL.md's version-2 examples stay true: the command and reply
 //! bytes it shows are what the code produces, and decode back.
 
-use triad::link::{Command, Packet, Payload, Reply, Status, MAX_WIRE_LEN};
-use triad::stream::Decoder;
+use triad::protocol::Decoder;
+use triad::protocol::{Command, Packet, Payload, Reply, Status, MAX_WIRE_LEN};
 
 mod protocol_doc;
 
@@ -10,7 +10,7 @@ use protocol_doc::{doc_hex, hex_lines};
 
 /// Checks `name-unstuffed` and `name-wire` against the packet, and that the
 /// wire bytes decode back to `expected`.
-fn check(name: &str, packet: &triad::link::PacketBuf, expected: &Packet) {
+fn check(name: &str, packet: &triad::protocol::PacketBuf, expected: &Packet) {
     let mut wire = [0u8; MAX_WIRE_LEN];
     let n = packet.to_wire(&mut wire);
     println!(
@@ -78,8 +78,8 @@ fn doc_says(text: &str) -> bool {
 
 #[test]
 fn each_stated_limit_is_the_codes() {
-    use triad::link::{CHUNK_LEN, MAX_PACKET_LEN, MAX_PAYLOAD, MAX_REPLY_PAYLOAD};
     use triad::model::blob::BLOB_LEN;
+    use triad::protocol::{CHUNK_LEN, MAX_PACKET_LEN, MAX_PAYLOAD, MAX_REPLY_PAYLOAD};
     let stated = [
         ("at most 240 bytes before stuffing", MAX_PACKET_LEN, 240),
         ("(242 on the wire)", MAX_WIRE_LEN, 242),
@@ -99,15 +99,15 @@ fn each_stated_limit_is_the_codes() {
 fn sealed(version: u8, kind: u8, body: &[u8]) -> Vec<u8> {
     let mut bytes = vec![version, kind];
     bytes.extend_from_slice(body);
-    let crc = triad::stream::crc32c(&bytes);
+    let crc = triad::protocol::crc32c(&bytes);
     bytes.extend_from_slice(&crc.to_le_bytes());
     bytes
 }
 
 /// What the decoder makes of `packet` between two delimiters.
-fn decode(packet: &[u8]) -> (Vec<Result<Packet, triad::stream::DecodeError>>, Decoder) {
+fn decode(packet: &[u8]) -> (Vec<Result<Packet, triad::protocol::DecodeError>>, Decoder) {
     let mut wire = vec![0u8; packet.len() + packet.len() / 254 + 2];
-    let n = triad::stream::cobs::stuff(packet, &mut wire).unwrap();
+    let n = triad::protocol::cobs::stuff(packet, &mut wire).unwrap();
     let mut bytes = vec![0u8];
     bytes.extend_from_slice(&wire[..n]);
     bytes.push(0);
@@ -118,7 +118,7 @@ fn decode(packet: &[u8]) -> (Vec<Result<Packet, triad::stream::DecodeError>>, De
 
 #[test]
 fn every_packet_up_to_240_bytes_is_read_and_no_longer_one() {
-    use triad::link::{MAX_PACKET_LEN, MAX_PAYLOAD, MAX_REPLY_PAYLOAD};
+    use triad::protocol::{MAX_PACKET_LEN, MAX_PAYLOAD, MAX_REPLY_PAYLOAD};
     // The longest reply, as the device builds it and the host decodes it.
     let longest = Reply {
         sequence: 9,
@@ -200,13 +200,13 @@ fn the_blob_example_is_the_shipped_default_calibration_byte_for_byte() {
         ]),
     };
     // With a G the id covers bytes 12..=579 (§21).
-    cal.id = triad::stream::crc32c(&blob::encode(&cal)[12..580]);
+    cal.id = triad::protocol::crc32c(&blob::encode(&cal)[12..580]);
     assert_eq!(cal.id, 0xA545_68AE);
     assert_eq!(cal.id, blob::parameter_id(&cal));
     assert_eq!(blob::encode(&cal).as_slice(), example.as_slice());
     assert_eq!(
         u32::from_le_bytes(example[580..].try_into().unwrap()),
-        triad::stream::crc32c(&example[..580])
+        triad::protocol::crc32c(&example[..580])
     );
 }
 

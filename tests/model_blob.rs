@@ -3,9 +3,9 @@
 mod model_support;
 
 use model_support::*;
-use triad::crc32c::crc32c;
 use triad::model::blob::{self, BLOB_LEN, MAGIC, V2_LEN, VERSION};
 use triad::model::{BlobError, Calibration};
+use triad::protocol::crc32c::crc32c;
 
 fn bits(cal: &Calibration) -> Vec<u64> {
     let mut out = vec![u64::from(cal.id)];

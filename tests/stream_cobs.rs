@@ -2,7 +2,7 @@
 //! and random round trips.
 
 use rand::{rngs::SmallRng, Rng, SeedableRng};
-use triad::stream::cobs::{
+use triad::protocol::cobs::{
     max_stuffed_len, stuff, stuff_block, stuff_short, CobsError, Unstuffer, MAX_BLOCK,
 };
 

@@ -1,11 +1,11 @@
 //! CRC-32C: catalogue check value, table against the bitwise definition, and
-//! the Hamming-distance claim of src/stream/crc.rs at the frame's length.
+//! the Hamming-distance claim of src/protocol/crc.rs at the frame's length.
 
 use std::collections::HashSet;
 
 use rand::{rngs::SmallRng, Rng, SeedableRng};
-use triad::crc32c::{crc32c, crc32c_update, CRC32C_POLY_REFLECTED};
-use triad::stream::{CHECKED_LEN, CRC32C_CHECK, FRAME_LEN};
+use triad::protocol::crc32c::{crc32c, crc32c_update, CRC32C_POLY_REFLECTED};
+use triad::protocol::{CHECKED_LEN, CRC32C_CHECK, FRAME_LEN};
 
 /// The definition, one bit at a time (reflected, init and xorout all ones).
 fn crc32c_bitwise(data: &[u8]) -> u32 {

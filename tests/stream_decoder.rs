@@ -2,7 +2,7 @@
 //! and concatenation, and counts exactly what it lost; no input panics it.
 
 use rand::{rngs::SmallRng, Rng, SeedableRng};
-use triad::stream::{encode, DecodeError, Decoder, DecoderStats, Flags, Frame, MAX_ENCODED_LEN};
+use triad::protocol::{encode, DecodeError, Decoder, DecoderStats, Flags, Frame, MAX_ENCODED_LEN};
 
 const L: usize = MAX_ENCODED_LEN;
 
@@ -296,10 +296,10 @@ fn extra_delimiters_are_skipped_bytes_not_errors() {
 fn unknown_version_with_good_crc_is_malformed() {
     let mut raw = frame(9).to_bytes();
     raw[0] = 3;
-    let crc = triad::stream::crc32c(&raw[..47]);
+    let crc = triad::protocol::crc32c(&raw[..47]);
     raw[47..].copy_from_slice(&crc.to_le_bytes());
     let mut wire = vec![0u8; 60];
-    let n = triad::stream::cobs::stuff(&raw, &mut wire).unwrap();
+    let n = triad::protocol::cobs::stuff(&raw, &mut wire).unwrap();
     wire.truncate(n);
     wire.push(0);
     let mut bytes = encoded(&frame(8));

@@ -1,7 +1,7 @@
 //! docs/PROTOCOL.md stays true: its worked example, stuffing example and
 //! check value are what the code produces.
 
-use triad::stream::{cobs, crc32c, encode, Decoder, Flags, Frame, MAX_ENCODED_LEN};
+use triad::protocol::{cobs, crc32c, encode, Decoder, Flags, Frame, MAX_ENCODED_LEN};
 
 mod protocol_doc;
 

@@ -1,7 +1,7 @@
 //! Every frame field survives encode → decode bit for bit, extremes included.
 
 use rand::{rngs::SmallRng, Rng, SeedableRng};
-use triad::stream::{encode, Decoder, Flags, Frame, FRAME_LEN, MAX_ENCODED_LEN};
+use triad::protocol::{encode, Decoder, Flags, Frame, FRAME_LEN, MAX_ENCODED_LEN};
 
 /// Field-by-field, bit-for-bit comparison (NaN ≠ NaN under `==`, and the
 /// NaN payload and the sign of zero must survive too).
@@ -147,7 +147,7 @@ fn fields_sit_at_their_documented_offsets_little_endian() {
     assert_eq!([f(31), f(35), f(39)], [-1.0, -2.0, -3.0]);
     assert_eq!(f(43), 0.5);
     let crc = u32::from_le_bytes(b[47..51].try_into().unwrap());
-    assert_eq!(crc, triad::stream::crc32c(&b[..47]));
+    assert_eq!(crc, triad::protocol::crc32c(&b[..47]));
 }
 
 #[test]

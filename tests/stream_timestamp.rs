@@ -1,6 +1,6 @@
 //! Timestamp extension across the 32-bit wrap, and the link budget formula.
 
-use triad::stream::{max_frame_rate, TimestampUnwrapper, MAX_ENCODED_LEN};
+use triad::protocol::{max_frame_rate, TimestampUnwrapper, MAX_ENCODED_LEN};
 
 #[test]
 fn timestamps_keep_rising_across_wraps() {

@@ -1,7 +1,7 @@
 //! What a command costs the firmware's `link` task: the receive decoder
 //! over the command's wire bytes ([`Decoder::push`]), the handler
 //! ([`CommandHandler::on_packet`]) and the reply encoded to wire bytes
-//! ([`triad::link::Reply::to_packet`], [`PacketBuf::to_wire`]), as the task runs them
+//! ([`triad::protocol::Reply::to_packet`], [`PacketBuf::to_wire`]), as the task runs them
 //! (firmware/src/main.rs), over a [`RamFlash`] that counts its operations.
 //! Sending the reply (the transmitter) is not counted: it is the link's time.
 //!
@@ -24,15 +24,15 @@ use triad::device::{
     ActiveCalibration, CalibrationStore, CommandHandler, Control, DeviceFacts, Handled,
     SharedCounters, StorageError,
 };
-use triad::link::{
+use triad::model::blob::{self, BLOB_LEN};
+use triad::model::Orientation;
+use triad::protocol::cobs::stuff;
+use triad::protocol::{
     CalibrationSource, Command, Mode, Packet, Payload, StoredState, CHUNK_LEN, MAX_PACKET_LEN,
     MAX_WIRE_LEN,
 };
-use triad::link::{PacketBuf, Status};
-use triad::model::blob::{self, BLOB_LEN};
-use triad::model::Orientation;
-use triad::stream::cobs::stuff;
-use triad::stream::{Decoder, DELIMITER};
+use triad::protocol::{Decoder, DELIMITER};
+use triad::protocol::{PacketBuf, Status};
 
 /// Times each device is started afresh and sent every command.
 pub const REPETITIONS: usize = 8;
@@ -140,7 +140,7 @@ impl BenchCommand {
             }
             BenchCommand::UploadCommit => Command::UploadCommit {
                 len: BLOB_LEN as u16,
-                crc: triad::stream::crc32c(upload),
+                crc: triad::protocol::crc32c(upload),
             },
             BenchCommand::ReadCalibration => Command::ReadCalibration { offset: 0 },
             BenchCommand::Save => Command::Save,

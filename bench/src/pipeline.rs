@@ -10,10 +10,10 @@ use embedded_hal::spi::{ErrorType, Operation, SpiDevice};
 
 use triad::device::{Outgoing, Sampler, StepOutcome};
 use triad::model::Corrector;
+use triad::protocol::{encode, MAX_ENCODED_LEN};
 use triad::sensor::icm42688::Icm42688;
 use triad::sensor::interface::SpiInterface;
 use triad::sensor::RawSample;
-use triad::stream::{encode, MAX_ENCODED_LEN};
 
 /// An encoded frame's bytes (unused tail bytes zero).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -3,8 +3,8 @@
 //! `cargo xtask test` checks against these bit for bit).
 
 use triad::model::FixedCorrector;
+use triad::protocol::{Decoder, Flags};
 use triad::sensor::RawSample;
-use triad::stream::{Decoder, Flags};
 use triad_bench::inputs::{self, raw_batch};
 use triad_bench::kernels::{NoMeter, Output};
 use triad_bench::{Bench, Variant, BATCH, BATCHES};

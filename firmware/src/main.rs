@@ -94,9 +94,9 @@ mod app {
         on_data_ready, on_fifo_ready, CommandHandler, Control, Handled, LoadWindow, Outgoing,
         Sampler, Stepped, Task,
     };
-    use triad::link::{Reply, MAX_WIRE_LEN};
+    use triad::protocol::Decoder;
+    use triad::protocol::{Reply, MAX_WIRE_LEN};
     use triad::sensor::{SelfTestError, SelfTestReport};
-    use triad::stream::Decoder;
 
     /// A self-test's outcome, with the sequence number of its command.
     type SelfTestDone = (

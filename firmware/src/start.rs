@@ -7,7 +7,7 @@
 use crate::{board, BUS, CALIBRATION_BLOB, SETTINGS};
 use triad::device::startup::load_stored;
 use triad::device::{start_calibration, CalibrationStore, CommandHandler, DeviceFacts, Sampler};
-use triad::link::StoredState;
+use triad::protocol::StoredState;
 use triad::sensor::Imu;
 
 /// What the tasks start with.

@@ -11,7 +11,7 @@ use rtic_common::waker_registration::CriticalSectionWakerRegistration;
 use rtic_sync::channel::Receiver;
 use triad::device::board::LinkTx;
 use triad::device::Outgoing;
-use triad::link::{Reply, MAX_WIRE_LEN};
+use triad::protocol::{Reply, MAX_WIRE_LEN};
 
 /// Woken when a frame or a reply is waiting.
 pub static OUTGOING: CriticalSectionWakerRegistration = CriticalSectionWakerRegistration::new();

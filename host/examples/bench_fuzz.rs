@@ -31,12 +31,12 @@ use std::time::{Duration, Instant};
 use triad::device::{
     ActiveCalibration, CalibrationStore, CommandHandler, DeviceFacts, Handled, SharedCounters,
 };
-use triad::link::{
+use triad::model::{blob, Orientation};
+use triad::protocol::{crc32c, encode, Decoder, Flags, Frame, MAX_ENCODED_LEN};
+use triad::protocol::{
     CalibrationSource, Command, Packet, PacketBuf, Payload, RawFrame, Reply, Status, StoredState,
     MAX_WIRE_LEN,
 };
-use triad::model::{blob, Orientation};
-use triad::stream::{crc32c, encode, Decoder, Flags, Frame, MAX_ENCODED_LEN};
 use triad_bench::ram_flash::{RamFlash, ERASE_SIZE};
 
 /// An input slower than this is counted as a hang.
@@ -205,7 +205,7 @@ fn packet_seeds() -> (Vec<Vec<u8>>, Vec<Vec<u8>>) {
     let mut packets: Vec<PacketBuf> = Vec::new();
     let commands = [
         Command::Identify,
-        Command::SetMode(triad::link::Mode::Raw),
+        Command::SetMode(triad::protocol::Mode::Raw),
         Command::SetDecimation(4),
         Command::UploadChunk {
             offset: 0,

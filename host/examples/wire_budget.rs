@@ -7,7 +7,7 @@
 use std::hint::black_box;
 use std::time::Instant;
 
-use triad::stream::{encode, max_frame_rate, Decoder, Flags, Frame, MAX_ENCODED_LEN};
+use triad::protocol::{encode, max_frame_rate, Decoder, Flags, Frame, MAX_ENCODED_LEN};
 
 /// 8N1: start bit, 8 data bits, stop bit.
 const BITS_PER_BYTE: u32 = 10;

@@ -14,7 +14,7 @@ use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 
 use anyhow::{bail, Context};
-use triad::stream::Decoder;
+use triad::protocol::Decoder;
 
 use crate::distinct::named;
 use crate::input;
@@ -262,10 +262,10 @@ mod tests {
 
     #[test]
     fn raw_frames_are_rows_and_replies_are_counted() {
-        use triad::link::{Payload, RawFrame, RawScale, Reply, Status, MAX_WIRE_LEN};
-        use triad::stream::Flags;
+        use triad::protocol::Flags;
+        use triad::protocol::{Payload, RawFrame, RawScale, Reply, Status, MAX_WIRE_LEN};
         let mut bytes = stream(1);
-        let wire = |packet: triad::link::PacketBuf| {
+        let wire = |packet: triad::protocol::PacketBuf| {
             let mut out = [0u8; MAX_WIRE_LEN];
             let n = packet.to_wire(&mut out);
             out[..n].to_vec()

@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use triad::stream::{encode, Frame, MAX_ENCODED_LEN};
+use triad::protocol::{encode, Frame, MAX_ENCODED_LEN};
 
 /// Frames 0..n, 10 ms apart from t = 1 s, as the firmware sends them.
 pub fn stream(n: u32) -> Vec<u8> {

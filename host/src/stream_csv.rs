@@ -4,15 +4,15 @@
 //!
 //! A data frame's row carries its corrected values; a raw frame's row the
 //! chip's counts times the frame's nominal scale
-//! ([`RawFrame::to_si`](triad::link::RawFrame::to_si), in `f32`), with its
+//! ([`RawFrame::to_si`](triad::protocol::RawFrame::to_si), in `f32`), with its
 //! flags as received (the device sets RAW and UNCALIBRATED). Replies and
 //! commands are counted, not printed.
 
 use std::io::{self, ErrorKind, Write};
 
 use anyhow::bail;
-use triad::link::{BatchFrame, Packet, RawFrame};
-use triad::stream::{DecodeError, DecoderStats, Flags, Frame, TimestampUnwrapper};
+use triad::protocol::{BatchFrame, Packet, RawFrame};
+use triad::protocol::{DecodeError, DecoderStats, Flags, Frame, TimestampUnwrapper};
 
 use crate::number::{positive, refused};
 use crate::row_writer::RowWriter;
@@ -356,7 +356,7 @@ pub fn summary(outcome: &Outcome, command: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use triad::link::RawScale;
+    use triad::protocol::RawScale;
 
     fn rows_of(packets: &[Packet]) -> String {
         let mut csv = RowWriter::new(Vec::new(), 64);
@@ -414,11 +414,11 @@ mod tests {
 
     #[test]
     fn replies_are_not_rows() {
-        let reply = triad::link::Reply {
+        let reply = triad::protocol::Reply {
             sequence: 1,
             command: 1,
-            status: triad::link::Status::Ok,
-            payload: triad::link::Payload::EMPTY,
+            status: triad::protocol::Status::Ok,
+            payload: triad::protocol::Payload::EMPTY,
         };
         assert_eq!(rows_of(&[Packet::Reply(reply)]), format!("{CSV_HEADER}\n"));
     }

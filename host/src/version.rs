@@ -13,7 +13,7 @@ pub fn text() -> &'static str {
         format!(
             "{} (stream protocol v{}, calibration blob v{}, scene blob v{})",
             env!("CARGO_PKG_VERSION"),
-            triad::link::packet::VERSION,
+            triad::protocol::packet::VERSION,
             triad::model::blob::VERSION,
             triad_sim::scenes::scene_blob::VERSION,
         )
@@ -27,7 +27,7 @@ mod tests {
     fn the_version_names_each_format_version() {
         let text = super::text();
         assert!(text.starts_with(env!("CARGO_PKG_VERSION")), "{text}");
-        let stream = format!("stream protocol v{}", triad::link::packet::VERSION);
+        let stream = format!("stream protocol v{}", triad::protocol::packet::VERSION);
         assert!(text.contains("stream protocol v2"), "{text}");
         assert!(text.contains(&stream), "{text}");
         assert!(text.contains("calibration blob v") && text.contains("scene blob v"));

@@ -30,7 +30,7 @@ fn the_version_names_the_formats_it_speaks() {
     let expected = format!(
         "triad {} (stream protocol v{}, calibration blob v{}, scene blob v{})\n",
         env!("CARGO_PKG_VERSION"),
-        triad::link::packet::VERSION,
+        triad::protocol::packet::VERSION,
         triad::model::blob::VERSION,
         triad_sim::scenes::scene_blob::VERSION
     );

@@ -4,7 +4,7 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::process::{Command, Output, Stdio};
 
-use triad::stream::{encode, Flags, Frame, MAX_ENCODED_LEN};
+use triad::protocol::{encode, Flags, Frame, MAX_ENCODED_LEN};
 
 const TRIAD: &str = env!("CARGO_BIN_EXE_triad");
 
@@ -269,7 +269,7 @@ fn the_help_says_what_a_raw_frame_becomes() {
 
 #[test]
 fn a_batch_frame_is_a_row_per_sample_at_its_own_time() {
-    use triad::link::{BatchFrame, MAX_WIRE_LEN};
+    use triad::protocol::{BatchFrame, MAX_WIRE_LEN};
     let (a_lsb, g_lsb) = (0.01f32, 0.001f32);
     let mut batch = BatchFrame::new(a_lsb, g_lsb);
     batch.sequence = 3;

@@ -29,9 +29,9 @@ use std::time::{Duration, Instant};
 use emulated_board::{decoded_csv, triad_correct, Replay};
 use served_board::{env_path, frames, test_dir, text, Clock, ServedBoard};
 use triad::device::start_calibration;
-use triad::link::{CalibrationSource, Command, Mode, Packet, RawFrame, RawScale};
 use triad::model::{blob, Corrector};
-use triad::stream::{Flags, Frame};
+use triad::protocol::{CalibrationSource, Command, Mode, Packet, RawFrame, RawScale};
+use triad::protocol::{Flags, Frame};
 use triad_host::calib_file;
 use triad_host::device::{identify, transfer};
 use triad_sim::chips::emulated_board::DESCRIPTION;
@@ -256,12 +256,12 @@ fn a_stored_record_gone_bad_is_rejected_with_the_reason_and_the_built_in_runs() 
     let blob_at = 16;
     future[blob_at + 4] = blob::VERSION + 1;
     let len = blob::BLOB_LEN;
-    let blob_crc = triad::stream::crc32c(&future[blob_at..blob_at + len - 4]);
+    let blob_crc = triad::protocol::crc32c(&future[blob_at..blob_at + len - 4]);
     future[blob_at + len - 4..blob_at + len].copy_from_slice(&blob_crc.to_le_bytes());
     // The record's CRC: its generation and length (header bytes 4..12), then the blob.
     let mut covered = future[4..12].to_vec();
     covered.extend_from_slice(&future[blob_at..blob_at + len]);
-    let record_crc = triad::stream::crc32c(&covered);
+    let record_crc = triad::protocol::crc32c(&covered);
     future[12..16].copy_from_slice(&record_crc.to_le_bytes());
     std::fs::write(&storage, &future).unwrap();
     let board = ServedBoard::start(&storage, Clock::Deterministic, None);

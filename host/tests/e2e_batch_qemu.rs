@@ -23,9 +23,9 @@ use std::path::PathBuf;
 
 use emulated_board::{settings_from_env, triad_correct, HostSensor};
 use triad::device::{start_calibration, Outgoing, Sampler};
-use triad::link::{BatchFrame, Packet};
+use triad::protocol::{BatchFrame, Packet};
+use triad::protocol::{Decoder, Flags};
 use triad::sensor::{FifoImu, Imu, RawSample};
-use triad::stream::{Decoder, Flags};
 use triad_sim::chips::emulated_board::DESCRIPTION;
 
 fn env_path(name: &str) -> PathBuf {
@@ -108,7 +108,7 @@ fn every_sample_arrives_one_period_apart_in_batches_equal_to_the_hosts() {
     }
     // Replay: each interrupt's W samples, the interrupt at the newest's time.
     let mut host = Vec::new();
-    let per_interrupt = usize::from(w).div_ceil(triad::link::MAX_BATCH);
+    let per_interrupt = usize::from(w).div_ceil(triad::protocol::MAX_BATCH);
     for interrupt in device.chunks(per_interrupt) {
         let newest_ns =
             u64::from(interrupt[0].timestamp_us) * 1000 + (u64::from(w) - 1) * u64::from(period_ns);

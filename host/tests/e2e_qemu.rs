@@ -26,8 +26,8 @@ use std::path::PathBuf;
 use emulated_board::{decoded_csv, triad_correct, HostSensor};
 use triad::device::{sample_period_us, start_calibration, Outgoing, Sampler, StepOutcome};
 use triad::model::Corrector;
+use triad::protocol::{Decoder, Frame};
 use triad::sensor::{Imu, RawSample, CHIP_NAMES};
-use triad::stream::{Decoder, Frame};
 use triad_sim::chips::emulated_board::DESCRIPTION;
 
 fn env_path(name: &str) -> PathBuf {

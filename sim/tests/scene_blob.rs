@@ -107,7 +107,7 @@ fn a_payload_that_is_not_a_scene_is_refused_even_with_a_good_crc() {
     bytes.extend(1u64.to_le_bytes());
     bytes.extend(3u16.to_le_bytes());
     bytes.extend([0xFF, 0xFF, 0xFF]);
-    let crc = triad::stream::crc32c(&bytes);
+    let crc = triad::protocol::crc32c(&bytes);
     bytes.extend(crc.to_le_bytes());
     assert_eq!(decode(&bytes), Err(SceneBlobError::Payload));
 }

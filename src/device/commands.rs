@@ -26,17 +26,17 @@ use core::fmt::Write;
 use embedded_storage::nor_flash::{NorFlash, NorFlashError};
 
 use super::{CalibrationStore, Control, SharedCounters, StorageError};
-use crate::crc32c::crc32c;
-use crate::link::bytes::Writer;
-use crate::link::{
+use crate::model::blob::{self, BlobError, BLOB_LEN};
+use crate::model::{Corrector, FixedCorrector, Orientation};
+use crate::protocol::bytes::Writer;
+use crate::protocol::crc32c::crc32c;
+use crate::protocol::DecodeError;
+use crate::protocol::{
     CalibrationSource, Command, DeviceInfo, Mode, Packet, PacketType, Payload, RawScale, Reply,
     SelfTestResult, Status, StoredReason, StoredState, Text, CHUNK_LEN,
 };
-use crate::model::blob::{self, BlobError, BLOB_LEN};
-use crate::model::{Corrector, FixedCorrector, Orientation};
 use crate::sensor::self_test::{ChipLeft, SelfTestError, SelfTestReport};
 use crate::sensor::ImuScale;
-use crate::stream::DecodeError;
 
 /// The facts about the device that do not change while it runs.
 #[derive(Clone, Copy, Debug)]
@@ -110,7 +110,7 @@ pub struct CommandHandler<F> {
     last: Option<LastReply>,
     commands: u32,
     errors: u32,
-    baseline: crate::link::Counters,
+    baseline: crate::protocol::Counters,
 }
 
 /// Where the step is in handling one command.
@@ -156,7 +156,7 @@ impl<F: NorFlash> CommandHandler<F> {
             last: None,
             commands: 0,
             errors: 0,
-            baseline: crate::link::Counters::default(),
+            baseline: crate::protocol::Counters::default(),
         }
     }
 
@@ -233,9 +233,9 @@ impl<F: NorFlash> CommandHandler<F> {
             Ok(command) => self.run(command, counters, submit),
             Err(error) => Err(fail(
                 match error {
-                    crate::link::CommandError::Unknown { .. } => Status::UnknownCommand,
-                    crate::link::CommandError::Length { .. } => Status::Malformed,
-                    crate::link::CommandError::Value { .. } => Status::BadArgument,
+                    crate::protocol::CommandError::Unknown { .. } => Status::UnknownCommand,
+                    crate::protocol::CommandError::Length { .. } => Status::Malformed,
+                    crate::protocol::CommandError::Value { .. } => Status::BadArgument,
                 },
                 format_args!("{error}"),
             )),
@@ -265,7 +265,7 @@ impl<F: NorFlash> CommandHandler<F> {
         let kind = bytes.get(1).copied();
         if matches!(error, DecodeError::Crc { .. })
             && kind != Some(PacketType::Command as u8)
-            && bytes.first() == Some(&crate::link::packet::VERSION)
+            && bytes.first() == Some(&crate::protocol::packet::VERSION)
         {
             return Handled::Nothing;
         }
@@ -317,7 +317,7 @@ impl<F: NorFlash> CommandHandler<F> {
                 ),
             )),
         };
-        self.reply(sequence, crate::link::command::code::SELF_TEST, outcome)
+        self.reply(sequence, crate::protocol::command::code::SELF_TEST, outcome)
     }
 
     fn run(
@@ -371,7 +371,7 @@ impl<F: NorFlash> CommandHandler<F> {
         c.commands = self.commands.wrapping_add(1);
         c.command_errors = self.errors;
         DeviceInfo {
-            protocol: crate::link::packet::VERSION,
+            protocol: crate::protocol::packet::VERSION,
             firmware: Text::new(self.facts.firmware),
             board: Text::new(self.facts.board),
             chip: Text::new(self.facts.chip),

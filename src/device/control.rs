@@ -7,8 +7,8 @@
 // size of a corrector, moved once per change, never per sample.
 #![allow(clippy::large_enum_variant)]
 
-use crate::link::Mode;
 use crate::model::Corrector;
+use crate::protocol::Mode;
 
 /// One change to the sampling pipeline.
 #[derive(Clone, Debug)]

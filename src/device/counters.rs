@@ -10,7 +10,7 @@
 use core::sync::atomic::{AtomicU32, Ordering};
 
 use super::load::LoadCounters;
-use crate::link::Counters;
+use crate::protocol::Counters;
 
 /// Totals the sampling pipeline keeps (see [`super::Sampler::totals`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -1,10 +1,10 @@
 //! Turning corrected samples into stream frames, with the counters and flags
 //! of everything that went wrong since the previous frame.
 
-use crate::link::{BatchFrame, RawFrame, RawScale, MAX_WIRE_LEN};
 use crate::model::{BatchKernel, Sample};
+use crate::protocol::{encode, Flags, Frame, MAX_ENCODED_LEN};
+use crate::protocol::{BatchFrame, RawFrame, RawScale, MAX_WIRE_LEN};
 use crate::sensor::RawSample;
-use crate::stream::{encode, Flags, Frame, MAX_ENCODED_LEN};
 
 /// A frame for the link: corrected (calibrated mode) or raw.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -188,7 +188,7 @@ impl Framer {
         frame
     }
 
-    /// The next batch: `raw` (at most [`crate::link::batch_frame::MAX_BATCH`]
+    /// The next batch: `raw` (at most [`crate::protocol::batch_frame::MAX_BATCH`]
     /// samples; the rest are left out) corrected by `kernel`, the first at
     /// `timestamp_us` and the others `period_ns` apart, at
     /// `temperature` °C, with the events pending since the previous frame,

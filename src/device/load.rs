@@ -15,7 +15,7 @@
 
 use core::sync::atomic::{AtomicU32, Ordering};
 
-pub use crate::link::Load;
+pub use crate::protocol::Load;
 
 /// The tasks measured.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -34,7 +34,7 @@ pub enum Task {
 }
 
 /// Number of [`Task`]s.
-pub const TASKS: usize = crate::link::device_info::TASKS;
+pub const TASKS: usize = crate::protocol::device_info::TASKS;
 
 /// The running sums every task writes and the window's result.
 #[derive(Debug, Default)]

@@ -6,10 +6,10 @@
 use super::counters::SamplerTotals;
 use super::framer::{Events, Outgoing};
 use super::{Control, Decimator, Framer, StepMonitor};
-use crate::link::{Mode, RawScale, MAX_BATCH};
 use crate::model::{BatchKernel, ClipFlags, Corrector, Sample};
+use crate::protocol::TimestampUnwrapper;
+use crate::protocol::{Mode, RawScale, MAX_BATCH};
 use crate::sensor::{FifoImu, Imu, RawSample};
-use crate::stream::TimestampUnwrapper;
 
 /// Temperature terms change slower than this: re-folding ten times a second
 /// keeps the fold within 0.1 s of the die temperature.

@@ -11,10 +11,10 @@ use embedded_storage::nor_flash::NorFlash;
 
 use super::commands::ActiveCalibration;
 use super::storage::{CalibrationStore, Loaded};
-pub use crate::link::CalibrationSource;
-use crate::link::{StoredReason, StoredState};
 use crate::model::blob::BLOB_LEN;
 use crate::model::{blob, BlobError, Calibration, CalibrationError, Corrector, Orientation};
+pub use crate::protocol::CalibrationSource;
+use crate::protocol::{StoredReason, StoredState};
 use crate::sensor::ImuScale;
 
 /// Why a calibration offered at start-up was not applied.

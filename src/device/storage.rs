@@ -31,8 +31,8 @@
 
 use embedded_storage::nor_flash::NorFlash;
 
-use crate::crc32c::crc32c_update;
 use crate::model::blob::BLOB_LEN;
+use crate::protocol::crc32c::crc32c_update;
 
 /// The record's magic.
 const MAGIC: [u8; 4] = *b"TRST";

@@ -34,7 +34,7 @@
 use core::fmt;
 
 use super::calibration::{Calibration, TemperatureTerms, TriadCalibration};
-use crate::crc32c::crc32c;
+use crate::protocol::crc32c::crc32c;
 
 /// Total length of a blob in bytes (version 3).
 pub const BLOB_LEN: usize = 584;

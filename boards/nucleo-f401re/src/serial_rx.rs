@@ -6,7 +6,7 @@
 //!
 //! Why a command cannot be lost to the ring: [`triad::device::dma_ring`] counts
 //! exactly any run of up to `RING_LEN / 2` = 256 bytes between two drains,
-//! and a command packet is at most [`triad::link::MAX_WIRE_LEN`] = 242 bytes
+//! and a command packet is at most [`triad::protocol::MAX_WIRE_LEN`] = 242 bytes
 //! on the wire (checked below at compile time). The host sends one command
 //! and waits for its reply, which the device sends only after a drain has
 //! taken the command, so one command at most arrives between two drains.
@@ -30,7 +30,7 @@ use triad::device::dma_ring::{Boundaries, RingReader};
 /// The ring's length: its half, which is counted exactly, holds the longest
 /// command packet (see the module's comment). NDTR takes up to 65535.
 const RING_LEN: usize = 512;
-const _: () = assert!(triad::link::MAX_WIRE_LEN <= RING_LEN / 2);
+const _: () = assert!(triad::protocol::MAX_WIRE_LEN <= RING_LEN / 2);
 
 /// What the DMA writes into. Atomics because the DMA writes behind the
 /// compiler's back: each load reads memory. Only the one [`SerialRx`] (made

@@ -36,10 +36,10 @@ use crate::pac;
 use triad::device::tx_ring::TxRing;
 
 /// The ring's length: four longest packets (a reply is at most
-/// [`triad::link::MAX_WIRE_LEN`] = 242 bytes), about 19 stream frames of 53
+/// [`triad::protocol::MAX_WIRE_LEN`] = 242 bytes), about 19 stream frames of 53
 /// bytes, 11 ms of the line at 913 kbaud. NDTR takes up to 65535.
 pub const TX_BUFFER_LEN: usize = 1024;
-const _: () = assert!(triad::link::MAX_WIRE_LEN <= TX_BUFFER_LEN);
+const _: () = assert!(triad::protocol::MAX_WIRE_LEN <= TX_BUFFER_LEN);
 const _: () = assert!(TX_BUFFER_LEN <= u16::MAX as usize);
 
 type Ring = TxRing<TX_BUFFER_LEN>;

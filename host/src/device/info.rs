@@ -3,7 +3,7 @@
 
 use std::time::Duration;
 
-use triad::link::{DeviceInfo, Reply, StoredReason};
+use triad::protocol::{DeviceInfo, Reply, StoredReason};
 
 use super::link::LinkError;
 use crate::number::readable;

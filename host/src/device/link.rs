@@ -14,9 +14,9 @@ use std::io::{self, ErrorKind, Read, Write};
 use std::thread;
 use std::time::{Duration, Instant};
 
-use triad::link::command::name_of;
-use triad::link::{Command, Packet, Reply, Status, MAX_WIRE_LEN};
-use triad::stream::{DecodeError, Decoder, DecoderStats, DELIMITER};
+use triad::protocol::command::name_of;
+use triad::protocol::{Command, Packet, Reply, Status, MAX_WIRE_LEN};
+use triad::protocol::{DecodeError, Decoder, DecoderStats, DELIMITER};
 
 /// How long to wait and how often to try.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

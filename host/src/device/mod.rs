@@ -19,9 +19,9 @@ use std::process::ExitCode;
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
 use anyhow::{anyhow, bail};
-use triad::link::bytes::Reader;
-use triad::link::{Command, DeviceInfo, Mode};
 use triad::model::{blob, Orientation};
+use triad::protocol::bytes::Reader;
+use triad::protocol::{Command, DeviceInfo, Mode};
 
 use crate::calib_file;
 use crate::interrupt;

@@ -1,7 +1,7 @@
 //! `triad device selftest`: the reply as a person reads it, one line per
 //! axis (docs/PROTOCOL.md gives the payload; [`SelfTestResult`] reads it).
 
-use triad::link::{Reply, SelfTestResult, Status};
+use triad::protocol::{Reply, SelfTestResult, Status};
 use triad::units::{rad_to_deg, STANDARD_GRAVITY};
 
 use crate::stdio::outln;
@@ -74,13 +74,13 @@ pub fn render(reply: &Reply) -> (String, bool) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use triad::link::self_test::AxisResult;
-    use triad::link::Payload;
+    use triad::protocol::self_test::AxisResult;
+    use triad::protocol::Payload;
 
     fn reply(status: Status, payload: Payload) -> Reply {
         Reply {
             sequence: 3,
-            command: triad::link::command::code::SELF_TEST,
+            command: triad::protocol::command::code::SELF_TEST,
             status,
             payload,
         }

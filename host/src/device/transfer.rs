@@ -5,9 +5,9 @@
 
 use std::io::{Read, Write};
 
-use triad::crc32c::crc32c;
-use triad::link::bytes::Reader;
-use triad::link::{Command, Payload, CHUNK_LEN};
+use triad::protocol::bytes::Reader;
+use triad::protocol::crc32c::crc32c;
+use triad::protocol::{Command, Payload, CHUNK_LEN};
 
 use super::link::{Link, LinkError};
 

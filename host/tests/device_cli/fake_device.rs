@@ -17,11 +17,11 @@ use triad::device::{
     sample_period_us, start_calibration, ActiveCalibration, CommandHandler, Control, DeviceFacts,
     Handled, Outgoing, Sampler, SharedCounters, StepOutcome,
 };
-use triad::link::{CalibrationSource, Mode, Reply, StoredState, MAX_WIRE_LEN};
 use triad::model::Orientation;
+use triad::protocol::Decoder;
+use triad::protocol::{CalibrationSource, Mode, Reply, StoredState, MAX_WIRE_LEN};
 use triad::sensor::interface::SpiInterface;
 use triad::sensor::{AnyChip, Imu, ImuScale, RawSample};
-use triad::stream::Decoder;
 use triad_sim::chips::emulated_board::{source, EmulatedChip};
 use triad_sim::chips::model_clock::{ModelDelay, SharedBus};
 

@@ -21,9 +21,9 @@ use std::time::{Duration, Instant};
 use fake_device::{Applied, FakeDevice, Options};
 use ram_flash::RamFlash;
 use triad::device::Outgoing;
-use triad::link::{Command, Packet, Reply, Status};
 use triad::model::{blob, Corrector, Orientation};
-use triad::stream::{Decoder, Flags};
+use triad::protocol::{Command, Packet, Reply, Status};
+use triad::protocol::{Decoder, Flags};
 use triad_host::calib_file::{self, CalibFile};
 use triad_host::device::link::{Link, LinkError, Settings};
 use triad_host::device::{identify, transfer};
@@ -539,11 +539,11 @@ fn a_reply_to_another_command_is_an_error() {
                 if let Ok(Packet::Command(c)) = decoded {
                     let reply = Reply {
                         sequence: c.sequence,
-                        command: triad::link::command::code::ERASE,
+                        command: triad::protocol::command::code::ERASE,
                         status: Status::Ok,
                         payload: Default::default(),
                     };
-                    let mut wire = [0u8; triad::link::MAX_WIRE_LEN];
+                    let mut wire = [0u8; triad::protocol::MAX_WIRE_LEN];
                     let len = reply.to_packet().unwrap().to_wire(&mut wire);
                     device.write_all(&wire[..len]).unwrap();
                     return;

@@ -9,7 +9,7 @@ use std::time::{Duration, Instant};
 use super::fake_device::{Applied, FakeDevice};
 use super::pty::Pty;
 use super::{options, text};
-use triad::link::Mode;
+use triad::protocol::Mode;
 
 /// `triad calib session --port PTY ARGS`, started (not awaited).
 fn session(pty: &Pty, args: &[&str]) -> std::process::Child {

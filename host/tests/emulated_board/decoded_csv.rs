@@ -1,7 +1,7 @@
 //! The CSV `triad decode` and `triad device stream` print, read back.
 
 use triad::model::Sample;
-use triad::stream::{Flags, Frame};
+use triad::protocol::{Flags, Frame};
 
 /// One row: the frame's number, its seven values (accel, gyro,
 /// temperature) and its flags.

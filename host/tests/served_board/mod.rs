@@ -13,7 +13,7 @@ use std::process::{Child, Command, ExitStatus, Output, Stdio};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-use triad::link::Packet;
+use triad::protocol::Packet;
 use triad_host::device::link::{Link, Settings};
 
 /// How long xtask may take to print the port (its set-up check and QEMU's

@@ -19,7 +19,7 @@
 //! [`Simulator::new`](super::simulator::Simulator::new) like any other.
 
 use super::scene::Scene;
-use triad::crc32c::crc32c;
+use triad::protocol::crc32c::crc32c;
 
 /// The first four bytes of a scene blob.
 pub const MAGIC: [u8; 4] = *b"TSCN";

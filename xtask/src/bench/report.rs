@@ -330,7 +330,7 @@ same kernel function's as the row without G: one function serves both).
 /// Bytes per streamed sample, the highest frame rate per baud rate, and the
 /// averaging factor each sensor ODR needs to fit the link.
 fn stream_budget(md: &mut String) -> Result<()> {
-    use triad::stream::{max_frame_rate, MAX_ENCODED_LEN};
+    use triad::protocol::{max_frame_rate, MAX_ENCODED_LEN};
     const BAUDS: [u32; 3] = [115_200, 921_600, 2_000_000];
     writeln!(md, "## Stream budget\n")?;
     writeln!(

@@ -9,8 +9,8 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
-use triad::link::Packet;
-use triad::stream::Decoder;
+use triad::protocol::Decoder;
+use triad::protocol::Packet;
 
 use crate::board::{Firmware, Sampling};
 use crate::{cmd, qemu};

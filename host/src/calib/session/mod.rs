@@ -25,8 +25,8 @@ use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 use anyhow::{anyhow, bail};
-use triad::link::{Command, Mode, Packet, RawFrame};
 use triad::model::{blob, Calibration, Corrector, Orientation, Triad};
+use triad::protocol::{Command, Mode, Packet, RawFrame};
 use triad::units::STANDARD_GRAVITY;
 
 use super::fit_csv::Record;
@@ -329,7 +329,7 @@ fn collect<P: Read + Write>(
     args: &SessionArgs,
     guide: &mut Guide,
     interrupted: &std::sync::atomic::AtomicBool,
-) -> anyhow::Result<(RawRecord, triad::link::RawScale)> {
+) -> anyhow::Result<(RawRecord, triad::protocol::RawScale)> {
     let wanted = args.poses as usize;
     let mut time = StreamTime::default();
     let mut record = RawRecord::default();

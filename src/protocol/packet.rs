@@ -12,9 +12,9 @@ use super::byte_enum::byte_enum;
 use super::command::CommandPacket;
 use super::raw_frame::RawFrame;
 use super::reply::Reply;
-use crate::crc32c::crc32c;
-use crate::stream::cobs::{max_stuffed_len, stuff_block};
-use crate::stream::{DecodeError, Frame, DELIMITER, FRAME_LEN};
+use crate::protocol::cobs::{max_stuffed_len, stuff_block};
+use crate::protocol::crc32c::crc32c;
+use crate::protocol::{DecodeError, Frame, DELIMITER, FRAME_LEN};
 
 /// Byte 0 of every packet this version adds.
 pub const VERSION: u8 = 2;

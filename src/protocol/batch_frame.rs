@@ -21,8 +21,8 @@
 use super::bytes::{Reader, Writer};
 use super::packet::{PacketBuf, PacketType, TooLong};
 use crate::model::batch_kernel::BatchKernel;
+use crate::protocol::{DecodeError, Flags};
 use crate::sensor::RawSample;
-use crate::stream::{DecodeError, Flags};
 
 /// Most samples in one batch packet.
 pub const MAX_BATCH: usize = 16;

@@ -11,8 +11,8 @@
 
 use super::bytes::{Reader, Writer};
 use super::packet::{PacketBuf, PacketType, TooLong};
+use crate::protocol::{DecodeError, Flags};
 use crate::sensor::ImuScale;
-use crate::stream::{DecodeError, Flags};
 
 /// Bytes of a raw frame's body.
 pub const RAW_BODY_LEN: usize = 58;

@@ -14,7 +14,7 @@ use super::byte_enum::byte_enum;
 use super::bytes::{Reader, Writer};
 use super::packet::{PacketBuf, PacketType, TooLong};
 use super::payload::{Payload, MAX_PAYLOAD};
-use crate::stream::DecodeError;
+use crate::protocol::DecodeError;
 
 /// Most calibration bytes one upload or read-back packet carries.
 pub const CHUNK_LEN: usize = 128;

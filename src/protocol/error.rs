@@ -61,8 +61,8 @@ impl fmt::Display for DecodeError {
                 "frame is {len} bytes after unstuffing: a version-1 data frame is {} bytes, \
                  a version-2 packet {} to {}",
                 super::FRAME_LEN,
-                crate::link::packet::MIN_PACKET_LEN,
-                crate::link::MAX_PACKET_LEN
+                crate::protocol::packet::MIN_PACKET_LEN,
+                crate::protocol::MAX_PACKET_LEN
             ),
             DecodeError::Crc { received, computed } => write!(
                 f,

@@ -10,7 +10,7 @@ use super::byte_enum::byte_enum;
 use super::bytes::Reader;
 use super::packet::{PacketBuf, PacketType, TooLong};
 use super::payload::Payload;
-use crate::stream::DecodeError;
+use crate::protocol::DecodeError;
 
 /// Bytes of a reply body before its payload.
 pub const REPLY_HEADER_LEN: usize = 4;

@@ -4,7 +4,7 @@ use super::cobs::Unstuffer;
 use super::encoder::DELIMITER;
 use super::error::DecodeError;
 use super::frame::Frame;
-use crate::link::{Packet, MAX_PACKET_LEN};
+use crate::protocol::{Packet, MAX_PACKET_LEN};
 
 /// What a [`Decoder`] has seen so far. Counters saturate, never wrap.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -18,7 +18,7 @@
 
 use super::error::DecodeError;
 use super::flags::Flags;
-use crate::crc32c::crc32c;
+use crate::protocol::crc32c::crc32c;
 
 /// Version byte of the format this crate writes and reads.
 pub const VERSION: u8 = 1;
