@@ -212,7 +212,7 @@ fn the_blob_example_is_the_shipped_default_calibration_byte_for_byte() {
 
 #[test]
 fn a_tie_in_the_shortest_decimal_goes_to_the_larger_magnitude() {
-    // `triad decode` prints with Rust's `{:?}` (host/src/stream_csv.rs).
+    // `triad decode` prints with Rust's `{:?}` (host/src/decode/rows.rs).
     // 2097152.25 exactly (an f32 there is a multiple of 0.25): 2097152.2
     // and 2097152.3 both read back to it and are equally near.
     let tie = 2_097_152f32 + 0.25;

@@ -455,7 +455,7 @@ fn calibration_toml(inputs: u64) {
     let path = Path::new("fuzz.toml");
     run("calibration TOML", inputs, &seeds, leave, |bytes, tally| {
         let text = String::from_utf8_lossy(bytes);
-        match triad_host::calib_file::parse(&text, path) {
+        match triad_host::calib::file::parse(&text, path) {
             Ok(_) => tally.accepted += 1,
             Err(e) => {
                 if e.to_string().is_empty() {

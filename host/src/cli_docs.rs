@@ -7,8 +7,8 @@ use std::process::ExitCode;
 
 use anyhow::Context;
 
-use crate::outfile;
-use crate::stdio::{self, note};
+use crate::plumbing::outfile;
+use crate::plumbing::stdio::{self, note};
 
 /// Arguments of `triad completions`.
 #[derive(clap::Args)]

@@ -9,10 +9,10 @@ use std::process::ExitCode;
 
 use anyhow::anyhow;
 
-use crate::distinct::{self, named};
-use crate::outfile::OutFile;
+use crate::plumbing::distinct::{self, named};
+use crate::plumbing::outfile::OutFile;
+use crate::plumbing::stdio;
 use crate::record::{self, mcap_out::McapWriter, to_csv, Opened};
-use crate::stdio;
 
 /// The output formats.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -56,7 +56,7 @@ pub fn run(args: ConvertArgs) -> anyhow::Result<ExitCode> {
         source.format.name(),
         args.output.display()
     );
-    stdio::report(&note, crate::outfile::is_stdout(&args.output))?;
+    stdio::report(&note, crate::plumbing::outfile::is_stdout(&args.output))?;
     Ok(ExitCode::SUCCESS)
 }
 

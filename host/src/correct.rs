@@ -22,10 +22,10 @@ use std::process::ExitCode;
 use anyhow::{anyhow, bail, Context};
 use triad::model::Corrector;
 
+use crate::calib::file as calib_file;
 use crate::calib::{si_corrector, Ranges};
-use crate::calib_file;
-use crate::input::{self, strip_bom};
-use crate::stdio;
+use crate::plumbing::input::{self, strip_bom};
+use crate::plumbing::stdio;
 
 /// Arguments of `triad correct`.
 #[derive(clap::Args)]

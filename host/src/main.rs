@@ -11,10 +11,9 @@ use std::process::ExitCode;
 
 use clap::CommandFactory;
 use clap::{Parser, Subcommand};
-use triad_host::stdio::{self, READER_GONE_STATUS};
-use triad_host::{
-    allan, calib, cli_docs, convert, correct, decode, device, progress, record, sim, units, version,
-};
+use triad_host::plumbing::stdio::{self, READER_GONE_STATUS};
+use triad_host::plumbing::{progress, version};
+use triad_host::{allan, calib, cli_docs, convert, correct, decode, device, record, sim, units};
 
 #[derive(Parser)]
 #[command(

@@ -25,7 +25,7 @@ use std::process::{Command, Output, Stdio};
 
 use served_board::{test_dir, text, Clock, ServedBoard};
 use triad::model::matrix::Mat3;
-use triad_host::calib_file::{self, CalibFile};
+use triad_host::calib::file::{self as calib_file, CalibFile};
 use triad_lab::calib_fit::accel_frame::in_accel_frame;
 use triad_lab::student_t;
 

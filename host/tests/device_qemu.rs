@@ -32,7 +32,7 @@ use triad::device::start_calibration;
 use triad::model::{blob, Corrector};
 use triad::protocol::{CalibrationSource, Command, Mode, Packet, RawFrame, RawScale};
 use triad::protocol::{Flags, Frame};
-use triad_host::calib_file;
+use triad_host::calib::file as calib_file;
 use triad_host::device::{identify, transfer};
 use triad_sim::chips::emulated_board::DESCRIPTION;
 
@@ -575,8 +575,9 @@ fn identify_round_trips_figure() {
         // Nobody reads for a while: the pty fills up with the stream, as it
         // does before a user's first command.
         std::thread::sleep(Duration::from_millis(1500));
-        let port = triad_host::serial::open(board.port(), 921_600, Duration::from_millis(5))
-            .expect("opening the served port");
+        let port =
+            triad_host::plumbing::serial::open(board.port(), 921_600, Duration::from_millis(5))
+                .expect("opening the served port");
         // One try each: a reply lost anywhere fails here.
         let settings = triad_host::device::link::Settings {
             timeout: Duration::from_secs(2),

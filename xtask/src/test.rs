@@ -11,6 +11,18 @@ use crate::cmd::{self, cargo, check};
 use crate::{bench, embedded_checks, first_run, hil, qemu, setup};
 use anyhow::{bail, Context, Result};
 use std::path::Path;
+use std::sync::OnceLock;
+use std::time::Instant;
+
+/// When the test run began: each step's note says how far in it starts, so
+/// a slow step shows (the suite must stay under 15 minutes on 2 cores).
+static STARTED: OnceLock<Instant> = OnceLock::new();
+
+/// Minutes and seconds since the run began, as `[mm:ss]`.
+fn at() -> String {
+    let seconds = STARTED.get_or_init(Instant::now).elapsed().as_secs();
+    format!("[{:02}:{:02}]", seconds / 60, seconds % 60)
+}
 
 /// Frames the end-to-end run captures (the issue asks for at least 1000).
 const E2E_FRAMES: u64 = 1500;
@@ -44,6 +56,7 @@ pub enum Scope {
 
 /// Runs the tests of `scope`; fails on the first failing step.
 pub fn run(scope: Scope) -> Result<()> {
+    STARTED.get_or_init(Instant::now);
     setup::ensure_all()?;
     if scope == Scope::FirstRun {
         return first_run::run(&cmd::build_host_tool()?);
@@ -55,10 +68,12 @@ pub fn run(scope: Scope) -> Result<()> {
         step("cargo clippy (host)", &clippy)?;
         step("cargo test (host)", &["test", "--quiet"])?;
         recordings_peers()?;
-        // Statistical sweeps are ignored in debug builds: run here in release.
+        // Statistical sweeps are ignored in debug builds: run here optimised
+        // (the `sweeps` profile: release without LTO, see Cargo.toml).
         let sweeps = [
             "test",
-            "--release",
+            "--profile",
+            "sweeps",
             "--quiet",
             "-p",
             "triad-lab",
@@ -74,10 +89,10 @@ pub fn run(scope: Scope) -> Result<()> {
             "thermal_gyro",
         ];
         step(
-            "cargo test --release (the Allan coverage sweeps, fully overlapping and strided, the rig-free, g-sensitivity and thermal fits' σ coverage over 60 seeds)",
+            "cargo test --profile sweeps (the Allan coverage sweeps, fully overlapping and strided, the rig-free, g-sensitivity and thermal fits' σ coverage over 60 seeds)",
             &sweeps,
         )?;
-        note!("xtask: cargo doc (core, sim, lab)");
+        note!("xtask: cargo doc (core, sim, lab) {}", at());
         embedded_checks::docs()?;
     }
 
@@ -89,8 +104,9 @@ pub fn run(scope: Scope) -> Result<()> {
     let mut qemu_elves = Vec::new();
     for firmware in Firmware::all() {
         note!(
-            "xtask: clippy and build of the firmware for {}",
-            firmware.label()
+            "xtask: clippy and build of the firmware for {} {}",
+            firmware.label(),
+            at()
         );
         embedded_checks::clippy_firmware(firmware, &calibration, None)?;
         let elf = cmd::build_firmware(firmware, &calibration)?;
@@ -102,11 +118,17 @@ pub fn run(scope: Scope) -> Result<()> {
         }
     }
 
-    note!("xtask: clippy on the benchmark firmware and the user-firmware example");
+    note!(
+        "xtask: clippy on the benchmark firmware and the user-firmware example {}",
+        at()
+    );
     embedded_checks::clippy_bench_firmware()?;
     embedded_checks::check_example()?;
 
-    note!("xtask: benchmark firmware on the emulated cores, outputs against the host's");
+    note!(
+        "xtask: benchmark firmware on the emulated cores, outputs against the host's {}",
+        at()
+    );
     bench::check_firmware_outputs()?;
 
     for (firmware, elf) in &qemu_elves {
@@ -149,7 +171,10 @@ pub fn run(scope: Scope) -> Result<()> {
     served_board(*firmware, elf, &calibration)?;
 
     // The procedure a person runs on a board, against the emulated one.
-    note!("xtask: the hardware-in-the-loop procedure (`cargo xtask hil`) on the emulated board");
+    note!(
+        "xtask: the hardware-in-the-loop procedure (`cargo xtask hil`) on the emulated board {}",
+        at()
+    );
     hil::run(hil::HilArgs {
         board: Board::Qemu,
         port: None,
@@ -174,7 +199,7 @@ pub fn run(scope: Scope) -> Result<()> {
     );
     let elf = cmd::build_firmware_with_scene(*firmware, &calibration, &blob)?;
     calib_session(*firmware, &elf, &calibration)?;
-    note!("xtask: all tests passed");
+    note!("xtask: all tests passed {}", at());
     Ok(())
 }
 
@@ -191,7 +216,7 @@ fn end_to_end(
         Some(_) => format!("{} with scene {E2E_SCENE}", firmware.label()),
         None => firmware.label(),
     };
-    note!("xtask: end-to-end on QEMU, {label}");
+    note!("xtask: end-to-end on QEMU, {label} {}", at());
     let dir = cmd::root().join("target/e2e").join(format!(
         "{}{}",
         firmware.stem(),
@@ -307,14 +332,17 @@ fn ignored_host_tests(name: &str, harness: &[&str]) -> std::process::Command {
 /// reads it; the Python peers installed first ([`setup::python_peers`]).
 fn recordings_peers() -> Result<()> {
     let python = setup::python_peers::ensure()?;
-    note!("xtask: recordings against the Python peers (rosbags, pyulog, mcap)");
+    note!(
+        "xtask: recordings against the Python peers (rosbags, pyulog, mcap) {}",
+        at()
+    );
     let mut command = ignored_host_tests("recordings_peers", &[]);
     command.env("TRIAD_PEERS_PYTHON", python);
     check(command, "the recordings tests against the Python peers")
 }
 
 fn step(what: &str, args: &[&str]) -> Result<()> {
-    note!("xtask: {what}");
+    note!("xtask: {what} {}", at());
     let mut command = cargo();
     command.args(args);
     check(command, what)

@@ -24,7 +24,7 @@ use super::record_rows::{self, RecordRows};
 use super::rows::{self, RowSource, Rows};
 use super::time;
 use super::AllanArgs;
-use crate::progress::{Progress, Unit};
+use crate::plumbing::progress::{Progress, Unit};
 
 /// Rows whose mean is each column's offset.
 pub const OFFSET_ROWS: usize = 4096;
@@ -143,7 +143,7 @@ pub fn analyse(args: &AllanArgs) -> anyhow::Result<Analysis> {
             RecordRows::new(opened, layout)
         });
     }
-    let opened = rows::open(&args.input, &crate::input::name(&args.input))?;
+    let opened = rows::open(&args.input, &crate::plumbing::input::name(&args.input))?;
     let name = opened.name.clone();
     let (header, size) = (opened.header.clone(), opened.size);
     analyse_rows(args, &header, &name, size, |layout| {

@@ -8,7 +8,7 @@ use triad_lab::allan::direct;
 use triad_lab::allan::edf::{self, NoiseType};
 use triad_lab::allan::strided::StridedOctave;
 
-use crate::progress::{Progress, Unit};
+use crate::plumbing::progress::{Progress, Unit};
 
 /// One point of a column's curve.
 #[derive(Clone, Copy, Debug)]

@@ -26,7 +26,7 @@ pub fn report(args: &AllanArgs, a: &Analysis) -> Value {
         .map(|c| column(c, &args.grade_input))
         .collect();
     json!({
-        "input": crate::input::name(&args.input),
+        "input": crate::plumbing::input::name(&args.input),
         "samples": a.samples,
         "rate_hz": a.rate,
         "rate_from": a.rate_source,

@@ -21,7 +21,7 @@ use triad_lab::allan::noise_terms::Term;
 
 use super::compute::{Analysis, ColumnResult};
 use super::grade::reported;
-use crate::outfile::OutFile;
+use crate::plumbing::outfile::OutFile;
 
 /// One Kalibr entry: the worst axis's value and where it came from.
 struct Entry {

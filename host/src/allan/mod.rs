@@ -50,10 +50,10 @@ use std::process::ExitCode;
 use anyhow::bail;
 use triad_lab::allan::edf::ONE_SIGMA;
 
-use crate::distinct::{self, named, Named};
-use crate::number::{positive, readable, RATE_WORDS};
-use crate::outfile::{self, is_stdout};
-use crate::stdio;
+use crate::plumbing::distinct::{self, named, Named};
+use crate::plumbing::number::{positive, readable, RATE_WORDS};
+use crate::plumbing::outfile::{self, is_stdout};
+use crate::plumbing::stdio;
 
 /// Arguments of `triad allan`.
 #[derive(clap::Args)]

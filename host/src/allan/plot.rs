@@ -10,7 +10,7 @@ use triad_lab::allan::noise_terms::{NoiseFit, Term, TermEstimate};
 
 use super::compute::ColumnResult;
 use super::fit::{datasheet, si_unit};
-use crate::outfile::OutFile;
+use crate::plumbing::outfile::OutFile;
 
 const WIDTH: f64 = 1120.0;
 const HEIGHT: f64 = 640.0;

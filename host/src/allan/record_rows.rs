@@ -29,7 +29,7 @@ pub(crate) struct Opened {
 /// The recording at `path` when it is one in another format than triad's
 /// CSV (None: a CSV, standard input, or nothing there: the CSV path reads it).
 pub(crate) fn open(path: &Path) -> anyhow::Result<Option<Opened>> {
-    if crate::input::is_stdin(path) || std::fs::metadata(path).is_err() {
+    if crate::plumbing::input::is_stdin(path) || std::fs::metadata(path).is_err() {
         return Ok(None);
     }
     if !record::detect::detect(path)?.is_container_or_foreign() {

@@ -7,7 +7,7 @@ use std::path::Path;
 
 use anyhow::{anyhow, bail, Context};
 
-use crate::input::{self, strip_bom_bytes};
+use crate::plumbing::input::{self, strip_bom_bytes};
 
 use super::columns::Layout;
 use super::time::TimeCheck;

@@ -20,7 +20,7 @@ pub fn write(w: &mut impl Write, args: &AllanArgs, a: &Analysis) -> anyhow::Resu
     writeln!(
         w,
         "{}: {} samples at {} Hz ({}), {} s; {} tau, {:.1} % confidence intervals",
-        crate::input::name(&args.input),
+        crate::plumbing::input::name(&args.input),
         a.samples,
         a.rate,
         a.rate_source,

@@ -9,7 +9,7 @@ use std::path::Path;
 use triad_lab::allan::noise_terms::Term;
 
 use super::compute::ColumnResult;
-use crate::outfile::OutFile;
+use crate::plumbing::outfile::OutFile;
 
 /// The table's header line.
 pub const HEADER: &str = "column,tau,oadev,ci_low,ci_high,m,terms,edf,noise,adev,decides";

@@ -10,8 +10,8 @@ use triad::model::{Corrector, FixedCorrector, Triad};
 use triad::units::si_to_dps_per_g;
 
 use super::{si_corrector, Ranges};
-use crate::calib_file::CalibFile;
-use crate::stdio::{self, outln};
+use crate::calib::file::CalibFile;
+use crate::plumbing::stdio::{self, outln};
 
 /// Runs `triad calib check` on a loaded file.
 pub fn run(file: &CalibFile, ranges: &Ranges) -> anyhow::Result<ExitCode> {

@@ -25,11 +25,11 @@ use std::process::ExitCode;
 use triad::model::{Calibration, Orientation, Triad, TriadCalibration};
 
 use super::{fit_accel, fit_gyro, fit_imu, fit_thermal, Ranges};
-use crate::calib_file;
-use crate::distinct::{self, named, Named};
-use crate::input;
-use crate::outfile;
-use crate::stdio;
+use crate::calib::file as calib_file;
+use crate::plumbing::distinct::{self, named, Named};
+use crate::plumbing::input;
+use crate::plumbing::outfile;
+use crate::plumbing::stdio;
 
 /// Arguments of `triad calib fit`.
 #[derive(clap::Args)]

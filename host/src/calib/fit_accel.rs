@@ -17,8 +17,8 @@ use super::fit_csv::{self, Reading, Record};
 use super::report::{fit_report, method_table, FRAME};
 use super::segments::{self, Stat};
 use super::Ranges;
-use crate::stdio::note;
-use crate::stdio::outln;
+use crate::plumbing::stdio::note;
+use crate::plumbing::stdio::outln;
 
 /// Arguments of `triad calib fit accel`.
 #[derive(clap::Args)]
@@ -82,7 +82,8 @@ pub fn read_records(
         .iter()
         .map(|p| {
             let (record, time) = reading.read(p, fit_csv::ACCEL, ranges)?;
-            if let Some(line) = fit_csv::time_note(&crate::input::name(p), &time, &record) {
+            if let Some(line) = fit_csv::time_note(&crate::plumbing::input::name(p), &time, &record)
+            {
                 note!("{line}");
             }
             Ok(record)

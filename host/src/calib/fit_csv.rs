@@ -17,8 +17,8 @@ use triad::units::{deg_to_rad, STANDARD_GRAVITY};
 use triad_lab::time_base::{self, TimeBase};
 
 use super::Ranges;
-use crate::input::{self, strip_bom};
-use crate::progress::{Progress, Unit};
+use crate::plumbing::input::{self, strip_bom};
+use crate::plumbing::progress::{Progress, Unit};
 
 /// The columns of one triad.
 pub const ACCEL: [&str; 3] = ["ax", "ay", "az"];

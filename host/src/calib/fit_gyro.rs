@@ -16,10 +16,10 @@ use super::fit_csv;
 use super::report::{fit_report, method_table, print_vector};
 use super::segments::{self, stat, Stat};
 use super::stillness;
-use crate::calib_file::vector;
-use crate::input;
-use crate::number::{positive, readable};
-use crate::stdio::outln;
+use crate::calib::file::vector;
+use crate::plumbing::input;
+use crate::plumbing::number::{positive, readable};
+use crate::plumbing::stdio::outln;
 
 /// Arguments of `triad calib fit gyro`.
 #[derive(clap::Args)]

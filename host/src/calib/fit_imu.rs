@@ -25,7 +25,7 @@ use super::fit::{file_list, inputs, write_calibration, Output};
 use super::fit_csv::{self, Reading, Record};
 use super::report::{method_table, FitReport, FRAME};
 use super::segments::{self, check_pose_options, stat};
-use crate::stdio::outln;
+use crate::plumbing::stdio::outln;
 
 /// Arguments of `triad calib fit imu`.
 #[derive(clap::Args)]
@@ -102,7 +102,11 @@ pub fn run(args: ImuArgs) -> anyhow::Result<ExitCode> {
         axis_aligned: args.axis_aligned,
     };
     let mut fit = fit_record_with(&accel, &gyro, &options)?;
-    if let Some(note) = fit_csv::time_note(&crate::input::name(&args.positions), &time, &accel) {
+    if let Some(note) = fit_csv::time_note(
+        &crate::plumbing::input::name(&args.positions),
+        &time,
+        &accel,
+    ) {
         fit.report = format!("{note}\n{}", fit.report);
     }
     let base = base
@@ -228,7 +232,7 @@ fn span(record: &Record, s: &Segment) -> String {
 
 /// [`fit_record`] with the poses given or left out as `options` say.
 pub fn fit_record_with(accel: &Record, gyro: &Record, options: &Options) -> anyhow::Result<ImuFit> {
-    let name = crate::input::name(&accel.path);
+    let name = crate::plumbing::input::name(&accel.path);
     let paths = [accel.path.clone()];
     let mut out = String::new();
     // The poses: given, or the accelerometer's static stretches.
@@ -403,7 +407,7 @@ pub fn fit_record_with(accel: &Record, gyro: &Record, options: &Options) -> anyh
         // (a refusal for too few moves already lists it).
         if !e.to_string().contains("were left out") {
             for line in &left_out {
-                crate::stdio::note!("{name}: {line}");
+                crate::plumbing::stdio::note!("{name}: {line}");
             }
         }
     })?;

@@ -44,8 +44,8 @@ use super::fit::{file_list, inputs, write_calibration, Output};
 use super::fit_csv;
 use super::report::{matrix_rows, method_table, print_vector};
 use super::segments::{check_pose_options, detector, stat};
-use crate::calib_file::vector;
-use crate::stdio::outln;
+use crate::calib::file::vector;
+use crate::plumbing::stdio::outln;
 
 /// A static segment is cut where its temperature has moved by this (°C)
 /// from the cut's start: within a cut the terms change by at most
@@ -135,7 +135,7 @@ fn static_means(
 ) -> anyhow::Result<(Vec<StaticMean>, Vec<StaticMean>, Vec<RecordPoses>)> {
     let (mut accel, mut gyro, mut poses) = (Vec::new(), Vec::new(), Vec::new());
     for (file, r) in records.iter().enumerate() {
-        let name = crate::input::name(&r.accel.path);
+        let name = crate::plumbing::input::name(&r.accel.path);
         let d = detector(r.accel.rate_hz()?, min_static);
         let mut buffer = vec![Segment { start: 0, end: 0 }; r.accel.samples.len() / d.block + 1];
         let n = d

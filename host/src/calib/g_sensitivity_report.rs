@@ -9,7 +9,7 @@ use triad_lab::calib_fit::g_sensitivity::{
 };
 
 use super::report::matrix_rows;
-use crate::stdio::outln;
+use crate::plumbing::stdio::outln;
 
 /// The report's G section and the line that states the poses' check.
 pub fn print(out: &mut String, support: &Support, check: &Consistency, poses: usize) {

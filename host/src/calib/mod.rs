@@ -5,6 +5,7 @@
 //! calibration on a device ([`session`]).
 
 pub mod check;
+pub mod file;
 pub mod fit;
 pub mod fit_accel;
 pub mod fit_csv;
@@ -26,11 +27,11 @@ use triad::model::{blob, Corrector};
 use triad::sensor::{ImuScale, TriadScale};
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
 
-use crate::calib_file::{self, CalibFile};
-use crate::distinct::{self, named};
-use crate::number::positive;
-use crate::outfile;
-use crate::stdio::note;
+use crate::calib::file::{self as calib_file, CalibFile};
+use crate::plumbing::distinct::{self, named};
+use crate::plumbing::number::positive;
+use crate::plumbing::outfile;
+use crate::plumbing::stdio::note;
 
 /// Arguments of `triad calib`.
 #[derive(clap::Args)]

@@ -10,8 +10,8 @@ pub const FRAME: &str =
     "(I+Σ) upper triangular: corrected z = the z sensing axis, corrected y in the plane \
                          of the y and z sensing axes, x completes the frame";
 
-use crate::calib_file::vector;
-use crate::stdio::outln;
+use crate::calib::file::vector;
+use crate::plumbing::stdio::outln;
 
 /// A fit's common statistics (borrowed from the fit).
 pub struct FitReport<'a> {

@@ -27,8 +27,8 @@ pub struct Stat {
 /// `--gravity` and `--min-static` of the commands that detect static poses,
 /// each positive, or an error naming it.
 pub fn check_pose_options(gravity: f64, min_static: f64) -> anyhow::Result<()> {
-    crate::number::positive("--gravity", gravity, "must be a positive number of m/s²")?;
-    crate::number::positive(
+    crate::plumbing::number::positive("--gravity", gravity, "must be a positive number of m/s²")?;
+    crate::plumbing::number::positive(
         "--min-static",
         min_static,
         "must be a positive number of seconds",
@@ -60,7 +60,7 @@ pub fn given(record: &Record, text: &str) -> anyhow::Result<Vec<Stat>> {
             if n < 2 {
                 bail!(
                     "--segments {from}-{to}: {n} sample(s) of {} in that time range, need at least 2",
-                    crate::input::name(&record.path)
+                    crate::plumbing::input::name(&record.path)
                 );
             }
             Ok(stat(record, 0, start..start + n))
@@ -141,7 +141,7 @@ impl Detection {
 /// The static segments of `record` (at least `min_static` s each), found in
 /// each of its parts ([`Record::parts`]: no segment spans a gap).
 pub fn detect(record: &Record, min_static: f64) -> anyhow::Result<Detection> {
-    let name = crate::input::name(&record.path);
+    let name = crate::plumbing::input::name(&record.path);
     let detector = detector(record.rate_hz()?, min_static);
     let mut found = Detection::default();
     for part in record.parts() {
@@ -178,7 +178,7 @@ pub fn detected_saying(
     let mut stats = Vec::new();
     for (file, record) in records.iter().enumerate() {
         let found = detect(record, min_static)?;
-        let name = crate::input::name(&record.path);
+        let name = crate::plumbing::input::name(&record.path);
         for line in found.dropped_lines(record, min_static) {
             say(format!("{name}: {line}"));
         }

@@ -42,8 +42,8 @@ use super::fit::names;
 use super::fit_csv;
 use super::fit_gyro::parse_rates;
 use super::segments::{self, stat, Stat};
-use crate::calib_file::{self, CalibFile};
-use crate::stdio::{self, outln};
+use crate::calib::file::{self as calib_file, CalibFile};
+use crate::plumbing::stdio::{self, outln};
 
 /// The verdict's level: a good calibration fails 1 % of the time.
 pub const LEVEL: f64 = 0.99;
@@ -350,7 +350,7 @@ fn gyro_residuals(args: &VerifyArgs, correct: &Correct<'_>) -> anyhow::Result<Ve
 fn label(args: &VerifyArgs, s: &Stat) -> String {
     format!(
         "{} {:.1}–{:.1} s",
-        crate::input::name(&args.records[s.file]),
+        crate::plumbing::input::name(&args.records[s.file]),
         s.from,
         s.to
     )

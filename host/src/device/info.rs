@@ -6,8 +6,8 @@ use std::time::Duration;
 use triad::protocol::{DeviceInfo, Reply, StoredReason};
 
 use super::link::LinkError;
-use crate::number::readable;
-use crate::stdio::outln;
+use crate::plumbing::number::readable;
+use crate::plumbing::stdio::outln;
 
 /// The device description an identify reply carries.
 pub fn parse(reply: &Reply) -> Result<DeviceInfo, LinkError> {

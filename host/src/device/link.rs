@@ -7,7 +7,7 @@
 //! Generic over `Read + Write`, so a test drives it over an in-memory pipe
 //! as `triad device` does over a serial port. The port's reads are expected
 //! to give up after a short poll (a timeout or `WouldBlock` error, as a
-//! serial port opened by [`crate::serial::open`] does), so that a deadline
+//! serial port opened by [`crate::plumbing::serial::open`] does), so that a deadline
 //! is kept.
 
 use std::io::{self, ErrorKind, Read, Write};
@@ -331,7 +331,7 @@ impl<P: Read + Write> Link<P> {
     }
 
     fn port_error(&self, error: io::Error) -> LinkError {
-        if crate::serial::is_port_gone(&error) {
+        if crate::plumbing::serial::is_port_gone(&error) {
             LinkError::Closed {
                 place: self.place.clone(),
                 reason: error.to_string(),

@@ -23,14 +23,14 @@ use triad::model::{blob, Orientation};
 use triad::protocol::bytes::Reader;
 use triad::protocol::{Command, DeviceInfo, Mode};
 
-use crate::calib_file;
-use crate::interrupt;
-use crate::outfile;
-use crate::row_writer::RowWriter;
-use crate::serial;
-use crate::stdio::{self, note};
-use crate::stream_csv::{CsvSink, Failure, Limits, Outcome, Stop};
-use crate::stream_out::StreamOut;
+use crate::calib::file as calib_file;
+use crate::decode::out::StreamOut;
+use crate::decode::rows::{CsvSink, Failure, Limits, Outcome, Stop};
+use crate::plumbing::interrupt;
+use crate::plumbing::outfile;
+use crate::plumbing::row_writer::RowWriter;
+use crate::plumbing::serial;
+use crate::plumbing::stdio::{self, note};
 use link::{Link, LinkError, Settings};
 
 /// Arguments of `triad device`.
@@ -161,7 +161,7 @@ pub fn run(args: DeviceArgs) -> anyhow::Result<ExitCode> {
             let rate = f64::from(info.sample_rate_hz) / f64::from(n);
             stdio::print(format!(
                 "decimation: {n} ({} frames/s)\n",
-                crate::number::readable(rate)
+                crate::plumbing::number::readable(rate)
             ))?;
         }
         DeviceCommand::Upload { file } => upload(&mut link, &file)?,

@@ -4,7 +4,7 @@
 use triad::protocol::{Reply, SelfTestResult, Status};
 use triad::units::{rad_to_deg, STANDARD_GRAVITY};
 
-use crate::stdio::outln;
+use crate::plumbing::stdio::outln;
 
 /// The lines to print, and whether the self-test ran and every axis passed.
 pub fn render(reply: &Reply) -> (String, bool) {

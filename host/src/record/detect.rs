@@ -83,7 +83,7 @@ pub fn from_head(head: &[u8]) -> Format {
         return *f;
     }
     let text = String::from_utf8_lossy(head);
-    let first = crate::input::strip_bom(&text)
+    let first = crate::plumbing::input::strip_bom(&text)
         .lines()
         .map(str::trim)
         .find(|l| !l.is_empty())

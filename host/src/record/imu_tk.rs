@@ -11,7 +11,7 @@ use triad::model::Triad;
 
 use super::text_lines::{number, TextLines};
 use super::{Channels, Format, Opened, Options, Place, Sample, Source};
-use crate::input;
+use crate::plumbing::input;
 
 /// Opens the imu_tk file at `path`.
 pub fn open(path: &Path, options: &Options) -> anyhow::Result<Opened> {

@@ -16,7 +16,7 @@ use anyhow::{anyhow, bail, Context};
 use super::imu_msg::{self, ROS2_TYPE};
 use super::producer::{spawn, Sink};
 use super::{topics, Channels, Format, Opened, Options, Place, Sample, Source, TimeSource};
-use crate::input;
+use crate::plumbing::input;
 
 /// The largest decompressed chunk read.
 const MAX_CHUNK: u64 = 256 << 20;

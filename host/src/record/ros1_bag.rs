@@ -15,7 +15,7 @@ use rosbag::{ChunkRecord, IndexRecord, MessageRecord, RosBag};
 use super::imu_msg::{self, ROS1_TYPE};
 use super::producer::{spawn, Sink};
 use super::{topics, Channels, Format, Opened, Options, Place, Sample, Source, TimeSource};
-use crate::input;
+use crate::plumbing::input;
 
 /// Opens the ROS 1 bag at `path`, its IMU topic chosen by `options`.
 pub fn open(path: &Path, options: &Options) -> anyhow::Result<Opened> {

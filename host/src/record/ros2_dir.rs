@@ -9,7 +9,7 @@ use anyhow::{bail, Context};
 
 use super::Format;
 use super::{mcap_bag, sqlite_bag, Opened, Options, Reader, Sample, Source};
-use crate::input;
+use crate::plumbing::input;
 
 /// Opens the bag directory at `path`.
 pub fn open(path: &Path, options: &Options) -> anyhow::Result<Opened> {

@@ -12,7 +12,7 @@ use rusqlite::{Connection, OpenFlags};
 use super::imu_msg::{self, ROS2_TYPE};
 use super::producer::{spawn, Sink};
 use super::{topics, Channels, Format, Opened, Options, Place, Sample, Source, TimeSource};
-use crate::input;
+use crate::plumbing::input;
 
 /// Opens the SQLite bag at `path`, its IMU topic chosen by `options`.
 pub fn open(path: &Path, options: &Options) -> anyhow::Result<Opened> {

@@ -8,7 +8,7 @@ use std::path::Path;
 use anyhow::{anyhow, Context};
 
 use super::{Reader, Sample, CHUNK};
-use crate::input::{self, strip_bom};
+use crate::plumbing::input::{self, strip_bom};
 
 /// Parses one line (trimmed, not blank) numbered `line` into a sample, or
 /// None to skip it; the error says what is wrong (the file and line are added).

@@ -18,7 +18,7 @@ use px4_ulog::stream_parser::LogParser;
 
 use super::producer::{spawn, Sink};
 use super::{topics, Channels, Format, Opened, Options, Place, Sample, Source, TimeSource};
-use crate::input;
+use crate::plumbing::input;
 
 /// The two IMU choices of a ULog.
 const COMBINED: &str = "sensor_combined";

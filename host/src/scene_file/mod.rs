@@ -45,7 +45,7 @@ use std::path::{Path, PathBuf};
 
 use triad_sim::scenes::scene::Scene;
 
-use crate::shipped;
+use crate::plumbing::shipped;
 use build::Builder;
 use parse::Source;
 
@@ -80,7 +80,7 @@ fn built(src: Source, file: &parse::SceneFile) -> anyhow::Result<LoadedScene> {
     })
 }
 
-/// Loads NAME (a shipped scene) or FILE, by the rule of [`crate::shipped`].
+/// Loads NAME (a shipped scene) or FILE, by the rule of [`crate::plumbing::shipped`].
 pub fn load(name_or_file: &str) -> anyhow::Result<LoadedScene> {
     load_shipped_or_file(name_or_file, "scene", shipped::SCENES, parse)
 }

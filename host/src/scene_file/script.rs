@@ -9,7 +9,7 @@ use toml::Spanned;
 
 use super::parse::{MotionFile, SceneFile, Source, TemperatureFile, Value};
 use super::LoadedScene;
-use crate::shipped;
+use crate::plumbing::shipped;
 
 /// A script file's keys.
 #[derive(Deserialize)]
@@ -56,7 +56,7 @@ pub fn parse(text: &str, path: &Path) -> anyhow::Result<LoadedScene> {
     super::built(src, &file)
 }
 
-/// Loads NAME (a shipped script) or FILE, by the rule of [`crate::shipped`].
+/// Loads NAME (a shipped script) or FILE, by the rule of [`crate::plumbing::shipped`].
 pub fn load(name_or_file: &str) -> anyhow::Result<LoadedScene> {
     super::load_shipped_or_file(name_or_file, "script", shipped::SCRIPTS, parse)
 }

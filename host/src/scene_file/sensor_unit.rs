@@ -29,7 +29,7 @@ use super::build::Builder;
 use super::field::field;
 use super::parse::{Source, TriadFile};
 use super::unit::Dim;
-use crate::shipped;
+use crate::plumbing::shipped;
 
 /// A unit file's keys.
 #[derive(Deserialize)]
@@ -92,7 +92,7 @@ pub fn parse(text: &str, path: &Path) -> anyhow::Result<LoadedUnit> {
     })
 }
 
-/// Loads NAME (a shipped unit) or FILE, by the rule of [`crate::shipped`].
+/// Loads NAME (a shipped unit) or FILE, by the rule of [`crate::plumbing::shipped`].
 pub fn load(name_or_file: &str) -> anyhow::Result<LoadedUnit> {
     super::load_shipped_or_file(name_or_file, "unit", shipped::UNITS, parse)
 }

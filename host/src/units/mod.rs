@@ -10,8 +10,8 @@ use std::process::ExitCode;
 use anyhow::{anyhow, bail};
 use clap::Args;
 
-use crate::number::readable;
-use crate::stdio::{self, outln};
+use crate::plumbing::number::readable;
+use crate::plumbing::stdio::{self, outln};
 use table::{find, Unit, UNITS};
 
 /// Arguments of `triad units`.
@@ -95,8 +95,11 @@ pub fn run(args: UnitsArgs) -> anyhow::Result<ExitCode> {
 
 /// The rms resolution of a noise density over `bandwidth` Hz.
 fn resolution(out: &mut String, from: &Unit, si: f64, bandwidth: f64) -> anyhow::Result<()> {
-    let bandwidth =
-        crate::number::positive("--bandwidth", bandwidth, "must be a positive number of Hz")?;
+    let bandwidth = crate::plumbing::number::positive(
+        "--bandwidth",
+        bandwidth,
+        "must be a positive number of Hz",
+    )?;
     if !from.quantity.is_density() {
         bail!(
             "--bandwidth: {} is not a noise density (resolution = √(PSD × bandwidth) needs one)",

@@ -24,7 +24,7 @@ use triad::device::Outgoing;
 use triad::model::{blob, Corrector, Orientation};
 use triad::protocol::{Command, Packet, Reply, Status};
 use triad::protocol::{Decoder, Flags};
-use triad_host::calib_file::{self, CalibFile};
+use triad_host::calib::file::{self as calib_file, CalibFile};
 use triad_host::device::link::{Link, LinkError, Settings};
 use triad_host::device::{identify, transfer};
 

@@ -83,7 +83,7 @@ pub fn agrees_with_firmware(
     assert_eq!(rows.next(), Some("t,ax,ay,az,gx,gy,gz,temp"));
     let rows: Vec<&str> = rows.collect();
     assert_eq!(rows.len(), streamed.len(), "one row per sample");
-    let g_sensitivity = triad_host::calib_file::load(calibration)
+    let g_sensitivity = triad_host::calib::file::load(calibration)
         .unwrap()
         .calibration
         .g_sensitivity

@@ -150,7 +150,7 @@ impl ServedBoard {
     /// The host's transport on the port, as `triad device` opens it; one
     /// reader at a time: drop it before running `triad device`.
     pub fn link(&self) -> Link<Box<dyn serialport::SerialPort>> {
-        let port = triad_host::serial::open(&self.port, BAUD, Duration::from_millis(20))
+        let port = triad_host::plumbing::serial::open(&self.port, BAUD, Duration::from_millis(20))
             .expect("opening the served port");
         let settings = Settings {
             timeout: Duration::from_secs(2),

@@ -33,12 +33,12 @@ use super::fit_csv::Record;
 use super::fit_imu::{self, ImuFit};
 use super::segments::check_pose_options;
 use super::verify;
-use crate::calib_file::{self, CalibFile};
+use crate::calib::file::{self as calib_file, CalibFile};
 use crate::device::link::{Link, LinkError, Settings};
 use crate::device::{first_sequence, identify, transfer};
-use crate::interrupt;
-use crate::outfile;
-use crate::stdio::{self, outln};
+use crate::plumbing::interrupt;
+use crate::plumbing::outfile;
+use crate::plumbing::stdio::{self, outln};
 use coverage::Coverage;
 use live_poses::{Event, LivePoses, Pose};
 use prompt::Guide;
@@ -194,7 +194,7 @@ impl<P: Read + Write> Device<P> {
 /// Runs `triad calib session`.
 pub fn run(args: SessionArgs) -> anyhow::Result<ExitCode> {
     check_pose_options(args.gravity, args.min_static)?;
-    crate::number::positive(
+    crate::plumbing::number::positive(
         "--stall-s",
         args.stall_s,
         "must be a positive number of seconds",
@@ -203,12 +203,12 @@ pub fn run(args: SessionArgs) -> anyhow::Result<ExitCode> {
         outfile::probe(path)?;
     }
     if let (Some(out), Some(record)) = (&args.out, &args.record) {
-        crate::distinct::check(
-            &[crate::distinct::named("--record", record)],
-            &[crate::distinct::named("--out", out)],
+        crate::plumbing::distinct::check(
+            &[crate::plumbing::distinct::named("--record", record)],
+            &[crate::plumbing::distinct::named("--out", out)],
         )?;
     }
-    let opened = crate::serial::open(&args.port, args.baud, PORT_POLL)?;
+    let opened = crate::plumbing::serial::open(&args.port, args.baud, PORT_POLL)?;
     let settings = Settings {
         timeout: Duration::from_millis(500),
         tries: 3,

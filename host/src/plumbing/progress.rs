@@ -12,7 +12,7 @@ use std::io::IsTerminal;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
-use crate::stdio::note;
+use crate::plumbing::stdio::note;
 
 /// Set by `--quiet`.
 static QUIET: AtomicBool = AtomicBool::new(false);

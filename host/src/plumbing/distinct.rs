@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::bail;
 
-use crate::outfile::is_stdout;
+use crate::plumbing::outfile::is_stdout;
 
 /// A path with the option (or argument) that gave it, for messages.
 #[derive(Clone, Copy, Debug)]

@@ -14,9 +14,9 @@ use anyhow::bail;
 use triad::protocol::{BatchFrame, Packet, RawFrame};
 use triad::protocol::{DecodeError, DecoderStats, Flags, Frame, TimestampUnwrapper};
 
-use crate::number::{positive, refused};
-use crate::row_writer::RowWriter;
-use crate::stdio::note;
+use crate::plumbing::number::{positive, refused};
+use crate::plumbing::row_writer::RowWriter;
+use crate::plumbing::stdio::note;
 
 /// The CSV header (column order of every line).
 pub const CSV_HEADER: &str = "seq,t,ax,ay,az,gx,gy,gz,temp,flags";
@@ -283,11 +283,11 @@ pub struct Outcome {
 
 impl Outcome {
     /// The summary on stderr, then the output's failure as an error (the
-    /// reader closing the pipe as [`crate::stdio::ReaderGone`]).
+    /// reader closing the pipe as [`crate::plumbing::stdio::ReaderGone`]).
     pub fn report(self, command: &str) -> anyhow::Result<Outcome> {
         note!("{}", summary(&self, command).trim_end());
         match &self.failure {
-            Some(Failure::ReaderGone) => Err(crate::stdio::ReaderGone.into()),
+            Some(Failure::ReaderGone) => Err(crate::plumbing::stdio::ReaderGone.into()),
             Some(Failure::Output(e)) => bail!(
                 "writing the CSV to standard output: {e}; {} rows stored",
                 self.rows

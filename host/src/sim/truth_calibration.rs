@@ -8,7 +8,7 @@ use triad::model::{Calibration, Orientation};
 use triad_sim::effects::linear_truth::linear_truth;
 use triad_sim::scenes::scene::TriadEffects;
 
-use crate::calib_file;
+use crate::calib::file as calib_file;
 use crate::scene_file::sensor_unit::LoadedUnit;
 
 /// The effects a unit may have that the calibration model leaves out.

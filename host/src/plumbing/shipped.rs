@@ -22,8 +22,10 @@ include!(concat!(env!("OUT_DIR"), "/shipped_scenes.rs"));
 
 /// The shipped calibrations: (name, TOML text). `default` is the one the
 /// firmware embeds unless told otherwise.
-pub const CALIBRATIONS: &[(&str, &str)] =
-    &[("default", include_str!("../../calibrations/default.toml"))];
+pub const CALIBRATIONS: &[(&str, &str)] = &[(
+    "default",
+    include_str!("../../../calibrations/default.toml"),
+)];
 
 /// Where the text of an argument comes from.
 #[derive(Clone, Debug, PartialEq)]

@@ -35,7 +35,7 @@ mod tests {
 
     #[test]
     fn protocol_md_quotes_the_version_text() {
-        let doc = include_str!("../../docs/PROTOCOL.md")
+        let doc = include_str!("../../../docs/PROTOCOL.md")
             .split_whitespace()
             .collect::<Vec<_>>()
             .join(" ");

@@ -149,16 +149,20 @@ fn position(text: &str, offset: usize) -> String {
 }
 
 /// Reads and parses `path`, or the shipped calibration of that name
-/// (`default`; the rule is [`crate::shipped`]'s); errors name the file, the
+/// (`default`; the rule is [`crate::plumbing::shipped`]'s); errors name the file, the
 /// line and the key.
 pub fn load(path: &Path) -> anyhow::Result<CalibFile> {
-    let source = crate::shipped::locate(path, "calibration", crate::shipped::CALIBRATIONS)?;
+    let source = crate::plumbing::shipped::locate(
+        path,
+        "calibration",
+        crate::plumbing::shipped::CALIBRATIONS,
+    )?;
     parse(&source.text()?, &source.shown())
 }
 
 /// Parses the text of a calibration file read from `path`.
 pub fn parse(text: &str, path: &Path) -> anyhow::Result<CalibFile> {
-    let text = crate::input::strip_bom(text);
+    let text = crate::plumbing::input::strip_bom(text);
     let shape: FileShape =
         toml::from_str(text).map_err(|e| anyhow!("{}:{}", path.display(), one_line(&e, text)))?;
     let orientation = match &shape.orientation {

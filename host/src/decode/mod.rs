@@ -3,9 +3,12 @@
 //! Reads a serial port, a file or standard input with a fixed buffer and the
 //! core's [`Decoder`], so memory stays constant however long the stream.
 //! Every packet of protocol version 2 is decoded: data frames and raw frames
-//! become CSV rows ([`crate::stream_csv`]); replies and commands are counted.
+//! become CSV rows ([`crate::decode::rows`]); replies and commands are counted.
 //! CSV goes to stdout (columns and number formats: docs/PROTOCOL.md §11);
 //! rejected frames (with --verbose) and the final counters go to stderr.
+
+pub mod out;
+pub mod rows;
 
 use std::io::{ErrorKind, Read, Write};
 use std::path::{Path, PathBuf};
@@ -16,16 +19,16 @@ use std::time::Duration;
 use anyhow::{bail, Context};
 use triad::protocol::Decoder;
 
-use crate::distinct::named;
-use crate::input;
-use crate::interrupt;
-use crate::progress::{Progress, Unit};
-use crate::row_writer::RowWriter;
-use crate::serial;
-use crate::stream_csv::{CsvSink, Failure, Limits, Outcome, Stop};
-use crate::stream_out::StreamOut;
+use crate::decode::out::StreamOut;
+use crate::decode::rows::{CsvSink, Failure, Limits, Outcome, Stop};
+use crate::plumbing::distinct::named;
+use crate::plumbing::input;
+use crate::plumbing::interrupt;
+use crate::plumbing::progress::{Progress, Unit};
+use crate::plumbing::row_writer::RowWriter;
+use crate::plumbing::serial;
 
-pub use crate::stream_csv::CSV_HEADER;
+pub use crate::decode::rows::CSV_HEADER;
 
 /// How long one read of a serial port waits before checking for Ctrl-C.
 const PORT_POLL: Duration = Duration::from_millis(100);
@@ -86,7 +89,7 @@ pub fn run(args: DecodeArgs) -> anyhow::Result<ExitCode> {
     let limits = Limits::new(args.max_frames, args.seconds)?;
     let interrupted = interrupt::flag();
     if let (Some(out), Some(input)) = (&args.out, &args.input) {
-        crate::distinct::check(&[named("input", input)], &[named("--out", out)])?;
+        crate::plumbing::distinct::check(&[named("input", input)], &[named("--out", out)])?;
     }
     let source = open_source(&args)?;
     let mut csv = RowWriter::new(StreamOut::open(args.out.as_deref())?, CSV_BUFFER);
@@ -304,7 +307,7 @@ mod tests {
         let s = outcome.stats;
         assert_eq!((s.frames, s.raw_frames, s.messages), (1, 1, 1));
         assert_eq!((outcome.rows, s.sequence_gaps), (2, 0));
-        let text = crate::stream_csv::summary(&outcome, "triad decode");
+        let text = crate::decode::rows::summary(&outcome, "triad decode");
         assert!(
             text.contains("\nframes: 2 (2 stored as CSV rows)\n"),
             "{text}"
@@ -321,7 +324,7 @@ mod tests {
         let mut bytes = stream(2);
         bytes.extend_from_slice(&[1, 2, 3]);
         let (outcome, _) = decode(bytes, None, None);
-        let text = crate::stream_csv::summary(&outcome, "triad decode");
+        let text = crate::decode::rows::summary(&outcome, "triad decode");
         let lines: Vec<&str> = text.lines().collect();
         assert_eq!(lines[0], "triad decode: stopped at end of input");
         assert_eq!(lines[1], "frames: 2 (2 stored as CSV rows)");

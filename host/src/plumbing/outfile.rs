@@ -16,7 +16,7 @@ use std::sync::atomic::{AtomicU32, Ordering};
 
 use anyhow::{anyhow, Context};
 
-use crate::stdio;
+use crate::plumbing::stdio;
 
 /// True when `path` means standard output (`-`).
 pub fn is_stdout(path: &Path) -> bool {

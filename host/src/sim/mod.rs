@@ -9,6 +9,8 @@
 //! (`--script`, `--record-seed K`) has fresh noise, from K and the unit's
 //! seed; `--truth-calib` writes what a perfect calibration of it would hold.
 
+pub mod truth_calibration;
+
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -18,15 +20,14 @@ use triad_sim::chips::source::TrueSample;
 use triad_sim::scenes::scene::Scene;
 use triad_sim::scenes::simulator::Simulator;
 
-use crate::distinct::{self, named};
-use crate::interrupt;
-use crate::number::{positive, readable, RATE_WORDS};
-use crate::outfile::{self, OutFile};
-use crate::progress::{Progress, Unit};
+use crate::plumbing::distinct::{self, named};
+use crate::plumbing::interrupt;
+use crate::plumbing::number::{positive, readable, RATE_WORDS};
+use crate::plumbing::outfile::{self, OutFile};
+use crate::plumbing::progress::{Progress, Unit};
+use crate::plumbing::stdio::note;
 use crate::scene_file::sensor_unit::{self, LoadedUnit};
 use crate::scene_file::{self, script, LoadedScene};
-use crate::stdio::note;
-use crate::truth_calibration;
 use triad_sim::effects::rng::mix64;
 
 /// Default of `--max-samples`: 10⁸ samples, some 15 GB of CSV (rows of
@@ -98,8 +99,8 @@ pub fn write_row(w: &mut impl Write, t: f64, s: &TrueSample) -> std::io::Result<
 /// Runs `triad sim`.
 pub fn run(args: SimArgs) -> anyhow::Result<ExitCode> {
     if args.list {
-        let listing = crate::shipped::listing();
-        crate::stdio::print(&listing)?;
+        let listing = crate::plumbing::shipped::listing();
+        crate::plumbing::stdio::print(&listing)?;
         return Ok(ExitCode::SUCCESS);
     }
     let (loaded, seed, unit) = what_to_simulate(&args)?;
@@ -194,7 +195,7 @@ fn what_to_simulate(args: &SimArgs) -> anyhow::Result<(LoadedScene, u64, Option<
         bail!(
             "--unit needs --script: the unit is the sensor, the script what happens to it \
              (shipped scripts: {})",
-            shipped_names(crate::shipped::SCRIPTS)
+            shipped_names(crate::plumbing::shipped::SCRIPTS)
         );
     };
     let Some(k) = args.record_seed else {

@@ -1,7 +1,7 @@
 //! Where `triad decode` and `triad device stream` put their rows: standard
 //! output (the CSV, as before), or `--out FILE`, written whole or not at
 //! all: the CSV, or for a name ending `.mcap` an MCAP
-//! ([`record::mcap_out`]) whose messages are made from the rows as they are
+//! ([`crate::record::mcap_out`]) whose messages are made from the rows as they are
 //! written (the same numbers the CSV would carry, each frame's sequence
 //! number and flags on their own topic).
 
@@ -11,11 +11,11 @@ use std::path::Path;
 
 use anyhow::anyhow;
 
-use crate::outfile::OutFile;
+use crate::decode::rows::CSV_HEADER;
+use crate::plumbing::outfile::OutFile;
+use crate::plumbing::stdio;
 use crate::record::mcap_out::McapWriter;
 use crate::record::Sample;
-use crate::stdio;
-use crate::stream_csv::CSV_HEADER;
 
 /// The rows' destination.
 pub enum StreamOut {
@@ -30,7 +30,7 @@ pub enum StreamOut {
 impl StreamOut {
     /// `--out PATH` (`.mcap`: MCAP), else standard output.
     pub fn open(out: Option<&Path>) -> anyhow::Result<StreamOut> {
-        let Some(path) = out.filter(|p| !crate::outfile::is_stdout(p)) else {
+        let Some(path) = out.filter(|p| !crate::plumbing::outfile::is_stdout(p)) else {
             return Ok(StreamOut::Stdout(stdio::raw_stdout()?));
         };
         let file = OutFile::create(path)?;
