@@ -10,6 +10,10 @@
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
 
+// The whole fits gather what a record holds (its poses, moves, what was
+// left out): they allocate; the sample buffers stay the caller's.
+extern crate alloc;
+
 pub mod allan;
 pub mod calib_fit;
 pub mod f_dist;

@@ -13,7 +13,9 @@
 //!   accelerometer's upper triangular corrected axes), for comparisons.
 //! - [`rig_free`]: the gyroscope from one hand-rotated record (turns
 //!   between static poses integrated and matched to the accelerometer's
-//!   gravity directions); [`hand_record`] makes such records with known truth.
+//!   gravity directions); [`hand_record`] makes such records with known
+//!   truth; [`turn_sensitivity`]: the derivatives of an integrated turn,
+//!   from one pass over the move.
 //! - [`g_sensitivity`]: the gyroscope's g-sensitivity G from static poses in
 //!   several orientations, and the poses' consistency test that accounts for it.
 //! - Across temperature: [`thermal_coverage`] (the range, the reference
@@ -48,5 +50,6 @@ pub mod static_segments;
 pub mod thermal_accel;
 pub mod thermal_coverage;
 pub mod thermal_gyro;
+pub mod turn_sensitivity;
 
 pub use error::FitError;
