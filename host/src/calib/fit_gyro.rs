@@ -8,7 +8,7 @@ use anyhow::{anyhow, bail};
 use triad::model::matrix::{mul_vec, Mat3};
 use triad::model::{Triad, TriadCalibration};
 use triad::units::{deg_to_rad, rad_to_deg, EARTH_RATE};
-use triad_lab::calib_fit::gyro_fit::{self, LinearFit, RateSegment};
+use triad_lab::calib_fit::fits::gyro_fit::{self, LinearFit, RateSegment};
 use triad_lab::calib_fit::static_segments;
 
 use super::fit::{file_list, inputs, names, write_calibration, Base, Output};

@@ -13,11 +13,12 @@ use std::process::ExitCode;
 use anyhow::{anyhow, bail};
 use triad::model::{Triad, TriadCalibration};
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
-use triad_lab::calib_fit::accel_fit::AccelFit;
-use triad_lab::calib_fit::gyro_fit::LinearFit;
-use triad_lab::calib_fit::rig_free::{self, RigFreeGyroFit, MAX_RANGE_FRACTION};
+use triad_lab::calib_fit::fits::accel_fit::AccelFit;
+use triad_lab::calib_fit::fits::gyro_fit::LinearFit;
+use triad_lab::calib_fit::fits::rig_free::{self, RigFreeGyroFit, MAX_RANGE_FRACTION};
+use triad_lab::calib_fit::fits::{accel_cube, accel_fit};
 use triad_lab::calib_fit::static_segments::{self, Segment};
-use triad_lab::calib_fit::{accel_cube, accel_fit, FitError};
+use triad_lab::calib_fit::FitError;
 
 use super::g_sensitivity_report;
 

@@ -27,8 +27,8 @@
 //! freedom. So the limit scales with the noise the record shows, and a pose
 //! whose mean differs only by G·f is not called turned.
 
-use super::qr::GivensLs;
-use super::small3::Mat3;
+use crate::calib_fit::numerics::qr::GivensLs;
+use crate::calib_fit::numerics::small3::Mat3;
 use crate::f_dist;
 use triad::units::STANDARD_GRAVITY;
 

@@ -3,7 +3,7 @@
 //! for IMU calibration without external equipments", ICRA 2014): the unit
 //! rests in a pose, is turned by hand, rests again, and so on.
 //!
-//! 1. The accelerometer is fitted first ([`super::accel_fit`]) from the
+//! 1. The accelerometer is fitted first ([`crate::calib_fit::fits::accel_fit`]) from the
 //!    poses' static means; its corrected frame is the frame of the result.
 //! 2. The poses' gyro means give the g-sensitivity G where the poses
 //!    support one ([`g_sensitivity`]); each pose is checked against what the
@@ -34,15 +34,15 @@
 
 use alloc::vec::Vec;
 
-use super::accel_fit::{self, AccelFit};
-use super::error::FitError;
-use super::g_sensitivity::{self, Consistency, PoseMean, Support};
-use super::levenberg_marquardt::{self, Problem};
-use super::qr::GivensLs;
-use super::quaternion::{self, Quat};
-use super::small3::{symmetric_eigenvalues, Mat3};
-use super::static_segments::Segment;
-use super::turn_sensitivity;
+use crate::calib_fit::error::FitError;
+use crate::calib_fit::fits::accel_fit::{self, AccelFit};
+use crate::calib_fit::fits::g_sensitivity::{self, Consistency, PoseMean, Support};
+use crate::calib_fit::fits::turn_sensitivity;
+use crate::calib_fit::numerics::levenberg_marquardt::{self, Problem};
+use crate::calib_fit::numerics::qr::GivensLs;
+use crate::calib_fit::numerics::quaternion::{self, Quat};
+use crate::calib_fit::numerics::small3::{symmetric_eigenvalues, Mat3};
+use crate::calib_fit::static_segments::Segment;
 use triad::model::matrix;
 
 /// The fewest turns the gyro fit accepts: 9 unknowns, 2 equations per turn,
@@ -73,7 +73,7 @@ pub const MAX_RANGE_FRACTION: f64 = 0.9;
 pub const MAX_ROTATION_PER_SAMPLE_DEG: f64 = 3.0;
 
 /// The largest accepted condition number of the column-scaled Jacobian
-/// (see [`super::accel_fit::MAX_CONDITION`]).
+/// (see [`crate::calib_fit::fits::accel_fit::MAX_CONDITION`]).
 pub const MAX_CONDITION: f64 = 1.0e4;
 
 /// Iteration limit of Levenberg–Marquardt.
@@ -251,7 +251,7 @@ pub(crate) struct MoveSample {
 }
 
 /// [`integrate`], passing every sample of the move to `observe` (for the
-/// turn's derivatives, [`super::turn_sensitivity`]).
+/// turn's derivatives, [`crate::calib_fit::fits::turn_sensitivity`]).
 pub(crate) fn integrate_observed(
     record: &Record,
     from: &Segment,
@@ -561,8 +561,8 @@ fn check_range_of(
 
 /// Mean and standard error (s/√n) of each axis of `samples` (n ≥ 2).
 fn mean_and_error(samples: &[[f64; 3]]) -> ([f64; 3], [f64; 3]) {
-    let mean = super::static_segments::mean(samples);
-    let sd = super::static_segments::standard_deviation(samples);
+    let mean = crate::calib_fit::static_segments::mean(samples);
+    let sd = crate::calib_fit::static_segments::standard_deviation(samples);
     (mean, sd.map(|s| s / libm::sqrt(samples.len() as f64)))
 }
 
@@ -994,7 +994,7 @@ mod tests {
         poses.truncate(n);
         let means: Vec<[f64; 3]> = poses
             .iter()
-            .map(|s| super::super::static_segments::mean(&accel[s.start..s.end]))
+            .map(|s| crate::calib_fit::static_segments::mean(&accel[s.start..s.end]))
             .collect();
         let accel_fit = accel_fit::fit(&means, unit.gravity).unwrap();
         let record = Record { t: &t, gyro: &gyro };

@@ -11,7 +11,7 @@
 //! (I+Σ) changes K by −K·e_a·e_cᵀ·K and the rate by −K_{:,a}·ω_c(t):
 //! δθ = −R_Tᵀ·A_c·K_{:,a} with A_c = ∫ ω_c(t)·R_t dt. With a g-sensitivity
 //! the bias is c + G·f(s), f interpolated between the poses' forces F₀ and
-//! F₁ ([`super::rig_free`]), and a change of F₀ or F₁ gives
+//! F₁ ([`crate::calib_fit::fits::rig_free`]), and a change of F₀ or F₁ gives
 //! δθ = −R_Tᵀ·(M₀·δF₀ + M₁·δF₁), M_e = ∫ R_t·K·G·∂f/∂F_e dt.
 //!
 //! The integrals are trapezoid sums at the record's samples: the
@@ -19,8 +19,8 @@
 //! differ by O((ω·dt)²) relatively (the test beside the fit compares them
 //! with central differences).
 
-use super::rig_free::{cross, MoveSample};
-use super::small3::Mat3;
+use crate::calib_fit::fits::rig_free::{cross, MoveSample};
+use crate::calib_fit::numerics::small3::Mat3;
 use triad::model::matrix;
 
 /// What one pass over a move gathers.
@@ -53,7 +53,7 @@ impl Accumulator {
 
     /// Adds one sample of the move.
     pub fn add(&mut self, sample: &MoveSample) {
-        let r = super::quaternion::to_matrix(&sample.q);
+        let r = crate::calib_fit::numerics::quaternion::to_matrix(&sample.q);
         for (moment, &w) in self.out.rate_moments.iter_mut().zip(&sample.rate) {
             add_scaled(moment, &r, sample.weight * w);
         }
@@ -80,7 +80,7 @@ fn add_scaled(sum: &mut Mat3, m: &Mat3, w: f64) {
 }
 
 /// ∂f/∂F₀ and ∂f/∂F₁ at fraction `s`, f = m·v/|v| with v = F₀ + s(F₁ − F₀)
-/// and m = |F₀| + s(|F₁| − |F₀|) ([`super::rig_free::force_along`]).
+/// and m = |F₀| + s(|F₁| − |F₀|) ([`crate::calib_fit::fits::rig_free::force_along`]).
 fn force_derivatives([f0, f1]: &[[f64; 3]; 2], s: f64) -> [Mat3; 2] {
     let norm = |v: &[f64; 3]| libm::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     let v = [0, 1, 2].map(|i| f0[i] + s * (f1[i] - f0[i]));
@@ -108,13 +108,13 @@ fn force_derivatives([f0, f1]: &[[f64; 3]; 2], s: f64) -> [Mat3; 2] {
 /// in the order of (I+Σ)'s entries row by row.
 pub(crate) fn scale_gradient(
     sensitivity: &TurnSensitivity,
-    q_end: &super::quaternion::Quat,
+    q_end: &crate::calib_fit::numerics::quaternion::Quat,
     k: &Mat3,
     predicted: &[f64; 3],
     across: &[[f64; 3]; 2],
 ) -> [[f64; 9]; 2] {
     across.map(|e| {
-        let v = super::quaternion::rotate(q_end, &cross(&e, predicted));
+        let v = crate::calib_fit::numerics::quaternion::rotate(q_end, &cross(&e, predicted));
         // vᵀ·A_b, for each b.
         let va: [[f64; 3]; 3] = sensitivity
             .rate_moments
@@ -130,7 +130,7 @@ pub(crate) fn scale_gradient(
 /// and `d1` of the poses' forces: −R_Tᵀ·(M₀·δF₀ + M₁·δF₁); zero without G.
 pub(crate) fn force_turn(
     sensitivity: &TurnSensitivity,
-    q_end: &super::quaternion::Quat,
+    q_end: &crate::calib_fit::numerics::quaternion::Quat,
     d0: &[f64; 3],
     d1: &[f64; 3],
 ) -> [f64; 3] {
@@ -139,13 +139,13 @@ pub(crate) fn force_turn(
     };
     let (a, b) = (matrix::mul_vec(m0, d0), matrix::mul_vec(m1, d1));
     let sum = [0, 1, 2].map(|i| -(a[i] + b[i]));
-    super::quaternion::rotate_inverse(q_end, &sum)
+    crate::calib_fit::numerics::quaternion::rotate_inverse(q_end, &sum)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::calib_fit::rig_free::force_along;
+    use crate::calib_fit::fits::rig_free::force_along;
 
     #[test]
     fn the_force_derivatives_match_central_differences() {
