@@ -13,7 +13,9 @@
 //!   gravity directions); [`turn_sensitivity`]: the derivatives of an
 //!   integrated turn, from one pass over the move.
 //! - [`g_sensitivity`]: the gyroscope's g-sensitivity G from static poses in
-//!   several orientations, and the poses' consistency test that accounts for it.
+//!   several orientations, and the poses' consistency test that accounts for
+//!   it; [`static_gyro`]: the gyroscope's bias and G from a record of
+//!   static poses alone.
 //! - Across temperature: [`thermal_coverage`] (the range, the reference
 //!   and which terms the temperatures support), [`thermal_accel`] (the
 //!   accelerometer's (I+Σ) linear and b cubic in ΔT from poses in unknown
@@ -28,6 +30,7 @@ pub mod bias_polynomial;
 pub mod g_sensitivity;
 pub mod gyro_fit;
 pub mod rig_free;
+pub mod static_gyro;
 pub mod thermal_accel;
 pub mod thermal_coverage;
 pub mod thermal_gyro;

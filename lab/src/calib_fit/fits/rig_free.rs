@@ -36,7 +36,7 @@ use alloc::vec::Vec;
 
 use crate::calib_fit::error::FitError;
 use crate::calib_fit::fits::accel_fit::{self, AccelFit};
-use crate::calib_fit::fits::g_sensitivity::{self, Consistency, PoseMean, Support};
+use crate::calib_fit::fits::g_sensitivity::{self, AtRest, Consistency, PoseMean, Support};
 use crate::calib_fit::fits::turn_sensitivity;
 use crate::calib_fit::numerics::levenberg_marquardt::{self, Problem};
 use crate::calib_fit::numerics::qr::GivensLs;
@@ -585,17 +585,14 @@ fn move_bias(
     }
 }
 
-/// What the poses say about the gyro at rest: the g-sensitivity (where they
-/// support one), the check of each pose against the others, and the bias
-/// with its σ: the fit's intercept when the poses show a G, else the mean of
-/// the poses' means.
-#[allow(clippy::type_complexity)]
+/// What the poses say about the gyro at rest ([`g_sensitivity::at_rest`]),
+/// a stray pose refused with its times.
 fn poses_at_rest(
     record: &Record,
     poses: &[Segment],
     accel_means: &[[f64; 3]],
     accel: &AccelFit,
-) -> Result<([f64; 3], Option<[f64; 3]>, Support, Consistency), FitError> {
+) -> Result<AtRest, FitError> {
     let n = poses.len();
     // Each pose's means once: the consistency test visits every pose n times.
     let means: Vec<PoseMean> = poses
@@ -610,43 +607,23 @@ fn poses_at_rest(
             }
         })
         .collect();
-    let pose = |q: usize| means[q];
-    let support = g_sensitivity::fit(n, pose);
-    let with_g = matches!(support, Support::Fitted(_));
-    let check = g_sensitivity::check_poses(n, pose, with_g).map_err(|stray| {
-        let s = &poses[stray.pose];
-        FitError::PoseNotStatic {
-            pose: stray.pose,
-            time_s: [record.t[s.start], record.t[s.end - 1]],
-            axis: stray.axis,
-            rate: stray.residual.abs(),
-            limit: stray.limit,
-            sigmas: stray.check.sigmas,
-            with_g: stray.check.with_g,
-            poses: n,
-        }
-    })?;
-    if let Some(fit) = support.applied() {
-        return Ok((fit.bias, Some(fit.sigma_bias), support, check));
+    g_sensitivity::at_rest(n, |q| means[q]).map_err(|stray| stray_error(&stray, poses, record.t))
+}
+
+/// The refusal of a pose that strays from the others ([`g_sensitivity::Stray`]),
+/// with its times from `t`.
+pub(crate) fn stray_error(stray: &g_sensitivity::Stray, poses: &[Segment], t: &[f64]) -> FitError {
+    let s = &poses[stray.pose];
+    FitError::PoseNotStatic {
+        pose: stray.pose,
+        time_s: [t[s.start], t[s.end - 1]],
+        axis: stray.axis,
+        rate: stray.residual.abs(),
+        limit: stray.limit,
+        sigmas: stray.check.sigmas,
+        with_g: stray.check.with_g,
+        poses: poses.len(),
     }
-    let nf = n as f64;
-    let mut sum = [0.0; 3];
-    for q in 0..n {
-        let m = pose(q).gyro;
-        for i in 0..3 {
-            sum[i] += m[i];
-        }
-    }
-    let bias = sum.map(|x| x / nf);
-    let mut sum_sq = [0.0; 3];
-    for q in 0..n {
-        let m = pose(q).gyro;
-        for i in 0..3 {
-            sum_sq[i] += (m[i] - bias[i]) * (m[i] - bias[i]);
-        }
-    }
-    let sigma = (n >= 2).then(|| sum_sq.map(|s| libm::sqrt(s / (nf - 1.0) / nf)));
-    Ok((bias, sigma, support, check))
 }
 
 /// The largest rotation between two samples of the moves (rad), and where.
@@ -851,8 +828,13 @@ fn fit_used(
             needed: MIN_ROTATIONS,
         });
     }
-    let (bias, sigma_bias, g_support, pose_check) =
-        poses_at_rest(&record, poses, accel_means, accel)?;
+    let AtRest {
+        bias,
+        sigma_bias,
+        bias_dof,
+        support: g_support,
+        check: pose_check,
+    } = poses_at_rest(&record, poses, accel_means, accel)?;
     let g_applied = g_support.applied().map(|fit| fit.g);
     let (sample, step) = fastest_step_of(&record, poses, &bias, used);
     let limit = MAX_ROTATION_PER_SAMPLE_DEG.to_radians();
@@ -939,7 +921,7 @@ fn fit_used(
         dof,
         dof_entries,
         gyro_dof,
-        bias_dof: g_support.applied().map_or(poses.len() - 1, |g| g.dof),
+        bias_dof,
         residual_rms: libm::sqrt(sum_sq / residuals as f64),
         residual_max: worst,
         condition,
