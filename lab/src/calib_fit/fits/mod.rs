@@ -10,8 +10,9 @@
 //!   ω̂ = (I+Σ)ω + b, by linear least squares.
 //! - [`rig_free`]: the gyroscope from one hand-rotated record (turns
 //!   between static poses integrated and matched to the accelerometer's
-//!   gravity directions); [`turn_sensitivity`]: the derivatives of an
-//!   integrated turn, from one pass over the move.
+//!   gravity directions); [`move_selection`]: which moves between poses
+//!   it can use; [`turn_sensitivity`]: the derivatives of an integrated
+//!   turn, from one pass over the move.
 //! - [`g_sensitivity`]: the gyroscope's g-sensitivity G from static poses in
 //!   several orientations, and the poses' consistency test that accounts for
 //!   it; [`static_gyro`]: the gyroscope's bias and G from a record of
@@ -29,6 +30,7 @@ pub mod accel_fit;
 pub mod bias_polynomial;
 pub mod g_sensitivity;
 pub mod gyro_fit;
+pub mod move_selection;
 pub mod rig_free;
 pub mod static_gyro;
 pub mod thermal_accel;
