@@ -11,7 +11,7 @@ use std::process::Output;
 
 use common::{calibration, dir, s, text, triad};
 use triad::model::matrix;
-use triad_lab::calib_fit::small3::{cholesky_upper, gram};
+use triad_lab::calib_fit::numerics::small3::{cholesky_upper, gram};
 
 const G: f64 = 9.80665;
 

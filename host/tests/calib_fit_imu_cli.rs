@@ -5,12 +5,10 @@
 
 mod common;
 
-use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use common::{dir, hand_unit as unit, s, text, triad};
-use triad_lab::calib_fit::hand_record::{self, Axes, Script};
-use triad_sim::effects::rng::Rng;
+use common::{dir, hand_csv, hand_unit as unit, matrix, s, simulate_g_unit, text, triad};
+use triad_lab::calib_fit::hand_record::{Axes, Script};
 
 fn script(poses: usize, axes: Axes) -> Script {
     Script {
@@ -24,33 +22,10 @@ fn script(poses: usize, axes: Axes) -> Script {
     }
 }
 
-/// Writes the record of `script` as `triad sim` would (t, accel, gyro, SI).
-fn record(d: &Path, name: &str, script: &Script, seed: u64) -> PathBuf {
-    let mut rng = Rng::from_seed(seed);
-    let mut csv = String::from("t,ax,ay,az,gx,gy,gz\n");
-    hand_record::generate(script, &unit(), &mut || rng.uniform(), |s| {
-        let [ax, ay, az] = s.accel;
-        let [gx, gy, gz] = s.gyro;
-        writeln!(csv, "{},{ax},{ay},{az},{gx},{gy},{gz}", s.t).unwrap();
-    });
-    let path = d.join(format!("{name}.csv"));
-    std::fs::write(&path, csv).unwrap();
-    path
-}
-
-/// A 3×3 array of the file's table at `path` (e.g. gyro.scale_misalignment).
-fn matrix(table: &toml::Table, section: &str, key: &str) -> [[f64; 3]; 3] {
-    let rows = table[section][key].as_array().unwrap();
-    std::array::from_fn(|i| {
-        let row = rows[i].as_array().unwrap();
-        std::array::from_fn(|j| row[j].as_float().unwrap())
-    })
-}
-
 #[test]
 fn a_hand_turned_unit_gives_its_gyro_within_its_sigmas() {
     let d = dir("imu");
-    let input = record(&d, "hand", &script(16, Axes::Any), 11);
+    let input = hand_csv(&d, "hand", &script(16, Axes::Any), 11);
     let cal = d.join("cal.toml");
     let o = triad(&[
         "calib",
@@ -102,7 +77,7 @@ fn degenerate_records_are_refused_with_what_to_do() {
     let d = dir("imu-refusals");
     let out = d.join("cal.toml");
     // Too few poses for the accelerometer.
-    let few = record(&d, "few", &script(6, Axes::Any), 3);
+    let few = hand_csv(&d, "few", &script(6, Axes::Any), 3);
     let o = triad(&[
         "calib",
         "fit",
@@ -120,7 +95,7 @@ fn degenerate_records_are_refused_with_what_to_do() {
     );
     // Every turn about one axis: gravity stays in one plane of the sensor,
     // which the accelerometer fit refuses first.
-    let one_axis = record(&d, "one-axis", &script(16, Axes::One([0.0, 0.0, 1.0])), 4);
+    let one_axis = hand_csv(&d, "one-axis", &script(16, Axes::One([0.0, 0.0, 1.0])), 4);
     let o = fit_imu(&one_axis, &out);
     assert_eq!(o.status.code(), Some(1));
     let e = text(&o.stderr);
@@ -132,7 +107,7 @@ fn degenerate_records_are_refused_with_what_to_do() {
     // accelerometer cannot see): the gyroscope's fit refuses it.
     let mut drifting = script(16, Axes::Any);
     drifting.drift = Some((5, 0.02));
-    let drift = record(&d, "drift", &drifting, 5);
+    let drift = hand_csv(&d, "drift", &drifting, 5);
     let o = fit_imu(&drift, &out);
     assert_eq!(o.status.code(), Some(1));
     let e = text(&o.stderr);
@@ -206,39 +181,12 @@ fn a_six_face_tumble_gives_both_triads_with_axis_aligned() {
     }
 }
 
-/// A unit of triad-sim's with a g-sensitivity (its `g_sensitivity`
-/// effect, 0.12 °/s per g on the diagonal as issue 22's real unit), white
-/// noise only, turned by hand through 16 poses of 4 s.
-const G_UNIT: &str = "seed = 11\n\
-[accel]\nwhite_noise = \"70 ug/sqrt(Hz)\"\nturn_on_bias = \"20 mg\"\nturn_on_scale = \"0.5 %\"\nturn_on_misalignment = \"5 mrad\"\n\
-[gyro]\nwhite_noise = \"0.0028 deg/s/sqrt(Hz)\"\nturn_on_bias = \"0.5 deg/s\"\nturn_on_scale = \"0.5 %\"\nturn_on_misalignment = \"5 mrad\"\n\
-g_sensitivity = [[\"0.12 deg/s/g\", \"0.02 deg/s/g\", \"-0.01 deg/s/g\"], [\"0.015 deg/s/g\", \"-0.11 deg/s/g\", \"0.03 deg/s/g\"], [\"0 deg/s/g\", \"0.02 deg/s/g\", \"0.09 deg/s/g\"]]\n";
-
-const HAND_16: &str = "rate_hz = 100.0\nduration_s = 88.0\n\
-[motion]\nkind = \"hand\"\nposes = 16\nseed = 3\ndwell_s = 4.0\nturn_s = 1.5\n";
-
 #[test]
 fn a_simulated_unit_with_g_sensitivity_gives_g_within_3_sigma() {
     use triad_lab::calib_fit::accel_frame::in_accel_frame;
     let d = dir("imu-g");
-    let (unit, script) = (d.join("unit.toml"), d.join("script.toml"));
-    std::fs::write(&unit, G_UNIT).unwrap();
-    std::fs::write(&script, HAND_16).unwrap();
-    let (m, truth, cal) = (d.join("m.csv"), d.join("truth.toml"), d.join("cal.toml"));
-    let o = triad(&[
-        "sim",
-        "--unit",
-        s(&unit),
-        "--script",
-        s(&script),
-        "--record-seed",
-        "1",
-        "--out",
-        s(&m),
-        "--truth-calib",
-        s(&truth),
-    ]);
-    assert!(o.status.success(), "{}", text(&o.stderr));
+    let (m, truth) = simulate_g_unit(&d);
+    let cal = d.join("cal.toml");
     let o = fit_imu(&m, &cal);
     let report = text(&o.stdout);
     assert!(o.status.success(), "{report}{}", text(&o.stderr));

@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 
 use common::{dir, s, text, triad};
 use triad::model::matrix::{self, Mat3};
-use triad_lab::calib_fit::small3::{cholesky_upper, gram};
+use triad_lab::calib_fit::numerics::small3::{cholesky_upper, gram};
 
 const G: f64 = 9.80665;
 

@@ -5,11 +5,11 @@
 
 use triad::model::matrix;
 use triad_lab::calib_fit::error::{FitError, MIN_ACCEL_ORIENTATIONS};
-use triad_lab::calib_fit::gyro_fit::{self, RateSegment};
-use triad_lab::calib_fit::qr::{GivensLs, LsError};
-use triad_lab::calib_fit::small3::{cholesky_upper, gram, symmetric_eigenvalues};
+use triad_lab::calib_fit::fits::gyro_fit::{self, RateSegment};
+use triad_lab::calib_fit::fits::{accel_cube, accel_fit};
+use triad_lab::calib_fit::numerics::qr::{GivensLs, LsError};
+use triad_lab::calib_fit::numerics::small3::{cholesky_upper, gram, symmetric_eigenvalues};
 use triad_lab::calib_fit::static_segments::{Detector, Segment};
-use triad_lab::calib_fit::{accel_cube, accel_fit};
 
 const G: f64 = 9.80665;
 

@@ -1,4 +1,4 @@
-//! Rig-free gyroscope calibration (`triad_lab::calib_fit::rig_free`) on
+//! Rig-free gyroscope calibration (`triad_lab::calib_fit::fits::rig_free`) on
 //! synthetic hand-rotated records with known truth
 //! (`calib_fit::hand_record`): recovery within 3σ, the honesty of the σ's
 //! over many seeds (Student-t coverage), the integrator's error at the
@@ -8,11 +8,11 @@
 //! pose-consistency test.
 
 use triad::model::matrix::{self, Mat3};
-use triad_lab::calib_fit::accel_fit::{self, AccelFit};
-use triad_lab::calib_fit::g_sensitivity::{self, PoseMean, Support};
+use triad_lab::calib_fit::fits::accel_fit::{self, AccelFit};
+use triad_lab::calib_fit::fits::g_sensitivity::{self, PoseMean, Support};
+use triad_lab::calib_fit::fits::rig_free::{self, RigFreeGyroFit};
 use triad_lab::calib_fit::hand_record::{self, Axes, Script, TriadTruth, Unit};
-use triad_lab::calib_fit::rig_free::{self, RigFreeGyroFit};
-use triad_lab::calib_fit::small3::{cholesky_upper, gram};
+use triad_lab::calib_fit::numerics::small3::{cholesky_upper, gram};
 use triad_lab::calib_fit::static_segments::{Detector, Segment};
 use triad_lab::calib_fit::FitError;
 use triad_lab::student_t;

@@ -1,4 +1,4 @@
-//! Thermal calibration (`triad_lab::calib_fit::{thermal_accel,
+//! Thermal calibration (`triad_lab::calib_fit::fits::{thermal_accel,
 //! bias_polynomial, thermal_coverage}`) on synthetic static means with known
 //! truth: a consumer unit whose (I+Σ) follows the simulator's model
 //! (I+Σ)·diag(1 + s·ΔT) (a full matrix D) and whose biases are linear in
@@ -8,10 +8,10 @@
 #![allow(clippy::needless_range_loop)] // index form reads as the matrix formulas
 
 use triad::model::matrix::{self, Mat3};
-use triad_lab::calib_fit::bias_polynomial::{self, StaticMean};
-use triad_lab::calib_fit::small3::{cholesky_upper, gram};
-use triad_lab::calib_fit::thermal_accel::{self, Terms, ThermalAccelFit};
-use triad_lab::calib_fit::thermal_coverage::{self, coverage};
+use triad_lab::calib_fit::fits::bias_polynomial::{self, StaticMean};
+use triad_lab::calib_fit::fits::thermal_accel::{self, Terms, ThermalAccelFit};
+use triad_lab::calib_fit::fits::thermal_coverage::{self, coverage};
+use triad_lab::calib_fit::numerics::small3::{cholesky_upper, gram};
 use triad_lab::calib_fit::FitError;
 use triad_lab::student_t;
 use triad_sim::effects::rng::Rng;

@@ -1,4 +1,4 @@
-//! The gyroscope's (I+Σ) against temperature (`calib_fit::thermal_gyro`) on
+//! The gyroscope's (I+Σ) against temperature (`calib_fit::fits::thermal_gyro`) on
 //! synthetic hand-turned records (`calib_fit::hand_record`) of one unit at
 //! three soaks, −10, 25 and 60 °C, its (I+Σ) following the simulator's
 //! model (I+Σ)·diag(1 + s·ΔT) for both triads: recovery within 3σ, the
@@ -7,14 +7,14 @@
 #![allow(clippy::needless_range_loop)] // index form reads as the matrix formulas
 
 use triad::model::matrix::{self, Mat3};
-use triad_lab::calib_fit::bias_polynomial::{self, BiasPolynomial, StaticMean};
+use triad_lab::calib_fit::fits::bias_polynomial::{self, BiasPolynomial, StaticMean};
+use triad_lab::calib_fit::fits::rig_free::Record;
+use triad_lab::calib_fit::fits::thermal_accel::{self, Terms, ThermalAccelFit};
+use triad_lab::calib_fit::fits::thermal_coverage::coverage;
+use triad_lab::calib_fit::fits::thermal_gyro::{self, Poses, ThermalGyroFit};
 use triad_lab::calib_fit::hand_record::{self, Script, TriadTruth, Unit};
-use triad_lab::calib_fit::rig_free::Record;
-use triad_lab::calib_fit::small3::{cholesky_upper, gram};
+use triad_lab::calib_fit::numerics::small3::{cholesky_upper, gram};
 use triad_lab::calib_fit::static_segments::{self, Detector, Segment};
-use triad_lab::calib_fit::thermal_accel::{self, Terms, ThermalAccelFit};
-use triad_lab::calib_fit::thermal_coverage::coverage;
-use triad_lab::calib_fit::thermal_gyro::{self, Poses, ThermalGyroFit};
 use triad_lab::calib_fit::FitError;
 use triad_lab::student_t;
 use triad_sim::effects::rng::Rng;

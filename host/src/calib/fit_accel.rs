@@ -8,9 +8,10 @@ use std::process::ExitCode;
 use anyhow::anyhow;
 use triad::model::Triad;
 use triad::units::STANDARD_GRAVITY;
-use triad_lab::calib_fit::accel_fit::AccelFit;
-use triad_lab::calib_fit::gyro_fit::LinearFit;
-use triad_lab::calib_fit::{accel_cube, accel_fit, FitError};
+use triad_lab::calib_fit::fits::accel_fit::AccelFit;
+use triad_lab::calib_fit::fits::gyro_fit::LinearFit;
+use triad_lab::calib_fit::fits::{accel_cube, accel_fit};
+use triad_lab::calib_fit::FitError;
 
 use super::fit::{file_list, inputs, names, write_calibration, Base, Output};
 use super::fit_csv::{self, Reading, Record};

@@ -1,18 +1,22 @@
 //! `triad calib fit gyro`: (I+Σ) and b from rate-table runs with known
-//! rates ([`gyro_fit`]), or the bias alone from a static record.
+//! rates ([`gyro_fit`]), or the bias alone from a static record, and with
+//! it the g-sensitivity G from a record of several static poses
+//! ([`static_gyro`]).
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{anyhow, bail};
-use triad::model::matrix::{mul_vec, Mat3};
+use triad::model::matrix::{self, mul_vec, Mat3};
 use triad::model::{Triad, TriadCalibration};
 use triad::units::{deg_to_rad, rad_to_deg, EARTH_RATE};
-use triad_lab::calib_fit::gyro_fit::{self, LinearFit, RateSegment};
-use triad_lab::calib_fit::static_segments;
+use triad_lab::calib_fit::fits::gyro_fit::{self, LinearFit, RateSegment};
+use triad_lab::calib_fit::fits::static_gyro::{self, Frame};
+use triad_lab::calib_fit::static_segments::{self, Segment};
 
 use super::fit::{file_list, inputs, names, write_calibration, Base, Output};
 use super::fit_csv;
+use super::g_sensitivity_report;
 use super::report::{fit_report, method_table, print_vector};
 use super::segments::{self, stat, Stat};
 use super::stillness;
@@ -40,9 +44,21 @@ pub struct GyroArgs {
     /// Segments FROM-TO seconds within a single --rate-table file, one per rate.
     #[arg(long, requires = "rate_table")]
     segments: Option<String>,
-    /// A static record (`t,ax,ay,az,gx,gy,gz`): fit the gyro bias alone (mean of each axis).
+    /// A static record (`t,ax,ay,az,gx,gy,gz`): fit the gyro bias alone
+    /// (mean of each axis). A record of several static poses with turns
+    /// between them (found from the accelerometer) gives the bias and,
+    /// where the poses' gravity directions span three dimensions, the
+    /// g-sensitivity G, in the frame of --base's accelerometer.
     #[arg(long = "static")]
     static_record: Option<PathBuf>,
+    /// With --static: the shortest static pose detected, seconds.
+    #[arg(
+        long,
+        requires = "static_record",
+        default_value_t = 2.0,
+        allow_negative_numbers = true
+    )]
+    min_static: f64,
     /// Latitude in degrees: subtract the vertical Earth-rate component from a static bias.
     #[arg(long, requires = "static_record", allow_negative_numbers = true)]
     latitude: Option<f64>,
@@ -244,6 +260,20 @@ fn gyro_static(args: &GyroArgs, base: Base, path: &Path) -> anyhow::Result<ExitC
         .ok()
         .map(|(r, _)| r);
     drop(text);
+    // Several poses (the accelerometer's static stretches) with turns
+    // between them: the bias and G from the poses.
+    if let Some(accel) = &accel {
+        positive(
+            "--min-static",
+            args.min_static,
+            "must be a positive number of seconds",
+        )?;
+        if let Ok(found) = segments::detect(accel, args.min_static) {
+            if found.segments.len() >= 2 {
+                return gyro_poses(args, base, path, &gyro, accel, &found.segments);
+            }
+        }
+    }
     let s = stat(&gyro, 0, 0..gyro.samples.len());
     if s.count < 2 {
         bail!(
@@ -298,6 +328,144 @@ fn gyro_static(args: &GyroArgs, base: Base, path: &Path) -> anyhow::Result<ExitC
         bias,
         temperature: None,
     };
+    write_calibration(&args.output, base, Triad::Gyro, triad, &header, table, &out)
+}
+
+/// `--static` on a record of several poses: the bias and G from the
+/// poses' means ([`static_gyro`]), each pose checked still, G in the frame
+/// of the base's accelerometer (the one the file carries).
+fn gyro_poses(
+    args: &GyroArgs,
+    base: Base,
+    path: &Path,
+    gyro: &fit_csv::Record,
+    accel: &fit_csv::Record,
+    poses: &[Segment],
+) -> anyhow::Result<ExitCode> {
+    let name = input::name(path);
+    let pose_span = |p: &Segment| {
+        format!(
+            "t = {:.2}..{:.2} s",
+            gyro.t[p.start],
+            gyro.t[p.end.max(p.start + 1) - 1]
+        )
+    };
+    for (i, p) in poses.iter().enumerate() {
+        let still = stat(gyro, 0, p.start..p.end);
+        stillness::check(
+            &format!("{name} pose {} ({})", i + 1, pose_span(p)),
+            &gyro.samples[p.start..p.end],
+            Some(&accel.samples[p.start..p.end]),
+            &still.mean,
+            args.max_bias,
+        )?;
+    }
+    let accel_cal = &base.calibration.accel;
+    let accel_inverse = matrix::inverse(&accel_cal.scale_misalignment).ok_or_else(|| {
+        anyhow!("--base: the accelerometer's (I+Σ) is singular: cannot correct the poses' specific force")
+    })?;
+    let base_matrix = base.calibration.gyro.scale_misalignment;
+    let earth = args
+        .latitude
+        .map(|lat| (EARTH_RATE * deg_to_rad(lat).sin(), base_matrix));
+    let frame = Frame {
+        accel_inverse,
+        accel_bias: accel_cal.bias,
+        earth,
+    };
+    let rest = static_gyro::fit(&gyro.t, &gyro.samples, &accel.samples, poses, &frame)
+        .map_err(|e| anyhow!("{name}: gyroscope: {e}"))?;
+    let earth_note = match args.latitude {
+        Some(lat) => format!(
+            "the vertical Earth rate Ω·sin φ = {:.3} °/h is removed from each pose along its own measured vertical; the horizontal part Ω·cos φ = {:.3} °/h (its direction is unknown without a heading) is still included",
+            rad_to_deg(EARTH_RATE * deg_to_rad(lat).sin()) * 3600.0,
+            rad_to_deg(EARTH_RATE * deg_to_rad(lat).cos()) * 3600.0
+        ),
+        None => format!(
+            "the Earth rate (up to Ω = {:.3} °/h) is included in the bias (and, its vertical part turning with each pose, in G as up to {:.4} °/s per g): give --latitude to remove its vertical part",
+            rad_to_deg(EARTH_RATE) * 3600.0,
+            rad_to_deg(EARTH_RATE)
+        ),
+    };
+    let mut out = String::new();
+    outln!(
+        out,
+        "gyro at rest in {} static poses of {name} (each still; bias{}):",
+        poses.len(),
+        if rest.support.applied().is_some() {
+            " and g-sensitivity"
+        } else {
+            ""
+        }
+    );
+    outln!(
+        out,
+        "  pose  from..to (s)         samples          |f| (m/s²)"
+    );
+    for (i, p) in poses.iter().enumerate() {
+        let m = static_segments::mean(&accel.samples[p.start..p.end]);
+        let f = mul_vec(&accel_inverse, &[0, 1, 2].map(|k| m[k] - accel_cal.bias[k]));
+        outln!(
+            out,
+            "  {:>4}  {:>8.2}..{:<8.2}  {:>7}..{:<7}  {:.5}",
+            i + 1,
+            gyro.t[p.start],
+            gyro.t[p.end - 1],
+            p.start + 1,
+            p.end,
+            (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt()
+        );
+    }
+    print_vector(&mut out, "b (rad/s)", &rest.bias, rest.sigma_bias.as_ref());
+    let model = if rest.support.applied().is_some() {
+        "about the fit of bias and g-sensitivity to them"
+    } else {
+        "about their mean"
+    };
+    outln!(
+        out,
+        "  (bias σ's: the scatter of the {} poses' means {model}, {} degrees of freedom)",
+        poses.len(),
+        rest.bias_dof
+    );
+    g_sensitivity_report::print(&mut out, &rest.support, &rest.check, poses.len());
+    outln!(out, "  {earth_note}");
+    let mut table = method_table(
+        "static poses: bias (and g-sensitivity G where the poses' gravity directions support it) from the poses' means",
+        Some("G's columns: the accelerometer's axes as --base corrects them"),
+    );
+    table.insert("records".into(), file_list(&[path]));
+    table.insert("poses".into(), toml::Value::Integer(poses.len() as i64));
+    if let Some(sigma) = &rest.sigma_bias {
+        table.insert("sigma_bias".into(), vector(sigma));
+    }
+    table.insert(
+        "bias_degrees_of_freedom".into(),
+        toml::Value::Integer(rest.bias_dof as i64),
+    );
+    table.insert("earth_rate".into(), toml::Value::String(earth_note.clone()));
+    g_sensitivity_report::insert(&mut table, &rest.support, &rest.check);
+    let base_note = if args.output.base.is_some() {
+        "from --base"
+    } else {
+        "identity"
+    };
+    let header = format!(
+        "Gyroscope bias{} fitted by `triad calib fit gyro --static` from {} static poses of {name};\n\
+         gyro scale_misalignment {base_note}; {earth_note}.",
+        if rest.support.applied().is_some() {
+            " and g-sensitivity"
+        } else {
+            ""
+        },
+        poses.len()
+    );
+    let triad = TriadCalibration {
+        scale_misalignment: base_matrix,
+        bias: rest.bias,
+        temperature: None,
+    };
+    let base = base.with_g_sensitivity(rest.support.applied().map(|g| g.g));
     write_calibration(&args.output, base, Triad::Gyro, triad, &header, table, &out)
 }
 

@@ -13,11 +13,13 @@ use std::process::ExitCode;
 use anyhow::{anyhow, bail};
 use triad::model::{Triad, TriadCalibration};
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
-use triad_lab::calib_fit::accel_fit::AccelFit;
-use triad_lab::calib_fit::gyro_fit::LinearFit;
-use triad_lab::calib_fit::rig_free::{self, RigFreeGyroFit, MAX_RANGE_FRACTION};
-use triad_lab::calib_fit::static_segments::{self, Segment};
-use triad_lab::calib_fit::{accel_cube, accel_fit, FitError};
+use triad_lab::calib_fit::fits::accel_fit::AccelFit;
+use triad_lab::calib_fit::fits::gyro_fit::LinearFit;
+use triad_lab::calib_fit::fits::move_selection::{self, LeftOut};
+use triad_lab::calib_fit::fits::rig_free::{self, RigFreeGyroFit, MAX_RANGE_FRACTION};
+use triad_lab::calib_fit::fits::{accel_cube, accel_fit};
+use triad_lab::calib_fit::static_segments::Segment;
+use triad_lab::calib_fit::FitError;
 
 use super::g_sensitivity_report;
 
@@ -177,50 +179,6 @@ pub fn fit_record(
     fit_record_with(accel, gyro, &options)
 }
 
-/// A run of at least this many identical gyro samples (all three axes) in a
-/// move, at a rate of at least [`HELD_STEPS`] resolution steps from the
-/// still pose's mean, is held, not measured, when the gyro's noise shows
-/// at rest ([`noise_shows`]): while the unit turns, noise and the turn
-/// itself change every sample. (Near rest, at the start and end of a turn,
-/// a coarse gyro may repeat a count honestly; a quiet quantised one may at
-/// a steady rate.)
-pub const HELD_RUN: usize = 5;
-
-/// See [`HELD_RUN`].
-pub const HELD_STEPS: f64 = 10.0;
-
-/// Whether the gyro's noise shows in the still `samples` (a standard
-/// deviation of at least one resolution step on every axis): only then is
-/// a run of identical samples in a turn held rather than a quiet,
-/// coarsely quantised gyro turning at a steady rate.
-fn noise_shows(samples: &[[f64; 3]]) -> bool {
-    let step = static_segments::resolution(samples);
-    static_segments::standard_deviation(samples)
-        .iter()
-        .all(|&sd| sd >= step)
-}
-
-/// The first held run within `range` (see [`HELD_RUN`]), `still` the gyro's
-/// mean at the pose before: its first sample and length.
-fn held_run(
-    samples: &[[f64; 3]],
-    range: std::ops::Range<usize>,
-    still: &[f64; 3],
-) -> Option<(usize, usize)> {
-    let step = static_segments::resolution(&samples[range.clone()]);
-    let turning = |w: &[f64; 3]| (0..3).any(|k| (w[k] - still[k]).abs() > HELD_STEPS * step);
-    let mut start = range.start;
-    for i in range.clone().skip(1).chain([range.end]) {
-        if i == range.end || samples[i] != samples[start] {
-            if i - start >= HELD_RUN && turning(&samples[start]) {
-                return Some((start, i - start));
-            }
-            start = i;
-        }
-    }
-    None
-}
-
 /// The times of samples `s` of `record`, for messages: "t = A..B s".
 fn span(record: &Record, s: &Segment) -> String {
     format!(
@@ -302,76 +260,50 @@ pub fn fit_record_with(accel: &Record, gyro: &Record, options: &Options) -> anyh
     // The moves: between consecutive used poses in one part of the record,
     // within the gyro's range.
     let parts = gyro.parts();
-    let part_of = |sample: usize| parts.iter().position(|p| p.contains(&sample));
-    let limit = MAX_RANGE_FRACTION * options.full_scale;
     let record = rig_free::Record {
         t: &gyro.t,
         gyro: &gyro.samples,
     };
-    let mut moves = Vec::new();
-    let mut left_out = Vec::new();
-    for (j, pair) in poses.windows(2).enumerate() {
-        let (a, b) = (pair[0], pair[1]);
-        let samples = rig_free::move_samples(&used, j);
-        let label = format!(
-            "move from pose {} to pose {} ({})",
-            a.number,
-            b.number,
-            span(
-                gyro,
-                &Segment {
-                    start: a.samples.end - 1,
-                    end: b.samples.start + 1
-                }
-            )
-        );
-        if part_of(a.samples.start) != part_of(b.samples.start) {
-            left_out.push(format!(
-                "{label} left out: it crosses a gap in the time stamps"
-            ));
-            continue;
-        }
-        let still = segments::stat(gyro, 0, a.samples.start..a.samples.end);
-        let moving = a.samples.end..b.samples.start;
-        let held = noise_shows(&gyro.samples[a.samples.start..a.samples.end])
-            .then(|| held_run(&gyro.samples, moving, &still.mean))
-            .flatten();
-        if let Some((at, n)) = held {
-            left_out.push(format!(
-                "{label} left out: the gyro repeats one value for {n} samples from t = {:.2} s (sample {}): \
-                 held samples (a logger repeating over lost frames?) lose the turn",
-                gyro.t[at],
-                at + 1
-            ));
-            continue;
-        }
-        let (sample, peak) = rig_free::peak_of(&record, samples);
-        if peak > limit {
-            left_out.push(format!(
-                "{label} left out: the gyro reads {:.1} °/s at t = {:.2} s (sample {}), beyond {:.0} % of its \
-                 full scale {:.0} °/s, so the turn may have clipped",
-                peak.to_degrees(),
-                gyro.t[sample],
-                sample + 1,
-                100.0 * MAX_RANGE_FRACTION,
-                options.full_scale.to_degrees()
-            ));
-            continue;
-        }
-        moves.push(j);
-    }
-    // The samples the fit uses: the poses and the moves kept.
-    let mut in_fit = vec![false; gyro.samples.len()];
-    let ranges = used
+    let selection = move_selection::select(&record, &used, &parts, options.full_scale);
+    let left_out: Vec<String> = selection
+        .left_out
         .iter()
-        .map(|p| p.start..p.end)
-        .chain(moves.iter().map(|&j| rig_free::move_samples(&used, j)));
-    for r in ranges {
-        in_fit[r].fill(true);
-    }
-    let outside: Vec<usize> = (0..gyro.samples.len())
-        .filter(|&i| gyro.samples[i].iter().any(|x| x.abs() > limit) && !in_fit[i])
+        .map(|&(j, why)| {
+            let (a, b) = (poses[j], poses[j + 1]);
+            let label = format!(
+                "move from pose {} to pose {} ({})",
+                a.number,
+                b.number,
+                span(
+                    gyro,
+                    &Segment {
+                        start: a.samples.end - 1,
+                        end: b.samples.start + 1
+                    }
+                )
+            );
+            match why {
+                LeftOut::CrossesGap => format!("{label} left out: it crosses a gap in the time stamps"),
+                LeftOut::Held { at, samples: n } => format!(
+                    "{label} left out: the gyro repeats one value for {n} samples from t = {:.2} s (sample {}): \
+                     held samples (a logger repeating over lost frames?) lose the turn",
+                    gyro.t[at],
+                    at + 1
+                ),
+                LeftOut::NearRange { sample, rate: peak } => format!(
+                    "{label} left out: the gyro reads {:.1} °/s at t = {:.2} s (sample {}), beyond {:.0} % of its \
+                     full scale {:.0} °/s, so the turn may have clipped",
+                    peak.to_degrees(),
+                    gyro.t[sample],
+                    sample + 1,
+                    100.0 * MAX_RANGE_FRACTION,
+                    options.full_scale.to_degrees()
+                ),
+            }
+        })
         .collect();
+    let moves = selection.moves;
+    let outside = selection.outside;
     let gyro_fit = rig_free::fit_moves(
         record,
         &used,

@@ -32,12 +32,12 @@ use std::process::ExitCode;
 use anyhow::{anyhow, bail};
 use triad::model::{TemperatureTerms, Triad, TriadCalibration};
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
-use triad_lab::calib_fit::bias_polynomial::{self, BiasPolynomial, StaticMean};
-use triad_lab::calib_fit::rig_free::Record;
+use triad_lab::calib_fit::fits::bias_polynomial::{self, BiasPolynomial, StaticMean};
+use triad_lab::calib_fit::fits::rig_free::Record;
+use triad_lab::calib_fit::fits::thermal_accel::{self, Terms, ThermalAccelFit};
+use triad_lab::calib_fit::fits::thermal_coverage::{self, Coverage, LEVEL_C, MIN_SWING_C};
+use triad_lab::calib_fit::fits::thermal_gyro::{self, Poses, ThermalGyroFit};
 use triad_lab::calib_fit::static_segments::Segment;
-use triad_lab::calib_fit::thermal_accel::{self, Terms, ThermalAccelFit};
-use triad_lab::calib_fit::thermal_coverage::{self, Coverage, LEVEL_C, MIN_SWING_C};
-use triad_lab::calib_fit::thermal_gyro::{self, Poses, ThermalGyroFit};
 use triad_lab::calib_fit::FitError;
 
 use super::fit::{file_list, inputs, write_calibration, Output};

@@ -1,10 +1,10 @@
 //! What a fit says about the gyroscope's g-sensitivity G and about its
-//! poses' consistency test ([`triad_lab::calib_fit::g_sensitivity`]): the
+//! poses' consistency test ([`triad_lab::calib_fit::fits::g_sensitivity`]): the
 //! report's lines (G in °/s per g, the SI unit of the file at the edge only)
 //! and the `[fit.gyro]` entries.
 
 use triad::units::si_to_dps_per_g;
-use triad_lab::calib_fit::g_sensitivity::{
+use triad_lab::calib_fit::fits::g_sensitivity::{
     Consistency, NotSupported, Support, MAX_CONDITION, POSE_FAMILY_LEVEL, SIGNIFICANCE,
 };
 

@@ -90,3 +90,69 @@ pub fn simulate_scene(d: &Path, name: &str, body: &str, seconds: &str, seed: &st
 pub fn hand_unit() -> triad_lab::calib_fit::hand_record::Unit {
     triad_lab::calib_fit::hand_record::MEMS_UNIT
 }
+
+/// Writes the record of `script` for the hand-turned unit ([`hand_unit`])
+/// as `triad sim` would (t, accel, gyro, SI) to `d`/`name`.csv.
+pub fn hand_csv(
+    d: &Path,
+    name: &str,
+    script: &triad_lab::calib_fit::hand_record::Script,
+    seed: u64,
+) -> PathBuf {
+    use std::fmt::Write as _;
+    let mut rng = triad_sim::effects::rng::Rng::from_seed(seed);
+    let mut csv = String::from("t,ax,ay,az,gx,gy,gz\n");
+    triad_lab::calib_fit::hand_record::generate(script, &hand_unit(), &mut || rng.uniform(), |s| {
+        let [ax, ay, az] = s.accel;
+        let [gx, gy, gz] = s.gyro;
+        writeln!(csv, "{},{ax},{ay},{az},{gx},{gy},{gz}", s.t).unwrap();
+    });
+    let path = d.join(format!("{name}.csv"));
+    std::fs::write(&path, csv).unwrap();
+    path
+}
+
+/// A 3×3 array of a calibration file's `section`.`key` (e.g. gyro, scale_misalignment).
+pub fn matrix(table: &toml::Table, section: &str, key: &str) -> [[f64; 3]; 3] {
+    let rows = table[section][key].as_array().unwrap();
+    std::array::from_fn(|i| {
+        let row = rows[i].as_array().unwrap();
+        std::array::from_fn(|j| row[j].as_float().unwrap())
+    })
+}
+
+/// A unit of triad-sim's with a g-sensitivity (its `g_sensitivity`
+/// effect, 0.12 °/s per g on the diagonal as issue 22's real unit), white
+/// noise only; [`HAND_16`] turns it by hand.
+pub const G_UNIT: &str = "seed = 11\n\
+[accel]\nwhite_noise = \"70 ug/sqrt(Hz)\"\nturn_on_bias = \"20 mg\"\nturn_on_scale = \"0.5 %\"\nturn_on_misalignment = \"5 mrad\"\n\
+[gyro]\nwhite_noise = \"0.0028 deg/s/sqrt(Hz)\"\nturn_on_bias = \"0.5 deg/s\"\nturn_on_scale = \"0.5 %\"\nturn_on_misalignment = \"5 mrad\"\n\
+g_sensitivity = [[\"0.12 deg/s/g\", \"0.02 deg/s/g\", \"-0.01 deg/s/g\"], [\"0.015 deg/s/g\", \"-0.11 deg/s/g\", \"0.03 deg/s/g\"], [\"0 deg/s/g\", \"0.02 deg/s/g\", \"0.09 deg/s/g\"]]\n";
+
+/// A script of 16 hand poses of 4 s, turns of 1.5 s, at 100 Hz.
+pub const HAND_16: &str = "rate_hz = 100.0\nduration_s = 88.0\n\
+[motion]\nkind = \"hand\"\nposes = 16\nseed = 3\ndwell_s = 4.0\nturn_s = 1.5\n";
+
+/// Simulates [`G_UNIT`] turned by [`HAND_16`] (record seed 1) into
+/// `d`/m.csv with its truth in `d`/truth.toml; returns both paths.
+pub fn simulate_g_unit(d: &Path) -> (PathBuf, PathBuf) {
+    let (unit, script) = (d.join("unit.toml"), d.join("script.toml"));
+    std::fs::write(&unit, G_UNIT).unwrap();
+    std::fs::write(&script, HAND_16).unwrap();
+    let (m, truth) = (d.join("m.csv"), d.join("truth.toml"));
+    let o = triad(&[
+        "sim",
+        "--unit",
+        s(&unit),
+        "--script",
+        s(&script),
+        "--record-seed",
+        "1",
+        "--out",
+        s(&m),
+        "--truth-calib",
+        s(&truth),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    (m, truth)
+}

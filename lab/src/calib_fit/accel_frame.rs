@@ -1,17 +1,17 @@
 //! The frame of the rig-free fits' results. The accelerometer fit
-//! ([`super::accel_fit`]) sees only |(I+Σ)⁻¹(f̂ − b)| = g, which a rotation
+//! ([`crate::calib_fit::fits::accel_fit`]) sees only |(I+Σ)⁻¹(f̂ − b)| = g, which a rotation
 //! of the corrected axes leaves unchanged, so it reports the upper
 //! triangular (I+Σ) = A: corrected z along the z sensing axis, corrected x
 //! in the xz sensing plane. Any other (I+Σ) T of the same accelerometer is
 //! A·Q with Q a rotation (T's RQ decomposition), and the corrected axes are
-//! Q times T's. The gyro fit ([`super::rig_free`]) matches gravity
+//! Q times T's. The gyro fit ([`crate::calib_fit::fits::rig_free`]) matches gravity
 //! directions in those corrected axes, so its (I+Σ) is G = T_g·Qᵀ where T_g
 //! is the gyro's in T's axes: its off-diagonal terms differ from T_g's by
 //! the accelerometer's misalignment. [`in_accel_frame`] puts a truth given
 //! in body axes (`triad sim --truth-calib`) into the fits' frame, so the
 //! two compare entry by entry.
 
-use super::small3::Mat3;
+use crate::calib_fit::numerics::small3::Mat3;
 use triad::model::matrix;
 
 /// A truth's (I+Σ)'s in the rig-free fits' frame.

@@ -2,7 +2,7 @@
 
 use core::fmt;
 
-use super::qr::LsError;
+use crate::calib_fit::numerics::qr::LsError;
 
 /// The fewest distinct gravity directions the accelerometer fit accepts: 9
 /// unknowns (6 of the triangular T, 3 of b), one equation |T(f̂−b)| = g per
@@ -43,7 +43,7 @@ pub enum FitError {
         /// Static segments given.
         segments: usize,
         /// Distinct gravity directions among them (more than
-        /// [`DISTINCT_ANGLE_DEG`](super::accel_fit::DISTINCT_ANGLE_DEG) apart).
+        /// [`DISTINCT_ANGLE_DEG`](crate::calib_fit::fits::accel_fit::DISTINCT_ANGLE_DEG) apart).
         found: usize,
         /// The minimum.
         needed: usize,
@@ -183,7 +183,7 @@ pub enum FitError {
         needed: f64,
     },
     /// The records' temperatures span too little for any temperature term
-    /// ([`MIN_SWING_C`](super::thermal_coverage::MIN_SWING_C)).
+    /// ([`MIN_SWING_C`](crate::calib_fit::fits::thermal_coverage::MIN_SWING_C)).
     TemperatureSwingTooSmall {
         /// Coldest segment, °C.
         min_c: f64,
@@ -343,14 +343,14 @@ impl fmt::Display for FitError {
                 if with_g { " and g-sensitivity" } else { "" },
                 rate.to_degrees(),
                 limit.to_degrees(),
-                super::g_sensitivity::POSE_FAMILY_LEVEL,
+                crate::calib_fit::fits::g_sensitivity::POSE_FAMILY_LEVEL,
             ),
             FitError::TooFewRotations { rotations, turns, needed } => write!(
                 f,
                 "{turns} of the {rotations} moves between consecutive poses turn by ≥ {} degrees; the gyro fit \
                  (9 entries of I+Σ, 2 equations per turn: the gravity direction at the next pose) needs at least \
                  {needed}: add poses, turning the unit between each",
-                super::rig_free::MIN_TURN_DEG
+                crate::calib_fit::fits::rig_free::MIN_TURN_DEG
             ),
             FitError::RotationAxesDegenerate { turns, spread, needed } => {
                 let what = if spread[1] < needed { "all about one axis" } else { "all about axes in one plane" };
@@ -383,7 +383,7 @@ impl fmt::Display for FitError {
                 "the gyro's (I+Σ) against temperature needs ≥ {needed} turns of ≥ {} degrees between static \
                  poses both colder and warmer than the reference {reference_c:.1} °C; found {colder} colder and \
                  {warmer} warmer: turn the unit by hand between poses at each end of the range (the hand-soak script)",
-                super::rig_free::MIN_TURN_DEG
+                crate::calib_fit::fits::rig_free::MIN_TURN_DEG
             ),
             FitError::TooManySegments { capacity } => {
                 write!(f, "more than {capacity} static segments")

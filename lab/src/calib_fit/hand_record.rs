@@ -1,5 +1,5 @@
 //! A synthetic hand-rotated record with known truth, for testing the
-//! rig-free fit ([`super::rig_free`]): the unit rests in a random first
+//! rig-free fit ([`crate::calib_fit::fits::rig_free`]): the unit rests in a random first
 //! orientation, then is turned about a random body axis (by a random angle,
 //! with a smooth rate profile that starts and ends at rest) and rests again,
 //! pose after pose, as a person turns a board on a table. Each sample is
@@ -9,8 +9,8 @@
 //! Earth rate). No allocation: samples go to a callback, randomness comes
 //! from the caller's uniform generator.
 
-use super::quaternion::{self, Quat};
-use super::small3::Mat3;
+use crate::calib_fit::numerics::quaternion::{self, Quat};
+use crate::calib_fit::numerics::small3::Mat3;
 use triad::model::matrix::mul_vec;
 
 /// One triad of the simulated unit.

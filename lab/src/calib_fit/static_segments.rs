@@ -24,7 +24,7 @@
 //! dropped are reported with the reason. No allocation: the caller gives
 //! the output buffer.
 
-use super::error::FitError;
+use crate::calib_fit::error::FitError;
 
 /// Threshold = this × the 10th percentile of the block deviations. The
 /// sample deviation of a block of n ≥ 25 white-noise samples scatters by

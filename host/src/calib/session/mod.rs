@@ -101,7 +101,7 @@ pub struct SessionArgs {
 
 /// A new pose must have turned by this much from the previous one
 /// (`rig_free::MIN_TURN_DEG`: smaller moves carry little about (I+Σ)).
-const MIN_TURN_DEG: f64 = triad_lab::calib_fit::rig_free::MIN_TURN_DEG;
+const MIN_TURN_DEG: f64 = triad_lab::calib_fit::fits::rig_free::MIN_TURN_DEG;
 
 /// What the user is asked for during the verification.
 const FRESH_POSE: &str = "turn the board to a new orientation and hold it still";

@@ -54,6 +54,28 @@ pub fn rotate_inverse(q: &Quat, v: &[f64; 3]) -> [f64; 3] {
     rotate(&conjugate(q), v)
 }
 
+/// The rotation matrix R of q: R·v = q·v·q* (body to reference).
+pub fn to_matrix(q: &Quat) -> [[f64; 3]; 3] {
+    let [w, x, y, z] = *q;
+    [
+        [
+            1.0 - 2.0 * (y * y + z * z),
+            2.0 * (x * y - w * z),
+            2.0 * (x * z + w * y),
+        ],
+        [
+            2.0 * (x * y + w * z),
+            1.0 - 2.0 * (x * x + z * z),
+            2.0 * (y * z - w * x),
+        ],
+        [
+            2.0 * (x * z - w * y),
+            2.0 * (y * z + w * x),
+            1.0 - 2.0 * (x * x + y * y),
+        ],
+    ]
+}
+
 /// q*.
 pub fn conjugate(q: &Quat) -> Quat {
     [q[0], -q[1], -q[2], -q[3]]
@@ -116,6 +138,15 @@ mod tests {
         ));
         assert!(close(&to_rotation_vector(&q.map(|x| -x)), &phi, 1e-15));
         assert_eq!(to_rotation_vector(&IDENTITY), [0.0; 3]);
+    }
+
+    #[test]
+    fn the_matrix_rotates_as_the_quaternion_does() {
+        let q = normalised(&[0.3, -0.5, 0.7, 0.2]);
+        let v = [0.4, -1.1, 2.3];
+        let r = to_matrix(&q);
+        let by_matrix = [0, 1, 2].map(|i| (0..3).map(|j| r[i][j] * v[j]).sum::<f64>());
+        assert!(close(&by_matrix, &rotate(&q, &v), 1e-15), "{by_matrix:?}");
     }
 
     #[test]

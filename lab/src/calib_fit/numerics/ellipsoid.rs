@@ -7,13 +7,13 @@
 //! (p − c)ᵀA(p − c) = k with c = −A⁻¹l and k = 1 + cᵀAc, so W = A/k is the
 //! metric of the ellipsoid |T(f̂ − b)| = g with TᵀT = W, b = g·c, and T is
 //! the upper Cholesky factor of W (the convention of
-//! [`accel_fit`](super::accel_fit)). The algebraic fit minimises no physical
+//! [`accel_fit`](crate::calib_fit::fits::accel_fit)). The algebraic fit minimises no physical
 //! error, so it only starts the Gauss–Newton/LM iteration; it needs no
 //! initial guess, which is what makes the start robust.
 
-use super::error::FitError;
-use super::qr::GivensLs;
-use super::small3::{cholesky_upper, Mat3};
+use crate::calib_fit::error::FitError;
+use crate::calib_fit::numerics::qr::GivensLs;
+use crate::calib_fit::numerics::small3::{cholesky_upper, Mat3};
 use triad::model::matrix;
 
 /// (T, b) of the algebraic ellipsoid through `means` (m/s²) for gravity `g`;
@@ -41,7 +41,7 @@ pub fn algebraic_fit(means: &[[f64; 3]], g: f64) -> Result<(Mat3, [f64; 3], f64)
     // linear design ill-conditioned: refuse here, before a start built on
     // rounding noise sends the iteration astray.
     let condition = ls.scaled_condition();
-    let limit = super::accel_fit::MAX_CONDITION;
+    let limit = crate::calib_fit::fits::accel_fit::MAX_CONDITION;
     if condition.is_nan() || condition > limit {
         return Err(FitError::IllConditioned { condition, limit });
     }

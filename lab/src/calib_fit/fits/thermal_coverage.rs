@@ -24,8 +24,8 @@
 //!   temperatures sees one direction only, where D·f and the bias cannot
 //!   be told apart.
 
-use super::accel_fit::distinct_orientations;
-use super::error::{FitError, MIN_ACCEL_ORIENTATIONS};
+use crate::calib_fit::error::{FitError, MIN_ACCEL_ORIENTATIONS};
+use crate::calib_fit::fits::accel_fit::distinct_orientations;
 
 /// The smallest swing (°C) per polynomial order of the bias; also the
 /// smallest for (I+Σ) linear in ΔT. See the module's notes for why.

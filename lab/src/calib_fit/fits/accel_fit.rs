@@ -31,17 +31,17 @@
 //! f64 throughout. Levenberg–Marquardt with Marquardt's diagonal scaling,
 //! each step solved by QR ([`GivensLs`]) with the damping as extra rows, so
 //! JᵀJ is never formed. The start is the algebraic ellipsoid
-//! ([`super::ellipsoid`]). At the solution the covariance of the nine
+//! ([`crate::calib_fit::numerics::ellipsoid`]). At the solution the covariance of the nine
 //! parameters is s²·(JᵀJ)⁻¹, s² = Σr²/(n − 9), from the same QR.
 //!
 //! Every static mean weighs the same (unweighted least squares): give
 //! segments of similar length, so their means have similar noise and s² is
 //! the variance they share.
 
-use super::error::{FitError, MIN_ACCEL_ORIENTATIONS};
-use super::levenberg_marquardt::{self, Problem};
-use super::qr::GivensLs;
-use super::small3::{spread, Mat3};
+use crate::calib_fit::error::{FitError, MIN_ACCEL_ORIENTATIONS};
+use crate::calib_fit::numerics::levenberg_marquardt::{self, Problem};
+use crate::calib_fit::numerics::qr::GivensLs;
+use crate::calib_fit::numerics::small3::{spread, Mat3};
 use triad::model::matrix;
 
 /// Static means whose directions are closer than this count as one
@@ -219,7 +219,7 @@ pub fn fit(means: &[[f64; 3]], g: f64) -> Result<AccelFit, FitError> {
         check_magnitude(segment, m, g)?;
     }
     let orientations = check_orientations(means)?;
-    let (t0, b0, _) = super::ellipsoid::algebraic_fit(means, g)?;
+    let (t0, b0, _) = crate::calib_fit::numerics::ellipsoid::algebraic_fit(means, g)?;
     let start: Params = [
         t0[0][0], t0[0][1], t0[0][2], t0[1][1], t0[1][2], t0[2][2], b0[0], b0[1], b0[2],
     ];

@@ -8,11 +8,11 @@
 //! ramp alike). The gravity direction of each pose is unknown and never
 //! estimated: the magnitude does not depend on it, which is what separates
 //! b(T) and (I+Σ)(T) from the orientation (the method of
-//! [`super::accel_fit`], extended in temperature).
+//! [`crate::calib_fit::fits::accel_fit`], extended in temperature).
 //!
 //! # Convention
 //!
-//! As in [`super::accel_fit`], magnitudes cannot see a rotation of the
+//! As in [`crate::calib_fit::fits::accel_fit`], magnitudes cannot see a rotation of the
 //! output, so (I+Σ)₀ and D are upper triangular (6 entries each): at every
 //! temperature the corrected z axis is the z sensing axis and the
 //! corrected y axis lies in the plane of the y and z sensing axes. A lab's
@@ -23,10 +23,10 @@
 //! # Parameters, numerics and σ's
 //!
 //! 24 parameters: the 6 of (I+Σ)₀, the 6 of D, b₀, and c₁..c₃ per axis;
-//! those the temperatures do not support ([`super::thermal_coverage`]) are
+//! those the temperatures do not support ([`crate::calib_fit::fits::thermal_coverage`]) are
 //! held at zero (each by a unit row of its own, which leaves the fitted
 //! block of (JᵀJ)⁻¹ as if it were absent). Levenberg–Marquardt from the
-//! single-temperature fit of all the means ([`super::accel_fit::fit`]),
+//! single-temperature fit of all the means ([`crate::calib_fit::fits::accel_fit::fit`]),
 //! analytic Jacobian: with u = (I+Σ)⁻¹v, v = f̂ − b, w = (I+Σ)⁻ᵀu/|u|,
 //! ∂r/∂(I+Σ)_jk = −w_j·u_k (times ΔT for D) and ∂r/∂b_i = −w_i (times ΔTᵏ
 //! for cᵢₖ). Each residual is weighed by 1/its standard error (the
@@ -35,12 +35,12 @@
 //! s²·(JᵀJ)⁻¹ with s² = Σ(r/σ)²/(segments − parameters fitted), which
 //! are its degrees of freedom.
 
-use super::accel_fit::{self, T_ENTRIES};
-use super::bias_polynomial::StaticMean;
-use super::error::FitError;
-use super::levenberg_marquardt::{self, Problem};
-use super::qr::GivensLs;
-use super::small3::Mat3;
+use crate::calib_fit::error::FitError;
+use crate::calib_fit::fits::accel_fit::{self, T_ENTRIES};
+use crate::calib_fit::fits::bias_polynomial::StaticMean;
+use crate::calib_fit::numerics::levenberg_marquardt::{self, Problem};
+use crate::calib_fit::numerics::qr::GivensLs;
+use crate::calib_fit::numerics::small3::Mat3;
 use triad::model::matrix;
 
 /// Parameters: (I+Σ)₀ (6), D (6), b₀ (3), c per axis and order (9).
@@ -127,7 +127,7 @@ pub fn up(
     let (m, b) = at(p, temperature_c - reference_c);
     let v = [0, 1, 2].map(|i| mean[i] - b[i]);
     let u = matrix::solve(&m, &v).unwrap_or([f64::NAN; 3]);
-    super::rig_free::unit(u)
+    crate::calib_fit::fits::rig_free::unit(u)
 }
 
 /// Which parameters `terms` fits.
@@ -291,10 +291,12 @@ pub fn fit(
     }
     let dof = n.saturating_sub(fitted);
     if dof == 0 {
-        return Err(FitError::LeastSquares(super::qr::LsError::TooFewRows {
-            rows: n,
-            unknowns: fitted + 1,
-        }));
+        return Err(FitError::LeastSquares(
+            crate::calib_fit::numerics::qr::LsError::TooFewRows {
+                rows: n,
+                unknowns: fitted + 1,
+            },
+        ));
     }
     let (mut sum_sq, mut weighted_sq, mut worst) = (0.0, 0.0, 0.0f64);
     for (s, w) in weights[..n].iter().enumerate() {

@@ -1,6 +1,6 @@
 //! The gyroscope's (I+Σ) against temperature, (I+Σ)(ΔT) = (I+Σ)₀ + ΔT·D
 //! (all 18 entries), from hand-turned records at several temperatures: the
-//! rig-free fit ([`super::rig_free`]) with the matrix of each move taken at
+//! rig-free fit ([`crate::calib_fit::fits::rig_free`]) with the matrix of each move taken at
 //! the move's temperature.
 //!
 //! For each move from pose j to pose j+1 of one record (both within
@@ -8,9 +8,9 @@
 //! corrected rate (I+Σ)(ΔT)⁻¹(ω̂ − b(ΔT)) is integrated over the move (RK4 on
 //! the quaternion) and pose j's gravity direction, carried through the
 //! turn, is matched to pose j+1's; the directions come from the thermal
-//! accelerometer fit ([`super::thermal_accel::up`]) at each pose's
+//! accelerometer fit ([`crate::calib_fit::fits::thermal_accel::up`]) at each pose's
 //! temperature, the bias b(ΔT) from the gyro's bias polynomial
-//! ([`super::bias_polynomial`]). The frame is the accelerometer's corrected
+//! ([`crate::calib_fit::fits::bias_polynomial`]). The frame is the accelerometer's corrected
 //! frame at each temperature, as in `calib fit imu`.
 //!
 //! A move's residuals depend on (I+Σ)(ΔT_move) alone, so ∂r/∂D = ΔT·∂r/∂(I+Σ)₀:
@@ -21,23 +21,23 @@
 //! polynomial's error is not carried (its effect, σ_b × a turn's duration,
 //! is far below the noise integrated over a turn, as in the rig-free fit).
 
-use super::bias_polynomial::BiasPolynomial;
-use super::error::FitError;
-use super::levenberg_marquardt::{self, Problem};
-use super::qr::GivensLs;
-use super::quaternion;
-use super::rig_free::{self, across, dot, Record, MIN_ROTATIONS, MIN_TURN_DEG};
-use super::small3::Mat3;
-use super::static_segments::Segment;
-use super::thermal_accel::{self, ThermalAccelFit, MAX_CONDITION, PARAMETERS};
-use super::thermal_coverage::LEVEL_C;
+use crate::calib_fit::error::FitError;
+use crate::calib_fit::fits::bias_polynomial::BiasPolynomial;
+use crate::calib_fit::fits::rig_free::{self, across, dot, Record, MIN_ROTATIONS, MIN_TURN_DEG};
+use crate::calib_fit::fits::thermal_accel::{self, ThermalAccelFit, MAX_CONDITION, PARAMETERS};
+use crate::calib_fit::fits::thermal_coverage::LEVEL_C;
+use crate::calib_fit::numerics::levenberg_marquardt::{self, Problem};
+use crate::calib_fit::numerics::qr::GivensLs;
+use crate::calib_fit::numerics::quaternion;
+use crate::calib_fit::numerics::small3::Mat3;
+use crate::calib_fit::static_segments::Segment;
 use triad::model::matrix;
 
 /// Parameters: (I+Σ)₀ row by row, then D row by row.
 pub const GYRO_PARAMETERS: usize = 18;
 
 /// Step of the central differences on the entries of (I+Σ) (see
-/// [`super::rig_free`]'s).
+/// [`crate::calib_fit::fits::rig_free`]'s).
 const DERIVATIVE_STEP: f64 = 1.0e-6;
 
 /// Step on the accelerometer's parameters, relative to each one's σ.

@@ -1,6 +1,6 @@
 //! A triad's bias against temperature from static means at known
 //! temperatures: per axis b(ΔT) = b₀ + c₁ΔT + c₂ΔT² + c₃ΔT³ up to the
-//! order the temperatures support ([`super::thermal_coverage`]), by
+//! order the temperatures support ([`crate::calib_fit::fits::thermal_coverage`]), by
 //! weighted linear least squares (each mean weighed by 1/its standard
 //! error, so long and short segments count as they should).
 //!
@@ -12,9 +12,9 @@
 //! Earth's rate, ≤ 7.3e-5 rad/s, is not removed: in one orientation it
 //! goes into b₀, in many into the scatter).
 
-use super::error::FitError;
-use super::qr::{GivensLs, LsError};
-use super::thermal_coverage::MAX_BIAS_ORDER;
+use crate::calib_fit::error::FitError;
+use crate::calib_fit::fits::thermal_coverage::MAX_BIAS_ORDER;
+use crate::calib_fit::numerics::qr::{GivensLs, LsError};
 
 /// One static mean: its temperature, the mean and its standard errors.
 #[derive(Clone, Copy, Debug, PartialEq)]

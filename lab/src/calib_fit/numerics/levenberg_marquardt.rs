@@ -5,8 +5,8 @@
 //! It stops when a taken step changes every parameter by ≤ 1e-13 of its
 //! size (or of 1), or when no step, however short, lowers the cost (λ > 1e10).
 
-use super::error::FitError;
-use super::qr::GivensLs;
+use crate::calib_fit::error::FitError;
+use crate::calib_fit::numerics::qr::GivensLs;
 
 /// A least-squares problem in N parameters.
 pub trait Problem<const N: usize> {

@@ -4,15 +4,15 @@
 //! calls it the multi-position test). The true specific force is then known
 //! from the measurement itself, +g or −g along the axis nearest to the
 //! static mean, so m̂ = (I+Σ)·m + b is linear in all 12 unknowns and is
-//! solved as the gyro's rate-table fit is ([`super::gyro_fit::linear_fit`]).
+//! solved as the gyro's rate-table fit is ([`crate::calib_fit::fits::gyro_fit::linear_fit`]).
 //!
-//! Unlike [`super::accel_fit`] no rotation convention is needed: the cube's
+//! Unlike [`crate::calib_fit::fits::accel_fit`] no rotation convention is needed: the cube's
 //! faces (the fixture) define the axes, and (I+Σ) is full. It needs at least
 //! 4 faces up that are not all in one plane (6 is the usual minimum in
 //! practice); 9 distinct orientations are not needed.
 
-use super::error::FitError;
-use super::gyro_fit::{linear_fit, LinearFit};
+use crate::calib_fit::error::FitError;
+use crate::calib_fit::fits::gyro_fit::{linear_fit, LinearFit};
 
 /// The largest angle between a static mean and the nearest sensor axis, in
 /// degrees. A face on a level table is within a fraction of a degree; the
@@ -47,7 +47,7 @@ pub fn fit(means: &[[f64; 3]], g: f64) -> Result<LinearFit, FitError> {
     }
     let mut faces = [false; 6];
     for (segment, m) in means.iter().enumerate() {
-        super::accel_fit::check_magnitude(segment, m, g)?;
+        crate::calib_fit::fits::accel_fit::check_magnitude(segment, m, g)?;
         let f = reference(m, g).map_err(|angle_deg| FitError::NotAxisAligned {
             segment,
             angle_deg,

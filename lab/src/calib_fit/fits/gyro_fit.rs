@@ -9,12 +9,12 @@
 //! Unlike the accelerometer's, the true rates are known vectors, so all nine
 //! entries of (I+Σ) are determined: the rotation is the table's.
 
-use super::error::{FitError, MIN_GYRO_RATES};
-use super::qr::GivensLs;
-use super::small3::{spread, Mat3};
+use crate::calib_fit::error::{FitError, MIN_GYRO_RATES};
+use crate::calib_fit::numerics::qr::GivensLs;
+use crate::calib_fit::numerics::small3::{spread, Mat3};
 
 /// The largest accepted condition number of the column-scaled design
-/// (see [`super::accel_fit::MAX_CONDITION`] for the reasoning).
+/// (see [`crate::calib_fit::fits::accel_fit::MAX_CONDITION`] for the reasoning).
 pub const MAX_CONDITION: f64 = 1.0e4;
 
 /// One rate-table segment: the known true rate and the measured mean, rad/s.
@@ -26,7 +26,7 @@ pub struct RateSegment {
     pub measured: [f64; 3],
 }
 
-/// The result of [`fit`] (and of [`super::accel_cube::fit`], the same
+/// The result of [`fit`] (and of [`crate::calib_fit::fits::accel_cube::fit`], the same
 /// linear problem with gravity as the known vector).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LinearFit {

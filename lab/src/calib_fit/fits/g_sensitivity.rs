@@ -27,8 +27,8 @@
 //! freedom. So the limit scales with the noise the record shows, and a pose
 //! whose mean differs only by G·f is not called turned.
 
-use super::qr::GivensLs;
-use super::small3::Mat3;
+use crate::calib_fit::numerics::qr::GivensLs;
+use crate::calib_fit::numerics::small3::Mat3;
 use crate::f_dist;
 use triad::units::STANDARD_GRAVITY;
 
@@ -206,6 +206,64 @@ pub fn fit(n: usize, pose: impl Fn(usize) -> PoseMean) -> Support {
     }
     out.significant = out.p_values.iter().any(|&p| p < SIGNIFICANCE / 3.0);
     Support::Fitted(out)
+}
+
+/// What static poses say about the gyro at rest ([`at_rest`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AtRest {
+    /// The bias, rad/s: the fit's intercept c when the poses show a G, else
+    /// the mean of the poses' means.
+    pub bias: [f64; 3],
+    /// Its σ (the scatter of the poses' means about the model over
+    /// √poses); `None` with one pose.
+    pub sigma_bias: Option<[f64; 3]>,
+    /// Degrees of freedom of those σ's: poses − 4 with G, else poses − 1.
+    pub bias_dof: usize,
+    /// G from the poses, or why they do not give one.
+    pub support: Support,
+    /// How the poses were checked against each other.
+    pub check: Consistency,
+}
+
+/// The gyro at rest in the `n` poses `pose(0..n)`: G where they support
+/// one ([`fit`]), each pose checked against the others ([`check_poses`],
+/// with G when the poses determine one), and the bias with its σ. The
+/// first pose that strays is refused.
+pub fn at_rest(n: usize, pose: impl Fn(usize) -> PoseMean) -> Result<AtRest, Stray> {
+    let support = fit(n, &pose);
+    let check = check_poses(n, &pose, matches!(support, Support::Fitted(_)))?;
+    if let Some(g) = support.applied() {
+        return Ok(AtRest {
+            bias: g.bias,
+            sigma_bias: Some(g.sigma_bias),
+            bias_dof: g.dof,
+            support,
+            check,
+        });
+    }
+    let nf = n as f64;
+    let mut sum = [0.0; 3];
+    for q in 0..n {
+        let m = pose(q).gyro;
+        for i in 0..3 {
+            sum[i] += m[i];
+        }
+    }
+    let bias = sum.map(|x| x / nf);
+    let mut sum_sq = [0.0; 3];
+    for q in 0..n {
+        let m = pose(q).gyro;
+        for i in 0..3 {
+            sum_sq[i] += (m[i] - bias[i]) * (m[i] - bias[i]);
+        }
+    }
+    Ok(AtRest {
+        bias,
+        sigma_bias: (n >= 2).then(|| sum_sq.map(|s| libm::sqrt(s / (nf - 1.0) / nf))),
+        bias_dof: n.saturating_sub(1),
+        support,
+        check,
+    })
 }
 
 /// How the poses were checked against each other.
