@@ -189,6 +189,12 @@ pub struct ServeArgs {
     /// the fit refuse ("too fast for the sample rate").
     #[arg(long)]
     deterministic: bool,
+    /// A fault the emulated board shows, in seconds of its time:
+    /// `KIND@START[+DURATION]` (no duration: to the end), KIND one of
+    /// vanish, drdy-high, drdy-silent, stop, brownout; or `nack@START*COUNT`
+    /// (COUNT bus transactions fail). Repeat for more (at most 8).
+    #[arg(long = "fault", value_name = "SPEC", value_parser = serve::fault_entry)]
+    faults: Vec<String>,
 }
 
 fn main() -> std::process::ExitCode {
@@ -285,7 +291,7 @@ fn serve_command(args: ServeArgs) -> anyhow::Result<()> {
     } else {
         qemu::Clock::RealTime
     };
-    serve::serve(&elf, storage.as_ref(), clock)
+    serve::serve(&elf, storage.as_ref(), &args.faults, clock)
 }
 
 /// Sets up and builds the firmware `args` describe; returns the ELF and the

@@ -147,6 +147,7 @@ pub fn run(scope: Scope) -> Result<()> {
         .find(|(f, _)| *f == firmware)
         .context("the default emulated firmware was built")?;
     served_board(*firmware, elf, &calibration)?;
+    sensor_faults(*firmware, elf)?;
 
     // The procedure a person runs on a board, against the emulated one.
     note!("xtask: the hardware-in-the-loop procedure (`cargo xtask hil`) on the emulated board");
@@ -259,6 +260,28 @@ fn served_board(firmware: Firmware, elf: &Path, calibration: &Path) -> Result<()
         command,
         &format!(
             "the device link's end-to-end tests for {}",
+            firmware.label()
+        ),
+    )
+}
+
+/// Runs host/tests/faults_qemu.rs: `elf` served by `xtask serve --fault`
+/// showing each sensor fault (one firmware build serves every schedule).
+/// One test at a time: each QEMU keeps a core busy.
+fn sensor_faults(firmware: Firmware, elf: &Path) -> Result<()> {
+    note!(
+        "xtask: end-to-end on QEMU, sensor faults on {}: a chip that vanishes, browns out or \
+         stops, a data-ready line held high or silent, NACK storms",
+        firmware.label()
+    );
+    let mut command = ignored_host_tests("faults_qemu", &["--test-threads=1", "--nocapture"]);
+    command
+        .env("TRIAD_SERVE_XTASK", cmd::serving_xtask()?)
+        .env("TRIAD_SERVE_ELF", elf);
+    check(
+        command,
+        &format!(
+            "the sensor faults' end-to-end tests for {}",
             firmware.label()
         ),
     )

@@ -57,13 +57,13 @@ impl BoardFault {
         }
     }
 
-    /// Whether the data-ready line gives no edge while the fault lasts
-    /// (whatever the chip does).
-    pub fn blocks_line(&self) -> bool {
-        matches!(
-            self,
-            BoardFault::DataReadyHeldHigh | BoardFault::DataReadySilent
-        )
+    /// Whether no data-ready edge reaches the MCU while the fault lasts:
+    /// the line's own faults, and a chip that raises none (gone from the
+    /// bus, browned out, its output stopped). From the fault's start on,
+    /// whatever the chip model last said; after it ends, the chip model
+    /// says (a chip back from a brown-out raises none until configured).
+    pub fn silences_data_ready(&self) -> bool {
+        !matches!(self, BoardFault::NackStorm { .. })
     }
 }
 
@@ -159,10 +159,10 @@ impl FaultSchedule {
         self.entries.iter().flatten()
     }
 
-    /// Whether a fault of the data-ready line is on at `now_us`.
-    pub fn line_blocked_at(&self, now_us: u64) -> bool {
+    /// Whether a fault that silences data-ready is on at `now_us`.
+    pub fn silenced_at(&self, now_us: u64) -> bool {
         self.entries()
-            .any(|e| e.fault.blocks_line() && e.active_at(now_us))
+            .any(|e| e.fault.silences_data_ready() && e.active_at(now_us))
     }
 
     /// Whether the schedule is empty.
@@ -245,16 +245,16 @@ mod tests {
     }
 
     #[test]
-    fn only_the_line_faults_block_the_line_and_only_while_on() {
+    fn every_fault_but_a_storm_silences_data_ready_and_only_while_on() {
         let mut s = FaultSchedule::new();
         s.add("drdy-high@1+1").unwrap();
-        s.add("vanish@0+10").unwrap();
-        s.add("drdy-silent@5+0.001").unwrap();
-        assert!(!s.line_blocked_at(999_999));
-        assert!(s.line_blocked_at(1_000_000));
-        assert!(!s.line_blocked_at(2_000_000));
-        assert!(s.line_blocked_at(5_000_000));
-        assert!(!s.line_blocked_at(5_001_000));
+        s.add("nack@0*1000").unwrap();
+        s.add("vanish@5+0.001").unwrap();
+        assert!(!s.silenced_at(999_999));
+        assert!(s.silenced_at(1_000_000));
+        assert!(!s.silenced_at(2_000_000));
+        assert!(s.silenced_at(5_000_000));
+        assert!(!s.silenced_at(5_001_000));
     }
 
     #[test]

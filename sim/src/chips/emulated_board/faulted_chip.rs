@@ -92,7 +92,7 @@ impl FaultedChip {
     /// Whether the chip raises data-ready for its samples: on the bus,
     /// output not stopped, and sampling (a chip back from a brown-out is
     /// not, until configured). The line itself may still be faulty
-    /// ([`FaultSchedule::line_blocked_at`]).
+    /// ([`FaultSchedule::silenced_at`]).
     pub fn gives_data_ready(&self) -> bool {
         !self.gone() && !self.is(BoardFault::OutputStops) && self.chip.next_sample_ns().is_some()
     }
