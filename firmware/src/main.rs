@@ -76,6 +76,7 @@ const BUS: &str = "spi";
 /// command handler.
 static COUNTERS: SharedCounters = SharedCounters::new();
 
+mod queue_marks;
 mod received;
 mod run_time;
 mod stall;
@@ -285,6 +286,14 @@ mod app {
                 load.busy_cycles[3],
                 slept
             );
+            let (frames, received) = crate::queue_marks::marks();
+            defmt::info!(
+                "queue high-water: frames {=u32} of {=usize}, received bytes {=u32} of {=usize}",
+                frames,
+                QUEUE_LEN,
+                received,
+                RX_QUEUE_LEN
+            );
         }
         let model = board::model_cycles().wrapping_sub(model);
         crate::run_time::end_with_model(run, Task::DataReady, model);
@@ -365,6 +374,7 @@ mod app {
         }
         COUNTERS.publish(l.sampler.totals(), l.sampler.uptime_ms());
         COUNTERS.publish_health(l.health.totals());
+        crate::queue_marks::frames(frames_in.len());
         if queued {
             OUTGOING.wake();
         }
@@ -397,6 +407,7 @@ mod app {
             }
         }
         if received {
+            crate::queue_marks::received(rx_in.len());
             RX_WAKER.wake();
         }
         // The transmit ring ran empty: the transmitter may queue more.

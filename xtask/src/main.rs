@@ -80,6 +80,17 @@ enum Command {
         /// With --allan: the 24-hour, 2 kHz record too (streamed from a generator).
         #[arg(long, requires = "allan")]
         long: bool,
+        /// Only the soak: the emulated board at 1 kHz for 24 h of device time
+        /// (`--soak-seconds`), a command storm every 5 s, a sensor fault every
+        /// hour (`--fault-every`); every counter checked (host/examples/bench_soak.rs).
+        #[arg(long, conflicts_with_all = ["json", "whole_firmware", "fuzz", "allan"])]
+        soak: bool,
+        /// With --soak: seconds of device time.
+        #[arg(long, requires = "soak", default_value_t = 86_400.0)]
+        soak_seconds: f64,
+        /// With --soak: seconds of device time between two sensor faults.
+        #[arg(long, requires = "soak", default_value_t = 3_600.0)]
+        fault_every: f64,
     },
     /// Serve the emulated board like hardware: QEMU in real time, its link on
     /// a pseudo-terminal whose path is the first line on stdout; runs until killed.
@@ -213,6 +224,12 @@ fn main() -> std::process::ExitCode {
         Command::Bench {
             allan: true, long, ..
         } => bench::allan::run(long),
+        Command::Bench {
+            soak: true,
+            soak_seconds,
+            fault_every,
+            ..
+        } => bench::soak::run(soak_seconds, fault_every),
         Command::Bench {
             json,
             whole_firmware,

@@ -25,9 +25,15 @@ static TICKS: AtomicU32 = AtomicU32::new(0);
 static TICK_US: AtomicU32 = AtomicU32::new(1);
 /// Whether the chip raises data-ready (written where the model is used).
 static CHIP_RAISES: AtomicBool = AtomicBool::new(false);
-/// The windows of the faults that silence data-ready, in ticks: [start, end) (end `u32::MAX`: none).
-static LINE_BLOCKED: [[AtomicU32; 2]; MAX_FAULTS] =
-    [const { [AtomicU32::new(u32::MAX), AtomicU32::new(u32::MAX)] }; MAX_FAULTS];
+/// The windows of the faults that silence data-ready, in ticks: start
+/// (`u32::MAX`: no fault), length (`u32::MAX`: to the end), period (0: once).
+static SILENCED: [[AtomicU32; 3]; MAX_FAULTS] = [const {
+    [
+        AtomicU32::new(u32::MAX),
+        AtomicU32::new(u32::MAX),
+        AtomicU32::new(0),
+    ]
+}; MAX_FAULTS];
 
 /// The schedule the command line gives (empty without `fault=` words), for
 /// a sample timer ticking every `tick_us`. A word that is not a schedule
@@ -53,10 +59,12 @@ pub fn read(tick_us: u32) -> FaultSchedule {
         defmt::info!("fault scheduled: {}", spec);
     }
     let tick = |us: u64| u32::try_from(us / u64::from(tick_us.max(1))).unwrap_or(u32::MAX);
-    let lines = schedule.entries().filter(|e| e.fault.silences_data_ready());
-    for (slot, entry) in LINE_BLOCKED.iter().zip(lines) {
+    let silencing = schedule.entries().filter(|e| e.fault.silences_data_ready());
+    for (slot, entry) in SILENCED.iter().zip(silencing) {
+        let length = entry.end_us.map(|end| end - entry.start_us);
         slot[0].store(tick(entry.start_us), Ordering::Relaxed);
-        slot[1].store(entry.end_us.map_or(u32::MAX, tick), Ordering::Relaxed);
+        slot[1].store(length.map_or(u32::MAX, tick), Ordering::Relaxed);
+        slot[2].store(entry.every_us.map_or(0, tick), Ordering::Relaxed);
     }
     schedule
 }
@@ -76,9 +84,13 @@ pub fn chip_raises(raises: bool) {
 pub fn tick() -> bool {
     let now = TICKS.load(Ordering::Relaxed).wrapping_add(1);
     TICKS.store(now, Ordering::Relaxed);
-    let blocked = LINE_BLOCKED.iter().any(|w| {
-        let [start, end] = [0, 1].map(|i| w[i].load(Ordering::Relaxed));
-        start != u32::MAX && now >= start && now < end
+    let blocked = SILENCED.iter().any(|w| {
+        let [start, length, every] = [0, 1, 2].map(|i| w[i].load(Ordering::Relaxed));
+        let Some(since) = now.checked_sub(start) else {
+            return false;
+        };
+        let since = if every > 0 { since % every } else { since };
+        start != u32::MAX && since < length
     });
     !blocked && CHIP_RAISES.load(Ordering::Relaxed)
 }

@@ -4,9 +4,10 @@
 //! the output stops, a brown-out after which the chip is back at its
 //! power-on registers.
 //!
-//! A schedule is written `KIND@START[+DURATION]` (seconds of device time),
-//! `nack@START*COUNT` for a storm of COUNT failed transactions; a fault
-//! without a duration lasts to the end of the run. The board reads one
+//! A schedule is written `KIND@START[+DURATION][/EVERY]` (seconds of
+//! device time), `nack@START*COUNT[/EVERY]` for a storm of COUNT failed
+//! transactions; a fault without a duration lasts to the end of the run, one
+//! with `/EVERY` comes back every EVERY seconds (the soak's hourly faults). The board reads one
 //! entry per `fault=` word of its semihosting command line (`cargo xtask
 //! serve --fault SPEC`), so one firmware build serves every schedule;
 //! xtask checks each entry with this same parser before QEMU starts.
@@ -77,12 +78,34 @@ pub struct ScheduledFault {
     /// When it ends, µs since the board started (`None`: never). A
     /// storm has no end: its transactions fail whenever they come.
     pub end_us: Option<u64>,
+    /// It comes back this often, µs (`None`: once).
+    pub every_us: Option<u64>,
 }
 
 impl ScheduledFault {
     /// Whether the fault is on at `now_us`.
     pub fn active_at(&self, now_us: u64) -> bool {
-        now_us >= self.start_us && self.end_us.is_none_or(|end| now_us < end)
+        let Some(since) = now_us.checked_sub(self.start_us) else {
+            return false;
+        };
+        let since = self.every_us.map_or(since, |every| since % every);
+        self.end_us.is_none_or(|end| since < end - self.start_us)
+    }
+
+    /// When its `n`-th occurrence (from 0) starts, µs; `None` past the
+    /// first for a fault that comes once.
+    pub fn start_of(&self, n: u64) -> Option<u64> {
+        match (n, self.every_us) {
+            (0, _) => Some(self.start_us),
+            (_, Some(every)) => self.start_us.checked_add(n.checked_mul(every)?),
+            (_, None) => None,
+        }
+    }
+
+    /// When its `n`-th occurrence ends, µs (`None`: never, or no such one).
+    pub fn end_of(&self, n: u64) -> Option<u64> {
+        let length = self.end_us? - self.start_us;
+        self.start_of(n)?.checked_add(length)
     }
 }
 
@@ -92,8 +115,11 @@ pub const MAX_FAULTS: usize = 8;
 /// Why an entry of a schedule is refused.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ScheduleError<'a> {
-    /// The entry is not `KIND@START[+DURATION]` (or `nack@START*COUNT`).
+    /// The entry is not `KIND@START[+DURATION][/EVERY]` (or
+    /// `nack@START*COUNT[/EVERY]`).
     Form(&'a str),
+    /// A fault that comes back lasts as long as its period, or has no end.
+    Every(&'a str),
     /// The kind is not one of [`KINDS`].
     Kind(&'a str),
     /// A time is not a finite number of seconds ≥ 0 (the text given).
@@ -112,7 +138,12 @@ impl fmt::Display for ScheduleError<'_> {
         match self {
             ScheduleError::Form(entry) => write!(
                 f,
-                "fault {entry:?}: not KIND@START[+DURATION] (seconds), or nack@START*COUNT"
+                "fault {entry:?}: not KIND@START[+DURATION][/EVERY] (seconds), \
+                 or nack@START*COUNT[/EVERY]"
+            ),
+            ScheduleError::Every(every) => write!(
+                f,
+                "fault period {every:?}: a fault that comes back must end before it does"
             ),
             ScheduleError::Kind(kind) => write!(f, "fault kind {kind:?}: not one of {KINDS}"),
             ScheduleError::Time(time) => write!(
@@ -173,6 +204,17 @@ impl FaultSchedule {
 
 fn parse_entry(spec: &str) -> Result<ScheduledFault, ScheduleError<'_>> {
     let (kind, when) = spec.split_once('@').ok_or(ScheduleError::Form(spec))?;
+    let (when, every) = match when.split_once('/') {
+        Some((when, every)) => (when, Some(every)),
+        None => (when, None),
+    };
+    let every_us = match every {
+        Some(text) => match seconds_us(text)? {
+            0 => return Err(ScheduleError::Every(text)),
+            us => Some(us),
+        },
+        None => None,
+    };
     if kind == "nack" {
         let (start, count) = when.split_once('*').ok_or(ScheduleError::Count(""))?;
         let transactions = match count.parse::<u32>() {
@@ -183,6 +225,7 @@ fn parse_entry(spec: &str) -> Result<ScheduledFault, ScheduleError<'_>> {
             fault: BoardFault::NackStorm { transactions },
             start_us: seconds_us(start)?,
             end_us: None,
+            every_us,
         });
     }
     let fault = match kind {
@@ -198,14 +241,21 @@ fn parse_entry(spec: &str) -> Result<ScheduledFault, ScheduleError<'_>> {
         None => (when, None),
     };
     let start_us = seconds_us(start)?;
-    let end_us = match duration {
-        Some(d) => Some(start_us.saturating_add(seconds_us(d)?)),
+    let length_us = match duration {
+        Some(d) => Some(seconds_us(d)?),
         None => None,
     };
+    if let Some(every) = every {
+        // A fault that comes back ends before its next occurrence.
+        if length_us.is_none_or(|length| Some(length) >= every_us) {
+            return Err(ScheduleError::Every(every));
+        }
+    }
     Ok(ScheduledFault {
         fault,
         start_us,
-        end_us,
+        end_us: length_us.map(|length| start_us.saturating_add(length)),
+        every_us,
     })
 }
 
@@ -234,7 +284,8 @@ mod tests {
             ScheduledFault {
                 fault: BoardFault::Vanish,
                 start_us: 2_000_000,
-                end_us: Some(2_500_000)
+                end_us: Some(2_500_000),
+                every_us: None,
             }
         );
         assert_eq!(e[1].fault, BoardFault::NackStorm { transactions: 40 });
@@ -258,6 +309,28 @@ mod tests {
     }
 
     #[test]
+    fn a_fault_that_comes_back_is_on_in_each_period_for_its_length() {
+        let mut s = FaultSchedule::new();
+        s.add("brownout@1800+0.5/3600").unwrap();
+        s.add("nack@10*5/20").unwrap();
+        let e = *s.entries().next().unwrap();
+        let h = 3_600_000_000;
+        assert!(!e.active_at(1_799_999_999));
+        assert!(e.active_at(1_800_000_000) && e.active_at(1_800_499_999));
+        assert!(!e.active_at(1_800_500_000));
+        assert!(e.active_at(23 * h + 1_800_000_000));
+        assert!(!e.active_at(23 * h + 1_800_500_000));
+        assert_eq!(e.start_of(2), Some(2 * h + 1_800_000_000));
+        assert_eq!(e.end_of(2), Some(2 * h + 1_800_500_000));
+        let storm = *s.entries().nth(1).unwrap();
+        assert_eq!(storm.fault, BoardFault::NackStorm { transactions: 5 });
+        assert_eq!(
+            (storm.start_of(1), storm.end_of(1)),
+            (Some(30_000_000), None)
+        );
+    }
+
+    #[test]
     fn a_bad_entry_is_refused_naming_the_part_that_is_wrong() {
         let mut s = FaultSchedule::new();
         assert_eq!(s.add("vanish"), Err(ScheduleError::Form("vanish")));
@@ -266,6 +339,9 @@ mod tests {
         assert_eq!(s.add("stop@1+nan"), Err(ScheduleError::Time("nan")));
         assert_eq!(s.add("nack@1"), Err(ScheduleError::Count("")));
         assert_eq!(s.add("nack@1*0"), Err(ScheduleError::Count("0")));
+        assert_eq!(s.add("stop@1/10"), Err(ScheduleError::Every("10")));
+        assert_eq!(s.add("stop@1+10/10"), Err(ScheduleError::Every("10")));
+        assert_eq!(s.add("stop@1+1/0"), Err(ScheduleError::Every("0")));
         for _ in 0..MAX_FAULTS {
             s.add("stop@1").unwrap();
         }

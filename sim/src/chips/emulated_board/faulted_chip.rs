@@ -19,9 +19,9 @@ pub struct FaultedChip {
     chip: EmulatedChip,
     schedule: FaultSchedule,
     now_us: fn() -> u64,
-    /// Per entry: started, ended.
-    started: [bool; MAX_FAULTS],
-    ended: [bool; MAX_FAULTS],
+    /// Per entry: occurrences started, and ended.
+    started: [u64; MAX_FAULTS],
+    ended: [u64; MAX_FAULTS],
 }
 
 impl FaultedChip {
@@ -32,8 +32,8 @@ impl FaultedChip {
             chip,
             schedule,
             now_us,
-            started: [false; MAX_FAULTS],
-            ended: [false; MAX_FAULTS],
+            started: [0; MAX_FAULTS],
+            ended: [0; MAX_FAULTS],
         }
     }
 
@@ -42,36 +42,50 @@ impl FaultedChip {
         &self.chip
     }
 
-    /// Starts and ends the faults due by now: each start and each end
-    /// happens once, in the schedule's order, even when both fall between
-    /// two looks (a brown-out then still resets the chip).
+    /// Starts and ends the faults due by now: each occurrence's start and
+    /// end happen once, in order, even when both fall between two looks (a
+    /// brown-out then still resets the chip).
     pub fn sync(&mut self) {
         let now = (self.now_us)();
-        for (i, entry) in self.schedule.entries().enumerate() {
-            if !self.started[i] && now >= entry.start_us {
-                self.started[i] = true;
-                match entry.fault {
-                    BoardFault::NackStorm { transactions } => {
-                        self.chip.inject(Fault::BusError { transactions })
-                    }
-                    BoardFault::OutputStops => self.chip.inject(Fault::StuckOutput),
-                    _ => {}
+        let entries = self.schedule;
+        for (i, entry) in entries.entries().enumerate() {
+            loop {
+                let open = self.started[i] > self.ended[i];
+                if open && entry.end_of(self.ended[i]).is_some_and(|end| now >= end) {
+                    self.ended[i] += 1;
+                    self.end(entry.fault);
+                } else if (!open || entry.end_us.is_none())
+                    && entry.start_of(self.started[i]).is_some_and(|at| now >= at)
+                {
+                    self.started[i] += 1;
+                    self.start(entry.fault);
+                } else {
+                    break;
                 }
             }
-            let due = entry.end_us.is_some_and(|end| now >= end);
-            if self.started[i] && !self.ended[i] && due {
-                self.ended[i] = true;
-                match entry.fault {
-                    BoardFault::OutputStops if !self.is(BoardFault::OutputStops) => {
-                        self.chip.clear_faults()
-                    }
-                    BoardFault::BrownOut => {
-                        self.chip.clear_faults();
-                        self.chip.power_on_reset();
-                    }
-                    _ => {}
-                }
+        }
+    }
+
+    fn start(&mut self, fault: BoardFault) {
+        match fault {
+            BoardFault::NackStorm { transactions } => {
+                self.chip.inject(Fault::BusError { transactions })
             }
+            BoardFault::OutputStops => self.chip.inject(Fault::StuckOutput),
+            _ => {}
+        }
+    }
+
+    fn end(&mut self, fault: BoardFault) {
+        match fault {
+            BoardFault::OutputStops if !self.is(BoardFault::OutputStops) => {
+                self.chip.clear_faults()
+            }
+            BoardFault::BrownOut => {
+                self.chip.clear_faults();
+                self.chip.power_on_reset();
+            }
+            _ => {}
         }
     }
 
@@ -79,8 +93,7 @@ impl FaultedChip {
     fn is(&self, kind: BoardFault) -> bool {
         self.schedule.entries().enumerate().any(|(i, e)| {
             core::mem::discriminant(&e.fault) == core::mem::discriminant(&kind)
-                && self.started[i]
-                && !self.ended[i]
+                && self.started[i] > self.ended[i]
         })
     }
 
@@ -248,5 +261,21 @@ mod tests {
             "back at its power-on registers"
         );
         assert!(!c.gives_data_ready(), "sensors off until configured again");
+
+        // A fault that comes back: each occurrence, even one a look skipped.
+        let mut c = chip(&["brownout@10+1/5"]);
+        NOW_US.store(9_000_000, Ordering::Relaxed);
+        write(&mut c, reg::PWR_MGMT0, 0x0F);
+        for (at, who_am_i) in [(10.5, 0xFF), (11.0, 0x47), (15.5, 0xFF), (16.0, 0x47)] {
+            NOW_US.store((at * 1e6) as u64, Ordering::Relaxed);
+            assert_eq!(read(&mut c, reg::WHO_AM_I), Ok(who_am_i), "at {at} s");
+        }
+        write(&mut c, reg::PWR_MGMT0, 0x0F);
+        NOW_US.store(26_000_000, Ordering::Relaxed);
+        assert_eq!(
+            read(&mut c, reg::PWR_MGMT0),
+            Ok(0),
+            "reset by the skipped ones"
+        );
     }
 }
