@@ -22,7 +22,7 @@ mod served_board;
 use std::time::{Duration, Instant};
 
 use served_board::{test_dir, Clock, ServedBoard};
-use triad::link::{Counters, Packet};
+use triad::link::{BatchFrame, Counters, Packet};
 use triad::stream::{Flags, Frame};
 use triad_host::device::identify;
 
@@ -284,4 +284,93 @@ fn a_nack_storm_costs_one_step_and_one_read_failure_per_failed_transaction() {
     let c = run.counters;
     println!("nack-endless: counters {c:?}");
     assert_eq!((c.sensor_stalls, c.sensor_restarts), (0, 0), "{c:?}");
+}
+
+#[test]
+#[ignore = "needs the emulated board: run by cargo xtask test"]
+fn an_impossible_fifo_count_flushes_the_fifo_and_counts_its_watermark_lost() {
+    // The chip's FIFO at 8 kHz, an interrupt per 32 samples (every 4 ms):
+    // for 0.1 s the count reads 4095 records where the FIFO holds 128. Each
+    // such interrupt, the driver reads no data, flushes the FIFO and reports
+    // at least the watermark lost: the next batch is flagged FIFO_OVERFLOW
+    // and counts it. Then the count is impossible to the end: no sample
+    // comes, the link answers, the losses mount.
+    let elf = served_board::env_path("TRIAD_FAULTS_FIFO_ELF");
+    let d = test_dir("fifo-count");
+    let faults = [
+        format!("fifo-count@{WINDOW_START_S}+0.1"),
+        format!("fifo-count@{FOREVER_FROM_S}"),
+    ];
+    let board = ServedBoard::start_elf_with_faults(
+        &elf,
+        &d.join("storage.bin"),
+        Clock::Deterministic,
+        &faults,
+    );
+    let mut link = board.link();
+    let mut batches: Vec<BatchFrame> = Vec::new();
+    let until = FOREVER_FROM_S - 0.05;
+    while batches
+        .last()
+        .is_none_or(|f| f64::from(f.timestamp_us) * 1e-6 < until)
+    {
+        match link
+            .next_packet(Instant::now() + SILENCE)
+            .expect("reading the port")
+        {
+            Some(Ok(Packet::Batch(frame))) => batches.push(frame),
+            Some(Ok(_)) => {}
+            Some(Err(e)) => assert!(batches.is_empty(), "a damaged packet: {e:?}"),
+            None => panic!("the stream stopped; serve's log:\n{}", board.log()),
+        }
+    }
+    let watermark = 32;
+    let window = |f: &&BatchFrame| {
+        let t = f64::from(f.timestamp_us) * 1e-6;
+        (WINDOW_START_S..WINDOW_START_S + 0.2).contains(&t)
+    };
+    let flagged: Vec<&BatchFrame> = batches
+        .iter()
+        .filter(|f| f.flags.contains(Flags::FIFO_OVERFLOW))
+        .collect();
+    let lost: u64 = batches.iter().map(|f| u64::from(f.overruns)).sum();
+    // 0.1 s of 4 ms interrupts: 25, one either way for where they fall.
+    let interrupts = lost / watermark;
+    println!(
+        "fifo-count: {} batches, {} flagged FIFO_OVERFLOW, {lost} samples counted lost",
+        batches.len(),
+        flagged.len()
+    );
+    assert_eq!(lost % watermark, 0, "a watermark per flush: {lost}");
+    assert!((24..=26).contains(&interrupts), "{interrupts} flushes");
+    assert!(
+        !flagged.is_empty() && flagged.iter().all(window),
+        "flagged outside the window"
+    );
+    for pair in batches.windows(2) {
+        assert_eq!(
+            pair[1].sequence,
+            pair[0].sequence + 1,
+            "a batch lost on the wire"
+        );
+    }
+    let ready = |c: &Counters| u64::from(c.overruns) > lost + 50 * watermark;
+    let started = Instant::now();
+    let c = loop {
+        let c = identify(&mut link)
+            .expect("identify during the fault")
+            .counters;
+        if ready(&c) {
+            break c;
+        }
+        assert!(started.elapsed() < RUN_TIMEOUT, "{c:?}");
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    println!("fifo-count: counters {c:?}");
+    assert_eq!(
+        (c.read_failures, c.sensor_stalls, c.sensor_restarts),
+        (0, 0, 0),
+        "{c:?}"
+    );
+    assert_eq!(u64::from(c.overruns) % watermark, 0, "{c:?}");
 }

@@ -78,7 +78,35 @@ impl ServedBoard {
         Self::serve(storage, clock, None, faults)
     }
 
+    /// As [`ServedBoard::start_with_faults`], serving the firmware `elf`
+    /// (another build than TRIAD_SERVE_ELF's).
+    #[allow(dead_code)] // the fault tests'
+    pub fn start_elf_with_faults(
+        elf: &Path,
+        storage: &Path,
+        clock: Clock,
+        faults: &[String],
+    ) -> ServedBoard {
+        Self::serve_elf(elf, storage, clock, None, faults)
+    }
+
     fn serve(
+        storage: &Path,
+        clock: Clock,
+        cut_after: Option<u32>,
+        faults: &[String],
+    ) -> ServedBoard {
+        Self::serve_elf(
+            &env_path("TRIAD_SERVE_ELF"),
+            storage,
+            clock,
+            cut_after,
+            faults,
+        )
+    }
+
+    fn serve_elf(
+        elf: &Path,
         storage: &Path,
         clock: Clock,
         cut_after: Option<u32>,
@@ -92,7 +120,7 @@ impl ServedBoard {
         command
             .arg("serve")
             .arg("--elf")
-            .arg(env_path("TRIAD_SERVE_ELF"))
+            .arg(elf)
             .arg("--storage")
             .arg(storage);
         if clock == Clock::Deterministic {

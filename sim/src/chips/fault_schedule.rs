@@ -28,6 +28,10 @@ pub enum BoardFault {
         /// Transactions that fail.
         transactions: u32,
     },
+    /// `fifo-count`: the FIFO's count registers read a count beyond the
+    /// FIFO's size (a corrupted read, a chip confused by a glitch); the
+    /// FIFO itself and the data-ready line carry on.
+    ImpossibleFifoCount,
     /// `drdy-high`: the data-ready line is held high. The MCU's interrupt is
     /// edge-triggered (EXTI), so no edge arrives: the chip samples on, and
     /// the firmware sees no data-ready.
@@ -51,6 +55,7 @@ impl BoardFault {
         match self {
             BoardFault::Vanish => "vanish",
             BoardFault::NackStorm { .. } => "nack",
+            BoardFault::ImpossibleFifoCount => "fifo-count",
             BoardFault::DataReadyHeldHigh => "drdy-high",
             BoardFault::DataReadySilent => "drdy-silent",
             BoardFault::OutputStops => "stop",
@@ -64,7 +69,10 @@ impl BoardFault {
     /// whatever the chip model last said; after it ends, the chip model
     /// says (a chip back from a brown-out raises none until configured).
     pub fn silences_data_ready(&self) -> bool {
-        !matches!(self, BoardFault::NackStorm { .. })
+        !matches!(
+            self,
+            BoardFault::NackStorm { .. } | BoardFault::ImpossibleFifoCount
+        )
     }
 }
 
@@ -131,7 +139,7 @@ pub enum ScheduleError<'a> {
 }
 
 /// The kinds a schedule names.
-pub const KINDS: &str = "vanish, nack, drdy-high, drdy-silent, stop, brownout";
+pub const KINDS: &str = "vanish, nack, fifo-count, drdy-high, drdy-silent, stop, brownout";
 
 impl fmt::Display for ScheduleError<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -230,6 +238,7 @@ fn parse_entry(spec: &str) -> Result<ScheduledFault, ScheduleError<'_>> {
     }
     let fault = match kind {
         "vanish" => BoardFault::Vanish,
+        "fifo-count" => BoardFault::ImpossibleFifoCount,
         "drdy-high" => BoardFault::DataReadyHeldHigh,
         "drdy-silent" => BoardFault::DataReadySilent,
         "stop" => BoardFault::OutputStops,

@@ -110,6 +110,16 @@ macro_rules! define_emulated_chip {
                 }
             }
 
+            /// `byte` as read at `address` when the FIFO's count is
+            /// impossible (the module's `impossible_fifo_count`): the count
+            /// registers give a count beyond the FIFO's size, any other
+            /// register its own byte.
+            pub fn impossible_fifo_count(&self, address: u8, byte: u8) -> u8 {
+                match self {
+                    $(Self::$driver(_) => $module::impossible_fifo_count(address, byte),)+
+                }
+            }
+
             /// The samples the model has produced so far.
             pub fn samples_produced(&self) -> u64 {
                 match self {

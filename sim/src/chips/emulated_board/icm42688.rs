@@ -28,3 +28,14 @@ pub fn power_on_reset(model: &mut Model) {
         let _ = model.transaction(&mut [Operation::Write(&[address, value])]);
     }
 }
+
+/// FIFO_COUNTH and FIFO_COUNTL (bank 0) reading 4095: records, as the
+/// driver counts them, where the FIFO holds 128.
+pub fn impossible_fifo_count(address: u8, byte: u8) -> u8 {
+    use crate::chips::icm42688_registers as reg;
+    match address {
+        reg::FIFO_COUNTH => 0x0F,
+        a if a == reg::FIFO_COUNTH + 1 => 0xFF,
+        _ => byte,
+    }
+}

@@ -31,3 +31,14 @@ pub fn power_on_reset(model: &mut Model) {
         let _ = model.transaction(&mut [Operation::Write(&[address, value])]);
     }
 }
+
+/// FIFO_STATUS1 and FIFO_STATUS2's DIFF_FIFO bits reading 1023 words, where
+/// the FIFO holds 512; FIFO_STATUS2's flags as they are.
+pub fn impossible_fifo_count(address: u8, byte: u8) -> u8 {
+    use crate::chips::lsm6dsox_registers as reg;
+    match address {
+        reg::FIFO_STATUS1 => 0xFF,
+        reg::FIFO_STATUS2 => byte | reg::DIFF_FIFO_HIGH_MASK,
+        _ => byte,
+    }
+}
