@@ -383,10 +383,14 @@ fn a_chip_absent_at_start_stops_the_board_saying_what_the_bus_answered() {
     // on the NUCLEO the watchdog then restarts it, trying again.
     let d = test_dir("absent");
     let faults = ["vanish@0".to_string()];
-    let mut board = ServedBoard::start_with_faults(&d.join("storage.bin"), Clock::Deterministic, &faults);
+    let mut board =
+        ServedBoard::start_with_faults(&d.join("storage.bin"), Clock::Deterministic, &faults);
     let status = board.wait_exit(Duration::from_secs(30));
     let log = board.log();
-    assert!(status.is_some_and(|s| !s.success()), "{status:?}; log:\n{log}");
+    assert!(
+        status.is_some_and(|s| !s.success()),
+        "{status:?}; log:\n{log}"
+    );
     assert!(
         log.contains("no known IMU on the bus") && log.contains("Some(255)"),
         "{log}"
