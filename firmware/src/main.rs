@@ -226,11 +226,12 @@ mod app {
     fn sample_timer(cx: sample_timer::Context) {
         let run = crate::run_time::begin();
         board::sample_timer_edge();
-        // The chip's own edge: the model's time, not the firmware's.
-        crate::run_time::end(run, Task::ChipModel);
         if crate::stall::tick(cx.local.watch) {
             rtic::pend(board::pac::Interrupt::EXTI0);
         }
+        // The chip's own edge, and the watch a hardware board's watchdog
+        // keeps: the emulated board's time, not the firmware's.
+        crate::run_time::end(run, Task::ChipModel);
     }
 
     /// The NUCLEO's transmit DMA: a run of the transmit ring ended (or was

@@ -159,8 +159,9 @@ pub fn init(dp: pac::Peripherals, _settings: &triad::sensor::Settings) -> Board 
 /// transaction that never ends) resets the board, whose start-up finds the
 /// chip again (or, with none on the bus, stops until the next reset). Longer
 /// than the longest self-test, which runs in the data-ready task (about
-/// 1.4 s on an ICM-42688-P).
-const WATCHDOG_MS: u32 = 2_000;
+/// 1.4 s on an ICM-42688-P), and than a save's erase of a 128 KiB sector,
+/// which stalls the core (DS10086 t_ERASE128KB: 2 s at most).
+const WATCHDOG_MS: u32 = 4_000;
 
 /// The data-ready task made progress (a sample read): the watchdog waits
 /// its period again.
