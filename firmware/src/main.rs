@@ -10,7 +10,10 @@
 //! uses is bound here, so RTIC's analysis covers them all; state moves
 //! between tasks through rtic-sync channels):
 //! - the board's own interrupt, priority 4: the emulated board's sample
-//!   timer (TIM2, the chip's data-ready edge), or the NUCLEO's transmit DMA
+//!   timer (TIM2, the chip's data-ready edge; it also ticks the stall watch,
+//!   which pends the data-ready task to check a sensor silent for 50 ms, as
+//!   the NUCLEO's independent watchdog resets a board whose data-ready task
+//!   read no sample for 4 s), or the NUCLEO's transmit DMA
 //!   (DMA1_STREAM6, which ends and starts runs of the transmit ring). Short,
 //!   and no shared state: it only wakes the transmitter when room was freed.
 //! - `data_ready` (EXTI0, priority 3): applies the command handler's pending
@@ -217,10 +220,9 @@ mod app {
     }
 
     /// The emulated board's data-ready edge: its sample timer pends EXTI0,
-    /// as the chip's INT1 does on a real board.
-    /// It ticks once per data-ready period whatever the chip does, so it
-    /// also keeps the stall watch: a sensor silent for 50 ms gets the
-    /// data-ready task pended to check it.
+    /// as the chip's INT1 does on a real board. It ticks once per data-ready
+    /// period whatever the chip does, so it also keeps the stall watch: a
+    /// sensor silent for 50 ms gets the data-ready task pended to check it.
     #[cfg(feature = "board-qemu")]
     #[task(binds = TIM2, priority = 4, local = [watch: Option<StallWatch> = None])]
     fn sample_timer(cx: sample_timer::Context) {
