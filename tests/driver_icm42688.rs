@@ -327,6 +327,31 @@ fn read_fifo_on_overflow_reads_lost_count_and_flushes() {
 }
 
 #[test]
+fn read_fifo_with_a_count_beyond_the_fifo_flushes_it_and_reports_a_loss() {
+    // 129 records where the FIFO holds 128: nothing is read from FIFO_DATA.
+    let ops = [
+        r(0x2D, &[0x04, 0x00, 0x81]),
+        w(0x4B, 0x02), // SIGNAL_PATH_RESET: FIFO_FLUSH
+    ];
+    for bus in both_buses(I2C_ADDRESS, &ops) {
+        let mut imu = Icm42688::new(bus);
+        let mut out = [RawSample::default(); 4];
+        let read = imu.read_fifo(&mut out).unwrap();
+        assert_eq!(
+            (
+                read.samples,
+                read.overflowed,
+                read.lost,
+                read.lost_is_lower_bound
+            ),
+            (0, true, 1, true),
+            "no FIFO configured: at least the one sample that raised data-ready"
+        );
+        imu.into_interface().finish();
+    }
+}
+
+#[test]
 fn read_fifo_rejects_a_packet_without_accel_and_gyro() {
     let mut data = packet(&numbered(1), 0, 0);
     data[0] = 0xFF; // what an empty FIFO reads

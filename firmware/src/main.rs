@@ -10,7 +10,10 @@
 //! uses is bound here, so RTIC's analysis covers them all; state moves
 //! between tasks through rtic-sync channels):
 //! - the board's own interrupt, priority 4: the emulated board's sample
-//!   timer (TIM2, the chip's data-ready edge), or the NUCLEO's transmit DMA
+//!   timer (TIM2, the chip's data-ready edge; it also ticks the stall watch,
+//!   which pends the data-ready task to check a sensor silent for 50 ms, as
+//!   the NUCLEO's independent watchdog resets a board whose data-ready task
+//!   read no sample for 4 s), or the NUCLEO's transmit DMA
 //!   (DMA1_STREAM6, which ends and starts runs of the transmit ring). Short,
 //!   and no shared state: it only wakes the transmitter when room was freed.
 //! - `data_ready` (EXTI0, priority 3): applies the command handler's pending
@@ -76,8 +79,10 @@ const BUS: &str = "spi";
 /// command handler.
 static COUNTERS: SharedCounters = SharedCounters::new();
 
+mod queue_marks;
 mod received;
 mod run_time;
+mod stall;
 mod start;
 mod wire;
 
@@ -91,8 +96,8 @@ mod app {
     use rtic_sync::make_channel;
     use triad::device::board::{LinkRx, LinkTx};
     use triad::device::{
-        on_data_ready, on_fifo_ready, CommandHandler, Control, Handled, LoadWindow, Outgoing,
-        Sampler, Stepped, Task,
+        on_data_ready, on_fifo_ready, sample_period_us, CommandHandler, Control, Handled,
+        LoadWindow, Outgoing, Sampler, SensorHealth, StallWatch, Stepped, Task,
     };
     use triad::protocol::Decoder;
     use triad::protocol::{Reply, MAX_WIRE_LEN};
@@ -116,6 +121,8 @@ mod app {
         clock: board::MicrosecondClock,
         sensor: board::Sensor,
         sampler: Sampler,
+        /// Stalls and restarts of the sensor (the data-ready task's).
+        health: SensorHealth,
         self_test_delay: board::SelfTestDelay,
         /// data_ready → transmit: frames (woken by [`OUTGOING`]).
         frames_in: Producer<'static, Outgoing>,
@@ -152,6 +159,12 @@ mod app {
     fn init(cx: init::Context) -> (Shared, Local) {
         let b = board::init(cx.device, &SETTINGS);
         let started = crate::start::start(b.sensor_bus, b.flash);
+        // One data-ready step per period of the chip's rate over the
+        // watermark: what the stall watch and the health count in.
+        let step_us = sample_period_us(
+            started.sensor.sample_rate_hz() / f64::from(SETTINGS.watermark.max(1)),
+        );
+        crate::stall::set_tick_us(step_us);
         let (frames_in, frames_out) = cx.local.frames.split();
         let (replies, replies_out) = make_channel!(Reply, 1);
         let (rx_in, rx_out) = cx.local.rx.split();
@@ -168,6 +181,7 @@ mod app {
                 clock: b.clock,
                 sensor: started.sensor,
                 sampler: started.sampler,
+                health: SensorHealth::new(step_us),
                 self_test_delay: b.self_test_delay,
                 frames_in,
                 controls_out,
@@ -206,13 +220,19 @@ mod app {
     }
 
     /// The emulated board's data-ready edge: its sample timer pends EXTI0,
-    /// as the chip's INT1 does on a real board.
+    /// as the chip's INT1 does on a real board. It ticks once per data-ready
+    /// period whatever the chip does, so it also keeps the stall watch: a
+    /// sensor silent for 50 ms gets the data-ready task pended to check it.
     #[cfg(feature = "board-qemu")]
-    #[task(binds = TIM2, priority = 4)]
-    fn sample_timer(_: sample_timer::Context) {
+    #[task(binds = TIM2, priority = 4, local = [watch: Option<StallWatch> = None])]
+    fn sample_timer(cx: sample_timer::Context) {
         let run = crate::run_time::begin();
         board::sample_timer_edge();
-        // The chip's own edge: the model's time, not the firmware's.
+        if crate::stall::tick(cx.local.watch) {
+            rtic::pend(board::pac::Interrupt::EXTI0);
+        }
+        // The chip's own edge, and the watch a hardware board's watchdog
+        // keeps: the emulated board's time, not the firmware's.
         crate::run_time::end(run, Task::ChipModel);
     }
 
@@ -228,8 +248,9 @@ mod app {
 
     /// The data-ready step: the IMU's data-ready line is EXTI0 on every board
     /// (on the emulated board its sample timer pends it).
-    #[task(binds = EXTI0, priority = 3, local = [sample_line, clock, sensor, sampler, frames_in, controls_out, self_test_delay, self_tests_out, self_tests_done_in, load_window: LoadWindow = LoadWindow::new(), windows: u32 = 0, slept_then: u32 = 0])]
+    #[task(binds = EXTI0, priority = 3, local = [sample_line, clock, sensor, sampler, health, frames_in, controls_out, self_test_delay, self_tests_out, self_tests_done_in, load_window: LoadWindow = LoadWindow::new(), windows: u32 = 0, slept_then: u32 = 0])]
     fn data_ready(cx: data_ready::Context) {
+        let _step = crate::stall::Step::begin();
         let run = crate::run_time::begin();
         let model = board::model_cycles();
         let l = cx.local;
@@ -268,6 +289,14 @@ mod app {
                 load.busy_cycles[3],
                 slept
             );
+            let (frames, received) = crate::queue_marks::marks();
+            defmt::info!(
+                "queue high-water: frames {=u32} of {=usize}, received bytes {=u32} of {=usize}",
+                frames,
+                QUEUE_LEN,
+                received,
+                RX_QUEUE_LEN
+            );
         }
         let model = board::model_cycles().wrapping_sub(model);
         crate::run_time::end_with_model(run, Task::DataReady, model);
@@ -281,6 +310,16 @@ mod app {
         // The handler's changes take effect here, between two samples.
         while let Ok(control) = l.controls_out.try_recv() {
             l.sampler.apply(control);
+        }
+        // The stall watch's check: data-ready has been silent for 50 ms.
+        // Nothing to read; find the chip and configure it again. The steps
+        // lost are counted when data-ready comes back.
+        if crate::stall::take_check() {
+            if l.health.stalled() {
+                restart(l.sensor, l.health);
+            }
+            COUNTERS.publish_health(l.health.totals());
+            return;
         }
         // A self-test runs here, in place of sampling: the steps it takes
         // are counted lost (OVERRUN) in the next frame.
@@ -300,7 +339,7 @@ mod app {
             return;
         }
         let frames_in = l.frames_in;
-        let queued = if SETTINGS.watermark > 1 {
+        let (queued, read) = if SETTINGS.watermark > 1 {
             let stepped = on_fifo_ready(
                 l.sample_line,
                 l.clock,
@@ -309,10 +348,10 @@ mod app {
                 |sensor| board::data_ready(sensor, SETTINGS.watermark),
                 |frame| frames_in.enqueue(frame).is_ok(),
             );
-            if let Some(error) = stepped.read_failed {
-                defmt::warn!("FIFO read failed: {}", defmt::Debug2Format(&error));
+            if let Some(error) = &stepped.read_failed {
+                defmt::warn!("FIFO read failed: {}", defmt::Debug2Format(error));
             }
-            stepped.queued > 0
+            (stepped.queued > 0, stepped.read_failed.is_none())
         } else {
             let stepped = on_data_ready(
                 l.sample_line,
@@ -325,11 +364,32 @@ mod app {
             if let Stepped::ReadFailed(error) = &stepped {
                 defmt::warn!("sensor read failed: {}", defmt::Debug2Format(error));
             }
-            stepped == Stepped::Queued
+            (
+                stepped == Stepped::Queued,
+                !matches!(stepped, Stepped::ReadFailed(_)),
+            )
         };
+        if read {
+            board::feed_watchdog();
+        }
+        if l.health.read(read) {
+            restart(l.sensor, l.health);
+        }
         COUNTERS.publish(l.sampler.totals(), l.sampler.uptime_ms());
+        COUNTERS.publish_health(l.health.totals());
+        crate::queue_marks::frames(frames_in.len());
         if queued {
             OUTGOING.wake();
+        }
+    }
+
+    /// Finds the chip again by its identity and configures it (what a chip
+    /// back from a brown-out needs), counting the restart when it worked.
+    fn restart(sensor: &mut board::Sensor, health: &mut SensorHealth) {
+        let restarted = sensor.start_with(&mut board::Delay, &SETTINGS);
+        health.restarted(restarted.is_ok());
+        if restarted.is_ok() {
+            defmt::warn!("sensor restarted ({} so far)", health.totals().restarts);
         }
     }
 
@@ -350,6 +410,7 @@ mod app {
             }
         }
         if received {
+            crate::queue_marks::received(rx_in.len());
             RX_WAKER.wake();
         }
         // The transmit ring ran empty: the transmitter may queue more.

@@ -367,6 +367,8 @@ impl<F: NorFlash> CommandHandler<F> {
         c.overruns = now.overruns.wrapping_sub(b.overruns);
         c.read_failures = now.read_failures.wrapping_sub(b.read_failures);
         c.rx_overflows = now.rx_overflows.wrapping_sub(b.rx_overflows);
+        c.sensor_stalls = now.sensor_stalls.wrapping_sub(b.sensor_stalls);
+        c.sensor_restarts = now.sensor_restarts.wrapping_sub(b.sensor_restarts);
         // This command is counted once its reply is made.
         c.commands = self.commands.wrapping_add(1);
         c.command_errors = self.errors;

@@ -10,6 +10,7 @@
 use core::sync::atomic::{AtomicU32, Ordering};
 
 use super::load::LoadCounters;
+use super::sensor_health::HealthTotals;
 use crate::protocol::Counters;
 
 /// Totals the sampling pipeline keeps (see [`super::Sampler::totals`]).
@@ -34,6 +35,8 @@ pub struct SharedCounters {
     overruns: AtomicU32,
     read_failures: AtomicU32,
     rx_overflows: AtomicU32,
+    sensor_stalls: AtomicU32,
+    sensor_restarts: AtomicU32,
     uptime_ms: AtomicU32,
     /// What each task costs.
     pub load: LoadCounters,
@@ -48,6 +51,8 @@ impl SharedCounters {
             overruns: AtomicU32::new(0),
             read_failures: AtomicU32::new(0),
             rx_overflows: AtomicU32::new(0),
+            sensor_stalls: AtomicU32::new(0),
+            sensor_restarts: AtomicU32::new(0),
             uptime_ms: AtomicU32::new(0),
             load: LoadCounters::new(),
         }
@@ -64,6 +69,14 @@ impl SharedCounters {
         self.overruns.store(totals.overruns, Ordering::Relaxed);
         self.read_failures
             .store(totals.read_failures, Ordering::Relaxed);
+    }
+
+    /// Publishes the data-ready task's sensor stalls and restarts (its
+    /// writer only).
+    pub fn publish_health(&self, health: &HealthTotals) {
+        self.sensor_stalls.store(health.stalls, Ordering::Relaxed);
+        self.sensor_restarts
+            .store(health.restarts, Ordering::Relaxed);
     }
 
     /// A received byte was lost (the receive interrupt only).
@@ -89,6 +102,8 @@ impl SharedCounters {
             commands: 0,
             command_errors: 0,
             rx_overflows: self.rx_overflows.load(Ordering::Relaxed),
+            sensor_stalls: self.sensor_stalls.load(Ordering::Relaxed),
+            sensor_restarts: self.sensor_restarts.load(Ordering::Relaxed),
         }
     }
 }

@@ -117,6 +117,12 @@ pub struct Counters {
     pub command_errors: u32,
     /// Received bytes lost because the receive queue was full.
     pub rx_overflows: u32,
+    /// Times the sensor's data-ready went silent long enough to be checked
+    /// (`src/device/sensor_health.rs`; 0 from firmware that does not send it).
+    pub sensor_stalls: u32,
+    /// Times the sensor was found again by its identity and configured
+    /// after a stall or a run of failed reads.
+    pub sensor_restarts: u32,
 }
 
 impl Load {
@@ -240,6 +246,7 @@ impl DeviceInfo {
             w.u32(us);
         }
         w.u8(self.stored_reason as u8);
+        w.u32(c.sensor_stalls).u32(c.sensor_restarts);
         let len = w.len();
         p.set_len(len);
         p
@@ -270,6 +277,8 @@ impl DeviceInfo {
             commands: r.u32(),
             command_errors: r.u32(),
             rx_overflows: r.u32(),
+            sensor_stalls: 0,
+            sensor_restarts: 0,
         };
         let scale = RawScale {
             accel_si_per_lsb: r.f32(),
@@ -287,10 +296,21 @@ impl DeviceInfo {
             return None;
         }
         // Added after the load figures: absent from older firmware's reply.
-        let stored_reason = match r.rest().first() {
+        let rest = r.rest();
+        let stored_reason = match rest.first() {
             Some(&byte) => StoredReason::from_byte(byte)?,
             None => StoredReason::None,
         };
+        let mut counters = counters;
+        // Added after the stored reason: absent from older firmware's reply.
+        if let Some(health) = rest.get(1..) {
+            let mut r = Reader::new(health);
+            let (stalls, restarts) = (r.u32(), r.u32());
+            if !r.ran_short() {
+                counters.sensor_stalls = stalls;
+                counters.sensor_restarts = restarts;
+            }
+        }
         Some(DeviceInfo {
             protocol,
             firmware,

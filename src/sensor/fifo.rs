@@ -21,6 +21,22 @@ pub struct FifoRead {
     pub lost_is_lower_bound: bool,
 }
 
+impl FifoRead {
+    /// The FIFO's count read beyond its size, so the driver reset it: its
+    /// content is lost, at least the watermark of `fifo` (1 without one)
+    /// that raised the interrupt; flagged as an overflow (the loss is the
+    /// chip's FIFO's), the count a lower bound.
+    pub fn impossible_count(fifo: Option<FifoConfig>) -> Self {
+        FifoRead {
+            samples: 0,
+            remaining: 0,
+            overflowed: true,
+            lost: u32::from(fifo.map_or(1, |f| f.watermark)),
+            lost_is_lower_bound: true,
+        }
+    }
+}
+
 /// A chip whose FIFO the driver can drain.
 pub trait FifoImu: Imu {
     /// Reads up to `out.len()` whole samples from the FIFO, oldest first.

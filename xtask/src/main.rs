@@ -80,6 +80,17 @@ enum Command {
         /// With --allan: the 24-hour, 2 kHz record too (streamed from a generator).
         #[arg(long, requires = "allan")]
         long: bool,
+        /// Only the soak: the emulated board at 1 kHz for 24 h of device time
+        /// (`--soak-seconds`), a command storm every 5 s, a sensor fault every
+        /// hour (`--fault-every`); every counter checked (host/examples/bench_soak.rs).
+        #[arg(long, conflicts_with_all = ["json", "whole_firmware", "fuzz", "allan"])]
+        soak: bool,
+        /// With --soak: seconds of device time.
+        #[arg(long, requires = "soak", default_value_t = 86_400.0)]
+        soak_seconds: f64,
+        /// With --soak: seconds of device time between two sensor faults.
+        #[arg(long, requires = "soak", default_value_t = 3_600.0)]
+        fault_every: f64,
     },
     /// Serve the emulated board like hardware: QEMU in real time, its link on
     /// a pseudo-terminal whose path is the first line on stdout; runs until killed.
@@ -189,6 +200,12 @@ pub struct ServeArgs {
     /// the fit refuse ("too fast for the sample rate").
     #[arg(long)]
     deterministic: bool,
+    /// A fault the emulated board shows, in seconds of its time:
+    /// `KIND@START[+DURATION]` (no duration: to the end), KIND one of
+    /// vanish, drdy-high, drdy-silent, stop, brownout; or `nack@START*COUNT`
+    /// (COUNT bus transactions fail). Repeat for more (at most 8).
+    #[arg(long = "fault", value_name = "SPEC", value_parser = serve::fault_entry)]
+    faults: Vec<String>,
 }
 
 fn main() -> std::process::ExitCode {
@@ -207,6 +224,12 @@ fn main() -> std::process::ExitCode {
         Command::Bench {
             allan: true, long, ..
         } => bench::allan::run(long),
+        Command::Bench {
+            soak: true,
+            soak_seconds,
+            fault_every,
+            ..
+        } => bench::soak::run(soak_seconds, fault_every),
         Command::Bench {
             json,
             whole_firmware,
@@ -285,7 +308,7 @@ fn serve_command(args: ServeArgs) -> anyhow::Result<()> {
     } else {
         qemu::Clock::RealTime
     };
-    serve::serve(&elf, storage.as_ref(), clock)
+    serve::serve(&elf, storage.as_ref(), &args.faults, clock)
 }
 
 /// Sets up and builds the firmware `args` describe; returns the ELF and the

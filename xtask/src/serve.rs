@@ -62,24 +62,44 @@ pub fn prepare_storage(path: &Path) -> Result<PathBuf> {
     Ok(path)
 }
 
-/// The semihosting arguments that hand the storage file to the firmware.
-pub fn semihosting_args(storage: &Storage) -> Vec<String> {
-    let mut args = vec![
-        "triad".to_string(),
-        format!("storage={}", storage.path.display()),
-    ];
-    if let Some(n) = storage.cut_after {
-        args.push(format!("cut-after={n}"));
+/// The semihosting arguments that hand the fault schedule (entries checked
+/// by [`fault_entry`]) and the storage file to the firmware: the faults
+/// first, as the storage path runs to the end of the line.
+pub fn semihosting_args(faults: &[String], storage: Option<&Storage>) -> Vec<String> {
+    if faults.is_empty() && storage.is_none() {
+        return Vec::new();
+    }
+    let mut args = vec!["triad".to_string()];
+    args.extend(faults.iter().map(|f| format!("fault={f}")));
+    if let Some(storage) = storage {
+        args.push(format!("storage={}", storage.path.display()));
+        if let Some(n) = storage.cut_after {
+            args.push(format!("cut-after={n}"));
+        }
     }
     args
+}
+
+/// `--fault SPEC`: one entry of the emulated board's fault schedule, checked
+/// with the parser the board uses (`KIND@START[+DURATION]`, seconds of device
+/// time; `nack@START*COUNT`).
+pub fn fault_entry(spec: &str) -> Result<String, String> {
+    let mut schedule = triad_sim::chips::fault_schedule::FaultSchedule::new();
+    schedule.add(spec).map_err(|e| e.to_string())?;
+    Ok(spec.to_string())
 }
 
 /// Serves `elf` with `clock` (real time, or deterministic for the tests)
 /// until QEMU stops (the firmware ended the run, or it was killed); an
 /// early stop is an error.
-pub fn serve(elf: &Path, storage: Option<&Storage>, clock: qemu::Clock) -> Result<()> {
+pub fn serve(
+    elf: &Path,
+    storage: Option<&Storage>,
+    faults: &[String],
+    clock: qemu::Clock,
+) -> Result<()> {
     let pty = Pty::open()?;
-    let args = storage.map(semihosting_args).unwrap_or_default();
+    let args = semihosting_args(faults, storage);
     let mut board = qemu::Board::start(elf, clock, &args)?;
     let elf_bytes = std::fs::read(elf).with_context(|| format!("reading {}", elf.display()))?;
     let log = board.take_log()?;

@@ -150,6 +150,7 @@ pub fn run(scope: Scope) -> Result<()> {
     embedded_checks::clippy_firmware(batched, &calibration, None)?;
     let elf = cmd::build_firmware(batched, &calibration)?;
     end_to_end(batched, &elf, &triad, &calibration, None)?;
+    let batched_elf = elf;
 
     // The chip model fed by the simulator: a scene with noise, biases,
     // scale errors and a temperature ramp, on the default chip and bus.
@@ -169,6 +170,7 @@ pub fn run(scope: Scope) -> Result<()> {
         .find(|(f, _)| *f == firmware)
         .context("the default emulated firmware was built")?;
     served_board(*firmware, elf, &calibration)?;
+    sensor_faults(*firmware, elf, &batched_elf)?;
 
     // The procedure a person runs on a board, against the emulated one.
     note!(
@@ -284,6 +286,30 @@ fn served_board(firmware: Firmware, elf: &Path, calibration: &Path) -> Result<()
         command,
         &format!(
             "the device link's end-to-end tests for {}",
+            firmware.label()
+        ),
+    )
+}
+
+/// Runs host/tests/faults_qemu.rs: `elf` served by `xtask serve --fault`
+/// showing each sensor fault (one firmware build serves every schedule),
+/// and `fifo_elf` (the chip's FIFO on) an impossible FIFO count.
+/// One test at a time: each QEMU keeps a core busy.
+fn sensor_faults(firmware: Firmware, elf: &Path, fifo_elf: &Path) -> Result<()> {
+    note!(
+        "xtask: end-to-end on QEMU, sensor faults on {}: a chip that vanishes, browns out or \
+         stops, a data-ready line held high or silent, NACK storms, an impossible FIFO count",
+        firmware.label()
+    );
+    let mut command = ignored_host_tests("faults_qemu", &["--test-threads=1", "--nocapture"]);
+    command
+        .env("TRIAD_SERVE_XTASK", cmd::serving_xtask()?)
+        .env("TRIAD_SERVE_ELF", elf)
+        .env("TRIAD_FAULTS_FIFO_ELF", fifo_elf);
+    check(
+        command,
+        &format!(
+            "the sensor faults' end-to-end tests for {}",
             firmware.label()
         ),
     )

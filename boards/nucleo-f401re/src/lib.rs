@@ -30,11 +30,13 @@ pub use serial_tx::{transmit_dma_interrupt, Serial, TX_BUFFER_LEN};
 
 use stm32f4xx_hal::dma::StreamsTuple;
 use stm32f4xx_hal::gpio::{self, Edge, ExtiPin as _, GpioExt as _, Input, PinState};
+use stm32f4xx_hal::prelude::_fugit_ExtU32 as _;
 use stm32f4xx_hal::rcc::{self, Rcc, RccExt as _};
 use stm32f4xx_hal::serial::{self, SerialExt as _};
 use stm32f4xx_hal::syscfg::{SysCfg, SysCfgExt as _};
 use stm32f4xx_hal::time::{Bps, Hertz};
 use stm32f4xx_hal::timer::FTimerUs;
+use stm32f4xx_hal::watchdog::IndependentWatchdog;
 use triad::device::board::{BoardDescription, DataReadyLine};
 use triad::model::Orientation;
 #[cfg(feature = "bus-i2c")]
@@ -140,6 +142,7 @@ pub fn init(dp: pac::Peripherals, _settings: &triad::sensor::Settings) -> Board 
     };
     let (tx, rx) = usart2(dp.USART2, gpioa.pa2, gpioa.pa3, &mut rcc);
     let dma1 = StreamsTuple::new(dp.DMA1, &mut rcc);
+    IndependentWatchdog::new(dp.IWDG).start(WATCHDOG_MS.millis());
     Board {
         sample_line: SampleLine::new(gpiob.pb0, &mut syscfg, &mut exti),
         clock: MicrosecondClock::new(dp.TIM5, &mut rcc),
@@ -149,6 +152,23 @@ pub fn init(dp: pac::Peripherals, _settings: &triad::sensor::Settings) -> Board 
         flash: Ok(Flash::new(dp.FLASH)),
         self_test_delay: Delay,
     }
+}
+
+/// The independent watchdog's period, ms: a data-ready path that made no
+/// progress this long (a chip gone, its data-ready line stuck, a bus
+/// transaction that never ends) resets the board, whose start-up finds the
+/// chip again (or, with none on the bus, stops until the next reset). Longer
+/// than the longest self-test, which runs in the data-ready task (about
+/// 1.4 s on an ICM-42688-P), and than a save's erase of a 128 KiB sector,
+/// which stalls the core (DS10086 t_ERASE128KB: 2 s at most).
+const WATCHDOG_MS: u32 = 4_000;
+
+/// The data-ready task made progress (a sample read): the watchdog waits
+/// its period again.
+pub fn feed_watchdog() {
+    // SAFETY: only IWDG's key register is written (the reload key), and
+    // from the data-ready task alone.
+    IndependentWatchdog::new(unsafe { pac::IWDG::steal() }).feed();
 }
 
 /// SYSCLK 84 MHz from the ST-LINK's 8 MHz if it reaches OSC_IN, else from

@@ -49,7 +49,7 @@ pub fn init(dp: pac::Peripherals, settings: &Settings) -> Board {
         w.tim5en().set_bit()
     });
     dp.RCC.apb1enr().modify(|_, w| w.usart2en().set_bit());
-    let (chip, rate_hz) = emulated_chip(settings.rate_hz);
+    let (chip, rate_hz) = emulated_chip(settings.rate_hz, settings.watermark);
     let sensor_bus = SensorBus(SharedBus(chip));
     let (serial, tx_drain) = Serial::new(dp.USART2, USART_DIV_X16);
     // SAFETY: the interrupt side reads SR/DR, writes DR and sets or clears
@@ -128,14 +128,27 @@ impl DataReadyLine for SampleLine {
 }
 
 /// The emulated data-ready edge: the body of the firmware's task bound to
-/// TIM2 (the board's one interrupt of its own).
-pub fn sample_timer_edge() {
+/// TIM2 (the board's one interrupt of its own). The edge reaches EXTI0 only
+/// while the chip raises data-ready and no scheduled fault holds the line
+/// ([`scheduled_faults`]); true when it did. One call per data-ready
+/// period, whatever the chip does: the firmware's stall watch ticks on it.
+pub fn sample_timer_edge() -> bool {
     // SAFETY: only this function writes TIM2's status register after
     // start-up, from the one task bound to TIM2.
     let tim = unsafe { &*pac::TIM2::ptr() };
     tim.sr().write(|w| w.uif().clear_bit());
-    cortex_m::peripheral::NVIC::pend(pac::Interrupt::EXTI0);
+    let rises = scheduled_faults::tick();
+    if rises {
+        cortex_m::peripheral::NVIC::pend(pac::Interrupt::EXTI0);
+    }
+    rises
 }
+
+/// A step that made progress: nothing to feed here (the firmware's stall
+/// watch, ticked by the sample timer, notices a silent sensor).
+pub fn feed_watchdog() {}
+
+mod scheduled_faults;
 
 mod microsecond_clock;
 pub use microsecond_clock::MicrosecondClock;
@@ -191,14 +204,14 @@ const EMULATED_CHIP: &str = env!("TRIAD_EMULATED_CHIP");
 /// What the chip model measures: the demo motion or an embedded scene.
 use core::cell::RefCell;
 use core::sync::atomic::{AtomicU32, Ordering};
-use triad_sim::chips::emulated_board::{source, EmulatedChip};
+use triad_sim::chips::emulated_board::{source, EmulatedChip, FaultedChip};
 use triad_sim::chips::model_clock::{ModelDelay, SharedBus};
 
 pub use triad_sim::chips::emulated_board::DESCRIPTION;
 
 /// The bus the chip model answers on: SPI (or I²C with `bus-i2c`), the
 /// model shared with the [`SelfTestDelay`].
-pub struct SensorBus(SharedBus<'static, EmulatedChip>);
+pub struct SensorBus(SharedBus<'static, FaultedChip>);
 
 // SAFETY: the chip model's cell is reached only through the sensor's bus and
 // the self-test delay, and the firmware hands both to the one data-ready
@@ -209,8 +222,13 @@ unsafe impl Send for SelfTestDelay {}
 
 impl SensorBus {
     /// The chip model.
-    fn chip(&self) -> core::cell::RefMut<'_, EmulatedChip> {
+    fn chip(&self) -> core::cell::RefMut<'_, FaultedChip> {
         self.0 .0.borrow_mut()
+    }
+
+    /// Tells the sample timer whether the chip raises data-ready now.
+    fn publish(&self) {
+        scheduled_faults::chip_raises(self.chip().gives_data_ready());
     }
 }
 
@@ -223,7 +241,9 @@ impl spi::SpiDevice for SensorBus {
         &mut self,
         operations: &mut [spi::Operation<'_, u8>],
     ) -> Result<(), Self::Error> {
-        in_model(|| self.0.transaction(operations))
+        let out = in_model(|| self.0.transaction(operations));
+        self.publish();
+        out
     }
 }
 
@@ -237,7 +257,9 @@ impl i2c::I2c for SensorBus {
         address: u8,
         operations: &mut [i2c::Operation<'_>],
     ) -> Result<(), Self::Error> {
-        in_model(|| self.0.transaction(address, operations))
+        let out = in_model(|| self.0.transaction(address, operations));
+        self.publish();
+        out
     }
 }
 
@@ -290,10 +312,11 @@ pub fn find_sensor(bus: SensorBus) -> Result<Sensor, DetectError<i2c::ErrorKind>
 }
 
 /// The chip model serving `model_source()` at `rate_hz` (the driver's
-/// default when `None`), in a static cell the driver's bus and the
-/// self-test's delay share, and its rate in Hz. build.rs admitted only
+/// default when `None`) behind the command line's fault schedule (its data
+/// ready every `watermark` samples), in a static cell the driver's bus and
+/// the self-test's delay share, and its rate in Hz. build.rs admitted only
 /// listed names; a rate the chip does not have stops the board, saying so.
-fn emulated_chip(rate_hz: Option<u32>) -> (&'static RefCell<EmulatedChip>, f64) {
+fn emulated_chip(rate_hz: Option<u32>, watermark: u16) -> (&'static RefCell<FaultedChip>, f64) {
     let Some(rate) = EmulatedChip::rate_hz(EMULATED_CHIP, rate_hz) else {
         defmt::error!(
             "the {} model has no output data rate of {} Hz",
@@ -304,7 +327,10 @@ fn emulated_chip(rate_hz: Option<u32>) -> (&'static RefCell<EmulatedChip>, f64) 
     };
     let chip =
         EmulatedChip::named_at(EMULATED_CHIP, rate_hz, model_source).unwrap_or_else(|| exit(false));
-    let cell = cortex_m::singleton!(: RefCell<EmulatedChip> = RefCell::new(chip))
+    let tick_us = triad::device::sample_period_us(rate / f64::from(watermark.max(1)));
+    let schedule = scheduled_faults::read(tick_us);
+    let chip = FaultedChip::new(chip, schedule, scheduled_faults::now_us);
+    let cell = cortex_m::singleton!(: RefCell<FaultedChip> = RefCell::new(chip))
         .unwrap_or_else(|| exit(false));
     (cell, rate)
 }
@@ -335,17 +361,21 @@ fn model_source(rate_hz: f64) -> source::Source {
 /// watermark; 1 without the FIFO).
 pub fn data_ready(sensor: &mut Sensor, samples: u16) {
     in_model(|| {
-        let mut chip = sensor.bus_mut().chip();
-        for _ in 0..samples {
-            chip.advance_one_sample();
+        let bus = sensor.bus_mut();
+        {
+            let mut chip = bus.chip();
+            for _ in 0..samples {
+                chip.advance_one_sample();
+            }
         }
+        bus.publish();
     });
 }
 
 /// The self-test's delay: each wait lets the chip model's time pass by as
 /// long, and busy-waits as long too, so the board's own time (the stream's
 /// timestamps, the steps lost while sampling paused) is what hardware shows.
-pub struct SelfTestDelay(ModelDelay<'static, EmulatedChip>);
+pub struct SelfTestDelay(ModelDelay<'static, FaultedChip>);
 
 impl embedded_hal::delay::DelayNs for SelfTestDelay {
     fn delay_ns(&mut self, ns: u32) {

@@ -62,8 +62,12 @@ pub struct SemihostingFlash {
     cut_after: Option<u32>,
 }
 
-/// The semihosting command line (`triad storage=PATH [cut-after=N]`) in `buf`.
-fn command_line(buf: &mut [u8; 256]) -> Option<&str> {
+/// Bytes of the semihosting command line the board reads.
+pub(crate) const COMMAND_LINE_MAX: usize = 512;
+
+/// The semihosting command line (`triad [fault=SPEC ...] storage=PATH
+/// [cut-after=N]`) in `buf`.
+pub(crate) fn command_line(buf: &mut [u8; COMMAND_LINE_MAX]) -> Option<&str> {
     // SYS_GET_CMDLINE takes a block {buffer, length} and writes the length back.
     let mut block = [buf.as_mut_ptr() as usize, buf.len()];
     // SAFETY: the block points at `buf`, which outlives the call.
@@ -79,7 +83,7 @@ fn command_line(buf: &mut [u8; 256]) -> Option<&str> {
 impl SemihostingFlash {
     /// Opens the file the command line names.
     pub fn open() -> Result<Self, Unavailable> {
-        let mut buf = [0u8; 256];
+        let mut buf = [0u8; COMMAND_LINE_MAX];
         let line = command_line(&mut buf).ok_or(Unavailable::NotConfigured)?;
         let mut path = None;
         let mut cut_after = None;
@@ -94,7 +98,7 @@ impl SemihostingFlash {
             cut_after = cut;
         }
         let path = path.ok_or(Unavailable::NotConfigured)?;
-        let mut zpath = [0u8; 257];
+        let mut zpath = [0u8; COMMAND_LINE_MAX + 1];
         zpath[..path.len()].copy_from_slice(path.as_bytes());
         // SAFETY: a NUL-terminated path in a live buffer; mode "r+b".
         let handle = unsafe { syscall!(OPEN, zpath.as_ptr(), nr::open::RW_BINARY, path.len()) };

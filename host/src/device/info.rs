@@ -58,6 +58,8 @@ pub fn render(info: &DeviceInfo, place: &str) -> String {
     outln!(out, "commands: {}", c.commands);
     outln!(out, "command errors: {}", c.command_errors);
     outln!(out, "rx overflows: {}", c.rx_overflows);
+    outln!(out, "sensor stalls: {}", c.sensor_stalls);
+    outln!(out, "sensor restarts: {}", c.sensor_restarts);
     let l = &info.load;
     // Each task's share, and its cycles per streamed frame (what a task
     // costs per sample with decimation 1).

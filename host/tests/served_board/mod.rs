@@ -68,6 +68,50 @@ impl ServedBoard {
     /// `cut_after` (0: the first) when given; returns once the port is known.
     /// The log goes to `storage` with `.log` appended (`-N.log` for the N-th run).
     pub fn start(storage: &Path, clock: Clock, cut_after: Option<u32>) -> ServedBoard {
+        Self::serve(storage, clock, cut_after, &[])
+    }
+
+    /// As [`ServedBoard::start`], the board showing `faults` (each a
+    /// `--fault` schedule entry of `xtask serve`).
+    #[allow(dead_code)] // the fault tests'
+    pub fn start_with_faults(storage: &Path, clock: Clock, faults: &[String]) -> ServedBoard {
+        Self::serve(storage, clock, None, faults)
+    }
+
+    /// As [`ServedBoard::start_with_faults`], serving the firmware `elf`
+    /// (another build than TRIAD_SERVE_ELF's).
+    #[allow(dead_code)] // the fault tests'
+    pub fn start_elf_with_faults(
+        elf: &Path,
+        storage: &Path,
+        clock: Clock,
+        faults: &[String],
+    ) -> ServedBoard {
+        Self::serve_elf(elf, storage, clock, None, faults)
+    }
+
+    fn serve(
+        storage: &Path,
+        clock: Clock,
+        cut_after: Option<u32>,
+        faults: &[String],
+    ) -> ServedBoard {
+        Self::serve_elf(
+            &env_path("TRIAD_SERVE_ELF"),
+            storage,
+            clock,
+            cut_after,
+            faults,
+        )
+    }
+
+    fn serve_elf(
+        elf: &Path,
+        storage: &Path,
+        clock: Clock,
+        cut_after: Option<u32>,
+        faults: &[String],
+    ) -> ServedBoard {
         let log = (0..)
             .map(|n| PathBuf::from(format!("{}-{n}.log", storage.display())))
             .find(|p| !p.exists())
@@ -76,7 +120,7 @@ impl ServedBoard {
         command
             .arg("serve")
             .arg("--elf")
-            .arg(env_path("TRIAD_SERVE_ELF"))
+            .arg(elf)
             .arg("--storage")
             .arg(storage);
         if clock == Clock::Deterministic {
@@ -84,6 +128,9 @@ impl ServedBoard {
         }
         if let Some(n) = cut_after {
             command.args(["--storage-cut-after", &n.to_string()]);
+        }
+        for fault in faults {
+            command.args(["--fault", fault]);
         }
         let mut child = command
             .stdin(Stdio::null())

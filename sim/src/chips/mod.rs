@@ -6,6 +6,7 @@ mod chip_model;
 #[cfg(feature = "scene-blob")]
 pub mod emulated_board;
 pub mod fault;
+pub mod fault_schedule;
 pub mod icm42688_factory_trim;
 pub mod icm42688_model;
 pub mod icm42688_registers;

@@ -299,6 +299,13 @@ impl<I: RegisterInterface> FifoImu for Icm42688<I> {
             .map_err(Error::Bus)?;
         let [status, count_high, count_low] = head;
         let count = u16::from_be_bytes([count_high, count_low]);
+        if count > reg::FIFO_CAPACITY_PACKETS {
+            // More than the FIFO holds: the count cannot be trusted, nor
+            // what reading that many would bring. Start the FIFO afresh;
+            // what it held is lost, at least the watermark that raised this.
+            self.reset_fifo()?;
+            return Ok(FifoRead::impossible_count(self.config.fifo));
+        }
         if status & reg::FIFO_FULL_INT != 0 {
             let mut lost = [0u8; 2];
             self.interface

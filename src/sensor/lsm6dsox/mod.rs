@@ -293,6 +293,13 @@ impl<I: RegisterInterface> FifoImu for Lsm6dsox<I> {
             .map_err(Error::Bus)?;
         let words = u16::from_le_bytes([status[0], status[1] & reg::DIFF_FIFO_HIGH_MASK]);
         let available = words / reg::WORDS_PER_SAMPLE;
+        if words > reg::FIFO_CAPACITY_WORDS {
+            // More than the FIFO holds: the count cannot be trusted, nor
+            // what reading that many would bring. Start the FIFO afresh;
+            // what it held is lost, at least the watermark that raised this.
+            self.reset_fifo()?;
+            return Ok(FifoRead::impossible_count(self.config.fifo));
+        }
         if status[1] & (reg::FIFO_OVR_IA | reg::FIFO_OVR_LATCHED) != 0 {
             self.reset_fifo()?;
             return Ok(FifoRead {

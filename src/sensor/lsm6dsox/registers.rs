@@ -102,6 +102,8 @@ pub const FIFO_MODE_CONTINUOUS: u8 = 0b110;
 pub const FIFO_OVR_IA: u8 = 1 << 6;
 /// FIFO_STATUS2 bit 3: overrun since the last read of FIFO_STATUS2 (latched).
 pub const FIFO_OVR_LATCHED: u8 = 1 << 3;
+/// FIFO depth, words: 3 KiB of 6-byte data words (DS12814 §1 "3 kbytes").
+pub const FIFO_CAPACITY_WORDS: u16 = 512;
 /// FIFO_STATUS2 bits 1:0: DIFF_FIFO bits 9:8.
 pub const DIFF_FIFO_HIGH_MASK: u8 = 0b11;
 

@@ -11,6 +11,7 @@ mod cores;
 mod host;
 mod plot;
 mod report;
+pub mod soak;
 mod whole_firmware;
 mod whole_firmware_report;
 

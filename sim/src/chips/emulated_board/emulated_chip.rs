@@ -87,6 +87,39 @@ macro_rules! define_emulated_chip {
                 }
             }
 
+            /// Injects a fault into the model (see [`Fault`](crate::chips::fault::Fault)).
+            pub fn inject(&mut self, fault: crate::chips::fault::Fault) {
+                match self {
+                    $(Self::$driver(model) => model.inject(fault),)+
+                }
+            }
+
+            /// Clears the model's persistent faults and pending bus errors.
+            pub fn clear_faults(&mut self) {
+                match self {
+                    $(Self::$driver(model) => model.clear_faults(),)+
+                }
+            }
+
+            /// Puts the chip back at its power-on registers (sensors off,
+            /// FIFO empty), as after its supply came back: the module's
+            /// `power_on_reset`, its own reset through its registers.
+            pub fn power_on_reset(&mut self) {
+                match self {
+                    $(Self::$driver(model) => $module::power_on_reset(model),)+
+                }
+            }
+
+            /// `byte` as read at `address` when the FIFO's count is
+            /// impossible (the module's `impossible_fifo_count`): the count
+            /// registers give a count beyond the FIFO's size, any other
+            /// register its own byte.
+            pub fn impossible_fifo_count(&self, address: u8, byte: u8) -> u8 {
+                match self {
+                    $(Self::$driver(_) => $module::impossible_fifo_count(address, byte),)+
+                }
+            }
+
             /// The samples the model has produced so far.
             pub fn samples_produced(&self) -> u64 {
                 match self {

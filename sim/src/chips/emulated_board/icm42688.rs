@@ -14,3 +14,28 @@ pub type Model = Icm42688Model<super::source::Source>;
 pub fn model(source: super::source::Source) -> Model {
     Icm42688Model::new(source)
 }
+
+/// Back at the power-on registers: bank 0 selected, then DEVICE_CONFIG's
+/// SOFT_RESET_CONFIG, which sets every register to its §13 reset value.
+pub fn power_on_reset(model: &mut Model) {
+    use crate::chips::icm42688_registers as reg;
+    use embedded_hal::spi::{Operation, SpiDevice};
+    for (address, value) in [
+        (reg::REG_BANK_SEL, 0),
+        (reg::DEVICE_CONFIG, reg::SOFT_RESET_CONFIG),
+    ] {
+        // The model's own SPI port: nothing fails once faults are cleared.
+        let _ = model.transaction(&mut [Operation::Write(&[address, value])]);
+    }
+}
+
+/// FIFO_COUNTH and FIFO_COUNTL (bank 0) reading 4095: records, as the
+/// driver counts them, where the FIFO holds 128.
+pub fn impossible_fifo_count(address: u8, byte: u8) -> u8 {
+    use crate::chips::icm42688_registers as reg;
+    match address {
+        reg::FIFO_COUNTH => 0x0F,
+        a if a == reg::FIFO_COUNTH + 1 => 0xFF,
+        _ => byte,
+    }
+}

@@ -7,11 +7,13 @@
 //! chip and pipeline from one source.
 
 mod emulated_chip;
+mod faulted_chip;
 pub mod icm42688;
 pub mod lsm6dsox;
 pub mod source;
 
 pub use emulated_chip::EmulatedChip;
+pub use faulted_chip::FaultedChip;
 
 use triad::device::board::BoardDescription;
 use triad::model::Orientation;

@@ -1,0 +1,363 @@
+//! The soak (issue 26): the emulated board at 1 kHz for hours of device
+//! time, a command storm every few seconds (identify, mode, decimation, an
+//! upload read back, a save, every tenth an erase), and a sensor fault every
+//! hour (vanish, brown-out, output stopped, data-ready held high, silent, a
+//! NACK storm, in turn). `cargo xtask bench --soak` builds the firmware and
+//! runs it; its figures go to stderr.
+//!
+//! Checked as it runs, on every frame: the stream loses nothing on the wire
+//! (no sequence gap, no damaged packet), and every data-ready period between
+//! two frames is a frame or a step the device counted lost (the gap in
+//! periods = the frames between + the `overruns` they reported: no
+//! unexplained gap). At the end, every device counter accounted for: steps
+//! lost = the frames' `overruns`; stalls = the silencing faults; read
+//! failures = the NACK storms' transactions; nothing dropped, no received
+//! byte lost; and the queues' high-water marks from the firmware's log.
+//!
+//! Environment (set by xtask): TRIAD_SOAK_XTASK (an xtask to serve with),
+//! TRIAD_SOAK_ELF, TRIAD_SOAK_BLOB (the calibration blob to upload),
+//! TRIAD_SOAK_SECONDS (device time), TRIAD_SOAK_FAULT_EVERY (s, default 3600),
+//! TRIAD_SOAK_STORM_EVERY (s, default 5), TRIAD_SOAK_DIR (its files).
+
+use std::io::{BufRead, BufReader};
+use std::path::PathBuf;
+use std::process::{Child, Command as Process, Stdio};
+use std::time::{Duration, Instant};
+
+use triad::protocol::{Command, Mode, Packet};
+use triad::protocol::{DecoderStats, Frame};
+use triad_host::device::link::{Link, Settings};
+use triad_host::device::{identify, transfer};
+
+/// The transactions a NACK storm fails: one sample read each.
+const STORM_TRANSACTIONS: u32 = 30;
+/// Each silencing fault lasts this long, s.
+const FAULT_S: f64 = 0.5;
+/// The fault kinds, one an hour in turn.
+const KINDS: [&str; 6] = [
+    "vanish",
+    "brownout",
+    "stop",
+    "drdy-high",
+    "drdy-silent",
+    "nack",
+];
+
+fn env(name: &str) -> String {
+    std::env::var(name).unwrap_or_else(|_| panic!("{name} is set by cargo xtask bench --soak"))
+}
+
+fn env_f64(name: &str, default: f64) -> f64 {
+    std::env::var(name)
+        .ok()
+        .map(|v| {
+            v.parse()
+                .unwrap_or_else(|_| panic!("{name}={v}: not a number"))
+        })
+        .unwrap_or(default)
+}
+
+/// The schedule: kind k from (k + ½)·every, then every 6·every.
+fn schedule(every: f64) -> Vec<String> {
+    KINDS
+        .iter()
+        .enumerate()
+        .map(|(k, kind)| {
+            let at = (k as f64 + 0.5) * every;
+            let period = 6.0 * every;
+            match *kind {
+                "nack" => format!("nack@{at}*{STORM_TRANSACTIONS}/{period}"),
+                _ => format!("{kind}@{at}+{FAULT_S}/{period}"),
+            }
+        })
+        .collect()
+}
+
+/// Occurrences of kind `k` that have ended by `t` s.
+fn occurrences(k: usize, every: f64, t: f64) -> u64 {
+    let first_end = (k as f64 + 0.5) * every + FAULT_S;
+    if t < first_end {
+        return 0;
+    }
+    ((t - first_end) / (6.0 * every)).floor() as u64 + 1
+}
+
+/// `xtask serve` on the firmware, deterministic; its port.
+fn serve(dir: &std::path::Path, faults: &[String]) -> (Child, String, PathBuf) {
+    let log = dir.join("serve.log");
+    let mut command = Process::new(env("TRIAD_SOAK_XTASK"));
+    command
+        .args(["serve", "--deterministic", "--elf", &env("TRIAD_SOAK_ELF")])
+        .arg("--storage")
+        .arg(dir.join("storage.bin"));
+    for fault in faults {
+        command.args(["--fault", fault]);
+    }
+    let _ = std::fs::remove_file(dir.join("storage.bin"));
+    let mut child = command
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(std::fs::File::create(&log).expect("the serve log"))
+        .spawn()
+        .expect("starting xtask serve");
+    let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
+    let port = lines
+        .next()
+        .and_then(Result::ok)
+        .expect("xtask serve printed its port");
+    std::thread::spawn(move || for _ in lines {});
+    (child, port, log)
+}
+
+/// The frames' accounting: every period between two frames seen.
+#[derive(Default)]
+struct Accounting {
+    last: Option<(Frame, DecoderStats)>,
+    device_us: u64,
+    frames_seen: u64,
+    first_sequence: u32,
+    unexplained: u64,
+}
+
+impl Accounting {
+    fn frame(&mut self, frame: Frame, stats: DecoderStats, period_us: f64) {
+        self.frames_seen += 1;
+        if self.last.is_none() {
+            // Device time from the board's start, as the fault schedule's.
+            self.device_us = u64::from(frame.timestamp_us);
+            self.first_sequence = frame.sequence;
+        }
+        if frame.overruns > 0 && std::env::var_os("TRIAD_SOAK_TRACE").is_some() {
+            eprintln!(
+                "soak: frame {} at {:.3} s: {} steps lost",
+                frame.sequence,
+                self.device_us as f64 * 1e-6,
+                frame.overruns
+            );
+        }
+        if let Some((a, sa)) = self.last.replace((frame, stats)) {
+            let gap_us = frame.timestamp_us.wrapping_sub(a.timestamp_us);
+            self.device_us += u64::from(gap_us);
+            let periods = (f64::from(gap_us) / period_us).round() as u64;
+            // Frames in between (read past by a command's wait) count one
+            // period each, with the steps lost they reported.
+            let frames = u64::from(frame.sequence.wrapping_sub(a.sequence));
+            let lost = stats.device_overruns - sa.device_overruns;
+            if periods != frames + lost {
+                self.unexplained += 1;
+                if self.unexplained <= 5 {
+                    eprintln!(
+                        "soak: unexplained gap at {:.3} s: {periods} periods between frames {} \
+                         and {}, {lost} steps counted lost",
+                        self.device_us as f64 * 1e-6,
+                        a.sequence,
+                        frame.sequence
+                    );
+                }
+            }
+        }
+    }
+
+    fn seconds(&self) -> f64 {
+        self.device_us as f64 * 1e-6
+    }
+}
+
+/// One command storm; the commands that failed.
+fn storm<P: std::io::Read + std::io::Write>(link: &mut Link<P>, blob: &[u8], n: u64) -> u64 {
+    let mut failed = 0;
+    let mut check = |what: &str, ok: Result<(), String>| {
+        if let Err(e) = ok {
+            failed += 1;
+            eprintln!("soak: {what} failed: {e}");
+        }
+    };
+    check(
+        "identify",
+        identify(link).map(drop).map_err(|e| e.to_string()),
+    );
+    check(
+        "mode",
+        link.command(&Command::SetMode(Mode::Calibrated))
+            .map(drop)
+            .map_err(|e| e.to_string()),
+    );
+    check(
+        "decimation",
+        link.command(&Command::SetDecimation(1))
+            .map(drop)
+            .map_err(|e| e.to_string()),
+    );
+    check(
+        "upload",
+        transfer::upload(link, blob)
+            .map(drop)
+            .map_err(|e| e.to_string()),
+    );
+    check(
+        "read back",
+        match transfer::download(link) {
+            Ok(Some(back)) if back == blob => Ok(()),
+            Ok(other) => Err(format!(
+                "{:?} bytes, not the upload",
+                other.map(|b| b.len())
+            )),
+            Err(e) => Err(e.to_string()),
+        },
+    );
+    check(
+        "save",
+        link.command(&Command::Save)
+            .map(drop)
+            .map_err(|e| e.to_string()),
+    );
+    if n % 10 == 9 {
+        check(
+            "erase",
+            link.command(&Command::Erase)
+                .map(drop)
+                .map_err(|e| e.to_string()),
+        );
+    }
+    failed
+}
+
+/// The last queue high-water line in the firmware's log.
+fn high_water(log: &std::path::Path) -> String {
+    std::fs::read_to_string(log)
+        .unwrap_or_default()
+        .lines()
+        .rev()
+        .find_map(|l| {
+            l.split_once("queue high-water: ")
+                .map(|(_, m)| m.to_string())
+        })
+        .unwrap_or_else(|| "not logged".into())
+}
+
+fn main() {
+    let seconds = env_f64("TRIAD_SOAK_SECONDS", 86_400.0);
+    let every = env_f64("TRIAD_SOAK_FAULT_EVERY", 3600.0);
+    let storm_every = env_f64("TRIAD_SOAK_STORM_EVERY", 5.0);
+    let dir = PathBuf::from(env("TRIAD_SOAK_DIR"));
+    std::fs::create_dir_all(&dir).expect("the soak's directory");
+    let blob = std::fs::read(env("TRIAD_SOAK_BLOB")).expect("the calibration blob");
+    let faults = schedule(every);
+    eprintln!(
+        "soak: {seconds} s of device time, a fault every {every} s ({}), a command storm every \
+         {storm_every} s",
+        faults.join(" ")
+    );
+    let (mut child, port, log) = serve(&dir, &faults);
+    let serial = triad_host::plumbing::serial::open(&port, 921_600, Duration::from_millis(20))
+        .expect("opening the served port");
+    let settings = Settings {
+        timeout: Duration::from_secs(5),
+        tries: 3,
+    };
+    let mut link = Link::new(serial, settings, format!("on {port}"), 0x5000);
+    let info = identify(&mut link).expect("identify at start");
+    let period_us = 1e6 / f64::from(info.sample_rate_hz);
+
+    let started = Instant::now();
+    let mut acc = Accounting::default();
+    let (mut storms, mut failed, mut damaged) = (0u64, 0u64, 0u64);
+    let mut next_storm = storm_every;
+    let note_every = 600.0_f64.min(seconds / 10.0);
+    let mut next_note = note_every;
+    while acc.seconds() < seconds {
+        match link.next_packet(Instant::now() + Duration::from_secs(60)) {
+            Ok(Some(Ok(Packet::Data(frame)))) => {
+                let stats = *link.stats();
+                acc.frame(frame, stats, period_us);
+            }
+            Ok(Some(Ok(_))) => {}
+            Ok(Some(Err(_))) => damaged += u64::from(acc.frames_seen > 0),
+            Ok(None) => panic!(
+                "soak: no packet for 60 s at {:.1} s of device time; serve's log: {}",
+                acc.seconds(),
+                log.display()
+            ),
+            Err(e) => panic!("soak: the link failed at {:.1} s: {e}", acc.seconds()),
+        }
+        if acc.seconds() >= next_storm {
+            failed += storm(&mut link, &blob, storms);
+            storms += 1;
+            next_storm += storm_every;
+        }
+        if acc.seconds() >= next_note {
+            let wall = started.elapsed().as_secs_f64();
+            eprintln!(
+                "soak: {:.0} s of device time in {wall:.0} s ({:.2}× real time)",
+                acc.seconds(),
+                acc.seconds() / wall
+            );
+            next_note = acc.seconds() + note_every;
+        }
+    }
+    let wall = started.elapsed().as_secs_f64();
+    let end = identify(&mut link).expect("identify at the end");
+    let stats = *link.stats();
+    let _ = child.kill();
+    let _ = child.wait();
+
+    let t = acc.seconds();
+    let c = end.counters;
+    let silencing: u64 = (0..5).map(|k| occurrences(k, every, t)).sum();
+    let storms_of_nack = occurrences(5, every, t);
+    let rate = t / wall;
+    eprintln!(
+        "soak: {t:.0} s of device time at {:.0} Hz in {wall:.0} s of wall time: {rate:.2}× real \
+         time; 24 h of device time would take {:.1} h",
+        info.sample_rate_hz,
+        86_400.0 / rate / 3600.0
+    );
+    eprintln!(
+        "soak: {} frames seen from sequence {} ({} sent), {storms} command storms ({} commands, {} answered busy \
+         and asked again), {failed} commands failed",
+        acc.frames_seen, acc.first_sequence, c.frames_sent, c.commands, c.command_errors
+    );
+    eprintln!(
+        "soak: faults: {silencing} silencing data-ready, {storms_of_nack} NACK storms of \
+         {STORM_TRANSACTIONS}; device: {} stalls, {} restarts, {} read failures, {} steps lost",
+        c.sensor_stalls, c.sensor_restarts, c.read_failures, c.overruns
+    );
+    eprintln!("soak: queue high-water: {}", high_water(&log));
+    let checks = [
+        ("unexplained gaps", acc.unexplained, 0),
+        ("sequence gaps on the wire", stats.sequence_gaps, 0),
+        ("damaged packets", damaged + stats.crc_errors, 0),
+        ("commands failed", failed, 0),
+        (
+            "steps lost: device − frames",
+            u64::from(c.overruns),
+            stats.device_overruns,
+        ),
+        ("stalls", u64::from(c.sensor_stalls), silencing),
+        (
+            "read failures",
+            u64::from(c.read_failures),
+            storms_of_nack * u64::from(STORM_TRANSACTIONS),
+        ),
+        ("frames dropped", u64::from(c.frames_dropped), 0),
+        ("received bytes lost", u64::from(c.rx_overflows), 0),
+    ];
+    let mut bad = 0;
+    for (what, got, want) in checks {
+        let ok = got == want;
+        bad += u32::from(!ok);
+        eprintln!(
+            "soak: {what}: {got}{}",
+            if ok {
+                String::new()
+            } else {
+                format!(" (expected {want})")
+            }
+        );
+    }
+    if bad > 0 {
+        eprintln!("soak: {bad} checks failed");
+        std::process::exit(1);
+    }
+    eprintln!("soak: every counter accounted for");
+}
