@@ -1,29 +1,32 @@
 //! The triad firmware: an RTIC 2 application that is wiring only. Every
 //! decision lives in the core (`triad::device`: which calibration starts, the
 //! data-ready step, the command handler), where host tests call it; the board
-//! crate (chosen by a cargo feature) owns the peripherals, the sensor's bus
-//! (SPI, or I²C with the `bus-i2c` feature) and the calibration flash. The
+//! crate (chosen by a cargo feature, seen only through the core's contract
+//! `triad::device::board::Board`) owns the peripherals, the sensor's bus
+//! (SPI, or I²C with its `bus-i2c` feature) and the calibration flash. The
 //! chip is found on that bus by its identity (`triad::sensor::AnyChip`), so
 //! nothing here names a chip and one build serves every chip triad drives.
 //!
 //! Tasks, highest priority first (RTIC 2: every interrupt the firmware
 //! uses is bound here, so RTIC's analysis covers them all; state moves
-//! between tasks through rtic-sync channels):
-//! - the board's own interrupt, priority 4: the emulated board's sample
+//! between tasks through rtic-sync channels). Each binds one of the fixed
+//! names the board's `vectors` module numbers and its memory.x maps to its
+//! own vectors (named below as on both boards):
+//! - `board_own` (BOARD_OWN), priority 4: the emulated board's sample
 //!   timer (TIM2, the chip's data-ready edge), or the NUCLEO's transmit DMA
 //!   (DMA1_STREAM6, which ends and starts runs of the transmit ring). Short,
 //!   and no shared state: it only wakes the transmitter when room was freed.
-//! - `data_ready` (EXTI0, priority 3): applies the command handler's pending
+//! - `data_ready` (DATA_READY: EXTI0, priority 3): applies the command handler's pending
 //!   changes, then reads, corrects, averages and frames one sample; queues
 //!   the frame for the transmitter without waiting (dropping and counting
 //!   it when the queue is full) and wakes it. Built with a FIFO watermark W > 1
 //!   (`TRIAD_FIFO_WATERMARK`), the chip's interrupt signals W samples
 //!   waiting, and the task drains the FIFO into batch frames (or per-sample
 //!   frames in raw mode or when averaging).
-//! - `link_rx` (USART2's interrupt, priority 2): sends received bytes to the
+//! - `link_rx` (LINK: USART2's interrupt, priority 2): sends received bytes to the
 //!   command task; never waits. On the emulated board it also drains the
 //!   transmit ring (QEMU's USART has no DMA).
-//! - `commands` (async, priority 1): decodes received commands and answers
+//! - `commands` (async, priority 1, run from DISPATCH: EXTI1): decodes received commands and answers
 //!   each through the core's `CommandHandler`; its replies wait for room in
 //!   the transmit channel (never dropped).
 //! - `transmit` (async, priority 1): puts replies and frames on the line,
@@ -40,12 +43,14 @@
 #![no_std]
 #![no_main]
 
-#[cfg(feature = "board-nucleo-f401re")]
-use triad_board_nucleo_f401re as board;
-#[cfg(feature = "board-qemu")]
-use triad_board_qemu as board;
+// `use triad_board_<name> as board;` for the board the features name (build.rs).
+include!(concat!(env!("OUT_DIR"), "/board.rs"));
 
+use triad::device::board::Board as _;
 use triad::device::SharedCounters;
+
+/// The board, through its contract (`triad::device::board::Board`).
+type B = board::Board;
 
 // The sampling settings chosen at build time (`TRIAD_SAMPLE_RATE_HZ`,
 // `TRIAD_FIFO_WATERMARK`, see build.rs): `SETTINGS`.
@@ -58,19 +63,12 @@ static CALIBRATION_BLOB: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/calib
 /// this ELF to open the host's port at the board's rate.
 #[used]
 #[no_mangle]
-static TRIAD_LINK_BAUD: u32 = board::DESCRIPTION.baud;
+static TRIAD_LINK_BAUD: u32 = B::DESCRIPTION.baud;
 
 /// Frames waiting for the line; when full, new frames are dropped and counted.
 const QUEUE_LEN: usize = 32;
 /// Received bytes waiting for the command decoder: two longest packets.
 const RX_QUEUE_LEN: usize = 512;
-
-/// The sensor bus's name, as `identify` reports it.
-#[cfg(feature = "bus-i2c")]
-const BUS: &str = "i2c";
-/// The sensor bus's name, as `identify` reports it.
-#[cfg(not(feature = "bus-i2c"))]
-const BUS: &str = "spi";
 
 /// The device's counters, written by the tasks that count and read by the
 /// command handler.
@@ -81,15 +79,17 @@ mod run_time;
 mod start;
 mod wire;
 
-#[rtic::app(device = crate::board::pac, dispatchers = [EXTI1])]
+// The board names its own vectors: RTIC binds the fixed names of its
+// `vectors` module, and its memory.x maps its vectors to them.
+#[rtic::app(device = crate::board::vectors, dispatchers = [DISPATCH])]
 mod app {
     use crate::received::{self, RX_WAKER};
     use crate::wire::{self, OUTGOING, TX_ROOM};
-    use crate::{board, COUNTERS, QUEUE_LEN, RX_QUEUE_LEN, SETTINGS};
+    use crate::{COUNTERS, QUEUE_LEN, RX_QUEUE_LEN, SETTINGS};
     use heapless::spsc::{Consumer, Producer, Queue};
     use rtic_sync::channel::{Receiver, Sender};
     use rtic_sync::make_channel;
-    use triad::device::board::{LinkRx, LinkTx};
+    use triad::device::board::{Board, LinkRx, LinkTx};
     use triad::device::{
         on_data_ready, on_fifo_ready, CommandHandler, Control, Handled, LoadWindow, Outgoing,
         Sampler, Stepped, Task,
@@ -98,10 +98,13 @@ mod app {
     use triad::sensor::{SelfTestError, SelfTestReport};
     use triad::stream::Decoder;
 
+    /// The board, through its contract.
+    type B = crate::B;
+
     /// A self-test's outcome, with the sequence number of its command.
     type SelfTestDone = (
         u16,
-        Result<SelfTestReport, SelfTestError<board::SensorBusError>>,
+        Result<SelfTestReport, SelfTestError<<B as Board>::SensorBusError>>,
     );
 
     /// The load goes to the log every this many seconds.
@@ -112,11 +115,11 @@ mod app {
 
     #[local]
     struct Local {
-        sample_line: board::SampleLine,
-        clock: board::MicrosecondClock,
-        sensor: board::Sensor,
+        sample_line: <B as Board>::SampleLine,
+        clock: <B as Board>::Clock,
+        sensor: crate::start::Sensor,
         sampler: Sampler,
-        self_test_delay: board::SelfTestDelay,
+        self_test_delay: <B as Board>::SelfTestDelay,
         /// data_ready → transmit: frames (woken by [`OUTGOING`]).
         frames_in: Producer<'static, Outgoing>,
         /// commands → data_ready: changes, applied between two samples.
@@ -125,13 +128,13 @@ mod app {
         self_tests_out: Receiver<'static, u16, 1>,
         /// data_ready → commands: its outcome.
         self_tests_done_in: Sender<'static, SelfTestDone, 1>,
-        serial_rx: board::SerialRx,
+        serial_rx: <B as Board>::SerialRx,
         /// link_rx → commands: received bytes (a byte stream: a lock-free
         /// queue and a waker, where a channel would cost a critical section
         /// per byte).
         rx_in: Producer<'static, u8>,
         // The command task's.
-        handler: CommandHandler<board::Flash>,
+        handler: CommandHandler<<B as Board>::Flash>,
         decoder: Decoder,
         rx_out: Consumer<'static, u8>,
         /// commands → transmit: replies.
@@ -140,7 +143,7 @@ mod app {
         self_tests_in: Sender<'static, u16, 1>,
         self_tests_done_out: Receiver<'static, SelfTestDone, 1>,
         // The transmitter's.
-        serial: board::Serial,
+        serial: <B as Board>::Serial,
         frames_out: Consumer<'static, Outgoing>,
         replies_out: Receiver<'static, Reply, 1>,
     }
@@ -150,7 +153,7 @@ mod app {
         frames: Queue<Outgoing, QUEUE_LEN> = Queue::new(),
     ])]
     fn init(cx: init::Context) -> (Shared, Local) {
-        let b = board::init(cx.device, &SETTINGS);
+        let b = B::init(cx.device, &SETTINGS);
         let started = crate::start::start(b.sensor_bus, b.flash);
         let (frames_in, frames_out) = cx.local.frames.split();
         let (replies, replies_out) = make_channel!(Reply, 1);
@@ -198,46 +201,45 @@ mod app {
     fn idle(_: idle::Context) -> ! {
         loop {
             cortex_m::interrupt::free(|_| {
-                let before = board::cycles();
+                let before = B::cycles();
                 cortex_m::asm::wfi();
-                crate::run_time::slept(board::cycles().wrapping_sub(before));
+                crate::run_time::slept(B::cycles().wrapping_sub(before));
             });
         }
     }
 
-    /// The emulated board's data-ready edge: its sample timer pends EXTI0,
-    /// as the chip's INT1 does on a real board.
-    #[cfg(feature = "board-qemu")]
-    #[task(binds = TIM2, priority = 4)]
-    fn sample_timer(_: sample_timer::Context) {
+    /// The board's own interrupt: the emulated board's sample timer (which
+    /// pends the data-ready line, as the chip's INT1 does on a real board),
+    /// or the NUCLEO's transmit DMA (a run of the transmit ring ended: the
+    /// transmitter may have room again).
+    #[task(binds = BOARD_OWN, priority = 4)]
+    fn board_own(_: board_own::Context) {
         let run = crate::run_time::begin();
-        board::sample_timer_edge();
-        // The chip's own edge: the model's time, not the firmware's.
-        crate::run_time::end(run, Task::ChipModel);
-    }
-
-    /// The NUCLEO's transmit DMA: a run of the transmit ring ended (or was
-    /// asked for); the transmitter may have room again.
-    #[cfg(feature = "board-nucleo-f401re")]
-    #[task(binds = DMA1_STREAM6, priority = 4)]
-    fn transmit_dma(_: transmit_dma::Context) {
-        if board::transmit_dma_interrupt() {
+        let done = B::own_interrupt();
+        if done.transmit_room {
             TX_ROOM.wake();
         }
+        // The chip's own edge is the model's time, not the firmware's.
+        let task = if done.chip_model {
+            Task::ChipModel
+        } else {
+            Task::Link
+        };
+        crate::run_time::end(run, task);
     }
 
-    /// The data-ready step: the IMU's data-ready line is EXTI0 on every board
-    /// (on the emulated board its sample timer pends it).
-    #[task(binds = EXTI0, priority = 3, local = [sample_line, clock, sensor, sampler, frames_in, controls_out, self_test_delay, self_tests_out, self_tests_done_in, load_window: LoadWindow = LoadWindow::new(), windows: u32 = 0, slept_then: u32 = 0])]
+    /// The data-ready step, on the IMU's data-ready line (on the emulated
+    /// board its sample timer pends it).
+    #[task(binds = DATA_READY, priority = 3, local = [sample_line, clock, sensor, sampler, frames_in, controls_out, self_test_delay, self_tests_out, self_tests_done_in, load_window: LoadWindow = LoadWindow::new(), windows: u32 = 0, slept_then: u32 = 0])]
     fn data_ready(cx: data_ready::Context) {
         let run = crate::run_time::begin();
-        let model = board::model_cycles();
+        let model = B::model_cycles();
         let l = cx.local;
         // The window closes here; its log waits until the sample is read,
         // so that writing it does not delay the step's timestamp.
         let closed = l
             .load_window
-            .tick(run.start(), board::CYCLES_HZ, &COUNTERS.load);
+            .tick(run.start(), B::CYCLES_HZ, &COUNTERS.load);
         let mut slept = 0;
         if closed.is_some() {
             *l.windows += 1;
@@ -250,7 +252,7 @@ mod app {
         let log = closed.filter(|_| *l.windows % LOG_LOAD_EVERY == 2);
         step(l);
         if let Some(shares) = log {
-            let load = COUNTERS.load.load(board::CYCLES_HZ);
+            let load = COUNTERS.load.load(B::CYCLES_HZ);
             defmt::info!(
                 "load ‰: data-ready {}, link {}, receive {}, chip model {}",
                 shares[0],
@@ -269,7 +271,7 @@ mod app {
                 slept
             );
         }
-        let model = board::model_cycles().wrapping_sub(model);
+        let model = B::model_cycles().wrapping_sub(model);
         crate::run_time::end_with_model(run, Task::DataReady, model);
     }
 
@@ -291,7 +293,8 @@ mod app {
                 ..
             }) = result
             {
-                if l.sensor.start_with(&mut board::Delay, &SETTINGS).is_err() {
+                let mut delay = <B as Board>::Delay::default();
+                if l.sensor.start_with(&mut delay, &SETTINGS).is_err() {
                     defmt::error!("the chip did not restart after its self-test");
                 }
             }
@@ -306,7 +309,7 @@ mod app {
                 l.clock,
                 l.sensor,
                 l.sampler,
-                |sensor| board::data_ready(sensor, SETTINGS.watermark),
+                |sensor| B::data_ready(sensor, SETTINGS.watermark),
                 |frame| frames_in.enqueue(frame).is_ok(),
             );
             if let Some(error) = stepped.read_failed {
@@ -319,7 +322,7 @@ mod app {
                 l.clock,
                 l.sensor,
                 l.sampler,
-                |sensor| board::data_ready(sensor, 1),
+                |sensor| B::data_ready(sensor, 1),
                 |frame| frames_in.enqueue(frame),
             );
             if let Stepped::ReadFailed(error) = &stepped {
@@ -333,11 +336,10 @@ mod app {
         }
     }
 
-    /// The link's USART interrupt: USART2 on both boards (the NUCLEO's
-    /// ST-LINK virtual COM port; QEMU's second serial port). It receives,
-    /// and on the emulated board it also transmits what the transmitter
-    /// queued.
-    #[task(binds = USART2, priority = 2, local = [serial_rx, rx_in])]
+    /// The link's interrupt (USART2 on both boards: the NUCLEO's ST-LINK
+    /// virtual COM port; QEMU's second serial port). It receives, and on
+    /// the emulated board it also transmits what the transmitter queued.
+    #[task(binds = LINK, priority = 2, local = [serial_rx, rx_in])]
     fn link_rx(cx: link_rx::Context) {
         let run = crate::run_time::begin();
         let (serial_rx, rx_in) = (cx.local.serial_rx, cx.local.rx_in);
@@ -445,5 +447,5 @@ mod app {
 #[panic_handler]
 fn panic(_: &core::panic::PanicInfo) -> ! {
     // Nothing in the firmware is meant to panic; if it does, stop loudly.
-    board::exit(false)
+    B::exit(false)
 }

@@ -108,7 +108,7 @@ enum Command {
 #[derive(clap::Args)]
 pub struct FirmwareArgs {
     /// The board: `qemu` (emulated, the default) or `nucleo-f401re` (hardware via probe-rs).
-    #[arg(long, default_value = "qemu")]
+    #[arg(long, default_value = "qemu", value_parser = board::Board::parse)]
     board: board::Board,
     /// The emulated board's chip model (the firmware finds it on the bus, as
     /// it finds the chip fitted to a hardware board).
@@ -243,8 +243,8 @@ fn run(args: RunArgs) -> anyhow::Result<()> {
         args.seconds
     );
     let (elf, triad) = build(&args.firmware)?;
-    match args.firmware.board {
-        board::Board::Qemu => {
+    match args.firmware.board.probe_rs_chip() {
+        None => {
             let stop = qemu::Stop::Seconds(args.seconds);
             let status = qemu::stream_to_decoder(&elf, &triad, stop, qemu::Inherit)?;
             // The reader of stdout left (`| head`): triad decode stopped
@@ -255,13 +255,13 @@ fn run(args: RunArgs) -> anyhow::Result<()> {
             anyhow::ensure!(status.success(), "triad decode exited with {status}");
             Ok(())
         }
-        board::Board::NucleoF401re => cmd::run_on_hardware(&elf, &triad, &args.port, args.seconds),
+        Some(chip) => cmd::run_on_hardware(&elf, &triad, chip, &args.port, args.seconds),
     }
 }
 
 fn serve_command(args: ServeArgs) -> anyhow::Result<()> {
     anyhow::ensure!(
-        args.firmware.board == board::Board::Qemu,
+        args.firmware.board.is_emulated(),
         "--board {}: serve runs the emulated board; a hardware board is served by itself \
          (talk to its port with triad device --port)",
         args.firmware.board.name()
@@ -275,7 +275,7 @@ fn serve_command(args: ServeArgs) -> anyhow::Result<()> {
     };
     let elf = match args.elf {
         Some(elf) => {
-            setup::ensure_for(board::Board::Qemu)?;
+            setup::ensure_for(board::Board::emulated())?;
             elf
         }
         None => build(&args.firmware)?.0,
@@ -294,8 +294,8 @@ fn build(args: &FirmwareArgs) -> anyhow::Result<(std::path::PathBuf, std::path::
     setup::ensure_for(args.board)?;
     let triad = cmd::build_host_tool()?;
     let calibration = cmd::pack_calibration(&triad, args.calib.as_deref())?;
-    let emulated_chip = match (args.board, args.sensor.as_deref()) {
-        (board::Board::Qemu, chip) => {
+    let emulated_chip = match (args.board.is_emulated(), args.sensor.as_deref()) {
+        (true, chip) => {
             let chip = chip.unwrap_or(triad::sensor::CHIP_NAMES[0]);
             triad::sensor::CHIP_NAMES
                 .iter()
@@ -303,10 +303,10 @@ fn build(args: &FirmwareArgs) -> anyhow::Result<(std::path::PathBuf, std::path::
                 .find(|c| *c == chip)
         }
         (_, None) => None,
-        (board, Some(chip)) => anyhow::bail!(
+        (false, Some(chip)) => anyhow::bail!(
             "--sensor {chip}: the {} firmware finds whichever chip is fitted; \
              --sensor names the emulated board's chip model",
-            board.name()
+            args.board.name()
         ),
     };
     let firmware = board::Firmware {

@@ -97,7 +97,7 @@ pub fn run(scope: Scope) -> Result<()> {
         // What `cargo xtask run --board nucleo-f401re` reads to open the port.
         let baud = crate::elf_facts::link_baud(&elf)?;
         note!("xtask: {} links at {baud} baud", firmware.label());
-        if firmware.board == Board::Qemu {
+        if firmware.board.is_emulated() {
             qemu_elves.push((firmware, elf));
         }
     }
@@ -151,7 +151,7 @@ pub fn run(scope: Scope) -> Result<()> {
     // The procedure a person runs on a board, against the emulated one.
     note!("xtask: the hardware-in-the-loop procedure (`cargo xtask hil`) on the emulated board");
     hil::run(hil::HilArgs {
-        board: Board::Qemu,
+        board: Board::emulated(),
         port: None,
         bus: firmware.bus,
         sensor: firmware.emulated_chip.map(str::to_string),

@@ -26,7 +26,8 @@ mod serial_rx;
 mod serial_tx;
 pub use flash::{Flash, FlashError, StorageUnavailable, STORAGE_SLOTS};
 pub use serial_rx::SerialRx;
-pub use serial_tx::{transmit_dma_interrupt, Serial, TX_BUFFER_LEN};
+use serial_tx::transmit_dma_interrupt;
+pub use serial_tx::{Serial, TX_BUFFER_LEN};
 
 use stm32f4xx_hal::dma::StreamsTuple;
 use stm32f4xx_hal::gpio::{self, Edge, ExtiPin as _, GpioExt as _, Input, PinState};
@@ -35,7 +36,7 @@ use stm32f4xx_hal::serial::{self, SerialExt as _};
 use stm32f4xx_hal::syscfg::{SysCfg, SysCfgExt as _};
 use stm32f4xx_hal::time::{Bps, Hertz};
 use stm32f4xx_hal::timer::FTimerUs;
-use triad::device::board::{BoardDescription, DataReadyLine};
+use triad::device::board::{BoardDescription, DataReadyLine, OwnInterrupt, Parts};
 use triad::model::Orientation;
 #[cfg(feature = "bus-i2c")]
 use triad::sensor::interface::I2cInterface;
@@ -46,7 +47,7 @@ use triad::sensor::{AnyChip, DetectError};
 /// This board's facts that the stream depends on. The link's baud rate is
 /// 921600 unless the build sets `TRIAD_LINK_BAUD` (e.g. 2000000, the
 /// ST-LINK virtual COM port's top rate, which 8 kHz batches need).
-pub const DESCRIPTION: BoardDescription = BoardDescription {
+const DESCRIPTION: BoardDescription = BoardDescription {
     name: "nucleo-f401re",
     orientation: Orientation::RotationNone,
     decimation: 1,
@@ -92,32 +93,76 @@ const ST_LINK_MCO_HZ: u32 = 8_000_000;
 /// HSE_STARTUP_TIMEOUT), in steps of at least 1 ms at HSI's 16 MHz.
 const HSE_TIMEOUT_MS: u32 = 100;
 
-/// The peripherals the application uses.
-pub struct Board {
-    /// The IMU's data-ready line (PB0, EXTI0).
-    pub sample_line: SampleLine,
-    /// Microsecond timestamps for the stream (TIM5).
-    pub clock: MicrosecondClock,
-    /// The stream's transmitter (USART2 by DMA; interrupt DMA1_STREAM6,
-    /// handled here).
-    pub serial: Serial,
-    /// The commands' receiver (USART2 by DMA; interrupt USART2).
-    pub serial_rx: SerialRx,
-    /// The IMU's bus, SPI1 or I²C1, for [`find_sensor`].
-    pub sensor_bus: SensorBus,
-    /// The calibration flash (sectors 6 and 7): always there on this board.
-    pub flash: Result<Flash, StorageUnavailable>,
-    /// The delay the chip's self-test waits with (the chip samples on its own).
-    pub self_test_delay: SelfTestDelay,
+#[cfg(all(feature = "bus-spi", feature = "bus-i2c"))]
+compile_error!("one bus per build: features bus-spi and bus-i2c are on together");
+
+/// The NUCLEO-F401RE, as the firmware sees it ([`triad::device::board::Board`]).
+pub struct Board;
+
+// The firmware's interrupts as this board's vectors (memory.x maps them too).
+triad::board_vectors!(
+    pac = stm32f4xx_hal::pac,
+    data_ready = EXTI0,
+    link = USART2,
+    board_own = DMA1_STREAM6,
+    dispatch = EXTI1,
+);
+
+impl triad::device::board::Board for Board {
+    type Peripherals = pac::Peripherals;
+    type SampleLine = SampleLine;
+    type Clock = MicrosecondClock;
+    type Serial = Serial;
+    type SerialRx = SerialRx;
+    type SensorBus = SensorBus;
+    type SensorInterface = SensorInterface;
+    type SensorBusError = SensorBusError;
+    type Flash = Flash;
+    type StorageUnavailable = StorageUnavailable;
+    type SelfTestDelay = Delay;
+    type Delay = Delay;
+
+    const DESCRIPTION: BoardDescription = DESCRIPTION;
+    const BUS: &'static str = if cfg!(feature = "bus-i2c") {
+        "i2c"
+    } else {
+        "spi"
+    };
+    const STORAGE_SLOTS: (u32, u32) = STORAGE_SLOTS;
+    /// The DWT cycle counter: the core clock.
+    const CYCLES_HZ: u32 = SYSCLK_HZ;
+
+    /// Brings up clocks and peripherals. The sampling settings are the
+    /// chip's own business here (its INT1 pin, on EXTI0, signals data ready
+    /// or the FIFO watermark alike).
+    fn init(dp: pac::Peripherals, _settings: &triad::sensor::Settings) -> Parts<Self> {
+        init(dp)
+    }
+
+    fn find_sensor(bus: SensorBus) -> Result<Sensor, FindError> {
+        find_sensor(bus)
+    }
+
+    /// DMA1_STREAM6: ends and starts runs of the transmit ring.
+    fn own_interrupt() -> OwnInterrupt {
+        OwnInterrupt {
+            transmit_room: transmit_dma_interrupt(),
+            chip_model: false,
+        }
+    }
+
+    /// The DWT cycle counter ([`init`] starts it).
+    fn cycles() -> u32 {
+        cortex_m::peripheral::DWT::cycle_count()
+    }
+
+    fn exit(success: bool) -> ! {
+        exit(success)
+    }
 }
 
-/// The self-test's delay: the plain busy-wait.
-pub type SelfTestDelay = Delay;
-
-/// Brings up clocks and peripherals. The sampling settings are the chip's
-/// own business here (its INT1 pin, on EXTI0, signals data ready or the
-/// FIFO watermark alike).
-pub fn init(dp: pac::Peripherals, _settings: &triad::sensor::Settings) -> Board {
+/// Brings up clocks and peripherals.
+fn init(dp: pac::Peripherals) -> Parts<Board> {
     // SAFETY: init runs once, before any task; only the trace enable and
     // the cycle counter's enable bit (RTIC uses neither) are written.
     let mut core = unsafe { cortex_m::Peripherals::steal() };
@@ -140,7 +185,7 @@ pub fn init(dp: pac::Peripherals, _settings: &triad::sensor::Settings) -> Board 
     };
     let (tx, rx) = usart2(dp.USART2, gpioa.pa2, gpioa.pa3, &mut rcc);
     let dma1 = StreamsTuple::new(dp.DMA1, &mut rcc);
-    Board {
+    Parts {
         sample_line: SampleLine::new(gpiob.pb0, &mut syscfg, &mut exti),
         clock: MicrosecondClock::new(dp.TIM5, &mut rcc),
         serial: Serial::new(tx, dma1.6),
@@ -205,13 +250,14 @@ pub type SensorBus = embedded_hal_bus::spi::ExclusiveDevice<
 #[cfg(feature = "bus-i2c")]
 pub type SensorBus = stm32f4xx_hal::i2c::I2c<pac::I2C1>;
 
-/// The sensor: the driver of the chip found on SPI1.
+/// The register interface the chip's driver reads through.
 #[cfg(not(feature = "bus-i2c"))]
-pub type Sensor = AnyChip<SpiInterface<SensorBus>>;
-
-/// The sensor: the driver of the chip found on I²C1.
+pub type SensorInterface = SpiInterface<SensorBus>;
+/// The register interface the chip's driver reads through.
 #[cfg(feature = "bus-i2c")]
-pub type Sensor = AnyChip<I2cInterface<SensorBus>>;
+pub type SensorInterface = I2cInterface<SensorBus>;
+/// The sensor: the driver of the chip found on the bus.
+pub type Sensor = AnyChip<SensorInterface>;
 
 /// The sensor bus's error, as the drivers report it.
 #[cfg(not(feature = "bus-i2c"))]
@@ -230,14 +276,14 @@ pub type FindError = DetectError<<SensorBus as embedded_hal::i2c::ErrorType>::Er
 
 /// Finds the chip on SPI1 by its identity.
 #[cfg(not(feature = "bus-i2c"))]
-pub fn find_sensor(bus: SensorBus) -> Result<Sensor, FindError> {
+fn find_sensor(bus: SensorBus) -> Result<Sensor, FindError> {
     AnyChip::detect(SpiInterface::new(bus)).map_err(|undetected| undetected.reason)
 }
 
 /// Finds the chip on I²C1 by its identity at each chip's addresses (both
 /// address-pin levels: the breakout's strap does not matter).
 #[cfg(feature = "bus-i2c")]
-pub fn find_sensor(bus: SensorBus) -> Result<Sensor, FindError> {
+fn find_sensor(bus: SensorBus) -> Result<Sensor, FindError> {
     AnyChip::detect_i2c(bus).map_err(|undetected| undetected.reason)
 }
 
@@ -304,10 +350,6 @@ fn i2c_bus(i2c: pac::I2C1, (scl, sda): (gpio::PB8, gpio::PB9), rcc: &mut Rcc) ->
     // 400 kHz) = 35, TRISE = 13 (RM0368 §18.6.8-9).
     i2c.i2c(pins, Hertz::kHz(400), rcc)
 }
-
-/// Nothing to do on hardware: the chip raises INT1 by itself (`_samples`
-/// is the emulated board's: how far its chip model runs per edge).
-pub fn data_ready(_sensor: &mut Sensor, _samples: u16) {}
 
 /// The IMU's INT1 on PB0 → EXTI0, rising edge. PB0 is pulled down so that
 /// a missing or not yet configured chip leaves the line low, not floating.
@@ -382,23 +424,10 @@ fn usart2(
     }
 }
 
-/// The load measurement's clock: the DWT cycle counter (the core clock,
-/// 84 MHz; [`init`] starts it).
-pub fn cycles() -> u32 {
-    cortex_m::peripheral::DWT::cycle_count()
-}
-
-/// The rate of [`cycles`].
-pub const CYCLES_HZ: u32 = SYSCLK_HZ;
-
-/// Cycles spent in an emulated chip model: none on hardware.
-pub fn model_cycles() -> u32 {
-    0
-}
-
 /// A busy-wait delay for the driver's start-up waits, counted in cycles of
 /// the 84 MHz core (valid once [`init`] has set the clocks). `asm::delay`
 /// waits at least the cycles asked for. SysTick is left to RTIC.
+#[derive(Default)]
 pub struct Delay;
 
 impl embedded_hal::delay::DelayNs for Delay {
@@ -414,7 +443,7 @@ impl embedded_hal::delay::DelayNs for Delay {
 /// a HardFault (`udf`), which probe-rs reports with a backtrace and a
 /// non-zero exit. Without a debugger, both end in the HardFault handler's
 /// loop (a `bkpt` with no debugger attached escalates to a HardFault).
-pub fn exit(success: bool) -> ! {
+fn exit(success: bool) -> ! {
     if success {
         defmt::info!("exit: success");
         loop {
