@@ -32,6 +32,12 @@
 //! - `transmit` (async, priority 1): puts replies and frames on the line,
 //!   awaiting room in the transmit ring when it is full. Neither async task
 //!   spins: each awaits a channel, a queue's waker or the ring's room.
+//! - `idle`: sleeps, timing each sleep for the load report; and runs the
+//!   chip's self-test when the data-ready task hands it the chip (between
+//!   two steps), below every task, so sampling's time, the link and the
+//!   commands go on meanwhile. The data-ready task takes the chip back at
+//!   the first step after, and the next frame counts the samples the chip
+//!   did not measure meanwhile (`overruns`, flag SELF_TEST).
 //!
 //! Frames go from `data_ready` to `transmit` through a lock-free
 //! single-producer queue and a waker, not an rtic-sync channel: a frame is
@@ -89,7 +95,7 @@ mod app {
     use heapless::spsc::{Consumer, Producer, Queue};
     use rtic_sync::channel::{Receiver, Sender};
     use rtic_sync::make_channel;
-    use triad::device::board::{Board, LinkRx, LinkTx};
+    use triad::device::board::{Board, DataReadyLine, LinkRx, LinkTx, MicrosecondClock};
     use triad::device::{
         on_data_ready, on_fifo_ready, CommandHandler, Control, Handled, LoadWindow, Outgoing,
         Sampler, Stepped, Task,
@@ -100,6 +106,8 @@ mod app {
 
     /// The board, through its contract.
     type B = crate::B;
+    /// The chip's driver.
+    type Sensor = crate::start::Sensor;
 
     /// A self-test's outcome, with the sequence number of its command.
     type SelfTestDone = (
@@ -117,16 +125,25 @@ mod app {
     struct Local {
         sample_line: <B as Board>::SampleLine,
         clock: <B as Board>::Clock,
-        sensor: crate::start::Sensor,
+        /// The chip: the data-ready task's, but the idle task's while it
+        /// runs the chip's self-test.
+        sensor: Option<Sensor>,
         sampler: Sampler,
-        self_test_delay: <B as Board>::SelfTestDelay,
         /// data_ready → transmit: frames (woken by [`OUTGOING`]).
         frames_in: Producer<'static, Outgoing>,
         /// commands → data_ready: changes, applied between two samples.
         controls_out: Receiver<'static, Control, 2>,
         /// commands → data_ready: a self-test to run (its sequence number).
         self_tests_out: Receiver<'static, u16, 1>,
-        /// data_ready → commands: its outcome.
+        /// data_ready → idle: the chip, for a self-test (its sequence number).
+        to_self_test: Sender<'static, (u16, Sensor), 1>,
+        /// idle → data_ready: the chip, back from its self-test.
+        sensor_back: Receiver<'static, Sensor, 1>,
+        // The idle task's: the self-test.
+        self_test_delay: <B as Board>::SelfTestDelay,
+        self_tests_to_run: Receiver<'static, (u16, Sensor), 1>,
+        sensor_back_in: Sender<'static, Sensor, 1>,
+        /// idle → commands: a self-test's outcome.
         self_tests_done_in: Sender<'static, SelfTestDone, 1>,
         serial_rx: <B as Board>::SerialRx,
         /// link_rx → commands: received bytes (a byte stream: a lock-free
@@ -161,6 +178,8 @@ mod app {
         let (controls_in, controls_out) = make_channel!(Control, 2);
         let (self_tests_in, self_tests_out) = make_channel!(u16, 1);
         let (self_tests_done_in, self_tests_done_out) = make_channel!(SelfTestDone, 1);
+        let (to_self_test, self_tests_to_run) = make_channel!((u16, Sensor), 1);
+        let (sensor_back_in, sensor_back) = make_channel!(Sensor, 1);
         // Spawning at start-up cannot fail: neither task is running yet.
         let _ = commands::spawn();
         let _ = transmit::spawn();
@@ -169,12 +188,16 @@ mod app {
             Local {
                 sample_line: b.sample_line,
                 clock: b.clock,
-                sensor: started.sensor,
+                sensor: Some(started.sensor),
                 sampler: started.sampler,
-                self_test_delay: b.self_test_delay,
                 frames_in,
                 controls_out,
                 self_tests_out,
+                to_self_test,
+                sensor_back,
+                self_test_delay: b.self_test_delay,
+                self_tests_to_run,
+                sensor_back_in,
                 self_tests_done_in,
                 serial_rx: b.serial_rx,
                 rx_in,
@@ -197,15 +220,55 @@ mod app {
     /// before its handler runs, so what is counted is sleep alone. The
     /// window's cycles less the tasks' and this are what no measured task
     /// took: RTIC's dispatch, the async executor, interrupt entry and exit.
-    #[idle]
-    fn idle(_: idle::Context) -> ! {
+    ///
+    /// The chip's self-test runs here, below every task, when the
+    /// data-ready task hands the chip over: it takes up to 1.4 s of waits
+    /// (the data sheets' procedures), during which every task still runs
+    /// (the data-ready task keeps the stream's time and counts the samples
+    /// not measured, the link answers). Its time is counted as the link's
+    /// (the command's work).
+    #[idle(local = [self_test_delay, self_tests_to_run, sensor_back_in, self_tests_done_in])]
+    fn idle(cx: idle::Context) -> ! {
+        let l = cx.local;
         loop {
+            if let Ok((sequence, mut sensor)) = l.self_tests_to_run.try_recv() {
+                let run = crate::run_time::begin();
+                let result = self_test(&mut sensor, l.self_test_delay);
+                // Each channel has room: one self-test at a time.
+                let _ = l.sensor_back_in.try_send(sensor);
+                let _ = l.self_tests_done_in.try_send((sequence, result));
+                crate::run_time::end(run, Task::Link);
+                continue;
+            }
             cortex_m::interrupt::free(|_| {
+                // A chip handed over since the look above: no sleep.
+                if !l.self_tests_to_run.is_empty() {
+                    return;
+                }
                 let before = B::cycles();
                 cortex_m::asm::wfi();
                 crate::run_time::slept(B::cycles().wrapping_sub(before));
             });
         }
+    }
+
+    /// The chip's self-test; a chip it left needing a restart is restarted.
+    fn self_test(
+        sensor: &mut Sensor,
+        delay: &mut <B as Board>::SelfTestDelay,
+    ) -> Result<SelfTestReport, SelfTestError<<B as Board>::SensorBusError>> {
+        let result = sensor.self_test(delay);
+        if let Err(SelfTestError {
+            chip: triad::sensor::ChipLeft::NeedsInit,
+            ..
+        }) = result
+        {
+            let mut delay = <B as Board>::Delay::default();
+            if sensor.start_with(&mut delay, &SETTINGS).is_err() {
+                defmt::error!("the chip did not restart after its self-test");
+            }
+        }
+        result
     }
 
     /// The board's own interrupt: the emulated board's sample timer (which
@@ -230,7 +293,7 @@ mod app {
 
     /// The data-ready step, on the IMU's data-ready line (on the emulated
     /// board its sample timer pends it).
-    #[task(binds = DATA_READY, priority = 3, local = [sample_line, clock, sensor, sampler, frames_in, controls_out, self_test_delay, self_tests_out, self_tests_done_in, load_window: LoadWindow = LoadWindow::new(), windows: u32 = 0, slept_then: u32 = 0])]
+    #[task(binds = DATA_READY, priority = 3, local = [sample_line, clock, sensor, sampler, frames_in, controls_out, self_tests_out, to_self_test, sensor_back, load_window: LoadWindow = LoadWindow::new(), windows: u32 = 0, slept_then: u32 = 0])]
     fn data_ready(cx: data_ready::Context) {
         let run = crate::run_time::begin();
         let model = B::model_cycles();
@@ -284,30 +347,29 @@ mod app {
         while let Ok(control) = l.controls_out.try_recv() {
             l.sampler.apply(control);
         }
-        // A self-test runs here, in place of sampling: the steps it takes
-        // are counted lost (OVERRUN) in the next frame.
-        if let Ok(sequence) = l.self_tests_out.try_recv() {
-            let result = l.sensor.self_test(l.self_test_delay);
-            if let Err(SelfTestError {
-                chip: triad::sensor::ChipLeft::NeedsInit,
-                ..
-            }) = result
-            {
-                let mut delay = <B as Board>::Delay::default();
-                if l.sensor.start_with(&mut delay, &SETTINGS).is_err() {
-                    defmt::error!("the chip did not restart after its self-test");
+        // The chip is away in its self-test (the idle task's): nothing to
+        // read until it is back; the sampler counts the samples it missed
+        // when it is (SELF_TEST in the next frame).
+        let sensor = match l.sensor {
+            Some(sensor) => sensor,
+            None => match l.sensor_back.try_recv() {
+                Ok(sensor) => {
+                    l.sampler
+                        .self_test_ended(l.clock.now_us(), SETTINGS.watermark.max(1));
+                    l.sensor.insert(sensor)
                 }
-            }
-            // The command task waits for this outcome: there is room.
-            let _ = l.self_tests_done_in.try_send((sequence, result));
-            return;
-        }
+                Err(_) => {
+                    l.sample_line.acknowledge();
+                    return;
+                }
+            },
+        };
         let frames_in = l.frames_in;
         let queued = if SETTINGS.watermark > 1 {
             let stepped = on_fifo_ready(
                 l.sample_line,
                 l.clock,
-                l.sensor,
+                sensor,
                 l.sampler,
                 |sensor| B::data_ready(sensor, SETTINGS.watermark),
                 |frame| frames_in.enqueue(frame).is_ok(),
@@ -320,7 +382,7 @@ mod app {
             let stepped = on_data_ready(
                 l.sample_line,
                 l.clock,
-                l.sensor,
+                sensor,
                 l.sampler,
                 |sensor| B::data_ready(sensor, 1),
                 |frame| frames_in.enqueue(frame),
@@ -333,6 +395,15 @@ mod app {
         COUNTERS.publish(l.sampler.totals(), l.sampler.uptime_ms());
         if queued {
             OUTGOING.wake();
+        }
+        // A self-test asked for: the chip goes to the idle task after this
+        // step's samples were read, and comes back at a later step.
+        if let Ok(sequence) = l.self_tests_out.try_recv() {
+            if let Some(sensor) = l.sensor.take() {
+                l.sampler.self_test_began(l.clock.now_us());
+                // Empty: the chip is here, so no self-test is under way.
+                let _ = l.to_self_test.try_send((sequence, sensor));
+            }
         }
     }
 

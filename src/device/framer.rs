@@ -93,6 +93,7 @@ pub struct Framer {
     overruns: u16,
     dropped: u16,
     fifo_overflow: bool,
+    self_test: bool,
 }
 
 impl Framer {
@@ -107,6 +108,7 @@ impl Framer {
             overruns: 0,
             dropped: 0,
             fifo_overflow: false,
+            self_test: false,
         }
     }
 
@@ -129,6 +131,13 @@ impl Framer {
         self.fifo_overflow = true;
     }
 
+    /// The chip ran its self-test: `count` samples were not measured (the
+    /// next frame's `overruns`, with SELF_TEST).
+    pub fn self_test_ran(&mut self, count: u32) {
+        self.steps_lost(count);
+        self.self_test = true;
+    }
+
     /// `frame` (returned by [`Framer::frame`]) could not be queued: it is
     /// counted as dropped, and the events it carried move to the next frame
     /// so that no count is lost with it.
@@ -146,6 +155,7 @@ impl Framer {
             .saturating_add(1);
         self.overruns = self.overruns.saturating_add(events.overruns);
         self.fifo_overflow |= events.flags.contains(Flags::FIFO_OVERFLOW);
+        self.self_test |= events.flags.contains(Flags::SELF_TEST);
     }
 
     /// The next frame: `sample` at `timestamp_us`, with the events pending
@@ -225,6 +235,7 @@ impl Framer {
         flags.set(Flags::OVERRUN, self.overruns > 0);
         flags.set(Flags::DROPPED, self.dropped > 0);
         flags.set(Flags::FIFO_OVERFLOW, self.fifo_overflow);
+        flags.set(Flags::SELF_TEST, self.self_test);
         flags
     }
 
@@ -234,5 +245,6 @@ impl Framer {
         self.overruns = 0;
         self.dropped = 0;
         self.fifo_overflow = false;
+        self.self_test = false;
     }
 }

@@ -74,6 +74,8 @@ pub struct Sampler {
     uptime_us: u64,
     kernel: BatchKernel,
     period_ns: u32,
+    /// When the chip was handed to its self-test (µs), while it is away.
+    self_test_from: Option<u32>,
 }
 
 impl Sampler {
@@ -105,6 +107,7 @@ impl Sampler {
             totals: SamplerTotals::default(),
             clock: TimestampUnwrapper::new(),
             uptime_us: 0,
+            self_test_from: None,
         }
     }
 
@@ -339,6 +342,37 @@ impl Sampler {
     /// The step that just ended overran: the next one is already due.
     pub fn overran(&mut self) {
         self.steps_lost(1);
+    }
+
+    /// The chip goes to its self-test after the step at `now_us` (whose
+    /// samples were read): it measures nothing for the stream until
+    /// [`Sampler::self_test_ended`].
+    pub fn self_test_began(&mut self, now_us: u32) {
+        self.self_test_from = Some(now_us);
+    }
+
+    /// The chip is back, sampling as before, for the step at `now_us`,
+    /// which reads `samples` (1, or the FIFO watermark). The chip's sample
+    /// periods in between, less those `samples`, were not measured: the
+    /// next frame counts them in `overruns` and says SELF_TEST. The step
+    /// monitor starts again from `now_us`, so the gap is not counted twice.
+    /// To the sample: the periods are rounded to the nearest whole one.
+    pub fn self_test_ended(&mut self, now_us: u32, samples: u16) {
+        let Some(from) = self.self_test_from.take() else {
+            return;
+        };
+        let elapsed_ns = u64::from(now_us.wrapping_sub(from)) * 1000;
+        let period_ns = u64::from(self.period_ns.max(1));
+        let periods = (elapsed_ns + period_ns / 2) / period_ns;
+        let lost = u32::try_from(periods.saturating_sub(u64::from(samples))).unwrap_or(u32::MAX);
+        self.framer.self_test_ran(lost);
+        self.totals.overruns = self.totals.overruns.wrapping_add(lost);
+        self.monitor.step_started(now_us);
+    }
+
+    /// True while the chip is in its self-test.
+    pub fn in_self_test(&self) -> bool {
+        self.self_test_from.is_some()
     }
 
     /// `frame` could not be queued for the link; see [`Framer::frame_dropped`].

@@ -36,6 +36,7 @@ mod pty;
 mod qemu;
 mod serve;
 mod setup;
+mod size;
 mod test;
 
 #[derive(Parser)]
@@ -88,6 +89,9 @@ enum Command {
     /// each sampling setting, the calibration's life (upload, save, reset,
     /// bad upload, erase) and the self-test; writes a report.
     Hil(hil::HilArgs),
+    /// Flash and RAM of each firmware build, per board and per bus: prints
+    /// the table and writes docs/FIRMWARE_SIZE.md.
+    Size,
     /// Install what the project needs (rustup targets, QEMU) and exit.
     Setup,
     /// Write the man pages of `triad` (triad.1, triad-sim.1, ...) into DIR.
@@ -220,6 +224,7 @@ fn main() -> std::process::ExitCode {
             }),
         },
         Command::Hil(args) => hil::run(args),
+        Command::Size => size::run(),
         Command::Setup => setup::ensure_all(),
         Command::Man { dir } => man(&dir),
         Command::Log { elf, log } => defmt_log::print_file(&elf, &log),

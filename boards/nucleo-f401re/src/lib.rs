@@ -274,11 +274,60 @@ pub type FindError = DetectError<<SensorBus as embedded_hal::spi::ErrorType>::Er
 #[cfg(feature = "bus-i2c")]
 pub type FindError = DetectError<<SensorBus as embedded_hal::i2c::ErrorType>::Error>;
 
-/// Finds the chip on SPI1 by its identity.
+/// Finds the chip on SPI1 by its identity (at [`SPI_HZ`], which every
+/// listed chip takes), then runs SPI1 at the fastest clock the chip found
+/// takes.
 #[cfg(not(feature = "bus-i2c"))]
 fn find_sensor(bus: SensorBus) -> Result<Sensor, FindError> {
-    AnyChip::detect(SpiInterface::new(bus)).map_err(|undetected| undetected.reason)
+    let sensor = AnyChip::detect(SpiInterface::new(bus)).map_err(|undetected| undetected.reason)?;
+    let divider = spi_divider(sensor.spi_max_hz());
+    set_spi_divider(divider);
+    defmt::info!(
+        "SPI1 at {} Hz for the {} (it takes {} Hz)",
+        PCLK2_HZ / divider,
+        sensor.name(),
+        sensor.spi_max_hz()
+    );
+    Ok(sensor)
 }
+
+/// SPI1's clock divider of PCLK2 for a chip taking at most `max_hz`: the
+/// smallest power of two, 2 to 256, that keeps the clock within it.
+#[cfg(not(feature = "bus-i2c"))]
+const fn spi_divider(max_hz: u32) -> u32 {
+    let mut divider = 2;
+    while PCLK2_HZ / divider > max_hz && divider < 256 {
+        divider *= 2;
+    }
+    divider
+}
+
+/// Sets SPI1's clock to PCLK2 / `divider` (a power of two, 2 to 256). The
+/// HAL sets the clock only when it builds the bus (`Spi::new` takes a
+/// frequency; nothing changes it later, and rebuilding needs the RCC, which
+/// `init` has given up), so CR1's BR field is written here, through the PAC.
+#[cfg(not(feature = "bus-i2c"))]
+fn set_spi_divider(divider: u32) {
+    // BR = log2(divider) − 1 (RM0368, SPI_CR1: 000 is PCLK2 / 2).
+    let br = (divider.trailing_zeros().clamp(1, 8) - 1) as u8;
+    // SAFETY: SPI1 is idle (detection has ended; the sensor's next
+    // transaction starts after this returns, from the same context), and
+    // only BR changes, with the peripheral disabled meanwhile as RM0368
+    // asks ("BR[2:0] should not be changed when communication is ongoing").
+    let spi = unsafe { &*pac::SPI1::ptr() };
+    let enabled = spi.cr1().read().spe().bit_is_set();
+    spi.cr1().modify(|_, w| w.spe().clear_bit());
+    spi.cr1().modify(|_, w| w.br().set(br));
+    spi.cr1().modify(|_, w| w.spe().bit(enabled));
+}
+
+#[cfg(not(feature = "bus-i2c"))]
+const _: () = {
+    // 84 MHz / 4 = 21 MHz for the ICM-42688-P's 24; / 16 = 5.25 MHz for
+    // the LSM6DSOX's 10 (/ 8 would be 10.5).
+    assert!(spi_divider(24_000_000) == 4);
+    assert!(spi_divider(10_000_000) == 16);
+};
 
 /// Finds the chip on I²C1 by its identity at each chip's addresses (both
 /// address-pin levels: the breakout's strap does not matter).
@@ -287,17 +336,12 @@ fn find_sensor(bus: SensorBus) -> Result<Sensor, FindError> {
     AnyChip::detect_i2c(bus).map_err(|undetected| undetected.reason)
 }
 
-/// SPI1's clock divider of PCLK2: the smallest power of two that keeps the
-/// clock within every listed chip's limit (the chip is not known until it
-/// is found on the bus): 84 MHz / 16 = 5.25 MHz for the LSM6DSOX's 10 MHz.
+/// SPI1's clock divider of PCLK2 while the chip is looked for: within every
+/// listed chip's limit (the chip is not known until it is found on the
+/// bus): 84 MHz / 16 = 5.25 MHz for the LSM6DSOX's 10 MHz. [`find_sensor`]
+/// then sets the found chip's own.
 #[cfg(not(feature = "bus-i2c"))]
-const SPI_DIVIDER: u32 = {
-    let mut divider = 2;
-    while PCLK2_HZ / divider > triad::sensor::detect::SPI_MAX_HZ {
-        divider *= 2;
-    }
-    divider
-};
+const SPI_DIVIDER: u32 = spi_divider(triad::sensor::detect::SPI_MAX_HZ);
 
 /// SPI1's clock. The HAL takes a frequency and rounds PCLK2 / f to the
 /// nearest power-of-two divider, which can be faster than asked (10 MHz

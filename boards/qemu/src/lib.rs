@@ -249,8 +249,11 @@ use triad_sim::chips::emulated_board::DESCRIPTION;
 pub struct SensorBus(SharedBus<'static, EmulatedChip>);
 
 // SAFETY: the chip model's cell is reached only through the sensor's bus and
-// the self-test delay, and the firmware hands both to the one data-ready
-// task: the cell is never used from two contexts.
+// the self-test delay. The firmware's data-ready task holds the sensor, and
+// hands it to the idle task, which holds the delay, for a self-test; it
+// takes nothing from the model while the sensor is away, and the idle task
+// uses neither once it has handed the sensor back: the cell is never used
+// from two contexts at once.
 unsafe impl Send for SensorBus {}
 // SAFETY: as for `SensorBus`.
 unsafe impl Send for SelfTestDelay {}
