@@ -340,3 +340,30 @@ fn per_sample_the_self_test_gap_is_counted_once_not_again_by_the_step_monitor() 
     assert!(!f.flags.contains(Flags::SELF_TEST));
     assert_eq!(sampler.totals().overruns, 99);
 }
+
+#[test]
+fn a_flash_stall_is_said_by_the_next_frame_sent_even_past_a_dropped_one() {
+    let (fifo, mut sampler, _) = setup(13);
+    let mut chip = OneSample(fifo.scale);
+    let period_us = PERIOD_NS / 1000;
+    sampler.flash_stalled();
+    // The first frame after the stall finds the link's queue full.
+    let Outgoing::Data(dropped) = (match sampler.step(&mut chip, 0) {
+        triad::device::StepOutcome::Frame(frame) => frame,
+        other => panic!("{other:?}"),
+    }) else {
+        panic!("not a data frame");
+    };
+    assert!(dropped.flags.contains(Flags::FLASH_STALL));
+    sampler.frame_dropped(&Outgoing::Data(dropped));
+    let sent = match sampler.step(&mut chip, period_us) {
+        triad::device::StepOutcome::Frame(Outgoing::Data(f)) => f,
+        other => panic!("{other:?}"),
+    };
+    assert!(sent.flags.contains(Flags::FLASH_STALL | Flags::DROPPED));
+    let next = match sampler.step(&mut chip, 2 * period_us) {
+        triad::device::StepOutcome::Frame(Outgoing::Data(f)) => f,
+        other => panic!("{other:?}"),
+    };
+    assert!(!next.flags.contains(Flags::FLASH_STALL));
+}

@@ -293,7 +293,7 @@ mod app {
 
     /// The data-ready step, on the IMU's data-ready line (on the emulated
     /// board its sample timer pends it).
-    #[task(binds = DATA_READY, priority = 3, local = [sample_line, clock, sensor, sampler, frames_in, controls_out, self_tests_out, to_self_test, sensor_back, load_window: LoadWindow = LoadWindow::new(), windows: u32 = 0, slept_then: u32 = 0])]
+    #[task(binds = DATA_READY, priority = 3, local = [sample_line, clock, sensor, sampler, frames_in, controls_out, self_tests_out, to_self_test, sensor_back, flash_stalls: u32 = 0, load_window: LoadWindow = LoadWindow::new(), windows: u32 = 0, slept_then: u32 = 0])]
     fn data_ready(cx: data_ready::Context) {
         let run = crate::run_time::begin();
         let model = B::model_cycles();
@@ -346,6 +346,13 @@ mod app {
         // The handler's changes take effect here, between two samples.
         while let Ok(control) = l.controls_out.try_recv() {
             l.sampler.apply(control);
+        }
+        // The flash stalled the CPU since the last step (a save or an erase
+        // on a single-bank board): this step's frame carries what was missed.
+        let stalls = B::flash_stalls();
+        if stalls != *l.flash_stalls {
+            *l.flash_stalls = stalls;
+            l.sampler.flash_stalled();
         }
         // The chip is away in its self-test (the idle task's): nothing to
         // read until it is back; the sampler counts the samples it missed

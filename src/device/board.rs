@@ -171,6 +171,16 @@ pub trait Board: Sized + 'static {
     /// The load measurement's clock, wrapping.
     fn cycles() -> u32;
 
+    /// How many flash operations (erases, programs) have stalled the CPU
+    /// since start, wrapping: on a board whose one flash bank holds both
+    /// the program and the calibration, every fetch waits while it erases
+    /// or programs. Counted as each begins, with interrupts masked until it
+    /// ends, so the first task to run after a stall sees the count changed.
+    /// 0 on a board whose flash does not stall the CPU.
+    fn flash_stalls() -> u32 {
+        0
+    }
+
     /// Cycles spent in an emulated chip model so far, wrapping (none on hardware).
     fn model_cycles() -> u32 {
         0

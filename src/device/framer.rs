@@ -94,6 +94,7 @@ pub struct Framer {
     dropped: u16,
     fifo_overflow: bool,
     self_test: bool,
+    flash_stall: bool,
 }
 
 impl Framer {
@@ -109,6 +110,7 @@ impl Framer {
             dropped: 0,
             fifo_overflow: false,
             self_test: false,
+            flash_stall: false,
         }
     }
 
@@ -138,6 +140,11 @@ impl Framer {
         self.self_test = true;
     }
 
+    /// The board's flash stalled the CPU (the next frame says FLASH_STALL).
+    pub fn flash_stalled(&mut self) {
+        self.flash_stall = true;
+    }
+
     /// `frame` (returned by [`Framer::frame`]) could not be queued: it is
     /// counted as dropped, and the events it carried move to the next frame
     /// so that no count is lost with it.
@@ -156,6 +163,7 @@ impl Framer {
         self.overruns = self.overruns.saturating_add(events.overruns);
         self.fifo_overflow |= events.flags.contains(Flags::FIFO_OVERFLOW);
         self.self_test |= events.flags.contains(Flags::SELF_TEST);
+        self.flash_stall |= events.flags.contains(Flags::FLASH_STALL);
     }
 
     /// The next frame: `sample` at `timestamp_us`, with the events pending
@@ -236,6 +244,7 @@ impl Framer {
         flags.set(Flags::DROPPED, self.dropped > 0);
         flags.set(Flags::FIFO_OVERFLOW, self.fifo_overflow);
         flags.set(Flags::SELF_TEST, self.self_test);
+        flags.set(Flags::FLASH_STALL, self.flash_stall);
         flags
     }
 
@@ -246,5 +255,6 @@ impl Framer {
         self.dropped = 0;
         self.fifo_overflow = false;
         self.self_test = false;
+        self.flash_stall = false;
     }
 }

@@ -370,6 +370,13 @@ impl Sampler {
         self.monitor.step_started(now_us);
     }
 
+    /// The board's flash stalled the CPU since the previous step (see
+    /// [`crate::device::board::Board::flash_stalls`]): the next frame, which
+    /// carries the samples missed meanwhile, says FLASH_STALL.
+    pub fn flash_stalled(&mut self) {
+        self.framer.flash_stalled();
+    }
+
     /// True while the chip is in its self-test.
     pub fn in_self_test(&self) -> bool {
         self.self_test_from.is_some()

@@ -151,6 +151,12 @@ impl triad::device::board::Board for Board {
         }
     }
 
+    /// Each erase and write of the calibration's sectors: the flash has one
+    /// bank, so the CPU stalls on every fetch while it works.
+    fn flash_stalls() -> u32 {
+        flash::stalls()
+    }
+
     /// The DWT cycle counter ([`init`] starts it).
     fn cycles() -> u32 {
         cortex_m::peripheral::DWT::cycle_count()
