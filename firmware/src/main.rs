@@ -234,9 +234,12 @@ mod app {
             if let Ok((sequence, mut sensor)) = l.self_tests_to_run.try_recv() {
                 let run = crate::run_time::begin();
                 let result = self_test(&mut sensor, l.self_test_delay);
-                // Each channel has room: one self-test at a time.
-                let _ = l.sensor_back_in.try_send(sensor);
+                // Each channel has room: one self-test at a time. The
+                // outcome first: the command task (above this one) queues
+                // the reply at once, so it goes out before the frame that
+                // counts what the self-test missed.
                 let _ = l.self_tests_done_in.try_send((sequence, result));
+                let _ = l.sensor_back_in.try_send(sensor);
                 crate::run_time::end(run, Task::Link);
                 continue;
             }
