@@ -107,11 +107,12 @@ pub struct Parts<B: Board> {
 
 /// A board: what the firmware needs of it, so that the RTIC application is
 /// written once for every board. A board crate implements this on one type
-/// and also provides, as a module `vectors` (RTIC's `device`), the PAC's
+/// and also provides, as a module `vectors` (RTIC's `device`; one line of
+/// [`board_vectors!`](crate::board_vectors) makes it), the PAC's
 /// `Peripherals` and `NVIC_PRIO_BITS` and an `interrupt` enumeration with
 /// the four fixed names the firmware binds (`DATA_READY`, `LINK`,
 /// `BOARD_OWN`, `DISPATCH`), numbered as its own vectors; its memory.x
-/// maps the vectors' symbols to those names (e.g. `EXTI0 = DATA_READY;`).
+/// maps the vectors' symbols to those names (e.g. `PROVIDE(EXTI0 = DATA_READY);`).
 /// RTIC's `binds` takes a literal name, so the names are fixed and each
 /// board says which of its vectors each one is.
 pub trait Board: Sized + 'static {
