@@ -95,7 +95,7 @@ mod app {
     use heapless::spsc::{Consumer, Producer, Queue};
     use rtic_sync::channel::{Receiver, Sender};
     use rtic_sync::make_channel;
-    use triad::device::board::{Board, DataReadyLine, LinkRx, LinkTx, MicrosecondClock};
+    use triad::device::board::{Board, DataReadyLine, LinkRx, LinkTx};
     use triad::device::{
         on_data_ready, on_fifo_ready, CommandHandler, Control, Handled, LoadWindow, Outgoing,
         Sampler, Stepped, Task,
@@ -363,11 +363,8 @@ mod app {
         let sensor = match l.sensor {
             Some(sensor) => sensor,
             None => match l.sensor_back.try_recv() {
-                Ok(sensor) => {
-                    l.sampler
-                        .self_test_ended(l.clock.now_us(), SETTINGS.watermark.max(1));
-                    l.sensor.insert(sensor)
-                }
+                // The sampler counts what was missed at this step.
+                Ok(sensor) => l.sensor.insert(sensor),
                 Err(_) => {
                     l.sample_line.acknowledge();
                     return;
@@ -410,7 +407,7 @@ mod app {
         // step's samples were read, and comes back at a later step.
         if let Ok(sequence) = l.self_tests_out.try_recv() {
             if let Some(sensor) = l.sensor.take() {
-                l.sampler.self_test_began(l.clock.now_us());
+                l.sampler.self_test_began();
                 // Empty: the chip is here, so no self-test is under way.
                 let _ = l.to_self_test.try_send((sequence, sensor));
             }
