@@ -1,4 +1,6 @@
-//! Checks that the features name one board and at most one bus, embeds the calibration blob chosen at build time
+//! Makes the one board the features name (an optional dependency
+//! `triad-board-<name>`, see Cargo.toml) the crate's `board` module, embeds
+//! the calibration blob chosen at build time
 //! (TRIAD_CALIBRATION, default calibrations/default.bin), and writes the
 //! sampling settings chosen at build time: TRIAD_SAMPLE_RATE_HZ (the chip's
 //! output data rate, default the driver's) and TRIAD_FIFO_WATERMARK (samples
@@ -14,10 +16,17 @@ const DEFAULT_CALIBRATION: &str = "../calibrations/default.bin";
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");
     let out = PathBuf::from(env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));
-    if one_of("board").is_none() {
-        panic!("the firmware needs a board: --features board-<name> (see Cargo.toml)");
-    }
-    one_of("bus");
+    let Some(board) = one_board() else {
+        panic!("the firmware needs a board: --features triad-board-<name> (see Cargo.toml)");
+    };
+    fs::write(
+        out.join("board.rs"),
+        format!(
+            "/// The board chosen by feature.\nuse {} as board;\n",
+            board.replace('-', "_")
+        ),
+    )
+    .expect("write board.rs");
 
     println!("cargo:rerun-if-env-changed=TRIAD_CALIBRATION");
     let calibration = env::var_os("TRIAD_CALIBRATION")
@@ -60,21 +69,22 @@ fn number(name: &str, range: std::ops::RangeInclusive<u32>) -> Option<u32> {
     }
 }
 
-/// Which of the features `<group>-<name>` is on (Cargo.toml lists them; this
-/// reads whatever is enabled, so adding a board does not touch
-/// this file): `None` for none; two at once stop the build naming both.
-fn one_of(group: &str) -> Option<String> {
-    let prefix = format!("CARGO_FEATURE_{}_", group.to_uppercase());
+/// Which board crate's feature (`triad-board-<name>`, an optional
+/// dependency's) is on. Cargo.toml lists the boards; this reads whatever is
+/// enabled, so adding a board does not touch this file: `None` for none;
+/// two at once stop the build naming both.
+fn one_board() -> Option<String> {
+    let prefix = "CARGO_FEATURE_TRIAD_BOARD_";
     let mut on: Vec<String> = env::vars()
-        .filter_map(|(var, _)| var.strip_prefix(&prefix).map(str::to_lowercase))
-        .map(|name| format!("{group}-{}", name.replace('_', "-")))
+        .filter_map(|(var, _)| var.strip_prefix(prefix).map(str::to_lowercase))
+        .map(|name| format!("triad-board-{}", name.replace('_', "-")))
         .collect();
     on.sort();
     match on.len() {
         0 => None,
         1 => on.pop(),
         _ => panic!(
-            "the firmware takes one {group}, but features {} are on together",
+            "the firmware takes one board, but features {} are on together",
             on.join(", ")
         ),
     }

@@ -255,3 +255,143 @@ fn a_failed_read_is_counted_and_reported() {
     let stepped = sampler.step_fifo(&mut fifo, 1000, |_| true);
     assert_eq!(stepped.samples, 8);
 }
+
+#[test]
+fn the_samples_a_self_test_took_are_counted_in_the_next_batch_which_says_self_test() {
+    let (mut fifo, mut sampler, _) = setup(7);
+    fill(&mut fifo, 8, 8);
+    let mut frames = Vec::new();
+    sampler.step_fifo(&mut fifo, 1_000, |f| {
+        frames.push(f);
+        true
+    });
+    // The chip goes to its self-test after this step: 0.64 s later it is
+    // back, with 8 new samples (one watermark) waiting.
+    sampler.self_test_began();
+    assert!(sampler.in_self_test());
+    let back = 1_000 + 640_000;
+    fill(&mut fifo, 9, 8);
+    sampler.step_fifo(&mut fifo, back, |f| {
+        frames.push(f);
+        true
+    });
+    assert!(!sampler.in_self_test());
+    let Outgoing::Batch(before) = frames[0] else {
+        panic!("{:?}", frames[0]);
+    };
+    let Outgoing::Batch(after) = frames[1] else {
+        panic!("{:?}", frames[1]);
+    };
+    assert!(!before.flags.contains(Flags::SELF_TEST));
+    assert!(after.flags.contains(Flags::SELF_TEST | Flags::OVERRUN));
+    // 640 ms at 8 kHz is 5120 periods; the 8 read at the end were measured
+    // (the first of them 7 periods before the interrupt).
+    assert_eq!(after.overruns, 5120 - 8);
+    assert_eq!(sampler.totals().overruns, 5120 - 8);
+    // Said once.
+    fill(&mut fifo, 10, 8);
+    let mut next = Vec::new();
+    sampler.step_fifo(&mut fifo, back + 1_000, |f| {
+        next.push(f);
+        true
+    });
+    let Outgoing::Batch(b) = next[0] else {
+        panic!("{:?}", next[0]);
+    };
+    assert!(!b.flags.contains(Flags::SELF_TEST));
+    assert_eq!(b.overruns, 0);
+    assert_eq!(sampler.totals().overruns, 5120 - 8);
+}
+
+/// A chip read one sample at a time.
+struct OneSample(ImuScale);
+
+impl Imu for OneSample {
+    type Error = &'static str;
+    fn read_sample(&mut self) -> Result<RawSample, Self::Error> {
+        Ok(RawSample::default())
+    }
+    fn scale(&self) -> ImuScale {
+        self.0
+    }
+}
+
+#[test]
+fn per_sample_the_self_test_gap_is_counted_once_not_again_by_the_step_monitor() {
+    let (fifo, mut sampler, _) = setup(11);
+    let mut chip = OneSample(fifo.scale);
+    let period_us = PERIOD_NS / 1000;
+    let mut frame_at = |sampler: &mut Sampler, t: u32| match sampler.step(&mut chip, t) {
+        triad::device::StepOutcome::Frame(Outgoing::Data(f)) => f,
+        other => panic!("{other:?}"),
+    };
+    frame_at(&mut sampler, 0);
+    sampler.self_test_began();
+    // Back 100 periods later: the 99 between were not measured.
+    let back = 100 * period_us;
+    let f = frame_at(&mut sampler, back);
+    assert!(f.flags.contains(Flags::SELF_TEST | Flags::OVERRUN));
+    assert_eq!(f.overruns, 99);
+    let f = frame_at(&mut sampler, back + period_us);
+    assert_eq!(f.overruns, 0);
+    assert!(!f.flags.contains(Flags::SELF_TEST));
+    assert_eq!(sampler.totals().overruns, 99);
+}
+
+#[test]
+fn a_flash_stall_is_said_by_the_next_frame_sent_even_past_a_dropped_one() {
+    let (fifo, mut sampler, _) = setup(13);
+    let mut chip = OneSample(fifo.scale);
+    let period_us = PERIOD_NS / 1000;
+    sampler.flash_stalled();
+    // The first frame after the stall finds the link's queue full.
+    let Outgoing::Data(dropped) = (match sampler.step(&mut chip, 0) {
+        triad::device::StepOutcome::Frame(frame) => frame,
+        other => panic!("{other:?}"),
+    }) else {
+        panic!("not a data frame");
+    };
+    assert!(dropped.flags.contains(Flags::FLASH_STALL));
+    sampler.frame_dropped(&Outgoing::Data(dropped));
+    let sent = match sampler.step(&mut chip, period_us) {
+        triad::device::StepOutcome::Frame(Outgoing::Data(f)) => f,
+        other => panic!("{other:?}"),
+    };
+    assert!(sent.flags.contains(Flags::FLASH_STALL | Flags::DROPPED));
+    let next = match sampler.step(&mut chip, 2 * period_us) {
+        triad::device::StepOutcome::Frame(Outgoing::Data(f)) => f,
+        other => panic!("{other:?}"),
+    };
+    assert!(!next.flags.contains(Flags::FLASH_STALL));
+}
+
+#[test]
+fn the_fifo_flushed_by_a_self_test_is_not_counted_again_as_an_overflow() {
+    let (mut fifo, mut sampler, _) = setup(17);
+    fill(&mut fifo, 18, 8);
+    sampler.step_fifo(&mut fifo, 1_000, |_| true);
+    sampler.self_test_began();
+    // The procedure's end flushed the FIFO: the chip says 7 were lost.
+    fifo.overflow_lost = Some(7);
+    let back = 1_000 + 100_000;
+    let mut frames = Vec::new();
+    sampler.step_fifo(&mut fifo, back, |f| {
+        frames.push(f);
+        true
+    });
+    // The overflowed read had nothing (the self-test's end is dated by the
+    // first sample read); the next holds the watermark.
+    fill(&mut fifo, 19, 8);
+    sampler.step_fifo(&mut fifo, back + 1_000, |f| {
+        frames.push(f);
+        true
+    });
+    let Outgoing::Batch(b) = frames[0] else {
+        panic!("{:?}", frames[0]);
+    };
+    assert!(b.flags.contains(Flags::SELF_TEST));
+    assert!(!b.flags.contains(Flags::FIFO_OVERFLOW));
+    // From the sample at 1 ms to the first after, at 102 ms less 7
+    // periods: 801 periods at 8 kHz, less one; nothing more for the flush.
+    assert_eq!(b.overruns, 800);
+}

@@ -169,10 +169,12 @@ fn flags_set_clear_and_keep_reserved_bits() {
         Flags::DROPPED,
         Flags::UNCALIBRATED,
         Flags::RAW,
+        Flags::SELF_TEST,
+        Flags::FLASH_STALL,
     ];
     let all = named.iter().fold(Flags::empty(), |a, &f| a | f);
     assert_eq!(all, Flags::KNOWN);
-    assert_eq!(named.iter().map(|f| f.bits().count_ones()).sum::<u32>(), 7);
+    assert_eq!(named.iter().map(|f| f.bits().count_ones()).sum::<u32>(), 9);
     let reserved = Flags::from_bits_retain(0x8000);
     assert_eq!((reserved & Flags::KNOWN), Flags::empty());
     assert_eq!(reserved.bits(), 0x8000);

@@ -1,37 +1,43 @@
 //! The triad firmware: an RTIC 2 application that is wiring only. Every
 //! decision lives in the core (`triad::device`: which calibration starts, the
 //! data-ready step, the command handler), where host tests call it; the board
-//! crate (chosen by a cargo feature) owns the peripherals, the sensor's bus
-//! (SPI, or I²C with the `bus-i2c` feature) and the calibration flash. The
+//! crate (chosen by a cargo feature, seen only through the core's contract
+//! `triad::device::board::Board`) owns the peripherals, the sensor's bus
+//! (SPI, or I²C with its `bus-i2c` feature) and the calibration flash. The
 //! chip is found on that bus by its identity (`triad::sensor::AnyChip`), so
 //! nothing here names a chip and one build serves every chip triad drives.
 //!
 //! Tasks, highest priority first (RTIC 2: every interrupt the firmware
 //! uses is bound here, so RTIC's analysis covers them all; state moves
-//! between tasks through rtic-sync channels):
-//! - the board's own interrupt, priority 4: the emulated board's sample
-//!   timer (TIM2, the chip's data-ready edge; it also ticks the stall watch,
-//!   which pends the data-ready task to check a sensor silent for 50 ms, as
-//!   the NUCLEO's independent watchdog resets a board whose data-ready task
-//!   read no sample for 4 s), or the NUCLEO's transmit DMA
+//! between tasks through rtic-sync channels). Each binds one of the fixed
+//! names the board's `vectors` module numbers and its memory.x maps to its
+//! own vectors (named below as on both boards):
+//! - `board_own` (BOARD_OWN), priority 4: the emulated board's sample
+//!   timer (TIM2, the chip's data-ready edge), or the NUCLEO's transmit DMA
 //!   (DMA1_STREAM6, which ends and starts runs of the transmit ring). Short,
 //!   and no shared state: it only wakes the transmitter when room was freed.
-//! - `data_ready` (EXTI0, priority 3): applies the command handler's pending
+//! - `data_ready` (DATA_READY: EXTI0, priority 3): applies the command handler's pending
 //!   changes, then reads, corrects, averages and frames one sample; queues
 //!   the frame for the transmitter without waiting (dropping and counting
 //!   it when the queue is full) and wakes it. Built with a FIFO watermark W > 1
 //!   (`TRIAD_FIFO_WATERMARK`), the chip's interrupt signals W samples
 //!   waiting, and the task drains the FIFO into batch frames (or per-sample
 //!   frames in raw mode or when averaging).
-//! - `link_rx` (USART2's interrupt, priority 2): sends received bytes to the
+//! - `link_rx` (LINK: USART2's interrupt, priority 2): sends received bytes to the
 //!   command task; never waits. On the emulated board it also drains the
 //!   transmit ring (QEMU's USART has no DMA).
-//! - `commands` (async, priority 1): decodes received commands and answers
+//! - `commands` (async, priority 1, run from DISPATCH: EXTI1): decodes received commands and answers
 //!   each through the core's `CommandHandler`; its replies wait for room in
 //!   the transmit channel (never dropped).
 //! - `transmit` (async, priority 1): puts replies and frames on the line,
 //!   awaiting room in the transmit ring when it is full. Neither async task
 //!   spins: each awaits a channel, a queue's waker or the ring's room.
+//! - `idle`: sleeps, timing each sleep for the load report; and runs the
+//!   chip's self-test when the data-ready task hands it the chip (between
+//!   two steps), below every task, so sampling's time, the link and the
+//!   commands go on meanwhile. The data-ready task takes the chip back at
+//!   the first step after, and the next frame counts the samples the chip
+//!   did not measure meanwhile (`overruns`, flag SELF_TEST).
 //!
 //! Frames go from `data_ready` to `transmit` through a lock-free
 //! single-producer queue and a waker, not an rtic-sync channel: a frame is
@@ -43,12 +49,14 @@
 #![no_std]
 #![no_main]
 
-#[cfg(feature = "board-nucleo-f401re")]
-use triad_board_nucleo_f401re as board;
-#[cfg(feature = "board-qemu")]
-use triad_board_qemu as board;
+// `use triad_board_<name> as board;` for the board the features name (build.rs).
+include!(concat!(env!("OUT_DIR"), "/board.rs"));
 
+use triad::device::board::Board as _;
 use triad::device::SharedCounters;
+
+/// The board, through its contract (`triad::device::board::Board`).
+type B = board::Board;
 
 // The sampling settings chosen at build time (`TRIAD_SAMPLE_RATE_HZ`,
 // `TRIAD_FIFO_WATERMARK`, see build.rs): `SETTINGS`.
@@ -61,19 +69,12 @@ static CALIBRATION_BLOB: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/calib
 /// this ELF to open the host's port at the board's rate.
 #[used]
 #[no_mangle]
-static TRIAD_LINK_BAUD: u32 = board::DESCRIPTION.baud;
+static TRIAD_LINK_BAUD: u32 = B::DESCRIPTION.baud;
 
 /// Frames waiting for the line; when full, new frames are dropped and counted.
 const QUEUE_LEN: usize = 32;
 /// Received bytes waiting for the command decoder: two longest packets.
 const RX_QUEUE_LEN: usize = 512;
-
-/// The sensor bus's name, as `identify` reports it.
-#[cfg(feature = "bus-i2c")]
-const BUS: &str = "i2c";
-/// The sensor bus's name, as `identify` reports it.
-#[cfg(not(feature = "bus-i2c"))]
-const BUS: &str = "spi";
 
 /// The device's counters, written by the tasks that count and read by the
 /// command handler.
@@ -86,15 +87,17 @@ mod stall;
 mod start;
 mod wire;
 
-#[rtic::app(device = crate::board::pac, dispatchers = [EXTI1])]
+// The board names its own vectors: RTIC binds the fixed names of its
+// `vectors` module, and its memory.x maps its vectors to them.
+#[rtic::app(device = crate::board::vectors, dispatchers = [DISPATCH])]
 mod app {
     use crate::received::{self, RX_WAKER};
     use crate::wire::{self, OUTGOING, TX_ROOM};
-    use crate::{board, COUNTERS, QUEUE_LEN, RX_QUEUE_LEN, SETTINGS};
+    use crate::{COUNTERS, QUEUE_LEN, RX_QUEUE_LEN, SETTINGS};
     use heapless::spsc::{Consumer, Producer, Queue};
     use rtic_sync::channel::{Receiver, Sender};
     use rtic_sync::make_channel;
-    use triad::device::board::{LinkRx, LinkTx};
+    use triad::device::board::{Board, DataReadyLine, LinkRx, LinkTx};
     use triad::device::{
         on_data_ready, on_fifo_ready, sample_period_us, CommandHandler, Control, Handled,
         LoadWindow, Outgoing, Sampler, SensorHealth, StallWatch, Stepped, Task,
@@ -103,10 +106,15 @@ mod app {
     use triad::protocol::{Reply, MAX_WIRE_LEN};
     use triad::sensor::{SelfTestError, SelfTestReport};
 
+    /// The board, through its contract.
+    type B = crate::B;
+    /// The chip's driver.
+    type Sensor = crate::start::Sensor;
+
     /// A self-test's outcome, with the sequence number of its command.
     type SelfTestDone = (
         u16,
-        Result<SelfTestReport, SelfTestError<board::SensorBusError>>,
+        Result<SelfTestReport, SelfTestError<<B as Board>::SensorBusError>>,
     );
 
     /// The load goes to the log every this many seconds.
@@ -117,28 +125,37 @@ mod app {
 
     #[local]
     struct Local {
-        sample_line: board::SampleLine,
-        clock: board::MicrosecondClock,
-        sensor: board::Sensor,
+        sample_line: <B as Board>::SampleLine,
+        clock: <B as Board>::Clock,
+        /// The chip: the data-ready task's, but the idle task's while it
+        /// runs the chip's self-test.
+        sensor: Option<Sensor>,
         sampler: Sampler,
         /// Stalls and restarts of the sensor (the data-ready task's).
         health: SensorHealth,
-        self_test_delay: board::SelfTestDelay,
         /// data_ready → transmit: frames (woken by [`OUTGOING`]).
         frames_in: Producer<'static, Outgoing>,
         /// commands → data_ready: changes, applied between two samples.
         controls_out: Receiver<'static, Control, 2>,
         /// commands → data_ready: a self-test to run (its sequence number).
         self_tests_out: Receiver<'static, u16, 1>,
-        /// data_ready → commands: its outcome.
+        /// data_ready → idle: the chip, for a self-test (its sequence number).
+        to_self_test: Sender<'static, (u16, Sensor), 1>,
+        /// idle → data_ready: the chip, back from its self-test.
+        sensor_back: Receiver<'static, Sensor, 1>,
+        // The idle task's: the self-test.
+        self_test_delay: <B as Board>::SelfTestDelay,
+        self_tests_to_run: Receiver<'static, (u16, Sensor), 1>,
+        sensor_back_in: Sender<'static, Sensor, 1>,
+        /// idle → commands: a self-test's outcome.
         self_tests_done_in: Sender<'static, SelfTestDone, 1>,
-        serial_rx: board::SerialRx,
+        serial_rx: <B as Board>::SerialRx,
         /// link_rx → commands: received bytes (a byte stream: a lock-free
         /// queue and a waker, where a channel would cost a critical section
         /// per byte).
         rx_in: Producer<'static, u8>,
         // The command task's.
-        handler: CommandHandler<board::Flash>,
+        handler: CommandHandler<<B as Board>::Flash>,
         decoder: Decoder,
         rx_out: Consumer<'static, u8>,
         /// commands → transmit: replies.
@@ -147,7 +164,7 @@ mod app {
         self_tests_in: Sender<'static, u16, 1>,
         self_tests_done_out: Receiver<'static, SelfTestDone, 1>,
         // The transmitter's.
-        serial: board::Serial,
+        serial: <B as Board>::Serial,
         frames_out: Consumer<'static, Outgoing>,
         replies_out: Receiver<'static, Reply, 1>,
     }
@@ -157,7 +174,7 @@ mod app {
         frames: Queue<Outgoing, QUEUE_LEN> = Queue::new(),
     ])]
     fn init(cx: init::Context) -> (Shared, Local) {
-        let b = board::init(cx.device, &SETTINGS);
+        let b = B::init(cx.device, &SETTINGS);
         let started = crate::start::start(b.sensor_bus, b.flash);
         // One data-ready step per period of the chip's rate over the
         // watermark: what the stall watch and the health count in.
@@ -171,6 +188,8 @@ mod app {
         let (controls_in, controls_out) = make_channel!(Control, 2);
         let (self_tests_in, self_tests_out) = make_channel!(u16, 1);
         let (self_tests_done_in, self_tests_done_out) = make_channel!(SelfTestDone, 1);
+        let (to_self_test, self_tests_to_run) = make_channel!((u16, Sensor), 1);
+        let (sensor_back_in, sensor_back) = make_channel!(Sensor, 1);
         // Spawning at start-up cannot fail: neither task is running yet.
         let _ = commands::spawn();
         let _ = transmit::spawn();
@@ -179,13 +198,17 @@ mod app {
             Local {
                 sample_line: b.sample_line,
                 clock: b.clock,
-                sensor: started.sensor,
+                sensor: Some(started.sensor),
                 sampler: started.sampler,
                 health: SensorHealth::new(step_us),
-                self_test_delay: b.self_test_delay,
                 frames_in,
                 controls_out,
                 self_tests_out,
+                to_self_test,
+                sensor_back,
+                self_test_delay: b.self_test_delay,
+                self_tests_to_run,
+                sensor_back_in,
                 self_tests_done_in,
                 serial_rx: b.serial_rx,
                 rx_in,
@@ -208,57 +231,100 @@ mod app {
     /// before its handler runs, so what is counted is sleep alone. The
     /// window's cycles less the tasks' and this are what no measured task
     /// took: RTIC's dispatch, the async executor, interrupt entry and exit.
-    #[idle]
-    fn idle(_: idle::Context) -> ! {
+    ///
+    /// The chip's self-test runs here, below every task, when the
+    /// data-ready task hands the chip over: it takes up to 1.4 s of waits
+    /// (the data sheets' procedures), during which every task still runs
+    /// (the data-ready task keeps the stream's time and counts the samples
+    /// not measured, the link answers). Its time is counted as the link's
+    /// (the command's work).
+    #[idle(local = [self_test_delay, self_tests_to_run, sensor_back_in, self_tests_done_in])]
+    fn idle(cx: idle::Context) -> ! {
+        let l = cx.local;
         loop {
+            if let Ok((sequence, mut sensor)) = l.self_tests_to_run.try_recv() {
+                let run = crate::run_time::begin();
+                let result = self_test(&mut sensor, l.self_test_delay);
+                // Each channel has room: one self-test at a time. The
+                // outcome first: the command task (above this one) queues
+                // the reply at once, so it goes out before the frame that
+                // counts what the self-test missed.
+                let _ = l.self_tests_done_in.try_send((sequence, result));
+                let _ = l.sensor_back_in.try_send(sensor);
+                crate::run_time::end(run, Task::Link);
+                continue;
+            }
             cortex_m::interrupt::free(|_| {
-                let before = board::cycles();
+                // A chip handed over since the look above: no sleep.
+                if !l.self_tests_to_run.is_empty() {
+                    return;
+                }
+                let before = B::cycles();
                 cortex_m::asm::wfi();
-                crate::run_time::slept(board::cycles().wrapping_sub(before));
+                crate::run_time::slept(B::cycles().wrapping_sub(before));
             });
         }
     }
 
-    /// The emulated board's data-ready edge: its sample timer pends EXTI0,
-    /// as the chip's INT1 does on a real board. It ticks once per data-ready
-    /// period whatever the chip does, so it also keeps the stall watch: a
-    /// sensor silent for 50 ms gets the data-ready task pended to check it.
-    #[cfg(feature = "board-qemu")]
-    #[task(binds = TIM2, priority = 4, local = [watch: Option<StallWatch> = None])]
-    fn sample_timer(cx: sample_timer::Context) {
-        let run = crate::run_time::begin();
-        board::sample_timer_edge();
-        if crate::stall::tick(cx.local.watch) {
-            rtic::pend(board::pac::Interrupt::EXTI0);
+    /// The chip's self-test; a chip it left needing a restart is restarted.
+    fn self_test(
+        sensor: &mut Sensor,
+        delay: &mut <B as Board>::SelfTestDelay,
+    ) -> Result<SelfTestReport, SelfTestError<<B as Board>::SensorBusError>> {
+        let result = sensor.self_test(delay);
+        if let Err(SelfTestError {
+            chip: triad::sensor::ChipLeft::NeedsInit,
+            ..
+        }) = result
+        {
+            let mut delay = <B as Board>::Delay::default();
+            if sensor.start_with(&mut delay, &SETTINGS).is_err() {
+                defmt::error!("the chip did not restart after its self-test");
+            }
         }
-        // The chip's own edge, and the watch a hardware board's watchdog
-        // keeps: the emulated board's time, not the firmware's.
-        crate::run_time::end(run, Task::ChipModel);
+        result
     }
 
-    /// The NUCLEO's transmit DMA: a run of the transmit ring ended (or was
-    /// asked for); the transmitter may have room again.
-    #[cfg(feature = "board-nucleo-f401re")]
-    #[task(binds = DMA1_STREAM6, priority = 4)]
-    fn transmit_dma(_: transmit_dma::Context) {
-        if board::transmit_dma_interrupt() {
+    /// The board's own interrupt: the emulated board's sample timer (which
+    /// pends the data-ready line, as the chip's INT1 does on a real board),
+    /// or the NUCLEO's transmit DMA (a run of the transmit ring ended: the
+    /// transmitter may have room again). A board whose interrupt ticks once
+    /// per data-ready period whatever the chip does (the sample timer) also
+    /// keeps the stall watch: a sensor silent for 50 ms gets the data-ready
+    /// task pended to check it (the NUCLEO's independent watchdog resets a
+    /// board whose data-ready task read no sample for 4 s instead).
+    #[task(binds = BOARD_OWN, priority = 4, local = [watch: Option<StallWatch> = None])]
+    fn board_own(cx: board_own::Context) {
+        let run = crate::run_time::begin();
+        let done = B::own_interrupt();
+        if done.transmit_room {
             TX_ROOM.wake();
         }
+        if done.data_ready_period && crate::stall::tick(cx.local.watch) {
+            rtic::pend(crate::board::vectors::Interrupt::DATA_READY);
+        }
+        // The chip's own edge is the model's time, not the firmware's.
+        let task = if done.chip_model {
+            Task::ChipModel
+        } else {
+            Task::Link
+        };
+        crate::run_time::end(run, task);
     }
 
-    /// The data-ready step: the IMU's data-ready line is EXTI0 on every board
-    /// (on the emulated board its sample timer pends it).
-    #[task(binds = EXTI0, priority = 3, local = [sample_line, clock, sensor, sampler, health, frames_in, controls_out, self_test_delay, self_tests_out, self_tests_done_in, load_window: LoadWindow = LoadWindow::new(), windows: u32 = 0, slept_then: u32 = 0])]
+    /// The data-ready step, on the IMU's data-ready line (on the emulated
+    /// board its sample timer pends it).
+    #[task(binds = DATA_READY, priority = 3, local = [sample_line, clock, sensor, sampler, health, frames_in, controls_out, self_tests_out, to_self_test, sensor_back, flash_stalls: u32 = 0, load_window: LoadWindow = LoadWindow::new(), windows: u32 = 0, slept_then: u32 = 0])]
     fn data_ready(cx: data_ready::Context) {
         let _step = crate::stall::Step::begin();
         let run = crate::run_time::begin();
-        let model = board::model_cycles();
+        let model = B::model_cycles();
         let l = cx.local;
         // The window closes here; its log waits until the sample is read,
         // so that writing it does not delay the step's timestamp.
         let closed = l
             .load_window
-            .tick(run.start(), board::CYCLES_HZ, &COUNTERS.load);
+            .tick(run.start(), B::CYCLES_HZ, &COUNTERS.load);
         let mut slept = 0;
         if closed.is_some() {
             *l.windows += 1;
@@ -271,7 +337,7 @@ mod app {
         let log = closed.filter(|_| *l.windows % LOG_LOAD_EVERY == 2);
         step(l);
         if let Some(shares) = log {
-            let load = COUNTERS.load.load(board::CYCLES_HZ);
+            let load = COUNTERS.load.load(B::CYCLES_HZ);
             defmt::info!(
                 "load ‰: data-ready {}, link {}, receive {}, chip model {}",
                 shares[0],
@@ -298,7 +364,7 @@ mod app {
                 RX_QUEUE_LEN
             );
         }
-        let model = board::model_cycles().wrapping_sub(model);
+        let model = B::model_cycles().wrapping_sub(model);
         crate::run_time::end_with_model(run, Task::DataReady, model);
     }
 
@@ -311,31 +377,35 @@ mod app {
         while let Ok(control) = l.controls_out.try_recv() {
             l.sampler.apply(control);
         }
-        // The stall watch's check: data-ready has been silent for 50 ms.
+        // The flash stalled the CPU since the last step (a save or an erase
+        // on a single-bank board): this step's frame carries what was missed.
+        let stalls = B::flash_stalls();
+        if stalls != *l.flash_stalls {
+            *l.flash_stalls = stalls;
+            l.sampler.flash_stalled();
+        }
+        // The chip is away in its self-test (the idle task's): nothing to
+        // read until it is back; the sampler counts the samples it missed
+        // when it is (SELF_TEST in the next frame).
+        let sensor = match l.sensor {
+            Some(sensor) => sensor,
+            None => match l.sensor_back.try_recv() {
+                // The sampler counts what was missed at this step.
+                Ok(sensor) => l.sensor.insert(sensor),
+                Err(_) => {
+                    l.sample_line.acknowledge();
+                    return;
+                }
+            },
+        };
+        // The stall watch's check: data ready has been silent for 50 ms.
         // Nothing to read; find the chip and configure it again. The steps
-        // lost are counted when data-ready comes back.
+        // lost are counted when data ready comes back.
         if crate::stall::take_check() {
             if l.health.stalled() {
-                restart(l.sensor, l.health);
+                restart(sensor, l.health);
             }
             COUNTERS.publish_health(l.health.totals());
-            return;
-        }
-        // A self-test runs here, in place of sampling: the steps it takes
-        // are counted lost (OVERRUN) in the next frame.
-        if let Ok(sequence) = l.self_tests_out.try_recv() {
-            let result = l.sensor.self_test(l.self_test_delay);
-            if let Err(SelfTestError {
-                chip: triad::sensor::ChipLeft::NeedsInit,
-                ..
-            }) = result
-            {
-                if l.sensor.start_with(&mut board::Delay, &SETTINGS).is_err() {
-                    defmt::error!("the chip did not restart after its self-test");
-                }
-            }
-            // The command task waits for this outcome: there is room.
-            let _ = l.self_tests_done_in.try_send((sequence, result));
             return;
         }
         let frames_in = l.frames_in;
@@ -343,9 +413,9 @@ mod app {
             let stepped = on_fifo_ready(
                 l.sample_line,
                 l.clock,
-                l.sensor,
+                sensor,
                 l.sampler,
-                |sensor| board::data_ready(sensor, SETTINGS.watermark),
+                |sensor| B::data_ready(sensor, SETTINGS.watermark),
                 |frame| frames_in.enqueue(frame).is_ok(),
             );
             if let Some(error) = &stepped.read_failed {
@@ -356,9 +426,9 @@ mod app {
             let stepped = on_data_ready(
                 l.sample_line,
                 l.clock,
-                l.sensor,
+                sensor,
                 l.sampler,
-                |sensor| board::data_ready(sensor, 1),
+                |sensor| B::data_ready(sensor, 1),
                 |frame| frames_in.enqueue(frame),
             );
             if let Stepped::ReadFailed(error) = &stepped {
@@ -370,10 +440,10 @@ mod app {
             )
         };
         if read {
-            board::feed_watchdog();
+            B::feed_watchdog();
         }
         if l.health.read(read) {
-            restart(l.sensor, l.health);
+            restart(sensor, l.health);
         }
         COUNTERS.publish(l.sampler.totals(), l.sampler.uptime_ms());
         COUNTERS.publish_health(l.health.totals());
@@ -381,23 +451,32 @@ mod app {
         if queued {
             OUTGOING.wake();
         }
+        // A self-test asked for: the chip goes to the idle task after this
+        // step's samples were read, and comes back at a later step.
+        if let Ok(sequence) = l.self_tests_out.try_recv() {
+            if let Some(sensor) = l.sensor.take() {
+                l.sampler.self_test_began();
+                // Empty: the chip is here, so no self-test is under way.
+                let _ = l.to_self_test.try_send((sequence, sensor));
+            }
+        }
     }
 
     /// Finds the chip again by its identity and configures it (what a chip
     /// back from a brown-out needs), counting the restart when it worked.
-    fn restart(sensor: &mut board::Sensor, health: &mut SensorHealth) {
-        let restarted = sensor.start_with(&mut board::Delay, &SETTINGS);
+    fn restart(sensor: &mut Sensor, health: &mut SensorHealth) {
+        let mut delay = <B as Board>::Delay::default();
+        let restarted = sensor.start_with(&mut delay, &SETTINGS);
         health.restarted(restarted.is_ok());
         if restarted.is_ok() {
             defmt::warn!("sensor restarted ({} so far)", health.totals().restarts);
         }
     }
 
-    /// The link's USART interrupt: USART2 on both boards (the NUCLEO's
-    /// ST-LINK virtual COM port; QEMU's second serial port). It receives,
-    /// and on the emulated board it also transmits what the transmitter
-    /// queued.
-    #[task(binds = USART2, priority = 2, local = [serial_rx, rx_in])]
+    /// The link's interrupt (USART2 on both boards: the NUCLEO's ST-LINK
+    /// virtual COM port; QEMU's second serial port). It receives, and on
+    /// the emulated board it also transmits what the transmitter queued.
+    #[task(binds = LINK, priority = 2, local = [serial_rx, rx_in])]
     fn link_rx(cx: link_rx::Context) {
         let run = crate::run_time::begin();
         let (serial_rx, rx_in) = (cx.local.serial_rx, cx.local.rx_in);
@@ -506,5 +585,5 @@ mod app {
 #[panic_handler]
 fn panic(_: &core::panic::PanicInfo) -> ! {
     // Nothing in the firmware is meant to panic; if it does, stop loudly.
-    board::exit(false)
+    B::exit(false)
 }

@@ -2,8 +2,9 @@
 //! the cycles from its entry to its exit, less the cycles of the tasks that
 //! preempted it (they add theirs to `NESTED` as they finish).
 
-use crate::{board, COUNTERS};
+use crate::{B, COUNTERS};
 use core::sync::atomic::{AtomicU32, Ordering};
+use triad::device::board::Board as _;
 use triad::device::Task;
 
 /// The sum of every finished run's own cycles, wrapping.
@@ -43,7 +44,7 @@ impl Run {
 #[inline(always)]
 pub fn begin() -> Run {
     Run {
-        start: board::cycles(),
+        start: B::cycles(),
         nested: NESTED.load(Ordering::Relaxed),
     }
 }
@@ -61,7 +62,7 @@ pub fn end(run: Run, task: Task) {
 #[inline(always)]
 pub fn end_with_model(run: Run, task: Task, model: u32) {
     cortex_m::interrupt::free(|_| {
-        let gross = board::cycles().wrapping_sub(run.start);
+        let gross = B::cycles().wrapping_sub(run.start);
         let inner = NESTED.load(Ordering::Relaxed).wrapping_sub(run.nested);
         let own = gross.wrapping_sub(inner).wrapping_sub(model);
         let nested = NESTED

@@ -43,7 +43,6 @@ pub fn set_tick_us(tick_us: u32) {
 
 /// One tick of the watch (its task only); true when it asked for a check,
 /// which the caller then pends the data-ready task for.
-#[cfg_attr(not(feature = "board-qemu"), allow(dead_code))]
 pub fn tick(watch: &mut Option<StallWatch>) -> bool {
     let tick_us = TICK_US.load(Ordering::Relaxed);
     if tick_us == 0 {

@@ -4,44 +4,48 @@
 //! sampler and the command handler on that choice. Every failure that
 //! leaves nothing to stream stops the board with the reason in the log.
 
-use crate::{board, BUS, CALIBRATION_BLOB, SETTINGS};
+use crate::{B, CALIBRATION_BLOB, SETTINGS};
+use triad::device::board::Board;
 use triad::device::startup::load_stored;
 use triad::device::{start_calibration, CalibrationStore, CommandHandler, DeviceFacts, Sampler};
 use triad::protocol::StoredState;
-use triad::sensor::Imu;
+use triad::sensor::{AnyChip, Imu};
+
+/// The driver of the chip found on the board's bus.
+pub type Sensor = AnyChip<<B as Board>::SensorInterface>;
 
 /// What the tasks start with.
 pub struct Started {
     /// The sensor, sampling.
-    pub sensor: board::Sensor,
+    pub sensor: Sensor,
     /// The per-sample pipeline with the chosen calibration.
     pub sampler: Sampler,
     /// The command handler, over the store.
-    pub handler: CommandHandler<board::Flash>,
+    pub handler: CommandHandler<<B as Board>::Flash>,
 }
 
 /// Brings the sensor, the store and the calibration up.
 pub fn start(
-    bus: board::SensorBus,
-    flash: Result<board::Flash, board::StorageUnavailable>,
+    bus: <B as Board>::SensorBus,
+    flash: Result<<B as Board>::Flash, <B as Board>::StorageUnavailable>,
 ) -> Started {
-    let mut sensor = match board::find_sensor(bus) {
+    let mut sensor = match B::find_sensor(bus) {
         Ok(sensor) => sensor,
         Err(error) => {
             defmt::error!("no known IMU on the bus: {}", defmt::Debug2Format(&error));
-            board::exit(false)
+            B::exit(false)
         }
     };
-    if let Err(error) = sensor.start_with(&mut board::Delay, &SETTINGS) {
+    if let Err(error) = sensor.start_with(&mut <B as Board>::Delay::default(), &SETTINGS) {
         defmt::error!(
             "{} initialisation failed: {}",
             sensor.name(),
             defmt::Debug2Format(&error)
         );
-        board::exit(false);
+        B::exit(false);
     }
     let rate_hz = sensor.sample_rate_hz();
-    let description = board::DESCRIPTION;
+    let description = B::DESCRIPTION;
     defmt::info!(
         "triad firmware: {} at {} Hz, {} per interrupt, decimation {}",
         sensor.name(),
@@ -50,7 +54,7 @@ pub fn start(
         description.decimation
     );
 
-    let (base, slot_len) = board::STORAGE_SLOTS;
+    let (base, slot_len) = B::STORAGE_SLOTS;
     let mut store = match flash {
         Ok(flash) => match CalibrationStore::new(flash, base, slot_len) {
             Ok(store) => Some(store),
@@ -63,7 +67,7 @@ pub fn start(
             }
         },
         Err(why) => {
-            defmt::info!("no calibration storage: {}", why);
+            defmt::info!("no calibration storage: {}", defmt::Debug2Format(&why));
             None
         }
     };
@@ -85,7 +89,7 @@ pub fn start(
         Ok(startup) => startup,
         Err(error) => {
             defmt::error!("the chip's scale is invalid: {}; stopping", error);
-            board::exit(false)
+            B::exit(false)
         }
     };
     if let Some(rejection) = startup.stored_rejected {
@@ -103,12 +107,12 @@ pub fn start(
         firmware: env!("CARGO_PKG_VERSION"),
         board: description.name,
         chip: sensor.name(),
-        bus: BUS,
+        bus: B::BUS,
         sample_rate_hz: rate_hz as f32,
         baud: description.baud,
         scale,
         orientation: description.orientation,
-        cycles_hz: board::CYCLES_HZ,
+        cycles_hz: B::CYCLES_HZ,
     };
     let handler = CommandHandler::new(
         facts,

@@ -485,6 +485,152 @@ fn commands_while_streaming_at_the_full_rate_cost_no_overrun_and_no_frame() {
     assert!(counters.commands >= 7 * rounds, "{counters:?}");
 }
 
+#[test]
+#[ignore = "needs the served board of `cargo xtask test`"]
+fn a_self_test_stops_no_task_and_the_frame_after_counts_exactly_the_samples_it_missed() {
+    use std::io::Write as _;
+    let d = test_dir("selftest");
+    let board = ServedBoard::start(&d.join("storage.bin"), Clock::Deterministic, None);
+    // The link, and a second handle on its port to send the command
+    // through, so that the link sees every frame around it (its own
+    // exchange would skip them).
+    let port = triad_host::plumbing::serial::open(
+        board.port(),
+        served_board::BAUD,
+        Duration::from_millis(20),
+    )
+    .expect("opening the served port");
+    let mut writer = port.try_clone().expect("a second handle on the port");
+    let settings = triad_host::device::link::Settings {
+        timeout: Duration::from_secs(2),
+        tries: 3,
+    };
+    let mut link = triad_host::device::link::Link::new(port, settings, board.port().into(), 0x4000);
+    // Streaming (data frames, or batch frames with the FIFO on).
+    let deadline = Instant::now() + STREAM_TIMEOUT;
+    let mut streamed = 0;
+    while streamed < 20 {
+        match link.next_packet(deadline).expect("reading the port") {
+            Some(Ok(Packet::Data(_) | Packet::Batch(_))) => streamed += 1,
+            Some(_) => {}
+            None => panic!("{streamed} of 20 frames within {STREAM_TIMEOUT:?}"),
+        }
+    }
+    let info = identify(&mut link).unwrap();
+    assert_eq!(info.decimation, 1);
+    let period_us = 1e6 / f64::from(info.sample_rate_hz);
+    let overruns_before = info.counters.overruns;
+    let mut wire = [0u8; triad::protocol::MAX_WIRE_LEN];
+    let n = Command::SelfTest
+        .to_packet(0x7001)
+        .unwrap()
+        .to_wire(&mut wire);
+    writer.write_all(&[0]).unwrap();
+    writer.write_all(&wire[..n]).unwrap();
+    writer.flush().unwrap();
+
+    // Every packet until 20 frames after the reply (data frames, or batch
+    // frames from a firmware built with the FIFO on).
+    let deadline = Instant::now() + STREAM_TIMEOUT;
+    let (mut before, mut after, mut reply) = (Vec::new(), Vec::new(), None);
+    while after.len() < 20 {
+        let frame = match link.next_packet(deadline).expect("reading the port") {
+            Some(Ok(Packet::Data(f))) => Seen::of_data(&f),
+            Some(Ok(Packet::Batch(b))) => Seen::of_batch(&b),
+            Some(Ok(Packet::Reply(r))) if r.sequence == 0x7001 => {
+                reply = Some(r);
+                continue;
+            }
+            Some(Ok(other)) => panic!("{other:?}"),
+            Some(Err(e)) => panic!("a damaged packet: {e:?}"),
+            None => panic!(
+                "{} frames after the reply within {STREAM_TIMEOUT:?}",
+                after.len()
+            ),
+        };
+        match reply {
+            None => before.push(frame),
+            Some(_) => after.push(frame),
+        }
+    }
+    let reply = reply.unwrap();
+    assert_eq!(reply.status, triad::protocol::Status::Ok, "{reply:?}");
+    assert!(before.iter().all(|f| !f.flags.contains(Flags::SELF_TEST)));
+    // The reply goes out first; the first frame after it says what was missed.
+    let (last, first) = (before.last().unwrap(), &after[0]);
+    assert!(
+        first.flags.contains(Flags::SELF_TEST | Flags::OVERRUN),
+        "{first:?}"
+    );
+    // The chip's FIFO, flushed at the procedure's end, lost nothing of the
+    // stream's own: no FIFO_OVERFLOW.
+    assert!(!first.flags.contains(Flags::FIFO_OVERFLOW), "{first:?}");
+    assert!(after[1..]
+        .iter()
+        .all(|f| !f.flags.contains(Flags::SELF_TEST)));
+    assert_eq!(
+        first.sequence,
+        last.sequence + 1,
+        "no frame lost on the way"
+    );
+    // From the last sample before to the first after.
+    let last_sample_us = f64::from(last.timestamp_us) + f64::from(last.samples - 1) * period_us;
+    let gap_us = f64::from(first.timestamp_us) - last_sample_us;
+    let periods = (gap_us / period_us).round() as u16;
+    println!(
+        "self-test: {:.3} s between the samples around it at {} Hz, {} per frame, {} samples not measured",
+        gap_us / 1e6,
+        info.sample_rate_hz,
+        first.samples,
+        first.overruns
+    );
+    // The stream's time went on, and the count is that time's samples.
+    assert!(
+        gap_us > 0.1e6,
+        "a data sheet's self-test takes longer: {gap_us} µs"
+    );
+    assert_eq!(first.overruns, periods - 1, "{gap_us} µs at {period_us} µs");
+    let counters = identify(&mut link).unwrap().counters;
+    assert_eq!(
+        counters.overruns - overruns_before,
+        u32::from(first.overruns),
+        "every sample the device counts lost is the self-test's"
+    );
+}
+
+/// What the self-test test reads of a data or batch frame.
+#[derive(Debug)]
+struct Seen {
+    sequence: u32,
+    /// Its first sample's time, µs (wrapping ignored: the test is short).
+    timestamp_us: u32,
+    samples: u32,
+    flags: Flags,
+    overruns: u16,
+}
+
+impl Seen {
+    fn of_data(f: &Frame) -> Seen {
+        Seen {
+            sequence: f.sequence,
+            timestamp_us: f.timestamp_us,
+            samples: 1,
+            flags: f.flags,
+            overruns: f.overruns,
+        }
+    }
+
+    fn of_batch(b: &triad::protocol::BatchFrame) -> Seen {
+        Seen {
+            sequence: b.sequence,
+            timestamp_us: b.timestamp_us,
+            samples: u32::from(b.count),
+            flags: b.flags,
+            overruns: b.overruns,
+        }
+    }
+}
+
 /// The storage file's two slots (16 KiB each).
 const SLOT: usize = 16 * 1024;
 /// A record's header before its blob.

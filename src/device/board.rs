@@ -1,9 +1,14 @@
-//! What the firmware needs from a board, as traits every board crate
-//! implements (boards/qemu on the PAC, boards/nucleo-f401re on
-//! stm32f4xx-hal), so the data-ready step in [`super::data_ready`] is the same
-//! code on every board and in host tests.
+//! What the firmware needs from a board: the [`Board`] contract every board
+//! crate implements (boards/qemu on the PAC, boards/nucleo-f401re on
+//! stm32f4xx-hal) and the traits of its parts, so the data-ready step in
+//! [`super::data_ready`] is the same code on every board and in host tests,
+//! and the RTIC application is written once.
 
 use crate::model::Orientation;
+use crate::sensor::interface::RegisterInterface;
+use crate::sensor::{AnyChip, DetectError, Settings};
+use embedded_hal::delay::DelayNs;
+use embedded_storage::nor_flash::NorFlash;
 
 /// The IMU's data-ready line as the sampling task sees it.
 pub trait DataReadyLine {
@@ -55,8 +60,8 @@ pub trait LinkRx {
     }
 }
 
-/// The facts about a board that the stream depends on, in one place: the
-/// board crate's `DESCRIPTION` constant.
+/// The facts about a board that the stream depends on, in one place:
+/// [`Board::DESCRIPTION`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct BoardDescription {
     /// The board's name as `identify` reports it (e.g. "qemu-netduinoplus2").
@@ -67,4 +72,179 @@ pub struct BoardDescription {
     pub decimation: u16,
     /// The link's baud rate.
     pub baud: u32,
+}
+
+/// What a board's own interrupt did (the one interrupt of its own a board
+/// may bind besides the data-ready line and the link: the emulated board's
+/// sample timer, the NUCLEO's transmit DMA).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct OwnInterrupt {
+    /// The transmit ring has room again: wake the transmitter.
+    pub transmit_room: bool,
+    /// The interrupt was the emulated chip's, not the firmware's: the load
+    /// report counts its time as the chip model's.
+    pub chip_model: bool,
+    /// One data-ready period of the board's own time passed, whatever the
+    /// chip did (the emulated board's sample timer): the firmware's stall
+    /// watch ticks on it.
+    pub data_ready_period: bool,
+}
+
+/// The peripherals a board hands the firmware at start-up, each behind the
+/// core's trait for it.
+pub struct Parts<B: Board> {
+    /// The IMU's data-ready line (or what stands in for it).
+    pub sample_line: B::SampleLine,
+    /// Microsecond timestamps for the stream.
+    pub clock: B::Clock,
+    /// The link's transmitter (replies and frames).
+    pub serial: B::Serial,
+    /// The link's receiver (commands), read from the link's interrupt.
+    pub serial_rx: B::SerialRx,
+    /// The IMU's bus, for [`Board::find_sensor`].
+    pub sensor_bus: B::SensorBus,
+    /// The calibration flash, or why the board has none.
+    pub flash: Result<B::Flash, B::StorageUnavailable>,
+    /// The delay the chip's self-test waits with.
+    pub self_test_delay: B::SelfTestDelay,
+}
+
+/// A board: what the firmware needs of it, so that the RTIC application is
+/// written once for every board. A board crate implements this on one type
+/// and also provides, as a module `vectors` (RTIC's `device`; one line of
+/// [`board_vectors!`](crate::board_vectors) makes it), the PAC's
+/// `Peripherals` and `NVIC_PRIO_BITS` and an `interrupt` enumeration with
+/// the four fixed names the firmware binds (`DATA_READY`, `LINK`,
+/// `BOARD_OWN`, `DISPATCH`), numbered as its own vectors; its memory.x
+/// maps the vectors' symbols to those names (e.g. `PROVIDE(EXTI0 = DATA_READY);`).
+/// RTIC's `binds` takes a literal name, so the names are fixed and each
+/// board says which of its vectors each one is.
+pub trait Board: Sized + 'static {
+    /// The PAC's peripherals, which RTIC's `init` hands over.
+    type Peripherals;
+    /// The IMU's data-ready line.
+    type SampleLine: DataReadyLine + Send;
+    /// The stream's clock.
+    type Clock: MicrosecondClock + Send;
+    /// The link's transmitter.
+    type Serial: LinkTx + Send;
+    /// The link's receiver.
+    type SerialRx: LinkRx + Send;
+    /// The IMU's bus as the board brings it up.
+    type SensorBus;
+    /// The register interface the chip's driver reads through (SPI or I²C
+    /// over [`Board::SensorBus`]).
+    type SensorInterface: RegisterInterface<BusError = Self::SensorBusError> + Send;
+    /// The bus's error, as the drivers report it.
+    type SensorBusError: core::fmt::Debug + Send;
+    /// The calibration flash.
+    type Flash: NorFlash + Send;
+    /// Why there is no calibration flash.
+    type StorageUnavailable: core::fmt::Debug;
+    /// The delay the chip's self-test waits with.
+    type SelfTestDelay: DelayNs + Send;
+    /// A busy-wait delay for the driver's start-up waits.
+    type Delay: DelayNs + Default;
+
+    /// The facts the stream depends on (name, mounting, decimation, baud).
+    const DESCRIPTION: BoardDescription;
+    /// The sensor bus's name, as `identify` reports it ("spi", "i2c").
+    const BUS: &'static str;
+    /// Where the two calibration slots are in [`Board::Flash`]: base and
+    /// length of each.
+    const STORAGE_SLOTS: (u32, u32);
+    /// The rate of [`Board::cycles`], Hz.
+    const CYCLES_HZ: u32;
+
+    /// Brings up clocks and peripherals for the firmware's sampling `settings`.
+    fn init(peripherals: Self::Peripherals, settings: &Settings) -> Parts<Self>;
+
+    /// Finds the chip on the bus by its identity.
+    #[allow(clippy::type_complexity)]
+    fn find_sensor(
+        bus: Self::SensorBus,
+    ) -> Result<AnyChip<Self::SensorInterface>, DetectError<Self::SensorBusError>>;
+
+    /// Called at each data-ready step before the sample is read, with the
+    /// samples the step reads (the FIFO watermark, or 1): the emulated board
+    /// advances its chip model; hardware does nothing.
+    fn data_ready(_sensor: &mut AnyChip<Self::SensorInterface>, _samples: u16) {}
+
+    /// The body of the board's own interrupt (`BOARD_OWN`).
+    fn own_interrupt() -> OwnInterrupt;
+
+    /// A data-ready step read the sensor: proof of progress for a board
+    /// with a hardware watchdog (the NUCLEO's independent watchdog), which
+    /// resets a board whose sampling stopped. Nothing by default.
+    fn feed_watchdog() {}
+
+    /// The load measurement's clock, wrapping.
+    fn cycles() -> u32;
+
+    /// How many flash operations (erases, programs) have stalled the CPU
+    /// since start, wrapping: on a board whose one flash bank holds both
+    /// the program and the calibration, every fetch waits while it erases
+    /// or programs. Counted as each begins, with interrupts masked until it
+    /// ends, so the first task to run after a stall sees the count changed.
+    /// 0 on a board whose flash does not stall the CPU.
+    fn flash_stalls() -> u32 {
+        0
+    }
+
+    /// Cycles spent in an emulated chip model so far, wrapping (none on hardware).
+    fn model_cycles() -> u32 {
+        0
+    }
+
+    /// Stops the firmware with its outcome.
+    fn exit(success: bool) -> !;
+}
+
+/// A board crate's `vectors` module ([`Board`]'s doc): RTIC's `device` for
+/// the firmware, whose `interrupt` enumeration numbers the four names the
+/// firmware binds as the board's own vectors, taken from its PAC. Invoked
+/// at the board crate's root (it expands to `pub mod vectors`, which uses
+/// the crate's `cortex-m`):
+///
+/// ```ignore
+/// triad::board_vectors!(pac = stm32f4::stm32f405, data_ready = EXTI0,
+///     link = USART2, board_own = TIM2, dispatch = EXTI1);
+/// ```
+///
+/// The board's memory.x maps the same vectors to the names
+/// (`EXTI0 = DATA_READY;` ...): the firmware's handlers are named for the
+/// names, and the PAC's vector table for the vectors.
+#[macro_export]
+macro_rules! board_vectors {
+    (pac = $($pac:ident)::+, data_ready = $data_ready:ident, link = $link:ident,
+     board_own = $own:ident, dispatch = $dispatch:ident $(,)?) => {
+        /// The interrupts the firmware binds, by the names it binds them
+        /// (RTIC's `device`): memory.x maps this board's vectors to them.
+        pub mod vectors {
+            pub use $($pac)::+::{Peripherals, NVIC_PRIO_BITS};
+
+            /// The firmware's interrupts, numbered as this board's vectors.
+            #[allow(non_camel_case_types)]
+            #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+            #[repr(u16)]
+            pub enum interrupt {
+                #[doc = concat!("The data-ready line: ", stringify!($data_ready), ".")]
+                DATA_READY = $($pac)::+::Interrupt::$data_ready as u16,
+                #[doc = concat!("The link: ", stringify!($link), ".")]
+                LINK = $($pac)::+::Interrupt::$link as u16,
+                #[doc = concat!("The board's own interrupt: ", stringify!($own), ".")]
+                BOARD_OWN = $($pac)::+::Interrupt::$own as u16,
+                #[doc = concat!("A spare vector RTIC runs the async tasks from: ", stringify!($dispatch), ".")]
+                DISPATCH = $($pac)::+::Interrupt::$dispatch as u16,
+            }
+            pub use interrupt as Interrupt;
+
+            // SAFETY: each number is the PAC's for that vector.
+            unsafe impl ::cortex_m::interrupt::InterruptNumber for interrupt {
+                fn number(self) -> u16 {
+                    self as u16
+                }
+            }
+        }
+    };
 }

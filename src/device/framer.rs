@@ -93,6 +93,8 @@ pub struct Framer {
     overruns: u16,
     dropped: u16,
     fifo_overflow: bool,
+    self_test: bool,
+    flash_stall: bool,
 }
 
 impl Framer {
@@ -107,6 +109,8 @@ impl Framer {
             overruns: 0,
             dropped: 0,
             fifo_overflow: false,
+            self_test: false,
+            flash_stall: false,
         }
     }
 
@@ -129,6 +133,18 @@ impl Framer {
         self.fifo_overflow = true;
     }
 
+    /// The chip ran its self-test: `count` samples were not measured (the
+    /// next frame's `overruns`, with SELF_TEST).
+    pub fn self_test_ran(&mut self, count: u32) {
+        self.steps_lost(count);
+        self.self_test = true;
+    }
+
+    /// The board's flash stalled the CPU (the next frame says FLASH_STALL).
+    pub fn flash_stalled(&mut self) {
+        self.flash_stall = true;
+    }
+
     /// `frame` (returned by [`Framer::frame`]) could not be queued: it is
     /// counted as dropped, and the events it carried move to the next frame
     /// so that no count is lost with it.
@@ -146,6 +162,8 @@ impl Framer {
             .saturating_add(1);
         self.overruns = self.overruns.saturating_add(events.overruns);
         self.fifo_overflow |= events.flags.contains(Flags::FIFO_OVERFLOW);
+        self.self_test |= events.flags.contains(Flags::SELF_TEST);
+        self.flash_stall |= events.flags.contains(Flags::FLASH_STALL);
     }
 
     /// The next frame: `sample` at `timestamp_us`, with the events pending
@@ -225,6 +243,8 @@ impl Framer {
         flags.set(Flags::OVERRUN, self.overruns > 0);
         flags.set(Flags::DROPPED, self.dropped > 0);
         flags.set(Flags::FIFO_OVERFLOW, self.fifo_overflow);
+        flags.set(Flags::SELF_TEST, self.self_test);
+        flags.set(Flags::FLASH_STALL, self.flash_stall);
         flags
     }
 
@@ -234,5 +254,7 @@ impl Framer {
         self.overruns = 0;
         self.dropped = 0;
         self.fifo_overflow = false;
+        self.self_test = false;
+        self.flash_stall = false;
     }
 }

@@ -74,6 +74,8 @@ pub struct Sampler {
     uptime_us: u64,
     kernel: BatchKernel,
     period_ns: u32,
+    /// When the chip was handed to its self-test (µs), while it is away.
+    self_test_from: Option<u32>,
 }
 
 impl Sampler {
@@ -105,6 +107,7 @@ impl Sampler {
             totals: SamplerTotals::default(),
             clock: TimestampUnwrapper::new(),
             uptime_us: 0,
+            self_test_from: None,
         }
     }
 
@@ -125,7 +128,11 @@ impl Sampler {
     pub fn step<I: Imu>(&mut self, imu: &mut I, now_us: u32) -> StepOutcome<I::Error> {
         self.uptime_us = self.clock.unwrap(now_us);
         let missed = self.monitor.step_started(now_us);
-        self.steps_lost(missed);
+        match self.self_test_from.take() {
+            // The gap is the self-test's, counted once.
+            Some(from) => self.self_test_ended(from, now_us),
+            None => self.steps_lost(missed),
+        }
         let raw = match imu.read_sample() {
             Ok(raw) => raw,
             Err(error) => {
@@ -215,6 +222,12 @@ impl Sampler {
             read_failed: None,
         };
         let mut buffer = [RawSample::default(); FIFO_READ_MAX];
+        // Back from a self-test: its FIFO, flushed by the procedure's end,
+        // may report an overflow; those samples are inside the gap the
+        // self-test's count covers, so an overflow before the first sample
+        // read is not counted again (nor flagged: the chip lost nothing in
+        // sampling).
+        let mut self_test_from = self.self_test_from.take();
         for _ in 0..FIFO_READS_PER_STEP {
             let read = match imu.read_fifo(&mut buffer) {
                 Ok(read) => read,
@@ -224,7 +237,7 @@ impl Sampler {
                     break;
                 }
             };
-            if read.overflowed {
+            if read.overflowed && self_test_from.is_none() {
                 self.framer.fifo_overflowed();
                 self.steps_lost(read.lost);
             }
@@ -233,6 +246,12 @@ impl Sampler {
             // Samples before the newest, which arrived at now_us.
             let behind = (samples.len() + usize::from(read.remaining)).saturating_sub(1);
             let first_us = now_us.wrapping_sub(self.span_us(behind));
+            // The first sample read after the self-test dates its end.
+            if !samples.is_empty() {
+                if let Some(from) = self_test_from.take() {
+                    self.self_test_ended(from, first_us);
+                }
+            }
             let mut offer = |frame: Outgoing, sampler: &mut Self| {
                 let events = frame.events();
                 if enqueue(frame) {
@@ -260,6 +279,8 @@ impl Sampler {
                 break;
             }
         }
+        // No sample yet: the next step dates the self-test's end.
+        self.self_test_from = self_test_from;
         stepped
     }
 
@@ -339,6 +360,42 @@ impl Sampler {
     /// The step that just ended overran: the next one is already due.
     pub fn overran(&mut self) {
         self.steps_lost(1);
+    }
+
+    /// The chip goes to its self-test after the step just made (whose
+    /// samples were read): it measures nothing for the stream until it is
+    /// back. The first step after counts the chip's sample periods from
+    /// the last sample read before to the first read after (those two
+    /// excluded) as not measured: that step's first frame says SELF_TEST
+    /// with them in `overruns`, and the step monitor does not count the gap
+    /// again. Exact to the frames' own timestamps: the periods between the
+    /// two samples' times, rounded to the nearest whole one.
+    pub fn self_test_began(&mut self) {
+        self.self_test_from = Some(self.uptime_us as u32);
+    }
+
+    /// The chip is back: `first_us` is the time of the first sample read
+    /// since the self-test began (see [`Sampler::self_test_began`]).
+    #[cold]
+    fn self_test_ended(&mut self, from: u32, first_us: u32) {
+        let elapsed_ns = u64::from(first_us.wrapping_sub(from)) * 1000;
+        let period_ns = u64::from(self.period_ns.max(1));
+        let periods = (elapsed_ns + period_ns / 2) / period_ns;
+        let lost = u32::try_from(periods.saturating_sub(1)).unwrap_or(u32::MAX);
+        self.framer.self_test_ran(lost);
+        self.totals.overruns = self.totals.overruns.wrapping_add(lost);
+    }
+
+    /// The board's flash stalled the CPU since the previous step (see
+    /// [`crate::device::board::Board::flash_stalls`]): the next frame, which
+    /// carries the samples missed meanwhile, says FLASH_STALL.
+    pub fn flash_stalled(&mut self) {
+        self.framer.flash_stalled();
+    }
+
+    /// True while the chip is in its self-test.
+    pub fn in_self_test(&self) -> bool {
+        self.self_test_from.is_some()
     }
 
     /// `frame` could not be queued for the link; see [`Framer::frame_dropped`].

@@ -33,8 +33,17 @@ impl Flags {
     /// Bit 6: a raw frame: the values are the chip's counts (scaled to SI
     /// with its nominal sensitivity by `triad decode`), not corrected.
     pub const RAW: Flags = Flags(1 << 6);
+    /// Bit 7: the chip ran its self-test since the previous frame: the
+    /// samples it could not measure meanwhile are counted in this frame's
+    /// `overruns` (with OVERRUN).
+    pub const SELF_TEST: Flags = Flags(1 << 7);
+    /// Bit 8: the board's flash erased or programmed since the previous
+    /// frame on a board where that stalls the CPU (a single-bank flash):
+    /// the samples missed meanwhile are in this frame's `overruns` (or its
+    /// FIFO_OVERFLOW).
+    pub const FLASH_STALL: Flags = Flags(1 << 8);
     /// Every bit this version of the protocol defines.
-    pub const KNOWN: Flags = Flags(0x007F);
+    pub const KNOWN: Flags = Flags(0x01FF);
 
     /// No flag set.
     pub const fn empty() -> Flags {

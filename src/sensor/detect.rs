@@ -164,6 +164,14 @@ macro_rules! define_any_chip {
                 }
             }
 
+            /// The fastest SPI clock this chip takes, Hz: what a board sets
+            /// once it has found the chip (detection runs at [`SPI_MAX_HZ`]).
+            pub fn spi_max_hz(&self) -> u32 {
+                match self {
+                    $(Self::$driver(_) => $module::SPI_MAX_HZ,)+
+                }
+            }
+
             /// The output data rate of the configuration applied, Hz.
             pub fn sample_rate_hz(&self) -> f64 {
                 match self {

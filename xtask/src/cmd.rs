@@ -181,7 +181,11 @@ pub fn firmware_cargo(
         .args([subcommand, "--quiet", "-p", "triad-firmware"])
         .args(["--target", firmware.board.target(), "--features"])
         .arg(match scene {
-            Some(_) => format!("{},sim-scene", firmware.features()),
+            Some(_) => format!(
+                "{},{}/sim-scene",
+                firmware.features(),
+                firmware.board.package()
+            ),
             None => firmware.features(),
         })
         .envs(firmware.build_env())
@@ -201,7 +205,7 @@ fn firmware_target_dir(board: Board) -> PathBuf {
 
 fn build(firmware: Firmware, calibration: &Path, scene: Option<&Path>) -> Result<PathBuf> {
     let board = firmware.board;
-    if scene.is_some() && board != Board::Qemu {
+    if scene.is_some() && !board.is_emulated() {
         bail!("--scene feeds the emulated board's chip model: use it with --board qemu");
     }
     note!(
@@ -228,9 +232,16 @@ fn build(firmware: Firmware, calibration: &Path, scene: Option<&Path>) -> Result
     Ok(elf)
 }
 
-/// Flashes and runs the firmware on a NUCLEO-F401RE with probe-rs (which also
-/// prints the defmt log) and decodes the stream from the virtual COM port.
-pub fn run_on_hardware(elf: &Path, triad: &Path, port: &str, seconds: f64) -> Result<()> {
+/// Flashes and runs the firmware on a hardware board (its microcontroller
+/// `chip` as probe-rs names it) with probe-rs (which also prints the defmt
+/// log) and decodes the stream from the board's serial port.
+pub fn run_on_hardware(
+    elf: &Path,
+    triad: &Path,
+    chip: &str,
+    port: &str,
+    seconds: f64,
+) -> Result<()> {
     if !runs("probe-rs") {
         bail!(
             "probe-rs not found: install it with `cargo install probe-rs-tools --locked` \
@@ -239,7 +250,7 @@ pub fn run_on_hardware(elf: &Path, triad: &Path, port: &str, seconds: f64) -> Re
     }
     let baud = crate::elf_facts::link_baud(elf)?;
     let mut probe = Command::new("probe-rs")
-        .args(["run", "--chip", "STM32F401RETx"])
+        .args(["run", "--chip", chip])
         .arg(elf)
         .stdin(Stdio::null())
         .spawn()
@@ -296,7 +307,11 @@ mod tests {
         );
         let args: Vec<&OsStr> = command.get_args().collect();
         assert_eq!(args[0], "clippy");
-        let features = format!("{},sim-scene", firmware.features());
+        let features = format!(
+            "{},{}/sim-scene",
+            firmware.features(),
+            firmware.board.package()
+        );
         assert!(args
             .windows(2)
             .any(|w| w[0] == "--features" && w[1] == features.as_str()));

@@ -4,23 +4,21 @@
 //! own firmware, whose dependency tree must hold only the core.
 
 use crate::bench::{bench_cargo, Core};
-use crate::board::Firmware;
+use crate::board::{Board, Firmware};
 use crate::cmd::{cargo, check, firmware_cargo, root};
 use anyhow::{bail, Context, Result};
 use std::path::Path;
 
 /// The example crate of a user's own firmware (examples/user-firmware).
 const EXAMPLE: &str = "triad-example-user-firmware";
-/// What the example must not pull in: the RTIC runtime, a PAC or HAL, a
-/// board, the simulator.
-const NOT_IN_EXAMPLE: [&str; 7] = [
+/// What the example must not pull in: the RTIC runtime, a PAC or HAL, the
+/// simulator (and any board: [`Board::all`]).
+const NOT_IN_EXAMPLE: [&str; 5] = [
     "rtic",
     "cortex-m-rt",
     "stm32f4",
     "stm32f4xx-hal",
     "triad-sim",
-    "triad-board-qemu",
-    "triad-board-nucleo-f401re",
 ];
 
 /// `cargo clippy -- -D warnings` on `firmware`, as it is built (its board's
@@ -96,9 +94,11 @@ pub fn check_example() -> Result<()> {
         .lines()
         .filter_map(|line| line.split_whitespace().next())
         .collect();
+    let boards: Vec<String> = Board::all().iter().map(|b| b.package()).collect();
     let pulled: Vec<&str> = NOT_IN_EXAMPLE
         .iter()
         .copied()
+        .chain(boards.iter().map(String::as_str))
         .filter(|name| crates.contains(name))
         .collect();
     if !pulled.is_empty() {

@@ -36,6 +36,7 @@ mod pty;
 mod qemu;
 mod serve;
 mod setup;
+mod size;
 mod test;
 
 #[derive(Parser)]
@@ -99,6 +100,9 @@ enum Command {
     /// each sampling setting, the calibration's life (upload, save, reset,
     /// bad upload, erase) and the self-test; writes a report.
     Hil(hil::HilArgs),
+    /// Flash and RAM of each firmware build, per board and per bus: prints
+    /// the table and writes docs/FIRMWARE_SIZE.md.
+    Size,
     /// Install what the project needs (rustup targets, QEMU) and exit.
     Setup,
     /// Write the man pages of `triad` (triad.1, triad-sim.1, ...) into DIR.
@@ -119,7 +123,7 @@ enum Command {
 #[derive(clap::Args)]
 pub struct FirmwareArgs {
     /// The board: `qemu` (emulated, the default) or `nucleo-f401re` (hardware via probe-rs).
-    #[arg(long, default_value = "qemu")]
+    #[arg(long, default_value = "qemu", value_parser = board::Board::parse)]
     board: board::Board,
     /// The emulated board's chip model (the firmware finds it on the bus, as
     /// it finds the chip fitted to a hardware board).
@@ -243,6 +247,7 @@ fn main() -> std::process::ExitCode {
             }),
         },
         Command::Hil(args) => hil::run(args),
+        Command::Size => size::run(),
         Command::Setup => setup::ensure_all(),
         Command::Man { dir } => man(&dir),
         Command::Log { elf, log } => defmt_log::print_file(&elf, &log),
@@ -266,8 +271,8 @@ fn run(args: RunArgs) -> anyhow::Result<()> {
         args.seconds
     );
     let (elf, triad) = build(&args.firmware)?;
-    match args.firmware.board {
-        board::Board::Qemu => {
+    match args.firmware.board.probe_rs_chip() {
+        None => {
             let stop = qemu::Stop::Seconds(args.seconds);
             let status = qemu::stream_to_decoder(&elf, &triad, stop, qemu::Inherit)?;
             // The reader of stdout left (`| head`): triad decode stopped
@@ -278,13 +283,13 @@ fn run(args: RunArgs) -> anyhow::Result<()> {
             anyhow::ensure!(status.success(), "triad decode exited with {status}");
             Ok(())
         }
-        board::Board::NucleoF401re => cmd::run_on_hardware(&elf, &triad, &args.port, args.seconds),
+        Some(chip) => cmd::run_on_hardware(&elf, &triad, chip, &args.port, args.seconds),
     }
 }
 
 fn serve_command(args: ServeArgs) -> anyhow::Result<()> {
     anyhow::ensure!(
-        args.firmware.board == board::Board::Qemu,
+        args.firmware.board.is_emulated(),
         "--board {}: serve runs the emulated board; a hardware board is served by itself \
          (talk to its port with triad device --port)",
         args.firmware.board.name()
@@ -298,7 +303,7 @@ fn serve_command(args: ServeArgs) -> anyhow::Result<()> {
     };
     let elf = match args.elf {
         Some(elf) => {
-            setup::ensure_for(board::Board::Qemu)?;
+            setup::ensure_for(board::Board::emulated())?;
             elf
         }
         None => build(&args.firmware)?.0,
@@ -317,8 +322,8 @@ fn build(args: &FirmwareArgs) -> anyhow::Result<(std::path::PathBuf, std::path::
     setup::ensure_for(args.board)?;
     let triad = cmd::build_host_tool()?;
     let calibration = cmd::pack_calibration(&triad, args.calib.as_deref())?;
-    let emulated_chip = match (args.board, args.sensor.as_deref()) {
-        (board::Board::Qemu, chip) => {
+    let emulated_chip = match (args.board.is_emulated(), args.sensor.as_deref()) {
+        (true, chip) => {
             let chip = chip.unwrap_or(triad::sensor::CHIP_NAMES[0]);
             triad::sensor::CHIP_NAMES
                 .iter()
@@ -326,10 +331,10 @@ fn build(args: &FirmwareArgs) -> anyhow::Result<(std::path::PathBuf, std::path::
                 .find(|c| *c == chip)
         }
         (_, None) => None,
-        (board, Some(chip)) => anyhow::bail!(
+        (false, Some(chip)) => anyhow::bail!(
             "--sensor {chip}: the {} firmware finds whichever chip is fitted; \
              --sensor names the emulated board's chip model",
-            board.name()
+            args.board.name()
         ),
     };
     let firmware = board::Firmware {

@@ -113,7 +113,7 @@ pub fn run(scope: Scope) -> Result<()> {
         // What `cargo xtask run --board nucleo-f401re` reads to open the port.
         let baud = crate::elf_facts::link_baud(&elf)?;
         note!("xtask: {} links at {baud} baud", firmware.label());
-        if firmware.board == Board::Qemu {
+        if firmware.board.is_emulated() {
             qemu_elves.push((firmware, elf));
         }
     }
@@ -178,7 +178,7 @@ pub fn run(scope: Scope) -> Result<()> {
         at()
     );
     hil::run(hil::HilArgs {
-        board: Board::Qemu,
+        board: Board::emulated(),
         port: None,
         bus: firmware.bus,
         sensor: firmware.emulated_chip.map(str::to_string),

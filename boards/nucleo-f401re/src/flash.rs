@@ -17,6 +17,7 @@
 //! (RM0368, "Erase and program operations"), so the firmware stops for the
 //! whole of it; the DMA into SRAM goes on.
 
+use core::sync::atomic::{AtomicU32, Ordering};
 use embedded_storage::nor_flash::{
     ErrorType, NorFlash, NorFlashError, NorFlashErrorKind, ReadNorFlash,
 };
@@ -36,6 +37,30 @@ const STORAGE_END: u32 = SECTOR_6 + 2 * SECTOR_LEN;
 /// Where the two calibration slots are in [`Flash`]: sector 6, then
 /// sector 7, one slot each.
 pub const STORAGE_SLOTS: (u32, u32) = (SECTOR_6, SECTOR_LEN);
+
+/// Erases and writes so far, wrapping: each stalls the CPU
+/// ([`crate::Board`]'s `flash_stalls`).
+static STALLS: AtomicU32 = AtomicU32::new(0);
+
+/// Erases and writes so far (wrapping), each of which stalled the CPU.
+pub fn stalls() -> u32 {
+    STALLS.load(Ordering::Relaxed)
+}
+
+/// Runs the flash operation `f`, counted as a stall first, with interrupts
+/// masked: the CPU cannot run them during the operation anyway (their code
+/// is in the bank being erased or programmed), and masked, none runs
+/// between the count and the stall, so the first to run after sees the
+/// count changed and its frame says FLASH_STALL.
+fn stalling<T>(f: impl FnOnce() -> T) -> T {
+    cortex_m::interrupt::free(|_| {
+        STALLS.store(
+            STALLS.load(Ordering::Relaxed).wrapping_add(1),
+            Ordering::Relaxed,
+        );
+        f()
+    })
+}
 
 /// FLASH_KEYR's unlock sequence (RM0368, "Unlocking the flash control
 /// register").
@@ -228,7 +253,7 @@ impl NorFlash for Flash {
         for offset in (from..to).step_by(SECTOR_LEN as usize) {
             // Sectors 6 and 7 are consecutive and the same size.
             let number = first_number + ((offset - first_offset) / SECTOR_LEN) as u8;
-            result = self.erase_sector(number);
+            result = stalling(|| self.erase_sector(number));
             if result.is_err() {
                 break;
             }
@@ -246,7 +271,7 @@ impl NorFlash for Flash {
         self.wait_idle();
         self.clear_errors();
         // Unlocked for this write only: the HAL locks again on drop.
-        let result = NorFlash::write(&mut self.0.unlocked(), offset, bytes);
+        let result = stalling(|| NorFlash::write(&mut self.0.unlocked(), offset, bytes));
         self.flush_data_cache();
         result.map_err(FlashError::from)
     }

@@ -26,7 +26,8 @@ mod serial_rx;
 mod serial_tx;
 pub use flash::{Flash, FlashError, StorageUnavailable, STORAGE_SLOTS};
 pub use serial_rx::SerialRx;
-pub use serial_tx::{transmit_dma_interrupt, Serial, TX_BUFFER_LEN};
+use serial_tx::transmit_dma_interrupt;
+pub use serial_tx::{Serial, TX_BUFFER_LEN};
 
 use stm32f4xx_hal::dma::StreamsTuple;
 use stm32f4xx_hal::gpio::{self, Edge, ExtiPin as _, GpioExt as _, Input, PinState};
@@ -37,7 +38,7 @@ use stm32f4xx_hal::syscfg::{SysCfg, SysCfgExt as _};
 use stm32f4xx_hal::time::{Bps, Hertz};
 use stm32f4xx_hal::timer::FTimerUs;
 use stm32f4xx_hal::watchdog::IndependentWatchdog;
-use triad::device::board::{BoardDescription, DataReadyLine};
+use triad::device::board::{BoardDescription, DataReadyLine, OwnInterrupt, Parts};
 use triad::model::Orientation;
 #[cfg(feature = "bus-i2c")]
 use triad::sensor::interface::I2cInterface;
@@ -48,7 +49,7 @@ use triad::sensor::{AnyChip, DetectError};
 /// This board's facts that the stream depends on. The link's baud rate is
 /// 921600 unless the build sets `TRIAD_LINK_BAUD` (e.g. 2000000, the
 /// ST-LINK virtual COM port's top rate, which 8 kHz batches need).
-pub const DESCRIPTION: BoardDescription = BoardDescription {
+const DESCRIPTION: BoardDescription = BoardDescription {
     name: "nucleo-f401re",
     orientation: Orientation::RotationNone,
     decimation: 1,
@@ -94,32 +95,91 @@ const ST_LINK_MCO_HZ: u32 = 8_000_000;
 /// HSE_STARTUP_TIMEOUT), in steps of at least 1 ms at HSI's 16 MHz.
 const HSE_TIMEOUT_MS: u32 = 100;
 
-/// The peripherals the application uses.
-pub struct Board {
-    /// The IMU's data-ready line (PB0, EXTI0).
-    pub sample_line: SampleLine,
-    /// Microsecond timestamps for the stream (TIM5).
-    pub clock: MicrosecondClock,
-    /// The stream's transmitter (USART2 by DMA; interrupt DMA1_STREAM6,
-    /// handled here).
-    pub serial: Serial,
-    /// The commands' receiver (USART2 by DMA; interrupt USART2).
-    pub serial_rx: SerialRx,
-    /// The IMU's bus, SPI1 or I²C1, for [`find_sensor`].
-    pub sensor_bus: SensorBus,
-    /// The calibration flash (sectors 6 and 7): always there on this board.
-    pub flash: Result<Flash, StorageUnavailable>,
-    /// The delay the chip's self-test waits with (the chip samples on its own).
-    pub self_test_delay: SelfTestDelay,
+#[cfg(all(feature = "bus-spi", feature = "bus-i2c"))]
+compile_error!("one bus per build: features bus-spi and bus-i2c are on together");
+
+/// The NUCLEO-F401RE, as the firmware sees it ([`triad::device::board::Board`]).
+pub struct Board;
+
+// The firmware's interrupts as this board's vectors (memory.x maps them too).
+triad::board_vectors!(
+    pac = stm32f4xx_hal::pac,
+    data_ready = EXTI0,
+    link = USART2,
+    board_own = DMA1_STREAM6,
+    dispatch = EXTI1,
+);
+
+impl triad::device::board::Board for Board {
+    type Peripherals = pac::Peripherals;
+    type SampleLine = SampleLine;
+    type Clock = MicrosecondClock;
+    type Serial = Serial;
+    type SerialRx = SerialRx;
+    type SensorBus = SensorBus;
+    type SensorInterface = SensorInterface;
+    type SensorBusError = SensorBusError;
+    type Flash = Flash;
+    type StorageUnavailable = StorageUnavailable;
+    type SelfTestDelay = Delay;
+    type Delay = Delay;
+
+    const DESCRIPTION: BoardDescription = DESCRIPTION;
+    const BUS: &'static str = if cfg!(feature = "bus-i2c") {
+        "i2c"
+    } else {
+        "spi"
+    };
+    const STORAGE_SLOTS: (u32, u32) = STORAGE_SLOTS;
+    /// The DWT cycle counter: the core clock.
+    const CYCLES_HZ: u32 = SYSCLK_HZ;
+
+    /// Brings up clocks and peripherals. The sampling settings are the
+    /// chip's own business here (its INT1 pin, on EXTI0, signals data ready
+    /// or the FIFO watermark alike).
+    fn init(dp: pac::Peripherals, _settings: &triad::sensor::Settings) -> Parts<Self> {
+        init(dp)
+    }
+
+    fn find_sensor(bus: SensorBus) -> Result<Sensor, FindError> {
+        find_sensor(bus)
+    }
+
+    /// DMA1_STREAM6: ends and starts runs of the transmit ring.
+    fn own_interrupt() -> OwnInterrupt {
+        OwnInterrupt {
+            transmit_room: transmit_dma_interrupt(),
+            chip_model: false,
+            data_ready_period: false,
+        }
+    }
+
+    /// The data-ready task made progress (a sample read): the watchdog waits
+    /// its period again.
+    fn feed_watchdog() {
+        // SAFETY: only IWDG's key register is written (the reload key), and
+        // from the data-ready task alone.
+        IndependentWatchdog::new(unsafe { pac::IWDG::steal() }).feed();
+    }
+
+    /// Each erase and write of the calibration's sectors: the flash has one
+    /// bank, so the CPU stalls on every fetch while it works.
+    fn flash_stalls() -> u32 {
+        flash::stalls()
+    }
+
+    /// The DWT cycle counter ([`init`] starts it).
+    fn cycles() -> u32 {
+        cortex_m::peripheral::DWT::cycle_count()
+    }
+
+    fn exit(success: bool) -> ! {
+        exit(success)
+    }
 }
 
-/// The self-test's delay: the plain busy-wait.
-pub type SelfTestDelay = Delay;
-
-/// Brings up clocks and peripherals. The sampling settings are the chip's
-/// own business here (its INT1 pin, on EXTI0, signals data ready or the
-/// FIFO watermark alike).
-pub fn init(dp: pac::Peripherals, _settings: &triad::sensor::Settings) -> Board {
+/// Brings up clocks and peripherals.
+fn init(dp: pac::Peripherals) -> Parts<Board> {
     // SAFETY: init runs once, before any task; only the trace enable and
     // the cycle counter's enable bit (RTIC uses neither) are written.
     let mut core = unsafe { cortex_m::Peripherals::steal() };
@@ -143,7 +203,7 @@ pub fn init(dp: pac::Peripherals, _settings: &triad::sensor::Settings) -> Board 
     let (tx, rx) = usart2(dp.USART2, gpioa.pa2, gpioa.pa3, &mut rcc);
     let dma1 = StreamsTuple::new(dp.DMA1, &mut rcc);
     IndependentWatchdog::new(dp.IWDG).start(WATCHDOG_MS.millis());
-    Board {
+    Parts {
         sample_line: SampleLine::new(gpiob.pb0, &mut syscfg, &mut exti),
         clock: MicrosecondClock::new(dp.TIM5, &mut rcc),
         serial: Serial::new(tx, dma1.6),
@@ -158,18 +218,13 @@ pub fn init(dp: pac::Peripherals, _settings: &triad::sensor::Settings) -> Board 
 /// progress this long (a chip gone, its data-ready line stuck, a bus
 /// transaction that never ends) resets the board, whose start-up finds the
 /// chip again (or, with none on the bus, stops until the next reset). Longer
-/// than the longest self-test, which runs in the data-ready task (about
-/// 1.4 s on an ICM-42688-P), and than a save's erase of a 128 KiB sector,
-/// which stalls the core (DS10086 t_ERASE128KB: 2 s at most).
-const WATCHDOG_MS: u32 = 4_000;
-
-/// The data-ready task made progress (a sample read): the watchdog waits
-/// its period again.
-pub fn feed_watchdog() {
-    // SAFETY: only IWDG's key register is written (the reload key), and
-    // from the data-ready task alone.
-    IndependentWatchdog::new(unsafe { pac::IWDG::steal() }).feed();
-}
+/// than the longest self-test, during which no sample is read (about 1.4 s
+/// on an ICM-42688-P), and than `erase`, which erases both calibration
+/// sectors with the core stalled (DS10086 t_ERASE128KB: 2 s at most each, so
+/// 4 s), with margin for the LSI clock the watchdog counts, which may run
+/// up to 47 kHz where 32 kHz is assumed (DS10086 §6.3.8): 10 s nominal is
+/// 6.8 s at the fastest.
+const WATCHDOG_MS: u32 = 10_000;
 
 /// SYSCLK 84 MHz from the ST-LINK's 8 MHz if it reaches OSC_IN, else from
 /// HSI; the HAL picks the PLL factors and the flash wait states.
@@ -225,13 +280,14 @@ pub type SensorBus = embedded_hal_bus::spi::ExclusiveDevice<
 #[cfg(feature = "bus-i2c")]
 pub type SensorBus = stm32f4xx_hal::i2c::I2c<pac::I2C1>;
 
-/// The sensor: the driver of the chip found on SPI1.
+/// The register interface the chip's driver reads through.
 #[cfg(not(feature = "bus-i2c"))]
-pub type Sensor = AnyChip<SpiInterface<SensorBus>>;
-
-/// The sensor: the driver of the chip found on I²C1.
+pub type SensorInterface = SpiInterface<SensorBus>;
+/// The register interface the chip's driver reads through.
 #[cfg(feature = "bus-i2c")]
-pub type Sensor = AnyChip<I2cInterface<SensorBus>>;
+pub type SensorInterface = I2cInterface<SensorBus>;
+/// The sensor: the driver of the chip found on the bus.
+pub type Sensor = AnyChip<SensorInterface>;
 
 /// The sensor bus's error, as the drivers report it.
 #[cfg(not(feature = "bus-i2c"))]
@@ -248,30 +304,74 @@ pub type FindError = DetectError<<SensorBus as embedded_hal::spi::ErrorType>::Er
 #[cfg(feature = "bus-i2c")]
 pub type FindError = DetectError<<SensorBus as embedded_hal::i2c::ErrorType>::Error>;
 
-/// Finds the chip on SPI1 by its identity.
+/// Finds the chip on SPI1 by its identity (at [`SPI_HZ`], which every
+/// listed chip takes), then runs SPI1 at the fastest clock the chip found
+/// takes.
 #[cfg(not(feature = "bus-i2c"))]
-pub fn find_sensor(bus: SensorBus) -> Result<Sensor, FindError> {
-    AnyChip::detect(SpiInterface::new(bus)).map_err(|undetected| undetected.reason)
+fn find_sensor(bus: SensorBus) -> Result<Sensor, FindError> {
+    let sensor = AnyChip::detect(SpiInterface::new(bus)).map_err(|undetected| undetected.reason)?;
+    let divider = spi_divider(sensor.spi_max_hz());
+    set_spi_divider(divider);
+    defmt::info!(
+        "SPI1 at {} Hz for the {} (it takes {} Hz)",
+        PCLK2_HZ / divider,
+        sensor.name(),
+        sensor.spi_max_hz()
+    );
+    Ok(sensor)
 }
+
+/// SPI1's clock divider of PCLK2 for a chip taking at most `max_hz`: the
+/// smallest power of two, 2 to 256, that keeps the clock within it.
+#[cfg(not(feature = "bus-i2c"))]
+const fn spi_divider(max_hz: u32) -> u32 {
+    let mut divider = 2;
+    while PCLK2_HZ / divider > max_hz && divider < 256 {
+        divider *= 2;
+    }
+    divider
+}
+
+/// Sets SPI1's clock to PCLK2 / `divider` (a power of two, 2 to 256). The
+/// HAL sets the clock only when it builds the bus (`Spi::new` takes a
+/// frequency; nothing changes it later, and rebuilding needs the RCC, which
+/// `init` has given up), so CR1's BR field is written here, through the PAC.
+#[cfg(not(feature = "bus-i2c"))]
+fn set_spi_divider(divider: u32) {
+    // BR = log2(divider) − 1 (RM0368, SPI_CR1: 000 is PCLK2 / 2).
+    let br = (divider.trailing_zeros().clamp(1, 8) - 1) as u8;
+    // SAFETY: SPI1 is idle (detection has ended; the sensor's next
+    // transaction starts after this returns, from the same context), and
+    // only BR changes, with the peripheral disabled meanwhile as RM0368
+    // asks ("BR[2:0] should not be changed when communication is ongoing").
+    let spi = unsafe { &*pac::SPI1::ptr() };
+    let enabled = spi.cr1().read().spe().bit_is_set();
+    spi.cr1().modify(|_, w| w.spe().clear_bit());
+    spi.cr1().modify(|_, w| w.br().set(br));
+    spi.cr1().modify(|_, w| w.spe().bit(enabled));
+}
+
+#[cfg(not(feature = "bus-i2c"))]
+const _: () = {
+    // 84 MHz / 4 = 21 MHz for the ICM-42688-P's 24; / 16 = 5.25 MHz for
+    // the LSM6DSOX's 10 (/ 8 would be 10.5).
+    assert!(spi_divider(24_000_000) == 4);
+    assert!(spi_divider(10_000_000) == 16);
+};
 
 /// Finds the chip on I²C1 by its identity at each chip's addresses (both
 /// address-pin levels: the breakout's strap does not matter).
 #[cfg(feature = "bus-i2c")]
-pub fn find_sensor(bus: SensorBus) -> Result<Sensor, FindError> {
+fn find_sensor(bus: SensorBus) -> Result<Sensor, FindError> {
     AnyChip::detect_i2c(bus).map_err(|undetected| undetected.reason)
 }
 
-/// SPI1's clock divider of PCLK2: the smallest power of two that keeps the
-/// clock within every listed chip's limit (the chip is not known until it
-/// is found on the bus): 84 MHz / 16 = 5.25 MHz for the LSM6DSOX's 10 MHz.
+/// SPI1's clock divider of PCLK2 while the chip is looked for: within every
+/// listed chip's limit (the chip is not known until it is found on the
+/// bus): 84 MHz / 16 = 5.25 MHz for the LSM6DSOX's 10 MHz. [`find_sensor`]
+/// then sets the found chip's own.
 #[cfg(not(feature = "bus-i2c"))]
-const SPI_DIVIDER: u32 = {
-    let mut divider = 2;
-    while PCLK2_HZ / divider > triad::sensor::detect::SPI_MAX_HZ {
-        divider *= 2;
-    }
-    divider
-};
+const SPI_DIVIDER: u32 = spi_divider(triad::sensor::detect::SPI_MAX_HZ);
 
 /// SPI1's clock. The HAL takes a frequency and rounds PCLK2 / f to the
 /// nearest power-of-two divider, which can be faster than asked (10 MHz
@@ -324,10 +424,6 @@ fn i2c_bus(i2c: pac::I2C1, (scl, sda): (gpio::PB8, gpio::PB9), rcc: &mut Rcc) ->
     // 400 kHz) = 35, TRISE = 13 (RM0368 §18.6.8-9).
     i2c.i2c(pins, Hertz::kHz(400), rcc)
 }
-
-/// Nothing to do on hardware: the chip raises INT1 by itself (`_samples`
-/// is the emulated board's: how far its chip model runs per edge).
-pub fn data_ready(_sensor: &mut Sensor, _samples: u16) {}
 
 /// The IMU's INT1 on PB0 → EXTI0, rising edge. PB0 is pulled down so that
 /// a missing or not yet configured chip leaves the line low, not floating.
@@ -402,23 +498,10 @@ fn usart2(
     }
 }
 
-/// The load measurement's clock: the DWT cycle counter (the core clock,
-/// 84 MHz; [`init`] starts it).
-pub fn cycles() -> u32 {
-    cortex_m::peripheral::DWT::cycle_count()
-}
-
-/// The rate of [`cycles`].
-pub const CYCLES_HZ: u32 = SYSCLK_HZ;
-
-/// Cycles spent in an emulated chip model: none on hardware.
-pub fn model_cycles() -> u32 {
-    0
-}
-
 /// A busy-wait delay for the driver's start-up waits, counted in cycles of
 /// the 84 MHz core (valid once [`init`] has set the clocks). `asm::delay`
 /// waits at least the cycles asked for. SysTick is left to RTIC.
+#[derive(Default)]
 pub struct Delay;
 
 impl embedded_hal::delay::DelayNs for Delay {
@@ -434,7 +517,7 @@ impl embedded_hal::delay::DelayNs for Delay {
 /// a HardFault (`udf`), which probe-rs reports with a backtrace and a
 /// non-zero exit. Without a debugger, both end in the HardFault handler's
 /// loop (a `bkpt` with no debugger attached escalates to a HardFault).
-pub fn exit(success: bool) -> ! {
+fn exit(success: bool) -> ! {
     if success {
         defmt::info!("exit: success");
         loop {

@@ -19,62 +19,118 @@ const TIMER_CLOCK_HZ: u32 = 1_000_000_000;
 /// The APB1 clock that the baud-rate divider assumes (168 MHz core / 4).
 const APB1_HZ: u32 = 42_000_000;
 
-/// The peripherals the application uses.
-pub struct Board {
-    /// The data-ready stand-in: one TIM2 interrupt per sample.
-    pub sample_line: SampleLine,
-    /// Microsecond timestamps for the stream.
-    pub clock: MicrosecondClock,
-    /// The stream's transmitter.
-    pub serial: Serial,
-    /// The commands' receiver (USART2's interrupt).
-    pub serial_rx: SerialRx,
-    /// The IMU's (software) SPI or I²C bus, for [`find_sensor`].
-    pub sensor_bus: SensorBus,
-    /// The calibration flash: a host file by semihosting, when QEMU's
-    /// command line names one.
-    pub flash: Result<Flash, StorageUnavailable>,
-    /// The delay the chip's self-test waits with: it lets the chip model's
-    /// time pass as it waits (on hardware the chip samples on its own).
-    pub self_test_delay: SelfTestDelay,
-}
+#[cfg(all(feature = "bus-spi", feature = "bus-i2c"))]
+compile_error!("one bus per build: features bus-spi and bus-i2c are on together");
 
-/// Brings up the peripherals for the firmware's sampling `settings` (the
-/// chip model's rate, and one data-ready edge per `watermark` samples). No
-/// clock tree set-up: QEMU's RCC is a stub.
-pub fn init(dp: pac::Peripherals, settings: &Settings) -> Board {
-    dp.RCC.apb1enr().modify(|_, w| {
-        w.tim2en().set_bit();
-        w.tim4en().set_bit();
-        w.tim5en().set_bit()
-    });
-    dp.RCC.apb1enr().modify(|_, w| w.usart2en().set_bit());
-    let (chip, rate_hz) = emulated_chip(settings.rate_hz, settings.watermark);
-    let sensor_bus = SensorBus(SharedBus(chip));
-    let (serial, tx_drain) = Serial::new(dp.USART2, USART_DIV_X16);
-    // SAFETY: the interrupt side reads SR/DR, writes DR and sets or clears
-    // CR1's RE, RXNEIE and TXEIE; the transmitter's side sets TXEIE (a
-    // read-modify-write the interrupt may preempt: both leave the other
-    // bits as they were).
-    let serial_rx = SerialRx::new(unsafe { pac::USART2::steal() }, tx_drain);
-    Board {
-        sample_line: SampleLine::new(
-            dp.TIM2,
-            &dp.TIM4,
-            rate_hz / f64::from(settings.watermark.max(1)),
-        ),
-        clock: MicrosecondClock::new(dp.TIM5, TIMER_CLOCK_HZ),
-        serial,
-        serial_rx,
-        sensor_bus,
-        flash: Flash::open(),
-        self_test_delay: SelfTestDelay(ModelDelay::new(chip)),
+/// The emulated board, as the firmware sees it ([`triad::device::board::Board`]).
+pub struct Board;
+
+// The firmware's interrupts as this board's vectors (memory.x maps them too).
+triad::board_vectors!(
+    pac = stm32f4::stm32f405,
+    data_ready = EXTI0,
+    link = USART2,
+    board_own = TIM2,
+    dispatch = EXTI1,
+);
+
+impl triad::device::board::Board for Board {
+    type Peripherals = pac::Peripherals;
+    type SampleLine = SampleLine;
+    type Clock = MicrosecondClock;
+    type Serial = Serial;
+    type SerialRx = SerialRx;
+    type SensorBus = SensorBus;
+    type SensorInterface = SensorInterface;
+    type SensorBusError = SensorBusError;
+    type Flash = Flash;
+    type StorageUnavailable = StorageUnavailable;
+    type SelfTestDelay = SelfTestDelay;
+    type Delay = Delay;
+
+    const DESCRIPTION: BoardDescription = DESCRIPTION;
+    const BUS: &'static str = if cfg!(feature = "bus-i2c") {
+        "i2c"
+    } else {
+        "spi"
+    };
+    /// From 0, one 16 KiB erase unit each.
+    const STORAGE_SLOTS: (u32, u32) = (0, 16 * 1024);
+    const CYCLES_HZ: u32 = TIMER_CLOCK_HZ;
+
+    /// No clock tree set-up: QEMU's RCC is a stub. The chip model runs at
+    /// the settings' rate, and the timer edges once per `watermark` samples.
+    fn init(dp: pac::Peripherals, settings: &Settings) -> Parts<Self> {
+        dp.RCC.apb1enr().modify(|_, w| {
+            w.tim2en().set_bit();
+            w.tim4en().set_bit();
+            w.tim5en().set_bit()
+        });
+        dp.RCC.apb1enr().modify(|_, w| w.usart2en().set_bit());
+        let (chip, rate_hz) = emulated_chip(settings.rate_hz, settings.watermark);
+        let sensor_bus = SensorBus(SharedBus(chip));
+        let (serial, tx_drain) = Serial::new(dp.USART2, USART_DIV_X16);
+        // SAFETY: the interrupt side reads SR/DR, writes DR and sets or clears
+        // CR1's RE, RXNEIE and TXEIE; the transmitter's side sets TXEIE (a
+        // read-modify-write the interrupt may preempt: both leave the other
+        // bits as they were).
+        let serial_rx = SerialRx::new(unsafe { pac::USART2::steal() }, tx_drain);
+        Parts {
+            sample_line: SampleLine::new(
+                dp.TIM2,
+                &dp.TIM4,
+                rate_hz / f64::from(settings.watermark.max(1)),
+            ),
+            clock: MicrosecondClock::new(dp.TIM5, TIMER_CLOCK_HZ),
+            serial,
+            serial_rx,
+            sensor_bus,
+            flash: Flash::open(),
+            self_test_delay: SelfTestDelay(ModelDelay::new(chip)),
+        }
+    }
+
+    fn find_sensor(bus: SensorBus) -> Result<Sensor, DetectError<SensorBusError>> {
+        find_sensor(bus)
+    }
+
+    /// The timer stands in for the data-ready line: the chip model's clock
+    /// advances by `samples` samples.
+    fn data_ready(sensor: &mut Sensor, samples: u16) {
+        in_model(|| {
+            let bus = sensor.bus_mut();
+            {
+                let mut chip = bus.chip();
+                for _ in 0..samples {
+                    chip.advance_one_sample();
+                }
+            }
+            bus.publish();
+        });
+    }
+
+    /// TIM2: the emulated data-ready edge (the chip's time, not the firmware's).
+    fn own_interrupt() -> OwnInterrupt {
+        sample_timer_edge();
+        OwnInterrupt {
+            transmit_room: false,
+            chip_model: true,
+            data_ready_period: true,
+        }
+    }
+
+    fn cycles() -> u32 {
+        cycles()
+    }
+
+    fn model_cycles() -> u32 {
+        MODEL_CYCLES.load(Ordering::Relaxed)
+    }
+
+    fn exit(success: bool) -> ! {
+        exit(success)
     }
 }
-
-/// Where the two calibration slots are in [`Flash`]: from 0, one 16 KiB
-/// erase unit each.
-pub const STORAGE_SLOTS: (u32, u32) = (0, 16 * 1024);
 
 /// The data-ready line: TIM2's update interrupt pends EXTI0 (the line's
 /// interrupt on real boards) once per sample, or once per FIFO watermark's
@@ -130,23 +186,17 @@ impl DataReadyLine for SampleLine {
 /// The emulated data-ready edge: the body of the firmware's task bound to
 /// TIM2 (the board's one interrupt of its own). The edge reaches EXTI0 only
 /// while the chip raises data-ready and no scheduled fault holds the line
-/// ([`scheduled_faults`]); true when it did. One call per data-ready
-/// period, whatever the chip does: the firmware's stall watch ticks on it.
-pub fn sample_timer_edge() -> bool {
+/// ([`scheduled_faults`]). One call per data-ready period, whatever the chip
+/// does: the firmware's stall watch ticks on it.
+fn sample_timer_edge() {
     // SAFETY: only this function writes TIM2's status register after
     // start-up, from the one task bound to TIM2.
     let tim = unsafe { &*pac::TIM2::ptr() };
     tim.sr().write(|w| w.uif().clear_bit());
-    let rises = scheduled_faults::tick();
-    if rises {
+    if scheduled_faults::tick() {
         cortex_m::peripheral::NVIC::pend(pac::Interrupt::EXTI0);
     }
-    rises
 }
-
-/// A step that made progress: nothing to feed here (the firmware's stall
-/// watch, ticked by the sample timer, notices a silent sensor).
-pub fn feed_watchdog() {}
 
 mod scheduled_faults;
 
@@ -177,16 +227,13 @@ const USART_DIV_X16: u16 = ((APB1_HZ + DESCRIPTION.baud / 2) / DESCRIPTION.baud)
 /// The load measurement's clock: TIM4, never written, counts QEMU's virtual
 /// nanoseconds since reset, which under `-icount shift=0` are instructions
 /// (and, served in real time, host nanoseconds).
-pub fn cycles() -> u32 {
+fn cycles() -> u32 {
     // SAFETY: a read of a counter nothing writes after reset.
     unsafe { &*pac::TIM4::ptr() }.cnt().read().bits()
 }
 
-/// The rate of [`cycles`].
-pub const CYCLES_HZ: u32 = TIMER_CLOCK_HZ;
-
 /// Ends the emulation with a status QEMU returns to its caller.
-pub fn exit(success: bool) -> ! {
+fn exit(success: bool) -> ! {
     use cortex_m_semihosting::debug;
     debug::exit(if success {
         debug::EXIT_SUCCESS
@@ -207,15 +254,18 @@ use core::sync::atomic::{AtomicU32, Ordering};
 use triad_sim::chips::emulated_board::{source, EmulatedChip, FaultedChip};
 use triad_sim::chips::model_clock::{ModelDelay, SharedBus};
 
-pub use triad_sim::chips::emulated_board::DESCRIPTION;
+use triad_sim::chips::emulated_board::DESCRIPTION;
 
 /// The bus the chip model answers on: SPI (or I²C with `bus-i2c`), the
 /// model shared with the [`SelfTestDelay`].
 pub struct SensorBus(SharedBus<'static, FaultedChip>);
 
 // SAFETY: the chip model's cell is reached only through the sensor's bus and
-// the self-test delay, and the firmware hands both to the one data-ready
-// task: the cell is never used from two contexts.
+// the self-test delay. The firmware's data-ready task holds the sensor, and
+// hands it to the idle task, which holds the delay, for a self-test; it
+// takes nothing from the model while the sensor is away, and the idle task
+// uses neither once it has handed the sensor back: the cell is never used
+// from two contexts at once.
 unsafe impl Send for SensorBus {}
 // SAFETY: as for `SensorBus`.
 unsafe impl Send for SelfTestDelay {}
@@ -280,17 +330,14 @@ fn in_model<T>(f: impl FnOnce() -> T) -> T {
     out
 }
 
-/// The chip model's cycles so far (wrapping), for the load report.
-pub fn model_cycles() -> u32 {
-    MODEL_CYCLES.load(Ordering::Relaxed)
-}
-
-/// The sensor: the driver of the chip found on the bus.
+/// The register interface the chip's driver reads through.
 #[cfg(not(feature = "bus-i2c"))]
-pub type Sensor = AnyChip<SpiInterface<SensorBus>>;
-/// The sensor: the driver of the chip found on the bus.
+pub type SensorInterface = SpiInterface<SensorBus>;
+/// The register interface the chip's driver reads through.
 #[cfg(feature = "bus-i2c")]
-pub type Sensor = AnyChip<I2cInterface<SensorBus>>;
+pub type SensorInterface = I2cInterface<SensorBus>;
+/// The sensor: the driver of the chip found on the bus.
+pub type Sensor = AnyChip<SensorInterface>;
 
 /// The sensor bus's error, as the drivers report it.
 #[cfg(not(feature = "bus-i2c"))]
@@ -301,13 +348,13 @@ pub type SensorBusError = i2c::ErrorKind;
 
 /// Finds the chip on the SPI bus by its identity.
 #[cfg(not(feature = "bus-i2c"))]
-pub fn find_sensor(bus: SensorBus) -> Result<Sensor, DetectError<spi::ErrorKind>> {
+fn find_sensor(bus: SensorBus) -> Result<Sensor, DetectError<spi::ErrorKind>> {
     AnyChip::detect(SpiInterface::new(bus)).map_err(|undetected| undetected.reason)
 }
 
 /// Finds the chip on the I²C bus by its identity at each chip's addresses.
 #[cfg(feature = "bus-i2c")]
-pub fn find_sensor(bus: SensorBus) -> Result<Sensor, DetectError<i2c::ErrorKind>> {
+fn find_sensor(bus: SensorBus) -> Result<Sensor, DetectError<i2c::ErrorKind>> {
     AnyChip::detect_i2c(bus).map_err(|undetected| undetected.reason)
 }
 
@@ -356,22 +403,6 @@ fn model_source(rate_hz: f64) -> source::Source {
     source::demo(rate_hz)
 }
 
-/// The data-ready line: on this board the timer interrupt stands in for it,
-/// and the chip model's clock advances by `samples` samples (the FIFO
-/// watermark; 1 without the FIFO).
-pub fn data_ready(sensor: &mut Sensor, samples: u16) {
-    in_model(|| {
-        let bus = sensor.bus_mut();
-        {
-            let mut chip = bus.chip();
-            for _ in 0..samples {
-                chip.advance_one_sample();
-            }
-        }
-        bus.publish();
-    });
-}
-
 /// The self-test's delay: each wait lets the chip model's time pass by as
 /// long, and busy-waits as long too, so the board's own time (the stream's
 /// timestamps, the steps lost while sampling paused) is what hardware shows.
@@ -386,6 +417,7 @@ impl embedded_hal::delay::DelayNs for SelfTestDelay {
 
 /// A busy-wait delay for the driver's start-up waits (the core runs at 168
 /// MHz; under `-icount shift=0` one loop cycle is one instruction).
+#[derive(Default)]
 pub struct Delay;
 
 impl embedded_hal::delay::DelayNs for Delay {
@@ -395,7 +427,7 @@ impl embedded_hal::delay::DelayNs for Delay {
 }
 
 use embedded_hal::{i2c, spi};
-use triad::device::board::DataReadyLine;
+use triad::device::board::{BoardDescription, DataReadyLine, OwnInterrupt, Parts};
 #[cfg(feature = "bus-i2c")]
 use triad::sensor::interface::I2cInterface;
 #[cfg(not(feature = "bus-i2c"))]

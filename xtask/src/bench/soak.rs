@@ -9,7 +9,7 @@ use anyhow::Result;
 /// Runs the soak for `seconds` of device time, a fault every `fault_every`
 /// seconds (3600 in the soak).
 pub fn run(seconds: f64, fault_every: f64) -> Result<()> {
-    setup::ensure_for(Board::Qemu)?;
+    setup::ensure_for(Board::emulated())?;
     let triad = cmd::build_host_tool()?;
     let calibration = cmd::pack_calibration(&triad, None)?;
     let elf = cmd::build_firmware(Firmware::default_emulated(), &calibration)?;

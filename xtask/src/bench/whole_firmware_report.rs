@@ -57,8 +57,8 @@ the NUCLEO's DMA does with no instruction per byte. Not in these figures:
 on hardware the SPI transfer itself, 16 bytes per sample, which the
 driver's blocking read waits out: about 6 µs per sample at the
 ICM-42688-P's 21 MHz (500 cycles at 84 MHz, more than the whole budget),
-24 µs at the 5.25 MHz the NUCLEO's one-build-for-every-chip SPI runs at;
-the NUCLEO needs the read by DMA to meet 5 % (boards/nucleo-f401re/README.md).";
+at which the NUCLEO runs SPI1 once it has found that chip (24 µs at the
+LSM6DSOX's 5.25 MHz); the NUCLEO needs the read by DMA to meet 5 % (boards/nucleo-f401re/README.md).";
 
 /// The section.
 pub fn markdown(rows: &[FirmwareRow], long: &LongRun, fusion_ported: Option<f64>) -> String {

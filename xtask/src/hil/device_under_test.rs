@@ -13,9 +13,6 @@ use std::process::{Child, Command, Stdio};
 use std::sync::mpsc;
 use std::time::Duration;
 
-/// The NUCLEO-F401RE's chip, as probe-rs names it.
-const PROBE_RS_CHIP: &str = "STM32F401RETx";
-
 /// How long the emulated board may take to print its port.
 const SERVE_START: Duration = Duration::from_secs(60);
 
@@ -30,6 +27,8 @@ pub enum DeviceUnderTest {
     Hardware {
         /// The port the person named (e.g. /dev/ttyACM0).
         port: String,
+        /// The board's microcontroller, as probe-rs names it.
+        chip: &'static str,
     },
     /// The emulated board.
     Emulated {
@@ -57,8 +56,8 @@ impl DeviceUnderTest {
     /// What the report calls it.
     pub fn describe(&self) -> String {
         match self {
-            DeviceUnderTest::Hardware { port } => {
-                format!("hardware on {port}, flashed with probe-rs")
+            DeviceUnderTest::Hardware { port, chip } => {
+                format!("hardware ({chip}) on {port}, flashed with probe-rs")
             }
             DeviceUnderTest::Emulated { storage, .. } => format!(
                 "the emulated board (`xtask serve --deterministic`), its flash the file {}",
@@ -70,9 +69,9 @@ impl DeviceUnderTest {
     /// Loads `elf` and starts it; returns the port to talk to.
     pub fn load(&mut self, elf: &Path) -> Result<String> {
         match self {
-            DeviceUnderTest::Hardware { port } => {
-                probe_rs(&["download", "--chip", PROBE_RS_CHIP], Some(elf))?;
-                probe_rs(&["reset", "--chip", PROBE_RS_CHIP], None)?;
+            DeviceUnderTest::Hardware { port, chip } => {
+                probe_rs(&["download", "--chip", chip], Some(elf))?;
+                probe_rs(&["reset", "--chip", chip], None)?;
                 std::thread::sleep(HARDWARE_START);
                 Ok(port.clone())
             }
@@ -92,8 +91,8 @@ impl DeviceUnderTest {
     /// What a reset is on this board, for the report.
     pub fn reset_means(&self) -> String {
         match self {
-            DeviceUnderTest::Hardware { .. } => {
-                format!("reset: `probe-rs reset --chip {PROBE_RS_CHIP}` (flash kept)")
+            DeviceUnderTest::Hardware { chip, .. } => {
+                format!("reset: `probe-rs reset --chip {chip}` (flash kept)")
             }
             DeviceUnderTest::Emulated { .. } => {
                 "reset: QEMU restarted on the same flash file (RAM lost, flash kept)".into()
@@ -104,8 +103,8 @@ impl DeviceUnderTest {
     /// Resets the running firmware `elf` (RAM lost, flash kept); returns the port.
     pub fn reset(&mut self, elf: &Path) -> Result<String> {
         match self {
-            DeviceUnderTest::Hardware { port } => {
-                probe_rs(&["reset", "--chip", PROBE_RS_CHIP], None)?;
+            DeviceUnderTest::Hardware { port, chip } => {
+                probe_rs(&["reset", "--chip", chip], None)?;
                 std::thread::sleep(HARDWARE_START);
                 Ok(port.clone())
             }

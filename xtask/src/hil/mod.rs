@@ -31,7 +31,7 @@ use triad_device::TriadDevice;
 pub struct HilArgs {
     /// The board under test: `qemu` (the emulated board) or `nucleo-f401re`
     /// (flashed with probe-rs; needs --port).
-    #[arg(long, default_value = "qemu")]
+    #[arg(long, default_value = "qemu", value_parser = Board::parse)]
     pub board: Board,
     /// The board's serial port (its ST-LINK's virtual COM port, e.g. /dev/ttyACM0).
     #[arg(long, value_name = "DEV")]
@@ -119,24 +119,25 @@ pub fn run(args: HilArgs) -> Result<()> {
             args.seconds
         );
     }
-    let emulated_chip = match (args.board, args.sensor.as_deref(), &args.port) {
-        (Board::Qemu, _, Some(port)) => bail!(
+    let emulated = args.board.is_emulated();
+    let emulated_chip = match (emulated, args.sensor.as_deref(), &args.port) {
+        (true, _, Some(port)) => bail!(
             "--port {port}: the emulated board serves its own port; --port names a hardware board's"
         ),
-        (Board::Qemu, chip, None) => {
+        (true, chip, None) => {
             let chip = chip.unwrap_or(triad::sensor::CHIP_NAMES[0]);
             triad::sensor::CHIP_NAMES
                 .iter()
                 .copied()
                 .find(|c| *c == chip)
         }
-        (board, Some(chip), _) => bail!(
+        (false, Some(chip), _) => bail!(
             "--sensor {chip}: the {} firmware finds whichever chip is fitted",
-            board.name()
+            args.board.name()
         ),
-        (board, None, None) => bail!(
+        (false, None, None) => bail!(
             "--port DEV is required for {}: its ST-LINK's virtual COM port, e.g. /dev/ttyACM0",
-            board.name()
+            args.board.name()
         ),
         (_, None, Some(_)) => None,
     };
@@ -161,7 +162,10 @@ pub fn run(args: HilArgs) -> Result<()> {
     std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
     let report_path = args.report.clone().unwrap_or_else(|| dir.join("report.md"));
     let mut dut = match &args.port {
-        Some(port) => DeviceUnderTest::Hardware { port: port.clone() },
+        Some(port) => DeviceUnderTest::Hardware {
+            port: port.clone(),
+            chip: args.board.probe_rs_chip().unwrap_or_default(),
+        },
         None => DeviceUnderTest::emulated(&dir)?,
     };
 

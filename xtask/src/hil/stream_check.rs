@@ -23,7 +23,7 @@ const DECODER_LOSSES: [&str; 3] = ["crc errors", "malformed", "sequence gaps"];
 
 /// Streams `seconds` from `device` and checks that nothing was lost.
 pub fn run(device: &TriadDevice, firmware: Firmware, seconds: f64, dir: &Path) -> Step {
-    let one_clock = firmware.board == crate::board::Board::Qemu;
+    let one_clock = firmware.board.is_emulated();
     let name = format!("stream {seconds} s ({}): nothing lost", firmware.label());
     match check(
         device,

@@ -40,7 +40,7 @@ pub fn ensure_all() -> Result<()> {
 /// What running on `board` needs.
 pub fn ensure_for(board: Board) -> Result<()> {
     ensure_targets()?;
-    if board == Board::Qemu {
+    if board.is_emulated() {
         ensure_qemu()?;
     }
     Ok(())
