@@ -292,7 +292,7 @@ mod app {
     /// per data-ready period whatever the chip does (the sample timer) also
     /// keeps the stall watch: a sensor silent for 50 ms gets the data-ready
     /// task pended to check it (the NUCLEO's independent watchdog resets a
-    /// board whose data-ready task read no sample for 4 s instead).
+    /// board whose data-ready task read no sample for 10 s instead).
     #[task(binds = BOARD_OWN, priority = 4, local = [watch: Option<StallWatch> = None])]
     fn board_own(cx: board_own::Context) {
         let run = crate::run_time::begin();
