@@ -9,6 +9,7 @@ mod command_report;
 mod commands;
 mod cores;
 mod host;
+mod memory_table;
 mod plot;
 mod report;
 mod whole_firmware;
@@ -29,6 +30,27 @@ pub fn run_whole_firmware() -> Result<()> {
         "{}",
         whole_firmware_report::markdown(&rows, &long_run, None)
     );
+    Ok(())
+}
+
+/// Flash and RAM of each build alone, printed as their section.
+pub fn run_memory() -> Result<()> {
+    let triad = crate::cmd::build_host_tool()?;
+    let calibration = crate::cmd::pack_calibration(&triad, None)?;
+    print!(
+        "{}",
+        memory_table::markdown(&memory_table::measure(&calibration)?)
+    );
+    Ok(())
+}
+
+/// One build of the whole firmware (`--rate R --watermark W`): its row and
+/// where the rate and watermark sit against the target, on stdout.
+pub fn run_whole_firmware_one(rate_hz: u32, watermark: u16) -> Result<()> {
+    let triad = crate::cmd::build_host_tool()?;
+    let calibration = crate::cmd::pack_calibration(&triad, None)?;
+    let row = whole_firmware::measure_single(&triad, &calibration, rate_hz, watermark)?;
+    print!("{}", whole_firmware_report::rows_only(&[row]));
     Ok(())
 }
 
@@ -100,6 +122,7 @@ pub fn run(json: bool) -> Result<()> {
     let calibration = crate::cmd::pack_calibration(&triad, None)?;
     let firmware_rows = whole_firmware::measure(&triad, &calibration)?;
     let long_run = whole_firmware::long_run(&triad, &calibration)?;
+    let memory = memory_table::measure(&calibration)?;
     let fusion = rows
         .iter()
         .find(|r| r.core == Core::CortexM4F && r.variant.name() == "fusion_f32")
@@ -115,6 +138,8 @@ pub fn run(json: bool) -> Result<()> {
     let mut markdown = report::markdown(&rows, &command_rows, &host)?;
     markdown += "\n";
     markdown += &whole_firmware_report::markdown(&firmware_rows, &long_run, fusion);
+    markdown += "\n";
+    markdown += &memory_table::markdown(&memory);
     markdown += &format!(
         "\n## The lab on the host\n\n`triad calib fit imu`'s whole fit (detection, accelerometer, moves, gyro) on a \
          10-minute 400 Hz hand-pose record (109 poses, 240 000 samples; `cargo bench -p triad-host --bench \

@@ -64,47 +64,15 @@ the NUCLEO needs the read by DMA to meet 5 % (boards/nucleo-f401re/README.md).";
 pub fn markdown(rows: &[FirmwareRow], long: &LongRun, fusion_ported: Option<f64>) -> String {
     let mut md = String::new();
     let _ = writeln!(md, "## The whole firmware\n\n{METHOD}\n");
-    let _ = write!(
-        md,
-        "| rate | W | data-ready | link | TX drain | dispatch (unmeasured) | all-in instr. / sample | chip model | wire bytes / sample |"
-    );
-    for baud in BAUDS {
-        let _ = write!(md, " highest rate at {baud} baud |");
-    }
-    let _ = writeln!(md);
-    let _ = writeln!(
-        md,
-        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
-    );
     if let Some(fusion) = fusion_ported {
+        md += &table_header();
         let _ = writeln!(
             md,
             "| (anchor) | – | Fusion's inertial model alone, ported (fusion_f32 above) | | | | {fusion:.1} | | | | |"
         );
-    }
-    for r in rows {
-        let _ = write!(
-            md,
-            "| {} Hz | {} | {:.1} | {:.1} | {:.1} | {:.1} | **{:.1}** | {:.0} | {:.2} |",
-            r.rate_hz,
-            r.watermark,
-            r.per_sample[0],
-            r.per_sample[1],
-            r.per_sample[2],
-            r.per_sample[4],
-            r.all_in(),
-            r.per_sample[3],
-            r.wire_bytes_per_sample
-        );
-        for baud in BAUDS {
-            // 10 bits per byte on the wire (8N1).
-            let _ = write!(
-                md,
-                " {:.0} Hz |",
-                f64::from(baud) / 10.0 / r.wire_bytes_per_sample
-            );
-        }
-        let _ = writeln!(md);
+        md += &table_rows(rows);
+    } else {
+        md += &rows_only(rows);
     }
     let _ = writeln!(md);
     if let Some(r) = rows.iter().find(|r| r.rate_hz == 8000 && r.watermark == 32) {
@@ -135,4 +103,57 @@ pub fn markdown(rows: &[FirmwareRow], long: &LongRun, fusion_ported: Option<f64>
             .map_or(0.0, |r| r.wire_bytes_per_sample * 8000.0 * 10.0)
     );
     md
+}
+
+/// The table's header lines.
+fn table_header() -> String {
+    let mut md = String::new();
+    let _ = write!(
+        md,
+        "| rate | W | data-ready | link | TX drain | dispatch (unmeasured) | all-in instr. / sample | chip model | wire bytes / sample |"
+    );
+    for baud in BAUDS {
+        let _ = write!(md, " highest rate at {baud} baud |");
+    }
+    let _ = writeln!(md);
+    let _ = writeln!(
+        md,
+        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+    );
+    md
+}
+
+/// The table's lines of `rows`.
+fn table_rows(rows: &[FirmwareRow]) -> String {
+    let mut md = String::new();
+    for r in rows {
+        let _ = write!(
+            md,
+            "| {} Hz | {} | {:.1} | {:.1} | {:.1} | {:.1} | **{:.1}** | {:.0} | {:.2} |",
+            r.rate_hz,
+            r.watermark,
+            r.per_sample[0],
+            r.per_sample[1],
+            r.per_sample[2],
+            r.per_sample[4],
+            r.all_in(),
+            r.per_sample[3],
+            r.wire_bytes_per_sample
+        );
+        for baud in BAUDS {
+            // 10 bits per byte on the wire (8N1).
+            let _ = write!(
+                md,
+                " {:.0} Hz |",
+                f64::from(baud) / 10.0 / r.wire_bytes_per_sample
+            );
+        }
+        let _ = writeln!(md);
+    }
+    md
+}
+
+/// The table of `rows` alone, header included.
+pub fn rows_only(rows: &[FirmwareRow]) -> String {
+    table_header() + &table_rows(rows)
 }
