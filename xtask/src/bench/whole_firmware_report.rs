@@ -43,22 +43,32 @@ its samples.";
 /// translated block × executions, by function) and the disassembly.
 const WHERE: &str = "\
 Where the instructions go at 8 kHz with W = 32 (a QEMU execution trace,
-`-d in_asm,exec,nochain`, weighted by each block's instructions, and the
-disassembly): the data-ready task is the FIFO read (the driver's two SPI
-transactions per interrupt and about 30 instructions per sample decoding
-the 16-byte packets), the batch kernel (`batch_f32_w32` above), and about
-110 per sample making frames (the 232-byte batch frame zeroed, filled,
-returned, wrapped and copied into the link queue's slot; the batch's mean
-temperature; the sampler's counters). The link task, per 235-byte packet:
-COBS about 7 instructions per byte, CRC-32C (slicing-by-4) about 3.5, the
-copy into the transmit ring about 1.8, and the packet written in place;
-the TX drain is about 8 per byte (status check, load, store, loop), work
-the NUCLEO's DMA does with no instruction per byte. Not in these figures:
-on hardware the SPI transfer itself, 16 bytes per sample, which the
-driver's blocking read waits out: about 6 µs per sample at the
-ICM-42688-P's 21 MHz (500 cycles at 84 MHz, more than the whole budget),
-24 µs at the 5.25 MHz the NUCLEO's one-build-for-every-chip SPI runs at;
-the NUCLEO needs the read by DMA to meet 5 % (boards/nucleo-f401re/README.md).";
+`-d in_asm,exec,nochain`, each block's instructions times its executions,
+attributed to functions and to the call sites of the library's memcpy,
+and the disassembly): the data-ready task is the FIFO read (the driver's
+two SPI transactions per interrupt and about 30 instructions per sample
+decoding the 16-byte packets), the batch kernel (`batch_f32_w32` above;
+the default calibration's g-sensitivity adds three products per gyro
+value), and about 95 per sample moving frames: LLVM builds the 232-byte
+frame on the stack and copies it into the link queue's slot with the
+library's memcpy, its counts at an offset 2 mod 4 from the stack copy's
+(about 70), and zeroes the counts and the FIFO buffer (about 18). The
+link task, per 235-byte packet: header and counts written where their
+wire bytes go (the counts by memcpy, about 4 instructions per byte: the
+frame's and the wire's offsets differ by 2 mod 4), then one pass that
+computes the CRC-32C (slicing-by-4, about 3.5 per byte) and finds the
+zero bytes a word at a time, writing a COBS code at each (no byte
+copied), then the copy into the board's transmit ring (byte by byte:
+each slot an atomic); the TX drain is about 7.3 per byte (status check,
+load, store, loop), work the NUCLEO's DMA does with no instruction per
+byte. The STM32F4's CRC unit computes the Ethernet CRC-32 (polynomial
+0x04C11DB7, fixed), not the protocol's CRC-32C, so the CRC stays in
+software. Not in these figures: on hardware the SPI transfer itself, 16
+bytes per sample, which the driver's blocking read waits out: about 6 µs
+per sample at the ICM-42688-P's 21 MHz (500 cycles at 84 MHz, more than
+the whole budget), 24 µs at the 5.25 MHz the NUCLEO's
+one-build-for-every-chip SPI runs at; the NUCLEO needs the read by DMA to
+meet 5 % (boards/nucleo-f401re/README.md).";
 
 /// The section.
 pub fn markdown(rows: &[FirmwareRow], long: &LongRun, fusion_ported: Option<f64>) -> String {
