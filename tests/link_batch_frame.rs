@@ -102,3 +102,38 @@ fn a_batch_whose_count_disagrees_with_its_length_is_malformed() {
         Err(triad::protocol::DecodeError::Body { kind: 0x04, .. })
     ));
 }
+
+/// The transmitter's form (the packet written where its wire bytes go, then
+/// stuffed in place) gives the bytes of the packet built apart, then
+/// stuffed: for every batch length, with counts dense in zero bytes.
+#[test]
+fn a_batch_written_in_place_has_the_wire_bytes_of_its_packet() {
+    use triad::protocol::{RawFrame, RawScale};
+    for count in 0..=MAX_BATCH {
+        let mut batch = BatchFrame::new(ACCEL_LSB, GYRO_LSB);
+        batch.sequence = 0x0100 * count as u32;
+        batch.timestamp_us = 255;
+        batch.flags = Flags::from_bits_retain(count as u16);
+        for i in 0..count {
+            // Small values: many zero bytes, the shape of a still device.
+            let (a, g) = sample(i);
+            assert!(batch.push(a.map(|v| v * 0.01), g.map(|v| v * (i % 3) as f32)));
+        }
+        let mut apart = [0xAA; MAX_WIRE_LEN];
+        let n = batch.to_packet().unwrap().to_wire(&mut apart);
+        let mut in_place = [0x55; MAX_WIRE_LEN];
+        assert_eq!(batch.to_wire(&mut in_place), Ok(n), "{count} samples");
+        assert_eq!(in_place[..n], apart[..n], "{count} samples");
+    }
+    let raw = RawFrame {
+        sequence: 3,
+        accel: [0.0, 1.0, -1.0],
+        scale: RawScale::default(),
+        ..RawFrame::default()
+    };
+    let mut apart = [0xAA; MAX_WIRE_LEN];
+    let n = raw.to_packet().unwrap().to_wire(&mut apart);
+    let mut in_place = [0x55; MAX_WIRE_LEN];
+    assert_eq!(raw.to_wire(&mut in_place), Ok(n));
+    assert_eq!(in_place[..n], apart[..n]);
+}

@@ -64,6 +64,12 @@ fn command_and_reply_examples_match_the_code() {
         &refused.to_packet().unwrap(),
         &Packet::Reply(refused),
     );
+    // The firmware's form (written where the wire bytes go): the same bytes.
+    for (name, reply) in [("reply-ok", ok), ("reply-error", refused)] {
+        let mut wire = [0x55; MAX_WIRE_LEN];
+        let n = reply.to_wire(&mut wire).unwrap();
+        assert_eq!(doc_hex(&format!("{name}-wire")), &wire[..n], "{name}");
+    }
 }
 
 const DOC: &str = include_str!("../docs/PROTOCOL.md");

@@ -3,7 +3,8 @@
 
 use rand::{rngs::SmallRng, Rng, SeedableRng};
 use triad::protocol::cobs::{
-    max_stuffed_len, stuff, stuff_block, stuff_short, CobsError, Unstuffer, MAX_BLOCK,
+    max_stuffed_len, stuff, stuff_block, stuff_in_place, stuff_short, CobsError, Unstuffer,
+    MAX_BLOCK,
 };
 
 fn stuffed(data: &[u8]) -> Vec<u8> {
@@ -11,6 +12,16 @@ fn stuffed(data: &[u8]) -> Vec<u8> {
     let n = stuff(data, &mut out).expect("buffer of max_stuffed_len");
     out.truncate(n);
     out
+}
+
+/// `len` random bytes, each zero with probability 1/`zero_one_in`.
+fn block(rng: &mut SmallRng, len: usize, zero_one_in: u32) -> Vec<u8> {
+    (0..len)
+        .map(|_| match rng.random_ratio(1, zero_one_in) {
+            true => 0,
+            false => rng.random_range(1..=255),
+        })
+        .collect()
 }
 
 fn unstuffed(bytes: &[u8]) -> Result<Vec<u8>, CobsError> {
@@ -138,12 +149,7 @@ fn the_block_form_equals_the_general_one_up_to_253_bytes_and_refuses_more() {
     for len in 0..=MAX_BLOCK {
         // Dense zeros, sparse zeros and none: every block shape.
         for zero_one_in in [2u32, 17, u32::MAX] {
-            let data: Vec<u8> = (0..len)
-                .map(|_| match rng.random_ratio(1, zero_one_in) {
-                    true => 0,
-                    false => rng.random_range(1..=255),
-                })
-                .collect();
+            let data = block(&mut rng, len, zero_one_in);
             let mut out = vec![0xAA; len + 1];
             let n = stuff_block(&data, &mut out).expect("fits");
             assert_eq!(out[..n], stuffed(&data)[..], "{len} bytes");
@@ -153,4 +159,24 @@ fn the_block_form_equals_the_general_one_up_to_253_bytes_and_refuses_more() {
     let mut out = [0u8; MAX_BLOCK + 3];
     assert!(stuff_block(&long, &mut out).is_err());
     assert!(stuff_block(&[1, 2, 3], &mut [0u8; 3]).is_err());
+}
+
+#[test]
+fn stuffing_in_place_equals_the_general_form_up_to_253_bytes_and_refuses_more() {
+    let mut rng = SmallRng::seed_from_u64(0x1_7ACE);
+    for len in 0..=MAX_BLOCK {
+        for zero_one_in in [1u32, 2, 5, 17, u32::MAX] {
+            let data = block(&mut rng, len, zero_one_in);
+            // The data where the stuffed bytes go, codes and delimiter unwritten.
+            let mut frame = vec![0xAA; len + 2];
+            frame[1..=len].copy_from_slice(&data);
+            assert_eq!(stuff_in_place(&mut frame), Ok(len + 2));
+            let mut expected = stuffed(&data);
+            expected.push(0);
+            assert_eq!(frame, expected, "{len} bytes, a zero in {zero_one_in}");
+        }
+    }
+    assert!(stuff_in_place(&mut [0u8; MAX_BLOCK + 3]).is_err());
+    assert!(stuff_in_place(&mut [0u8; 1]).is_err());
+    assert!(stuff_in_place(&mut []).is_err());
 }

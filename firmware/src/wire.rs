@@ -40,13 +40,10 @@ pub async fn something_to_send<const N: usize>(
     .await
 }
 
-/// Encodes `reply` (COBS, CRC) into `out`; the bytes used (0 for a reply
-/// too long for a packet, which the handler never makes).
+/// Encodes `reply` (CRC, COBS) into `out`, where its bytes go; the bytes
+/// used (0 for a reply too long for a packet, which the handler never makes).
 pub fn reply_to_wire(reply: &Reply, out: &mut [u8; MAX_WIRE_LEN]) -> usize {
-    match reply.to_packet() {
-        Ok(packet) => packet.to_wire(out),
-        Err(_) => 0,
-    }
+    reply.to_wire(out).unwrap_or(0)
 }
 
 /// Queues `bytes` whole into the board's transmit ring, awaiting room.

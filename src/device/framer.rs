@@ -67,14 +67,9 @@ impl Outgoing {
                 Some(wire) => encode(frame, wire),
                 None => 0,
             },
-            Outgoing::Raw(frame) => match frame.to_packet() {
-                Ok(packet) => packet.to_wire(out),
-                Err(_) => 0,
-            },
-            Outgoing::Batch(frame) => match frame.to_packet() {
-                Ok(packet) => packet.to_wire(out),
-                Err(_) => 0,
-            },
+            // Written where they go: no packet built apart and copied.
+            Outgoing::Raw(frame) => frame.to_wire(out).unwrap_or(0),
+            Outgoing::Batch(frame) => frame.to_wire(out).unwrap_or(0),
         }
     }
 }

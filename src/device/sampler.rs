@@ -175,8 +175,14 @@ impl Sampler {
     }
 
     /// Counts `samples` toward the next re-fold of the temperature terms;
-    /// true when one is due (the count then restarts).
+    /// true when one is due (the count then restarts). Never without
+    /// temperature terms: the refold (f64 in software on the Cortex-M4F,
+    /// and the batch kernel remade) would give the coefficients already
+    /// folded.
     fn refold_due(&mut self, samples: u32) -> bool {
+        if !self.corrector.has_temperature_terms() {
+            return false;
+        }
         self.steps_since_refold += samples;
         let due = self.refold_every != 0 && self.steps_since_refold >= self.refold_every;
         if due {
@@ -286,7 +292,7 @@ impl Sampler {
 
     /// `samples` chip periods, µs (rounded down).
     fn span_us(&self, samples: usize) -> u32 {
-        (samples as u64 * u64::from(self.period_ns) / 1000) as u32
+        span_us(samples, self.period_ns)
     }
 
     /// One batch frame of `chunk` (≤ [`MAX_BATCH`] samples) at `timestamp_us`.
@@ -349,7 +355,7 @@ impl Sampler {
     /// Milliseconds since start at the latest step, by the step timestamps
     /// extended past their 71.6-minute wrap (wrapping every 2³² ms).
     pub fn uptime_ms(&self) -> u32 {
-        (self.uptime_us / 1000) as u32
+        div_1000(self.uptime_us) as u32
     }
 
     fn steps_lost(&mut self, count: u32) {
@@ -424,5 +430,92 @@ fn counts(raw: &RawSample) -> Sample {
         gyro: raw.gyro.map(f32::from),
         temperature: f32::from(raw.temperature),
         clip: ClipFlags::of(raw),
+    }
+}
+
+/// `samples` periods of `period_ns`, in µs rounded down (wrapping at 2³²
+/// µs): n·p/1000 as n·(p div 1000) + n·(p mod 1000) div 1000, the same
+/// quotient, in 32-bit operations while n·(p mod 1000) fits (every FIFO's
+/// n), where the 64-bit division is a library call of a few hundred
+/// instructions on the Cortex-M4F, twice per data-ready step.
+fn span_us(samples: usize, period_ns: u32) -> u32 {
+    let (whole_us, part_ns) = (period_ns / 1000, period_ns % 1000);
+    match u32::try_from(samples)
+        .ok()
+        .filter(|&n| n <= u32::MAX / 1000)
+    {
+        Some(n) => n.wrapping_mul(whole_us).wrapping_add(n * part_ns / 1000),
+        None => (samples as u64 * u64::from(period_ns) / 1000) as u32,
+    }
+}
+
+/// `x / 1000`, by long division in 16-bit digits: each step divides a
+/// number below 1000·2¹⁶ in 32 bits, one instruction on the Cortex-M4F,
+/// where a 64-bit division is a library call of a few hundred (the task
+/// publishes the uptime at every step).
+fn div_1000(x: u64) -> u64 {
+    let mut quotient = 0u64;
+    let mut remainder = 0u32;
+    for shift in [48, 32, 16, 0] {
+        let digit = ((x >> shift) & 0xFFFF) as u32;
+        let partial = (remainder << 16) | digit;
+        quotient = (quotient << 16) | u64::from(partial / 1000);
+        remainder = partial % 1000;
+    }
+    quotient
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{div_1000, span_us};
+
+    #[test]
+    fn a_span_in_32_bits_is_the_64_bit_quotient() {
+        for period_ns in [1, 999, 1000, 125_000, 1_000_000 / 3, 20_833_333, u32::MAX] {
+            for samples in [
+                0usize,
+                1,
+                2,
+                15,
+                16,
+                31,
+                32,
+                511,
+                4_294_967,
+                4_294_968,
+                1 << 31,
+            ] {
+                let expected = (samples as u128 * u128::from(period_ns) / 1000) as u32;
+                assert_eq!(
+                    span_us(samples, period_ns),
+                    expected,
+                    "{samples} × {period_ns} ns"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn the_long_division_by_1000_is_the_division() {
+        let mut x = 0x9E37_79B9_7F4A_7C15u64;
+        let edges = [
+            0,
+            1,
+            999,
+            1000,
+            65_535_999,
+            1 << 32,
+            u64::from(u32::MAX) * 1000 + 999,
+            u64::MAX,
+        ];
+        for v in edges.into_iter().chain((0..10_000).map(|_| {
+            // xorshift64: values of every magnitude.
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x >> (x % 64)
+        })) {
+            assert_eq!(div_1000(v), v / 1000, "{v}");
+        }
     }
 }

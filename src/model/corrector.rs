@@ -507,6 +507,12 @@ impl Corrector {
         &self.scale
     }
 
+    /// Whether a refold can change the coefficients: a triad has
+    /// temperature terms. Without, a refold computes what is folded already.
+    pub fn has_temperature_terms(&self) -> bool {
+        self.calibration.accel.temperature.is_some() || self.calibration.gyro.temperature.is_some()
+    }
+
     /// The temperature of the last refold (after clamping), `None` before the
     /// first: then each triad is folded at its reference temperature.
     pub fn fold_temperature_c(&self) -> Option<f64> {

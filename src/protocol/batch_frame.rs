@@ -19,7 +19,7 @@
 //! one numbering with data and raw frames.
 
 use super::bytes::{Reader, Writer};
-use super::packet::{PacketBuf, PacketType, TooLong};
+use super::packet::{write_wire, PacketBuf, PacketType, TooLong, MAX_WIRE_LEN};
 use crate::model::batch_kernel::BatchKernel;
 use crate::protocol::{DecodeError, Flags};
 use crate::sensor::RawSample;
@@ -171,29 +171,40 @@ impl BatchFrame {
         Ok(b)
     }
 
-    /// The batch as a sealed packet, written in place: the header field by
-    /// field, then the counts (little-endian i16) straight from the array.
+    /// The batch as a sealed packet, written in place.
     pub fn to_packet(&self) -> Result<PacketBuf, TooLong> {
-        PacketBuf::with_body(PacketType::Batch, |body| {
-            let (header, samples) = body.split_at_mut_checked(BATCH_HEADER_LEN)?;
-            let mut w = Writer::new(header);
-            w.u32(self.sequence)
-                .u32(self.timestamp_us)
-                .u32(self.period_ns)
-                .u16(self.flags.bits())
-                .u16(self.overruns)
-                .u16(self.dropped)
-                .u32(self.calibration_id)
-                .f32(self.accel_lsb)
-                .f32(self.gyro_lsb)
-                .f32(self.temperature)
-                .u8(self.count);
-            let counts = self.samples().as_flattened();
-            let room = samples.get_mut(..counts.len() * 2)?;
-            for (bytes, count) in room.chunks_exact_mut(2).zip(counts) {
-                bytes.copy_from_slice(&count.to_le_bytes());
-            }
-            (!w.overflowed()).then_some(BATCH_HEADER_LEN + room.len())
-        })
+        PacketBuf::with_body(PacketType::Batch, |body| self.write_body(body))
+    }
+
+    /// The batch on the wire (stuffed, delimited) into `out`, written where
+    /// it goes ([`write_wire`]): the transmitter's form; its length.
+    pub fn to_wire(&self, out: &mut [u8; MAX_WIRE_LEN]) -> Result<usize, TooLong> {
+        write_wire(PacketType::Batch, out, |body| self.write_body(body))
+    }
+
+    /// The body into `body`: the header field by field, then the counts
+    /// (little-endian i16) straight from the array; its length, `None`
+    /// when it does not fit.
+    #[inline]
+    fn write_body(&self, body: &mut [u8]) -> Option<usize> {
+        let (header, samples) = body.split_at_mut_checked(BATCH_HEADER_LEN)?;
+        let mut w = Writer::new(header);
+        w.u32(self.sequence)
+            .u32(self.timestamp_us)
+            .u32(self.period_ns)
+            .u16(self.flags.bits())
+            .u16(self.overruns)
+            .u16(self.dropped)
+            .u32(self.calibration_id)
+            .f32(self.accel_lsb)
+            .f32(self.gyro_lsb)
+            .f32(self.temperature)
+            .u8(self.count);
+        let counts = self.samples().as_flattened();
+        let room = samples.get_mut(..counts.len() * 2)?;
+        for (bytes, count) in room.chunks_exact_mut(2).zip(counts) {
+            bytes.copy_from_slice(&count.to_le_bytes());
+        }
+        (!w.overflowed()).then_some(BATCH_HEADER_LEN + room.len())
     }
 }

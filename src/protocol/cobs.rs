@@ -147,6 +147,105 @@ pub fn stuff_block(data: &[u8], out: &mut [u8]) -> Result<usize, CobsError> {
     Ok(needed)
 }
 
+/// Stuffs a block in place: `frame[1..frame.len() - 1]` holds the data (at
+/// most [`MAX_BLOCK`] bytes), already where the stuffed bytes go, since
+/// stuffing a block that short leaves every non-zero byte one place on
+/// and only writes codes: `frame[0]` and each zero. Writes those codes and
+/// the 0x00 delimiter at the end, and returns `frame.len()`. An encoder
+/// that writes its packet at `frame[1..]` so stuffs it without a copy.
+/// Fails when the data is longer than [`MAX_BLOCK`] or `frame` shorter than
+/// two bytes.
+pub fn stuff_in_place(frame: &mut [u8]) -> Result<usize, CobsError> {
+    let n = frame.len();
+    let data = n.wrapping_sub(2);
+    if n < 2 || data > MAX_BLOCK {
+        return Err(CobsError::BufferTooSmall {
+            needed: max_stuffed_len(data.min(MAX_BLOCK + 1)) + 1,
+            available: n,
+        });
+    }
+    let end = n - 1;
+    let mut stuffer = InPlaceStuffer::new();
+    let mut at = 1;
+    // `at + 4 <= end < n`: the word is inside `frame` (no bounds check left).
+    while at + 4 <= end {
+        let Some(&[b0, b1, b2, b3]) = frame.get(at..at + 4) else {
+            break;
+        };
+        stuffer.word(frame, at, u32::from_le_bytes([b0, b1, b2, b3]));
+        at += 4;
+    }
+    while at < end {
+        stuffer.byte(frame, at);
+        at += 1;
+    }
+    stuffer.finish(frame, end);
+    Ok(n)
+}
+
+/// [`stuff_in_place`] fed piece by piece, so that another pass over the
+/// same bytes (the packet's CRC) can share its loads: the caller reads the
+/// block's bytes in order, from `frame[1]`, a word ([`Self::word`]) or a
+/// byte ([`Self::byte`]) at a time, and ends at the delimiter's place
+/// ([`Self::finish`]). Zeros are found four bytes at a time (an exact mask
+/// of the zero bytes in a word, then each by its bit), and no byte is
+/// copied: a word without a zero costs its test alone.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct InPlaceStuffer {
+    /// The current block's code slot; each zero found becomes the next one.
+    code_at: usize,
+}
+
+impl InPlaceStuffer {
+    /// At the block's start: the first code goes to `frame[0]`.
+    pub const fn new() -> Self {
+        Self { code_at: 0 }
+    }
+
+    /// `word` is `frame[at..at + 4]`, little-endian: closes a block at each
+    /// of its zero bytes.
+    #[inline(always)]
+    pub fn word(&mut self, frame: &mut [u8], at: usize, word: u32) {
+        // 0x80 in each zero byte exactly: the low seven bits plus 0x7F
+        // carry into bit 7 unless they are all zero, and bit 7 itself is
+        // taken from the byte.
+        let mut zeros = !(((word & 0x7F7F_7F7F).wrapping_add(0x7F7F_7F7F)) | word | 0x7F7F_7F7F);
+        while zeros != 0 {
+            self.close(frame, at + (zeros.trailing_zeros() / 8) as usize);
+            zeros &= zeros - 1;
+        }
+    }
+
+    /// Closes a block at `frame[at]` if it is zero.
+    #[inline(always)]
+    pub fn byte(&mut self, frame: &mut [u8], at: usize) {
+        if frame.get(at) == Some(&0) {
+            self.close(frame, at);
+        }
+    }
+
+    /// Writes the last code and the delimiter at `frame[end]`, the place
+    /// after the data.
+    #[inline(always)]
+    pub fn finish(mut self, frame: &mut [u8], end: usize) {
+        self.close(frame, end);
+        if let Some(delimiter) = frame.get_mut(end) {
+            *delimiter = 0;
+        }
+    }
+
+    /// The block ends at `zero_at`: its code is its length, and the zero's
+    /// place is the next block's code.
+    #[inline(always)]
+    fn close(&mut self, frame: &mut [u8], zero_at: usize) {
+        if let Some(code) = frame.get_mut(self.code_at) {
+            // A block holds at most MAX_BLOCK bytes: the code fits a byte.
+            *code = (zero_at - self.code_at) as u8;
+        }
+        self.code_at = zero_at;
+    }
+}
+
 /// Undoes stuffing one byte at a time, with no buffer of its own: the caller
 /// feeds each non-zero byte to [`Unstuffer::push`], stores what it returns,
 /// and calls [`Unstuffer::finish`] at the 0x00 delimiter.

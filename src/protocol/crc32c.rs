@@ -64,20 +64,37 @@ const fn build_tables() -> [[u32; 256]; 4] {
 /// Advances a running CRC-32C register over `data` (no init, no xorout):
 /// `crc32c(d) == !crc32c_update(!0, d)`.
 pub fn crc32c_update(mut crc: u32, data: &[u8]) -> u32 {
-    let t = &TABLES;
     let mut words = data.chunks_exact(4);
     for word in &mut words {
-        crc ^= u32::from_le_bytes([word[0], word[1], word[2], word[3]]);
-        // Every index is masked or shifted into 0..=255: always inside a table.
-        crc = t[3][(crc & 0xFF) as usize]
-            ^ t[2][((crc >> 8) & 0xFF) as usize]
-            ^ t[1][((crc >> 16) & 0xFF) as usize]
-            ^ t[0][(crc >> 24) as usize];
+        crc = crc32c_word(
+            crc,
+            u32::from_le_bytes([word[0], word[1], word[2], word[3]]),
+        );
     }
     for &byte in words.remainder() {
-        crc = (crc >> 8) ^ t[0][((crc ^ u32::from(byte)) & 0xFF) as usize];
+        crc = crc32c_byte(crc, byte);
     }
     crc
+}
+
+/// Advances a running CRC-32C register over four bytes, `word` being
+/// their little-endian value (for a pass that reads the bytes for another
+/// reason too: the packet encoder's stuffing).
+#[inline(always)]
+pub fn crc32c_word(crc: u32, word: u32) -> u32 {
+    let t = &TABLES;
+    let crc = crc ^ word;
+    // Every index is masked or shifted into 0..=255: always inside a table.
+    t[3][(crc & 0xFF) as usize]
+        ^ t[2][((crc >> 8) & 0xFF) as usize]
+        ^ t[1][((crc >> 16) & 0xFF) as usize]
+        ^ t[0][(crc >> 24) as usize]
+}
+
+/// Advances a running CRC-32C register over one byte.
+#[inline(always)]
+pub fn crc32c_byte(crc: u32, byte: u8) -> u32 {
+    (crc >> 8) ^ TABLES[0][((crc ^ u32::from(byte)) & 0xFF) as usize]
 }
 
 /// CRC-32C of `data` (init 0xFFFFFFFF, reflected, xorout 0xFFFFFFFF).

@@ -12,8 +12,8 @@ use super::byte_enum::byte_enum;
 use super::command::CommandPacket;
 use super::raw_frame::RawFrame;
 use super::reply::Reply;
-use crate::protocol::cobs::{max_stuffed_len, stuff_block};
-use crate::protocol::crc32c::crc32c;
+use crate::protocol::cobs::{max_stuffed_len, stuff_block, InPlaceStuffer};
+use crate::protocol::crc32c::{crc32c, crc32c_byte, crc32c_word};
 use crate::protocol::{DecodeError, Frame, DELIMITER, FRAME_LEN};
 
 /// Byte 0 of every packet this version adds.
@@ -149,6 +149,57 @@ pub struct PacketBuf {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct TooLong;
+
+/// Writes the packet of `kind` whose body `write` puts in place straight
+/// in its wire form into `out` (stuffed, delimited), and returns the wire
+/// length: the packet is built at `out[1..]`, where stuffing leaves its
+/// non-zero bytes ([`InPlaceStuffer`]), so no byte is copied after `write`
+/// wrote it, and one pass over the bytes computes the CRC and finds the
+/// zeros. `write` gets the room for the longest body and returns the
+/// length it wrote (`None`: it did not fit). The same bytes as
+/// [`PacketBuf::with_body`] then [`PacketBuf::to_wire`]: the transmitter's
+/// form, where a packet built apart costs its zeroing and two copies.
+#[inline]
+pub fn write_wire(
+    kind: PacketType,
+    out: &mut [u8; MAX_WIRE_LEN],
+    write: impl FnOnce(&mut [u8]) -> Option<usize>,
+) -> Result<usize, TooLong> {
+    const _: () = assert!(MAX_WIRE_LEN == MAX_PACKET_LEN + 2);
+    const _: () = assert!(MAX_PACKET_LEN <= crate::protocol::cobs::MAX_BLOCK);
+    let (header, body) = out[1..].split_at_mut(HEADER_LEN);
+    header.copy_from_slice(&[VERSION, kind as u8]);
+    let body_len = write(&mut body[..MAX_PACKET_LEN - HEADER_LEN - CRC_LEN]).ok_or(TooLong)?;
+    let len = HEADER_LEN + body_len + CRC_LEN;
+    if len > MAX_PACKET_LEN {
+        return Err(TooLong);
+    }
+    // The packet is out[1..=len]; its CRC covers all but its last four bytes.
+    let crc_end = len - CRC_LEN + 1;
+    let mut crc = !0;
+    let mut stuffer = InPlaceStuffer::new();
+    let mut at = 1;
+    // `at + 4 <= crc_end < MAX_WIRE_LEN`: the word is inside `out`.
+    while at + 4 <= crc_end {
+        let Some(&[b0, b1, b2, b3]) = out.get(at..at + 4) else {
+            break;
+        };
+        let word = u32::from_le_bytes([b0, b1, b2, b3]);
+        crc = crc32c_word(crc, word);
+        stuffer.word(out, at, word);
+        at += 4;
+    }
+    while let Some(&byte) = out.get(at).filter(|_| at < crc_end) {
+        crc = crc32c_byte(crc, byte);
+        stuffer.byte(out, at);
+        at += 1;
+    }
+    let crc = (!crc).to_le_bytes();
+    out[crc_end..crc_end + CRC_LEN].copy_from_slice(&crc);
+    stuffer.word(out, crc_end, u32::from_le_bytes(crc));
+    stuffer.finish(out, len + 1);
+    Ok(len + 2)
+}
 
 impl PacketBuf {
     /// The packet of `kind` with `body`, sealed with its CRC.

@@ -10,7 +10,7 @@
 //! kinds), and the RAW and UNCALIBRATED flags are always set.
 
 use super::bytes::{Reader, Writer};
-use super::packet::{PacketBuf, PacketType, TooLong};
+use super::packet::{write_wire, PacketBuf, PacketType, TooLong, MAX_WIRE_LEN};
 use crate::protocol::{DecodeError, Flags};
 use crate::sensor::ImuScale;
 
@@ -107,8 +107,19 @@ impl RawFrame {
 
     /// The frame as a sealed packet.
     pub fn to_packet(&self) -> Result<PacketBuf, TooLong> {
-        let mut body = [0u8; RAW_BODY_LEN];
-        let mut w = Writer::new(&mut body);
+        PacketBuf::with_body(PacketType::Raw, |body| self.write_body(body))
+    }
+
+    /// The frame on the wire (stuffed, delimited) into `out`, written where
+    /// it goes ([`write_wire`]): the transmitter's form; its length.
+    pub fn to_wire(&self, out: &mut [u8; MAX_WIRE_LEN]) -> Result<usize, TooLong> {
+        write_wire(PacketType::Raw, out, |body| self.write_body(body))
+    }
+
+    /// The body into `body`; its length, `None` when it does not fit.
+    #[inline]
+    fn write_body(&self, body: &mut [u8]) -> Option<usize> {
+        let mut w = Writer::new(body.get_mut(..RAW_BODY_LEN)?);
         w.u32(self.sequence)
             .u32(self.timestamp_us)
             .u16(self.flags.bits())
@@ -122,7 +133,7 @@ impl RawFrame {
             .f32(self.scale.gyro_si_per_lsb)
             .f32(self.scale.temperature_per_lsb)
             .f32(self.scale.temperature_offset);
-        PacketBuf::new(PacketType::Raw, &body)
+        (!w.overflowed() && w.len() == RAW_BODY_LEN).then_some(RAW_BODY_LEN)
     }
 
     /// The counts in SI units with the chip's nominal scale, as

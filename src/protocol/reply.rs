@@ -8,7 +8,7 @@
 
 use super::byte_enum::byte_enum;
 use super::bytes::Reader;
-use super::packet::{PacketBuf, PacketType, TooLong};
+use super::packet::{write_wire, PacketBuf, PacketType, TooLong, MAX_WIRE_LEN};
 use super::payload::Payload;
 use crate::protocol::DecodeError;
 
@@ -95,13 +95,25 @@ impl Reply {
 
     /// The reply as a sealed packet.
     pub fn to_packet(&self) -> Result<PacketBuf, TooLong> {
-        let mut body = [0u8; REPLY_HEADER_LEN + super::payload::MAX_PAYLOAD];
-        body[..2].copy_from_slice(&self.sequence.to_le_bytes());
-        body[2] = self.command;
-        body[3] = self.status as u8;
+        PacketBuf::with_body(PacketType::Reply, |body| self.write_body(body))
+    }
+
+    /// The reply on the wire (stuffed, delimited) into `out`, written where
+    /// it goes ([`write_wire`]): the transmitter's form; its length.
+    pub fn to_wire(&self, out: &mut [u8; MAX_WIRE_LEN]) -> Result<usize, TooLong> {
+        write_wire(PacketType::Reply, out, |body| self.write_body(body))
+    }
+
+    /// The body into `body`; its length, `None` when it does not fit.
+    #[inline]
+    fn write_body(&self, body: &mut [u8]) -> Option<usize> {
         let payload = self.payload.as_slice();
-        body[REPLY_HEADER_LEN..REPLY_HEADER_LEN + payload.len()].copy_from_slice(payload);
-        PacketBuf::new(PacketType::Reply, &body[..REPLY_HEADER_LEN + payload.len()])
+        let len = REPLY_HEADER_LEN + payload.len();
+        let (header, rest) = body.get_mut(..len)?.split_at_mut(REPLY_HEADER_LEN);
+        let sequence = self.sequence.to_le_bytes();
+        header.copy_from_slice(&[sequence[0], sequence[1], self.command, self.status as u8]);
+        rest.copy_from_slice(payload);
+        Some(len)
     }
 
     /// The reason of a failed command, as text.

@@ -70,6 +70,13 @@ enum Command {
         /// run): print its section, leave docs/BENCHMARKS.md as it is.
         #[arg(long, conflicts_with = "json")]
         whole_firmware: bool,
+        /// With --whole-firmware: only this sample rate and `--watermark`'s
+        /// build (its row alone, no long run).
+        #[arg(long, requires_all = ["whole_firmware", "watermark"])]
+        rate: Option<u32>,
+        /// With --whole-firmware and --rate: the FIFO watermark W.
+        #[arg(long, requires = "rate")]
+        watermark: Option<u16>,
         /// Only the long mutation run of the parsers that take outside
         /// bytes (10⁷ inputs each; host/examples/bench_fuzz.rs).
         #[arg(long, conflicts_with_all = ["json", "whole_firmware"])]
@@ -238,13 +245,20 @@ fn main() -> std::process::ExitCode {
             json,
             whole_firmware,
             fuzz,
+            rate,
+            watermark,
             ..
         } => match fuzz {
             true => bench::run_fuzz(),
-            false => setup::ensure_all().and_then(|()| match whole_firmware {
-                true => bench::run_whole_firmware(),
-                false => bench::run(json),
-            }),
+            false => {
+                setup::ensure_all().and_then(|()| match (whole_firmware, rate.zip(watermark)) {
+                    (true, Some((rate, watermark))) => {
+                        bench::run_whole_firmware_one(rate, watermark)
+                    }
+                    (true, None) => bench::run_whole_firmware(),
+                    (false, _) => bench::run(json),
+                })
+            }
         },
         Command::Hil(args) => hil::run(args),
         Command::Size => size::run(),

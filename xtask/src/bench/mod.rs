@@ -33,6 +33,16 @@ pub fn run_whole_firmware() -> Result<()> {
     Ok(())
 }
 
+/// One build of the whole firmware (`--rate R --watermark W`): its row and
+/// where the rate and watermark sit against the target, on stdout.
+pub fn run_whole_firmware_one(rate_hz: u32, watermark: u16) -> Result<()> {
+    let triad = crate::cmd::build_host_tool()?;
+    let calibration = crate::cmd::pack_calibration(&triad, None)?;
+    let row = whole_firmware::measure_single(&triad, &calibration, rate_hz, watermark)?;
+    print!("{}", whole_firmware_report::rows_only(&[row]));
+    Ok(())
+}
+
 /// The long mutation run of every parser that takes outside bytes
 /// (host/examples/bench_fuzz.rs, release): its figures on stderr.
 pub fn run_fuzz() -> Result<()> {
@@ -101,6 +111,8 @@ pub fn run(json: bool) -> Result<()> {
     let calibration = crate::cmd::pack_calibration(&triad, None)?;
     let firmware_rows = whole_firmware::measure(&triad, &calibration)?;
     let long_run = whole_firmware::long_run(&triad, &calibration)?;
+    // Flash and RAM of each board and bus: docs/FIRMWARE_SIZE.md.
+    crate::size::run()?;
     let fusion = rows
         .iter()
         .find(|r| r.core == Core::CortexM4F && r.variant.name() == "fusion_f32")
@@ -116,6 +128,8 @@ pub fn run(json: bool) -> Result<()> {
     let mut markdown = report::markdown(&rows, &command_rows, &host)?;
     markdown += "\n";
     markdown += &whole_firmware_report::markdown(&firmware_rows, &long_run, fusion);
+    markdown += "\n";
+    markdown += "\n## Flash and RAM\n\nEach board with each bus: docs/FIRMWARE_SIZE.md, rewritten by this run (`cargo xtask size` alone).\n";
     markdown += &format!(
         "\n## The lab on the host\n\n`triad calib fit imu`'s whole fit (detection, accelerometer, moves, gyro) on a \
          10-minute 400 Hz hand-pose record (109 poses, 240 000 samples; `cargo bench -p triad-host --bench \

@@ -83,6 +83,17 @@ pub fn measure(triad: &Path, calibration: &Path) -> Result<Vec<FirmwareRow>> {
     Ok(rows)
 }
 
+/// One build's figures alone (`cargo xtask bench --whole-firmware --rate R
+/// --watermark W`): the quick look while working on the hot path.
+pub fn measure_single(
+    triad: &Path,
+    calibration: &Path,
+    rate_hz: u32,
+    watermark: u16,
+) -> Result<FirmwareRow> {
+    measure_one(triad, calibration, rate_hz, watermark)
+}
+
 fn run_dir(firmware: Firmware) -> Result<PathBuf> {
     let dir = cmd::root()
         .join("target/bench-firmware")

@@ -43,68 +43,46 @@ its samples.";
 /// translated block × executions, by function) and the disassembly.
 const WHERE: &str = "\
 Where the instructions go at 8 kHz with W = 32 (a QEMU execution trace,
-`-d in_asm,exec,nochain`, weighted by each block's instructions, and the
-disassembly): the data-ready task is the FIFO read (the driver's two SPI
-transactions per interrupt and about 30 instructions per sample decoding
-the 16-byte packets), the batch kernel (`batch_f32_w32` above), and about
-110 per sample making frames (the 232-byte batch frame zeroed, filled,
-returned, wrapped and copied into the link queue's slot; the batch's mean
-temperature; the sampler's counters). The link task, per 235-byte packet:
-COBS about 7 instructions per byte, CRC-32C (slicing-by-4) about 3.5, the
-copy into the transmit ring about 1.8, and the packet written in place;
-the TX drain is about 8 per byte (status check, load, store, loop), work
-the NUCLEO's DMA does with no instruction per byte. Not in these figures:
-on hardware the SPI transfer itself, 16 bytes per sample, which the
-driver's blocking read waits out: about 6 µs per sample at the
-ICM-42688-P's 21 MHz (500 cycles at 84 MHz, more than the whole budget),
-at which the NUCLEO runs SPI1 once it has found that chip (24 µs at the
-LSM6DSOX's 5.25 MHz); the NUCLEO needs the read by DMA to meet 5 % (boards/nucleo-f401re/README.md).";
+`-d in_asm,exec,nochain`, each block's instructions times its executions,
+attributed to functions and to the call sites of the library's memcpy,
+and the disassembly): the data-ready task is the FIFO read (the driver's
+two SPI transactions per interrupt and about 30 instructions per sample
+decoding the 16-byte packets), the batch kernel (`batch_f32_w32` above;
+the default calibration's g-sensitivity adds three products per gyro
+value), and about 95 per sample moving frames: LLVM builds the 232-byte
+frame on the stack and copies it into the link queue's slot with the
+library's memcpy, its counts at an offset 2 mod 4 from the stack copy's
+(about 70), and zeroes the counts and the FIFO buffer (about 18). The
+link task, per 235-byte packet: header and counts written where their
+wire bytes go (the counts by memcpy, about 4 instructions per byte: the
+frame's and the wire's offsets differ by 2 mod 4), then one pass that
+computes the CRC-32C (slicing-by-4, about 3.5 per byte) and finds the
+zero bytes a word at a time, writing a COBS code at each (no byte
+copied), then the copy into the board's transmit ring (byte by byte:
+each slot an atomic); the TX drain is about 7.3 per byte (status check,
+load, store, loop), work the NUCLEO's DMA does with no instruction per
+byte. The STM32F4's CRC unit computes the Ethernet CRC-32 (polynomial
+0x04C11DB7, fixed), not the protocol's CRC-32C, so the CRC stays in
+software. Not in these figures: on hardware the SPI transfer itself, 16
+bytes per sample, which the driver's blocking read waits out: about 6 µs
+per sample at the ICM-42688-P's 21 MHz (500 cycles at 84 MHz, more than
+the whole budget), at which the NUCLEO runs SPI1 once it has found that
+chip (24 µs at the LSM6DSOX's 5.25 MHz); the NUCLEO needs the read by DMA
+to meet 5 % (boards/nucleo-f401re/README.md).";
 
 /// The section.
 pub fn markdown(rows: &[FirmwareRow], long: &LongRun, fusion_ported: Option<f64>) -> String {
     let mut md = String::new();
     let _ = writeln!(md, "## The whole firmware\n\n{METHOD}\n");
-    let _ = write!(
-        md,
-        "| rate | W | data-ready | link | TX drain | dispatch (unmeasured) | all-in instr. / sample | chip model | wire bytes / sample |"
-    );
-    for baud in BAUDS {
-        let _ = write!(md, " highest rate at {baud} baud |");
-    }
-    let _ = writeln!(md);
-    let _ = writeln!(
-        md,
-        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
-    );
     if let Some(fusion) = fusion_ported {
+        md += &table_header();
         let _ = writeln!(
             md,
             "| (anchor) | – | Fusion's inertial model alone, ported (fusion_f32 above) | | | | {fusion:.1} | | | | |"
         );
-    }
-    for r in rows {
-        let _ = write!(
-            md,
-            "| {} Hz | {} | {:.1} | {:.1} | {:.1} | {:.1} | **{:.1}** | {:.0} | {:.2} |",
-            r.rate_hz,
-            r.watermark,
-            r.per_sample[0],
-            r.per_sample[1],
-            r.per_sample[2],
-            r.per_sample[4],
-            r.all_in(),
-            r.per_sample[3],
-            r.wire_bytes_per_sample
-        );
-        for baud in BAUDS {
-            // 10 bits per byte on the wire (8N1).
-            let _ = write!(
-                md,
-                " {:.0} Hz |",
-                f64::from(baud) / 10.0 / r.wire_bytes_per_sample
-            );
-        }
-        let _ = writeln!(md);
+        md += &table_rows(rows);
+    } else {
+        md += &rows_only(rows);
     }
     let _ = writeln!(md);
     if let Some(r) = rows.iter().find(|r| r.rate_hz == 8000 && r.watermark == 32) {
@@ -135,4 +113,57 @@ pub fn markdown(rows: &[FirmwareRow], long: &LongRun, fusion_ported: Option<f64>
             .map_or(0.0, |r| r.wire_bytes_per_sample * 8000.0 * 10.0)
     );
     md
+}
+
+/// The table's header lines.
+fn table_header() -> String {
+    let mut md = String::new();
+    let _ = write!(
+        md,
+        "| rate | W | data-ready | link | TX drain | dispatch (unmeasured) | all-in instr. / sample | chip model | wire bytes / sample |"
+    );
+    for baud in BAUDS {
+        let _ = write!(md, " highest rate at {baud} baud |");
+    }
+    let _ = writeln!(md);
+    let _ = writeln!(
+        md,
+        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+    );
+    md
+}
+
+/// The table's lines of `rows`.
+fn table_rows(rows: &[FirmwareRow]) -> String {
+    let mut md = String::new();
+    for r in rows {
+        let _ = write!(
+            md,
+            "| {} Hz | {} | {:.1} | {:.1} | {:.1} | {:.1} | **{:.1}** | {:.0} | {:.2} |",
+            r.rate_hz,
+            r.watermark,
+            r.per_sample[0],
+            r.per_sample[1],
+            r.per_sample[2],
+            r.per_sample[4],
+            r.all_in(),
+            r.per_sample[3],
+            r.wire_bytes_per_sample
+        );
+        for baud in BAUDS {
+            // 10 bits per byte on the wire (8N1).
+            let _ = write!(
+                md,
+                " {:.0} Hz |",
+                f64::from(baud) / 10.0 / r.wire_bytes_per_sample
+            );
+        }
+        let _ = writeln!(md);
+    }
+    md
+}
+
+/// The table of `rows` alone, header included.
+pub fn rows_only(rows: &[FirmwareRow]) -> String {
+    table_header() + &table_rows(rows)
 }
