@@ -243,14 +243,18 @@ fn served_board(firmware: Firmware, elf: &Path, calibration: &Path) -> Result<()
     note!(
         "xtask: end-to-end on QEMU, the device link of {} served: upload, save and restart, \
          erase, bad uploads, raw mode, commands while streaming, power cuts during a save, \
-         serve's standard streams, a client written from docs/PROTOCOL.md alone",
+         serve's standard streams, a client written from docs/PROTOCOL.md alone, a stream \
+         recorded as MCAP read back by Python's mcap",
         firmware.label()
     );
     let xtask = cmd::serving_xtask()?;
     crate::setup::ensure_python()?;
+    // A stream recorded as MCAP is read back by Python's mcap.
+    let peers = setup::python_peers::ensure()?;
     let mut command = ignored_host_tests("device_qemu", &["--test-threads=1", "--nocapture"]);
     command
         .env("TRIAD_SERVE_XTASK", &xtask)
+        .env("TRIAD_PEERS_PYTHON", peers)
         .env("TRIAD_SERVE_ELF", elf)
         .env("TRIAD_SERVE_BLOB", calibration)
         .envs(firmware.build_env())
