@@ -54,6 +54,17 @@ pub fn run(scope: Scope) -> Result<()> {
         let clippy = ["clippy", "--all-targets", "--quiet", "--", "-D", "warnings"];
         step("cargo clippy (host)", &clippy)?;
         step("cargo test (host)", &["test", "--quiet"])?;
+        // The AFL binaries link only through cargo-afl (the benchmark runs
+        // them): here they are checked, and their targets run over the seeds.
+        let fuzz = ["-p", "triad-fuzz", "--features", "afl", "--all-targets"];
+        step(
+            "cargo clippy (the fuzz targets)",
+            &[&["clippy", "--quiet"][..], &fuzz, &["--", "-D", "warnings"]].concat(),
+        )?;
+        step(
+            "cargo test (the fuzz targets over their seeds)",
+            &["test", "--quiet", "-p", "triad-fuzz"],
+        )?;
         recordings_peers()?;
         // Statistical sweeps are ignored in debug builds: run here in release.
         let sweeps = [
