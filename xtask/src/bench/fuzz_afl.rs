@@ -108,8 +108,11 @@ pub fn run(seconds: u64) -> Result<()> {
     check(build, "cargo afl build -p triad-fuzz")?;
     let mut failed = Vec::new();
     for (target, seeds) in TARGETS {
-        let out = target_dir.join("out").join(target);
+        let runs = target_dir.join("out");
+        let out = runs.join(target);
+        // AFL++ makes its output directory, not the directories above it.
         let _ = std::fs::remove_dir_all(&out);
+        std::fs::create_dir_all(&runs).with_context(|| format!("creating {}", runs.display()))?;
         note!("xtask: AFL++ on {target} for {seconds} s");
         let mut fuzz = cargo_afl();
         fuzz.arg("fuzz")
