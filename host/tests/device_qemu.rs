@@ -17,7 +17,7 @@
 //! (1 kHz for the ICM-42688-P, the default chip), every sample streamed
 //! (decimation 1): the highest rate the firmware runs.
 //!
-//! Run by `cargo xtask test` (it sets TRIAD_SERVE_XTASK, TRIAD_SERVE_ELF and
+//! Run by `cargo xtask test` (it sets TRIAD_SERVE_XTASK, TRIAD_PEERS_PYTHON, TRIAD_SERVE_ELF and
 //! TRIAD_SERVE_BLOB); ignored in a plain `cargo test`.
 
 mod emulated_board;
@@ -412,6 +412,70 @@ fn raw_frames_carry_the_chips_counts_which_scaled_are_the_uncalibrated_values() 
     println!(
         "raw mode: {} raw frames are the chip model's counts, scaled bit for bit as uncalibrated",
         raw.len()
+    );
+}
+
+/// The rows an independent reader (Python's mcap and mcap-ros2-support,
+/// host/tests/peers/recordings.py) reads from the MCAP at `mcap`:
+/// t (ns), ax..gz, temp, seq, flags.
+fn read_by_python(mcap: &Path, out: &Path) -> Vec<Vec<f64>> {
+    let python = env_path("TRIAD_PEERS_PYTHON");
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/peers/recordings.py");
+    let o = std::process::Command::new(python)
+        .arg(script)
+        .args(["read-mcap", s(mcap), s(out)])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let csv = std::fs::read_to_string(out).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(lines.next(), Some("t,ax,ay,az,gx,gy,gz,temp,seq,flags"));
+    lines
+        .map(|l| l.split(',').map(|c| c.parse().unwrap()).collect())
+        .collect()
+}
+
+#[test]
+#[ignore = "needs the served board of `cargo xtask test`"]
+fn a_stream_recorded_as_mcap_opens_in_python_with_every_sample() {
+    let d = test_dir("stream-mcap");
+    let board = ServedBoard::start(&d.join("storage.bin"), Clock::Deterministic, None);
+    // Raw frames: each value is then known exactly from the chip model.
+    board.device_ok(&["raw"]);
+    let mut replay = Replay::from_env();
+    let uncalibrated = start_calibration(None, &[], &replay.scale(), DESCRIPTION.orientation)
+        .unwrap()
+        .corrector;
+    const FRAMES: usize = 2000;
+    let mcap = d.join("rec.mcap");
+    board.device_ok(&[
+        "stream",
+        "--max-frames",
+        &FRAMES.to_string(),
+        "--out",
+        s(&mcap),
+    ]);
+    let rows = read_by_python(&mcap, &d.join("python.csv"));
+    assert_eq!(rows.len(), FRAMES, "every frame streamed is in the bag");
+    let first = rows[0][8] as u32;
+    for (k, row) in rows.iter().enumerate() {
+        let seq = row[8] as u32;
+        assert_eq!(seq, first + k as u32, "no frame missing or repeated");
+        if k > 0 {
+            assert!(row[0] > rows[k - 1][0], "stamps increase: row {k}");
+        }
+        let flags = Flags::from_bits_retain(row[9] as u16);
+        assert!(
+            flags.contains(Flags::RAW.union(Flags::UNCALIBRATED)),
+            "frame {seq}"
+        );
+        // The bag's f64 is the CSV's shortest decimal of the firmware's f32.
+        let got: Vec<f32> = row[1..8].iter().map(|&v| v as f32).collect();
+        let want = decoded_csv::sample_values(&uncalibrated.correct(&replay.of_frame(seq)));
+        assert_eq!(bits(&got), bits(&want), "frame {seq}");
+    }
+    println!(
+        "triad device stream --out rec.mcap: {FRAMES} frames from {first}, every one read back by Python's mcap-ros2-support as the chip model's sample"
     );
 }
 

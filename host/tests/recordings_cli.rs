@@ -426,3 +426,25 @@ fn decode_out_mcap_keeps_every_frame_and_its_seq_and_flags() {
         );
     }
 }
+
+/// Files on which a format's library itself fails (found by AFL++, kept in
+/// fuzz/findings/): each command that reads them ends with that file's
+/// error, not a crash (a panic's exit status is 101, an abort's 134).
+#[test]
+fn a_file_its_format_library_fails_on_is_an_error_naming_it() {
+    let findings = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fuzz/findings");
+    for file in [
+        "ulog_header_slice_out_of_range.ulg",
+        "mcap_scan_subtract_overflow.mcap",
+    ] {
+        let path = findings.join(file);
+        let out = triad(&["allan", s(&path)]);
+        let err = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{file}: {err}");
+        assert!(
+            err.contains(file),
+            "{file}: the error names the file: {err}"
+        );
+        assert!(!err.contains("panicked"), "{file}: no panic printed: {err}");
+    }
+}

@@ -189,6 +189,7 @@ pub fn firmware_cargo(
             None => firmware.features(),
         })
         .envs(firmware.build_env())
+        .env(EMBEDDED_PANIC.0, EMBEDDED_PANIC.1)
         .env("TRIAD_CALIBRATION", calibration)
         .env("CARGO_TARGET_DIR", firmware_target_dir(firmware.board));
     if let Some(blob) = scene {
@@ -196,6 +197,10 @@ pub fn firmware_cargo(
     }
     command
 }
+
+/// What an embedded build (no std: nothing to unwind with) sets on the
+/// workspace's release profile, which unwinds for the host (Cargo.toml).
+pub const EMBEDDED_PANIC: (&str, &str) = ("CARGO_PROFILE_RELEASE_PANIC", "abort");
 
 /// One target dir per board: each board's build keeps its artefacts, and
 /// the chip model and bus rebuild only the firmware and board crates.

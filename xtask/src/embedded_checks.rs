@@ -79,6 +79,7 @@ pub fn check_example() -> Result<()> {
             "--target",
             target,
         ])
+        .env(crate::cmd::EMBEDDED_PANIC.0, crate::cmd::EMBEDDED_PANIC.1)
         .env("CARGO_TARGET_DIR", &dir);
     check(command, "building the user-firmware example")?;
     let tree = cargo()

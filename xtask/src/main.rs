@@ -78,7 +78,8 @@ enum Command {
         #[arg(long, requires = "rate")]
         watermark: Option<u16>,
         /// Only the long mutation run of the parsers that take outside
-        /// bytes (10⁷ inputs each; host/examples/bench_fuzz.rs).
+        /// bytes (10⁷ inputs each; host/examples/bench_fuzz.rs), then the
+        /// coverage-guided targets of fuzz/ under AFL++ (10 minutes each).
         #[arg(long, conflicts_with_all = ["json", "whole_firmware"])]
         fuzz: bool,
         /// Only Allan at scale: an 8-hour 400 Hz six-axis record through

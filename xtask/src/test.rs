@@ -67,6 +67,17 @@ pub fn run(scope: Scope) -> Result<()> {
         let clippy = ["clippy", "--all-targets", "--quiet", "--", "-D", "warnings"];
         step("cargo clippy (host)", &clippy)?;
         step("cargo test (host)", &["test", "--quiet"])?;
+        // The AFL binaries link only through cargo-afl (the benchmark runs
+        // them): here they are checked, and their targets run over the seeds.
+        let fuzz = ["-p", "triad-fuzz", "--features", "afl", "--all-targets"];
+        step(
+            "cargo clippy (the fuzz targets)",
+            &[&["clippy", "--quiet"][..], &fuzz, &["--", "-D", "warnings"]].concat(),
+        )?;
+        step(
+            "cargo test (the fuzz targets over their seeds)",
+            &["test", "--quiet", "-p", "triad-fuzz"],
+        )?;
         recordings_peers()?;
         // Statistical sweeps are ignored in debug builds: run here optimised
         // (the `sweeps` profile: release without LTO, see Cargo.toml).
@@ -270,14 +281,18 @@ fn served_board(firmware: Firmware, elf: &Path, calibration: &Path) -> Result<()
     note!(
         "xtask: end-to-end on QEMU, the device link of {} served: upload, save and restart, \
          erase, bad uploads, raw mode, commands while streaming, power cuts during a save, \
-         serve's standard streams, a client written from docs/PROTOCOL.md alone",
+         serve's standard streams, a client written from docs/PROTOCOL.md alone, a stream \
+         recorded as MCAP read back by Python's mcap",
         firmware.label()
     );
     let xtask = cmd::serving_xtask()?;
     crate::setup::ensure_python()?;
+    // A stream recorded as MCAP is read back by Python's mcap.
+    let peers = setup::python_peers::ensure()?;
     let mut command = ignored_host_tests("device_qemu", &["--test-threads=1", "--nocapture"]);
     command
         .env("TRIAD_SERVE_XTASK", &xtask)
+        .env("TRIAD_PEERS_PYTHON", peers)
         .env("TRIAD_SERVE_ELF", elf)
         .env("TRIAD_SERVE_BLOB", calibration)
         .envs(firmware.build_env())

@@ -1,7 +1,10 @@
 //! Reading the records `triad calib fit` takes: CSV with a header naming the
 //! columns (`triad sim` writes `t,ax,ay,az,gx,gy,gz,temp`, SI units); only
 //! the columns a fit needs must be present, in any order. `-` reads
-//! standard input; a byte-order mark before the header is ignored.
+//! standard input; a byte-order mark before the header is ignored. A
+//! recording in another format (a bag, a ULog, EuRoC, imu_tk:
+//! [`crate::record`]) is read natively: its samples, not the text of its
+//! CSV, and its errors name the message (or line) and time of the sample.
 //!
 //! Times: the `t` stamps as loggers write them (repeated, jittered, out of
 //! order, with gaps) are repaired by [`time_base::repair`], whose method
@@ -19,6 +22,7 @@ use triad_lab::time_base::{self, TimeBase};
 use super::Ranges;
 use crate::plumbing::input::{self, strip_bom};
 use crate::plumbing::progress::{Progress, Unit};
+use crate::record;
 
 /// The columns of one triad.
 pub const ACCEL: [&str; 3] = ["ax", "ay", "az"];
@@ -155,7 +159,7 @@ impl Reading {
         columns: [&str; 3],
         ranges: &Ranges,
     ) -> anyhow::Result<(Record, TimeBase)> {
-        self.parse(&read_text(path)?, path, columns, ranges)
+        self.parse(&read_content(path)?, path, columns, ranges)
     }
 
     /// [`Self::read`] of each of `paths`, without the time bases.
@@ -171,15 +175,21 @@ impl Reading {
             .collect()
     }
 
-    /// [`Self::read`] from the text already read.
+    /// [`Self::read`] from the content already read.
     pub fn parse(
         &self,
-        text: &str,
+        content: &Content,
         path: &Path,
         columns: [&str; 3],
         ranges: &Ranges,
     ) -> anyhow::Result<(Record, TimeBase)> {
-        parse_timed(text, path, columns, self.rate, self.scale(columns, ranges))
+        parse_timed(
+            content,
+            path,
+            columns,
+            self.rate,
+            self.scale(columns, ranges),
+        )
     }
 }
 
@@ -218,30 +228,66 @@ pub fn read_all(paths: &[PathBuf], columns: [&str; 3]) -> anyhow::Result<Vec<Rec
 
 /// Reads `t` and the three `columns` of `path`.
 pub fn read(path: &Path, columns: [&str; 3]) -> anyhow::Result<Record> {
-    parse(&read_text(path)?, path, columns)
+    parse(&read_content(path)?, path, columns)
 }
 
-/// The `temp` column (°C) of the CSV `text` read from `path`, in a record's
-/// three channels; `needed_for` says why in the error when the header has
-/// no such column.
-pub fn parse_temperature(text: &str, path: &Path, needed_for: &str) -> anyhow::Result<Record> {
-    let header = strip_bom(text)
-        .lines()
-        .find(|l| !l.trim().is_empty())
-        .unwrap_or("");
-    if !header.split(',').any(|c| c.trim() == "temp") {
-        bail!(
-            "{}: no temperature column `temp` in the header `{}`: {needed_for}",
+/// The `temp` column (°C) of the `content` read from `path`, in a
+/// record's three channels; `needed_for` says why in the error when it has
+/// no temperature.
+pub fn parse_temperature(
+    content: &Content,
+    path: &Path,
+    needed_for: &str,
+) -> anyhow::Result<Record> {
+    match content {
+        Content::Text(text) => {
+            let header = strip_bom(text)
+                .lines()
+                .find(|l| !l.trim().is_empty())
+                .unwrap_or("");
+            if !header.split(',').any(|c| c.trim() == "temp") {
+                bail!(
+                    "{}: no temperature column `temp` in the header `{}`: {needed_for}",
+                    input::name(path),
+                    header.trim()
+                );
+            }
+        }
+        Content::Samples(record) if !record.source.channels.temp => bail!(
+            "{}: {} records carry no temperature: {needed_for}",
             input::name(path),
-            header.trim()
-        );
+            record.source.format.name()
+        ),
+        Content::Samples(_) => {}
     }
-    parse(text, path, ["temp"; 3])
+    parse(content, path, ["temp"; 3])
+}
+
+/// What a record file holds, as read: a CSV's text, or the samples of a
+/// recording in another format ([`crate::record`]), read natively.
+pub enum Content {
+    /// triad's CSV (or standard input).
+    Text(String),
+    /// A bag, a ULog, EuRoC, imu_tk: its samples (SI).
+    Samples(crate::record::Record),
+}
+
+/// The content of `path` (`-`: standard input): a recording in another
+/// format than triad's CSV as its samples, else the text.
+pub fn read_content(path: &Path) -> anyhow::Result<Content> {
+    let foreign = !input::is_stdin(path)
+        && std::fs::metadata(path).is_ok()
+        && record::detect::detect(path)?.is_container_or_foreign();
+    if foreign {
+        let record = record::read_all(path, &record::options::global())?;
+        return Ok(Content::Samples(record));
+    }
+    read_text(path).map(Content::Text)
 }
 
 /// The text of `path` (`-`: standard input), with progress for large files.
 pub fn read_text(path: &Path) -> anyhow::Result<String> {
-    let mut opened = input::open(path, 1 << 20)?;
+    let mut opened = input::open_bytes(path, 1 << 20)?;
     let name = opened.name;
     let mut bytes = Vec::with_capacity(opened.size as usize);
     // About a second of reading and parsing: 64 MB.
@@ -266,23 +312,88 @@ pub fn read_text(path: &Path) -> anyhow::Result<String> {
     })
 }
 
-/// Parses `t` and the three `columns` (SI) of the CSV `text` read from
+/// Parses `t` and the three `columns` (SI) of the `content` read from
 /// `path`, its stamps repaired by the time base.
-pub fn parse(text: &str, path: &Path, columns: [&str; 3]) -> anyhow::Result<Record> {
-    parse_timed(text, path, columns, None, 1.0).map(|(r, _)| r)
+pub fn parse(content: &Content, path: &Path, columns: [&str; 3]) -> anyhow::Result<Record> {
+    parse_timed(content, path, columns, None, 1.0).map(|(r, _)| r)
 }
 
-/// Parses the three `columns` of the CSV `text` read from `path`, each
+/// Parses the three `columns` of the `content` read from `path`, each
 /// value times `scale` (to SI); timed at `rate` Hz when given (no `t`
 /// column needed), else by the repaired `t` stamps.
 fn parse_timed(
-    text: &str,
+    content: &Content,
     path: &Path,
     columns: [&str; 3],
     rate: Option<f64>,
     scale: f64,
 ) -> anyhow::Result<(Record, TimeBase)> {
     let name = input::name(path);
+    let (stamps, samples) = match content {
+        Content::Text(text) => text_columns(text, &name, columns, rate, scale)?,
+        Content::Samples(record) => sample_columns(record, columns, scale)?,
+    };
+    let n = samples.len();
+    let (t, base) = match rate {
+        Some(hz) => {
+            let mut t = vec![0.0; n];
+            let base = time_base::from_rate(n, hz, &mut t).map_err(|e| anyhow!("{name}: {e}"))?;
+            (t, base)
+        }
+        None => repaired_times(&name, &stamps)?,
+    };
+    let record = Record {
+        path: path.to_path_buf(),
+        t,
+        samples,
+    };
+    Ok((record, base))
+}
+
+/// The stamps and the three `columns` (times `scale`) of a recording's
+/// samples, each a finite number or an error naming the sample.
+fn sample_columns(
+    record: &crate::record::Record,
+    columns: [&str; 3],
+    scale: f64,
+) -> anyhow::Result<(Vec<f64>, Vec<[f64; 3]>)> {
+    let mut stamps = Vec::with_capacity(record.samples.len());
+    let mut samples = Vec::with_capacity(record.samples.len());
+    for s in &record.samples {
+        let mut v = [0.0; 3];
+        for (x, column) in v.iter_mut().zip(columns) {
+            let value = match column {
+                "ax" => s.accel[0],
+                "ay" => s.accel[1],
+                "az" => s.accel[2],
+                "gx" => s.gyro[0],
+                "gy" => s.gyro[1],
+                "gz" => s.gyro[2],
+                _ => s.temp,
+            };
+            if !value.is_finite() {
+                bail!(
+                    "{}: {column} = {value} is not a finite number",
+                    record.source.where_is(s)
+                );
+            }
+            *x = value * scale;
+        }
+        stamps.push(s.t);
+        samples.push(v);
+    }
+    Ok((stamps, samples))
+}
+
+/// The stamps (zeros without a `t` column when `rate` times them) and the
+/// three `columns` (times `scale`) of the CSV `text` of the record `name`.
+fn text_columns(
+    text: &str,
+    name: &str,
+    columns: [&str; 3],
+    rate: Option<f64>,
+    scale: f64,
+) -> anyhow::Result<(Vec<f64>, Vec<[f64; 3]>)> {
     let mut lines = strip_bom(text)
         .lines()
         .enumerate()
@@ -310,7 +421,7 @@ fn parse_timed(
     let mut samples = Vec::new();
     for (i, line) in lines {
         let at = Line {
-            name: &name,
+            name,
             number: i + 1,
         };
         let v = at.values(line, width, &index, wanted)?;
@@ -320,21 +431,7 @@ fn parse_timed(
     if samples.is_empty() {
         bail!("{name}: no samples after the header");
     }
-    let n = samples.len();
-    let (t, base) = match rate {
-        Some(hz) => {
-            let mut t = vec![0.0; n];
-            let base = time_base::from_rate(n, hz, &mut t).map_err(|e| anyhow!("{name}: {e}"))?;
-            (t, base)
-        }
-        None => repaired_times(&name, &stamps)?,
-    };
-    let record = Record {
-        path: path.to_path_buf(),
-        t,
-        samples,
-    };
-    Ok((record, base))
+    Ok((stamps, samples))
 }
 
 /// The times every fit uses for the `stamps` of the record `name`:
@@ -444,7 +541,7 @@ mod tests {
     use super::*;
 
     fn record(text: &str) -> anyhow::Result<Record> {
-        parse(text, Path::new("r.csv"), GYRO)
+        parse(&Content::Text(text.into()), Path::new("r.csv"), GYRO)
     }
 
     #[test]
@@ -492,6 +589,7 @@ mod tests {
             let t = 1672887159.71 + ((k as f64 * 0.005) / 0.01).floor() * 0.01;
             text += &format!("{t:.2},1,2,3\n");
         }
+        let text = Content::Text(text);
         let (r, base) = parse_timed(&text, Path::new("r.csv"), GYRO, None, 1.0).unwrap();
         assert!((r.rate_hz().unwrap() - 200.0).abs() < 5.0, "{base:?}");
         assert!(r.t.windows(2).all(|w| w[1] > w[0]));
@@ -508,7 +606,7 @@ mod tests {
         };
         let (r, _) = reading
             .parse(
-                "ax,ay,az\n0,0,1\n0,0,-1\n",
+                &Content::Text("ax,ay,az\n0,0,1\n0,0,-1\n".into()),
                 Path::new("a.csv"),
                 ACCEL,
                 &ranges,
@@ -517,7 +615,12 @@ mod tests {
         assert_eq!(r.t, [0.0, 0.01]);
         assert_eq!(r.samples[1], [0.0, 0.0, -STANDARD_GRAVITY]);
         let (g, _) = reading
-            .parse("gx,gy,gz\n131,0,0\n", Path::new("g.csv"), GYRO, &ranges)
+            .parse(
+                &Content::Text("gx,gy,gz\n131,0,0\n".into()),
+                Path::new("g.csv"),
+                GYRO,
+                &ranges,
+            )
             .unwrap();
         assert!((g.samples[0][0] - deg_to_rad(131.0 * 250.0 / 32768.0)).abs() < 1e-15);
         let err = record("ax,gx,gy,gz\n0,1,2,3\n").err().unwrap().to_string();

@@ -251,7 +251,7 @@ fn gyro_static(args: &GyroArgs, base: Base, path: &Path) -> anyhow::Result<ExitC
         }
     }
     // Read once (it may be standard input): the gyro, and the accelerometer when there.
-    let text = fit_csv::read_text(path)?;
+    let text = fit_csv::read_content(path)?;
     let ranges = &args.output.ranges;
     let (gyro, _) = args.reading.parse(&text, path, fit_csv::GYRO, ranges)?;
     let accel = args

@@ -88,7 +88,7 @@ pub fn run(args: ImuArgs) -> anyhow::Result<ExitCode> {
     let paths = [args.positions.clone()];
     let base = args.output.prepare(&inputs("--positions", &paths))?;
     let ranges = args.output.ranges;
-    let text = fit_csv::read_text(&args.positions)?;
+    let text = fit_csv::read_content(&args.positions)?;
     let (accel, time) = args
         .reading
         .parse(&text, &args.positions, fit_csv::ACCEL, &ranges)?;

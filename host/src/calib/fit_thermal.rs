@@ -84,7 +84,7 @@ struct Channels {
 }
 
 fn read(path: &std::path::Path) -> anyhow::Result<Channels> {
-    let text = fit_csv::read_text(path)?;
+    let text = fit_csv::read_content(path)?;
     let temp = fit_csv::parse_temperature(
         &text,
         path,

@@ -269,7 +269,7 @@ impl AppliedAt {
         }
         let mut temps = Vec::with_capacity(args.records.len());
         for path in &args.records {
-            let text = fit_csv::read_text(path)?;
+            let text = fit_csv::read_content(path)?;
             let why = format!(
                 "{} has {} temperature terms, which verify applies at each pose's temperature",
                 file.path.display(),

@@ -1,12 +1,13 @@
 //! MCAP (a ROS 2 bag's default storage, and what `triad convert` writes):
-//! the `mcap` crate reads it, streaming; the topics come from its summary
+//! the `mcap` crate reads it, streaming; the channels come from its summary
 //! (or, in a file without one, from a first pass), the samples from
-//! sensor_msgs/msg/Imu in CDR on the chosen topic, with the temperature of a
+//! sensor_msgs/msg/Imu in CDR on the chosen topic ([`mcap_chunks`] decodes
+//! the chunks on every core), with the temperature of a
 //! sensor_msgs/msg/Temperature topic `TOPIC/temperature` beside it (as
 //! `triad convert` writes) where there is one.
 
 use std::fs::File;
-use std::io::{BufReader, Read};
+use std::io::{BufReader, Read, Seek};
 use std::path::Path;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
@@ -14,20 +15,21 @@ use std::sync::Arc;
 use anyhow::{anyhow, bail, Context};
 
 use super::imu_msg::{self, ROS2_TYPE};
-use super::producer::{spawn, Sink};
+use super::mcap_chunks::{self, Decoded, Wanted, MAX_CHUNK, TEMPERATURE_TYPE};
+use super::producer::{self, spawn, Sink};
 use super::{topics, Channels, Format, Opened, Options, Place, Sample, Source, TimeSource};
 use crate::plumbing::input;
-
-/// The largest decompressed chunk read.
-const MAX_CHUNK: u64 = 256 << 20;
-
-/// The type of the temperature topic read beside an IMU topic.
-const TEMPERATURE_TYPE: &str = "sensor_msgs/msg/Temperature";
 
 /// Opens the MCAP file at `path`, its IMU topic chosen by `options`.
 pub fn open(path: &Path, options: &Options) -> anyhow::Result<Opened> {
     let name = input::name(path);
-    let all = topics_of(path, &name)?;
+    let in_file = channels_of(path, &name)?;
+    let mut all: Vec<(String, String)> = in_file
+        .iter()
+        .map(|c| (c.topic.clone(), c.schema.clone()))
+        .collect();
+    all.sort();
+    all.dedup();
     let topic = topics::choose(
         &name,
         &all,
@@ -44,13 +46,29 @@ pub fn open(path: &Path, options: &Options) -> anyhow::Result<Opened> {
         temp: temperature.is_some(),
         ..Channels::IMU
     };
+    if let Some(c) = in_file
+        .iter()
+        .find(|c| c.topic == topic && c.encoding != "cdr")
+    {
+        bail!(
+            "{name}: topic {topic} is encoded as `{}`, not ROS 2's cdr",
+            c.encoding
+        );
+    }
+    let ids = |t: Option<&str>| -> Vec<u16> {
+        in_file
+            .iter()
+            .filter(|c| Some(c.topic.as_str()) == t)
+            .map(|c| c.id)
+            .collect()
+    };
+    let wanted = Wanted {
+        imu: ids(Some(&topic)),
+        temperature: ids(temperature.as_deref()),
+    };
     let (path_, name_, topic_) = (path.to_path_buf(), name.clone(), topic.clone());
     let reader = spawn(&name, move |sink| {
-        let topics = Topics {
-            imu: &topic_,
-            temperature: temperature.as_deref(),
-        };
-        read(&path_, &name_, topics, time, sink)
+        read(&path_, &name_, &topic_, &wanted, time, sink)
     });
     Ok(Opened {
         source: Source {
@@ -64,44 +82,99 @@ pub fn open(path: &Path, options: &Options) -> anyhow::Result<Opened> {
     })
 }
 
-/// The file's (topic, schema name) pairs.
-fn topics_of(path: &Path, name: &str) -> anyhow::Result<Vec<(String, String)>> {
-    let file = File::open(path).with_context(|| format!("{name}: cannot open"))?;
-    // SAFETY: the map is only read; a file changed under it while triad
-    // reads is the user's race, as with any reader of a growing log.
-    let map =
-        unsafe { memmap2::Mmap::map(&file) }.with_context(|| format!("{name}: cannot map"))?;
-    let mut pairs: Vec<(String, String)> = match mcap::Summary::read(&map) {
-        Ok(Some(summary)) => summary.channels.values().map(|c| pair(c)).collect(),
-        // No summary (a recorder stopped early, or a streamed file): a first pass.
-        _ => scan(path, name)?,
-    };
-    pairs.sort();
-    pairs.dedup();
-    Ok(pairs)
+/// A channel of the file.
+struct Channel {
+    id: u16,
+    topic: String,
+    /// Its schema's name ("" without one).
+    schema: String,
+    encoding: String,
 }
 
-/// (topic, schema name) of a channel.
-fn pair(c: &mcap::Channel<'_>) -> (String, String) {
-    let schema = c.schema.as_ref().map_or("", |s| s.name.as_str());
-    (c.topic.clone(), schema.to_string())
-}
-
-/// Every channel's pair, from a pass over the whole file.
-fn scan(path: &Path, name: &str) -> anyhow::Result<Vec<(String, String)>> {
-    let (mut messages, offset) = messages(path, name)?;
-    let mut pairs = Vec::new();
-    for (count, m) in (&mut messages).enumerate() {
-        let m = m.map_err(|e| broken(name, &offset, count as u64, e))?;
-        let p = pair(&m.channel);
-        if !pairs.contains(&p) {
-            pairs.push(p);
+impl Channel {
+    fn of(c: &mcap::Channel<'_>) -> Channel {
+        Channel {
+            id: c.id,
+            topic: c.topic.clone(),
+            schema: c
+                .schema
+                .as_ref()
+                .map_or("", |s| s.name.as_str())
+                .to_string(),
+            encoding: c.message_encoding.clone(),
         }
     }
-    Ok(pairs)
 }
 
-/// A reader of the file counting the bytes it has read.
+/// The file's channels, from its summary (read with buffered reads and
+/// seeks), else from a pass over the whole file.
+fn channels_of(path: &Path, name: &str) -> anyhow::Result<Vec<Channel>> {
+    let file = File::open(path).with_context(|| format!("{name}: cannot open"))?;
+    let len = file.metadata().map_or(u64::MAX, |m| m.len());
+    let options = mcap::sans_io::SummaryReaderOptions::default()
+        .with_file_size(len)
+        .with_record_length_limit(usize::try_from(len.min(MAX_CHUNK)).unwrap_or(usize::MAX));
+    let mut summary = mcap::sans_io::SummaryReader::new_with_options(options);
+    let mut file = BufReader::new(file);
+    let mut read = || -> mcap::McapResult<Option<mcap::Summary>> {
+        while let Some(event) = summary.next_event() {
+            match event? {
+                mcap::sans_io::SummaryReadEvent::ReadRequest(n) => {
+                    let got = file.read(summary.insert(n))?;
+                    summary.notify_read(got);
+                }
+                mcap::sans_io::SummaryReadEvent::SeekRequest(to) => {
+                    let at = file.seek(to)?;
+                    summary.notify_seeked(at);
+                }
+            }
+        }
+        Ok(None)
+    };
+    // A missing or unreadable summary (a recorder stopped early, a streamed
+    // file): the first pass finds the channels, or where the file breaks.
+    let found = read().ok().and_then(|_| summary.finish());
+    match found {
+        Some(s) if !s.channels.is_empty() => {
+            Ok(s.channels.values().map(|c| Channel::of(c)).collect())
+        }
+        _ => producer::guarded(name, || scan(path, name)),
+    }
+}
+
+/// Every channel, from a pass over the whole file.
+fn scan(path: &Path, name: &str) -> anyhow::Result<Vec<Channel>> {
+    let file = File::open(path).with_context(|| format!("{name}: cannot open"))?;
+    let len = file.metadata().map_or(u64::MAX, |m| m.len());
+    // No record is longer than the file, nor a chunk's decompressed records
+    // than MAX_CHUNK; a chunk's CRC (where the writer gave one) is checked
+    // before its records are parsed: the crate trusts the lengths inside a
+    // chunk (mcap 0.26 overflows a subtraction on a corrupt one).
+    let options = mcap::sans_io::LinearReaderOptions::default()
+        .with_record_length_limit(usize::try_from(len.max(MAX_CHUNK)).unwrap_or(usize::MAX))
+        .with_prevalidate_chunk_crcs(true);
+    let read = Arc::new(AtomicU64::new(0));
+    let counting = Counting {
+        inner: BufReader::with_capacity(1 << 20, file),
+        read: read.clone(),
+    };
+    let mut channels: Vec<Channel> = Vec::new();
+    let messages = mcap::io::MessageReader::new_with_options(counting, options);
+    for (count, m) in messages.enumerate() {
+        let m = m.map_err(|e| {
+            anyhow!(
+                "{name}: broken MCAP after {count} message(s), within its first {} bytes: {e}",
+                read.load(Ordering::Relaxed)
+            )
+        })?;
+        if !channels.iter().any(|c| c.id == m.channel.id) {
+            channels.push(Channel::of(&m.channel));
+        }
+    }
+    Ok(channels)
+}
+
+/// A reader counting the bytes it has read.
 struct Counting<R> {
     inner: R,
     read: Arc<AtomicU64>,
@@ -115,126 +188,73 @@ impl<R: Read> Read for Counting<R> {
     }
 }
 
-type Messages = mcap::io::MessageReader<Counting<BufReader<File>>>;
-
-/// The messages of the file and the count of bytes read so far.
-fn messages(path: &Path, name: &str) -> anyhow::Result<(Messages, Arc<AtomicU64>)> {
-    let file = File::open(path).with_context(|| format!("{name}: cannot open"))?;
-    // No record is longer than the file, nor a chunk's decompressed records
-    // than 256 MiB (writers' chunks are a few MiB): a corrupt length is then
-    // an error, not an allocation the size of the length. A chunk's CRC (where the
-    // writer gave one) is checked before its records are parsed: the crate
-    // trusts the lengths inside a chunk (mcap 0.26 overflows a subtraction
-    // on a corrupt one).
-    let len = file
-        .metadata()
-        .map(|m| m.len().max(MAX_CHUNK))
-        .unwrap_or(u64::MAX);
-    let options = mcap::sans_io::LinearReaderOptions::default()
-        .with_record_length_limit(usize::try_from(len).unwrap_or(usize::MAX))
-        .with_prevalidate_chunk_crcs(true);
-    let read = Arc::new(AtomicU64::new(0));
-    let counting = Counting {
-        inner: BufReader::with_capacity(1 << 20, file),
-        read: read.clone(),
-    };
-    Ok((
-        mcap::io::MessageReader::new_with_options(counting, options),
-        read,
-    ))
-}
-
-/// The error of a file that broke after `count` messages.
-fn broken(name: &str, offset: &AtomicU64, count: u64, e: mcap::McapError) -> anyhow::Error {
-    anyhow!(
-        "{name}: broken MCAP after {count} message(s), within its first {} bytes: {e}",
-        offset.load(Ordering::Relaxed)
-    )
-}
-
-/// The topics read.
-#[derive(Clone, Copy)]
-struct Topics<'a> {
-    imu: &'a str,
-    temperature: Option<&'a str>,
-}
-
-/// sensor_msgs/msg/Temperature.
-#[derive(serde::Deserialize)]
-struct Temperature {
-    header: imu_msg::Header,
-    temperature: f64,
-    #[allow(dead_code)]
-    variance: f64,
-}
-
-/// The stamp of a header in seconds.
-fn stamp(h: &imu_msg::Header) -> f64 {
-    imu_msg::stamp_seconds(h.stamp.sec as i64, h.stamp.nanosec)
-}
-
 /// Reads the samples of the IMU topic into `sink`, each with the
 /// temperature of the same stamp when there is a temperature topic (whose
 /// message must follow its sample before the next one, as triad writes them).
 fn read(
     path: &Path,
     name: &str,
-    topics: Topics<'_>,
+    topic: &str,
+    wanted: &Wanted,
     time: TimeSource,
     sink: &mut Sink,
 ) -> anyhow::Result<()> {
-    let topic = topics.imu;
-    let (mut messages, offset) = messages(path, name)?;
+    let with_temperature = !wanted.temperature.is_empty();
     let mut index = 0u64;
     let mut pending: Option<(Sample, f64)> = None;
-    for (count, m) in (&mut messages).enumerate() {
-        let m = m.map_err(|e| broken(name, &offset, count as u64, e))?;
-        if Some(m.channel.topic.as_str()) == topics.temperature {
-            let t: Temperature = cdr::deserialize(&m.data)
-                .map_err(|e| anyhow!("{name}, message {} ({TEMPERATURE_TYPE}): {e}", count + 1))?;
-            match pending.take() {
-                Some((mut s, at)) if at == stamp(&t.header) => {
-                    s.temp = t.temperature;
-                    sink.push(s)?;
+    mcap_chunks::read(path, name, wanted, |batch| {
+        for m in batch.messages {
+            match m {
+                Decoded::Temperature { stamp, celsius } => {
+                    let at = imu_msg::stamp_seconds(stamp.sec as i64, stamp.nanosec);
+                    match pending.take() {
+                        Some((mut s, t)) if t == at => {
+                            s.temp = celsius;
+                            sink.push(s)?;
+                        }
+                        _ => bail!(
+                            "{name}, after message {index} of {topic}: a temperature at {at} s without the IMU sample of that stamp before it"
+                        ),
+                    }
                 }
-                _ => bail!(
-                    "{name}, message {}: a temperature at {} s without the IMU sample of that stamp before it",
-                    count + 1,
-                    stamp(&t.header)
-                ),
+                Decoded::Imu { fields, log_time } => {
+                    if let Some((s, _)) = pending.take() {
+                        bail!(
+                            "{name}, message {} of {topic}: no temperature after it",
+                            s.at
+                        );
+                    }
+                    index += 1;
+                    let stamp =
+                        imu_msg::stamp_seconds(fields.stamp.sec as i64, fields.stamp.nanosec);
+                    let t = match time {
+                        TimeSource::Header => stamp,
+                        TimeSource::Receive => imu_msg::nanoseconds_to_seconds(log_time as i128),
+                    };
+                    let mut s = Sample::at(index, t);
+                    s.gyro = fields.angular_velocity;
+                    s.accel = fields.linear_acceleration;
+                    if with_temperature {
+                        pending = Some((s, stamp));
+                    } else {
+                        sink.push(s)?;
+                    }
+                }
             }
-            continue;
         }
-        if m.channel.topic != topic {
-            continue;
+        match batch.undecodable {
+            Some(u) if u.imu => bail!(
+                "{name}, message {} of {topic} ({ROS2_TYPE}): {}",
+                index + 1,
+                u.why
+            ),
+            Some(u) => bail!(
+                "{name}, after message {index} of {topic}: {TEMPERATURE_TYPE}: {}",
+                u.why
+            ),
+            None => Ok(()),
         }
-        if let Some((s, _)) = pending.take() {
-            bail!(
-                "{name}, message {} of {topic}: no temperature after it",
-                s.at
-            );
-        }
-        index += 1;
-        if m.channel.message_encoding != "cdr" {
-            bail!(
-                "{name}: topic {topic} is encoded as `{}`, not ROS 2's cdr",
-                m.channel.message_encoding
-            );
-        }
-        let imu = imu_msg::decode_cdr(&m.data)
-            .map_err(|e| anyhow!("{name}, message {index} of {topic} ({ROS2_TYPE}): {e}"))?;
-        let t = match time {
-            TimeSource::Header => stamp(&imu.header),
-            TimeSource::Receive => imu_msg::nanoseconds_to_seconds(m.log_time as i128),
-        };
-        let mut s = Sample::at(index, t);
-        s.gyro = imu.angular_velocity;
-        s.accel = imu.linear_acceleration;
-        match topics.temperature {
-            Some(_) => pending = Some((s, stamp(&imu.header))),
-            None => sink.push(s)?,
-        }
-    }
+    })?;
     if let Some((s, _)) = pending {
         bail!(
             "{name}, message {} of {topic}: no temperature after it",

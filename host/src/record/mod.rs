@@ -25,6 +25,7 @@ pub mod euroc;
 pub mod imu_msg;
 pub mod imu_tk;
 pub mod mcap_bag;
+pub mod mcap_chunks;
 pub mod mcap_out;
 pub mod options;
 pub mod producer;

@@ -89,6 +89,31 @@ pub fn spawn(
     }
 }
 
+/// Runs `look` (a pass over the file a format's library makes before the
+/// record is read: finding its channels, its messages) on a reading
+/// thread and waits for it, so that a library that panics on a corrupt
+/// file gives the file's error, as it does while the record is read.
+pub fn guarded<T: Send>(
+    name: &str,
+    look: impl FnOnce() -> anyhow::Result<T> + Send,
+) -> anyhow::Result<T> {
+    quiet_panics_of_readers();
+    std::thread::scope(|scope| {
+        let thread = std::thread::Builder::new()
+            .name(THREAD.into())
+            .spawn_scoped(scope, look)
+            .map_err(|e| anyhow!("{name}: cannot start the thread that reads it: {e}"))?;
+        thread.join().unwrap_or_else(|_| Err(library_failed(name)))
+    })
+}
+
+/// What a library's panic on a file is reported as.
+fn library_failed(name: &str) -> anyhow::Error {
+    anyhow!(
+        "{name}: the format's library stopped with an internal error on this file, so it cannot be read (some part of it fails a check the library does not make; a damaged file does this)"
+    )
+}
+
 /// The name of the reading threads.
 const THREAD: &str = "triad-record-reader";
 
@@ -113,15 +138,15 @@ impl Reader for Produced {
             Ok(chunk) => chunk.map(Some),
             Err(_) => match self.thread.take().map(JoinHandle::join) {
                 // A library that panicked on a corrupt file: an error, not a crash.
-                Some(Err(_)) => Err(anyhow!(
-                    "{}: the format's library failed on this file with an internal error (the file is corrupt in a way the library does not check)",
-                    self.name
-                )),
+                Some(Err(_)) => Err(library_failed(&self.name)),
                 Some(Ok(())) => Ok(None),
                 None if self.started => Ok(None),
                 None => {
                     self.started = true;
-                    Err(anyhow!("{}: cannot start the thread that reads it", self.name))
+                    Err(anyhow!(
+                        "{}: cannot start the thread that reads it",
+                        self.name
+                    ))
                 }
             },
         }

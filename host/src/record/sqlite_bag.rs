@@ -103,9 +103,7 @@ fn read(
         let imu = imu_msg::decode_cdr(data)
             .map_err(|e| anyhow!("{name}, message {index} of {topic} ({ROS2_TYPE}): {e}"))?;
         let t = match time {
-            TimeSource::Header => {
-                imu_msg::stamp_seconds(imu.header.stamp.sec as i64, imu.header.stamp.nanosec)
-            }
+            TimeSource::Header => imu_msg::stamp_seconds(imu.stamp.sec as i64, imu.stamp.nanosec),
             TimeSource::Receive => imu_msg::nanoseconds_to_seconds(received as i128),
         };
         let mut s = Sample::at(index, t);

@@ -16,7 +16,7 @@ use anyhow::{anyhow, bail, Context};
 use px4_ulog::stream_parser::model::{DataMessage, FieldParser};
 use px4_ulog::stream_parser::LogParser;
 
-use super::producer::{spawn, Sink};
+use super::producer::{self, spawn, Sink};
 use super::{topics, Channels, Format, Opened, Options, Place, Sample, Source, TimeSource};
 use crate::plumbing::input;
 
@@ -31,11 +31,13 @@ const LOOK_AHEAD: u64 = 16 << 20;
 pub fn open(path: &Path, options: &Options) -> anyhow::Result<Opened> {
     let name = input::name(path);
     let mut seen: Vec<String> = Vec::new();
-    pass(path, &name, Some(LOOK_AHEAD), &mut |m| {
-        let n = m.flattened_format.message_name();
-        if !seen.iter().any(|s| s == n) {
-            seen.push(n.to_string());
-        }
+    producer::guarded(&name, || {
+        pass(path, &name, Some(LOOK_AHEAD), &mut |m| {
+            let n = m.flattened_format.message_name();
+            if !seen.iter().any(|s| s == n) {
+                seen.push(n.to_string());
+            }
+        })
     })?;
     let mut pairs: Vec<(String, String)> = seen
         .iter()

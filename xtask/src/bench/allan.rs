@@ -6,50 +6,24 @@
 //! holds the last run's.
 
 use anyhow::{Context, Result};
-use std::path::PathBuf;
 use std::process::Command;
 
-use crate::cmd::{build_host_tool, cargo, check, host_target_dir, root};
+use crate::cmd::{build_host_tool, cargo, check, host_target_dir};
+use crate::setup::python_peers::{self, Venv};
 
 /// The peer, pinned (the versions the figures were measured with).
-const PEER: [&str; 2] = ["allantools==2024.06", "numpy==2.4.6"];
-
-/// The venv's python, the peer installed in it (once: a marker lists it).
-fn peer_python() -> Result<PathBuf> {
-    let dir = root().join("target/allan-peer-venv");
-    let python = dir.join("bin/python");
-    let marker = dir.join("triad-peer.txt");
-    let wanted = PEER.join("\n");
-    if python.exists() && std::fs::read_to_string(&marker).ok().as_deref() == Some(&wanted) {
-        return Ok(python);
-    }
-    note!(
-        "xtask: installing the Allan benchmark's peer ({}) into a venv in {} (benchmark-only; pip's output follows)",
-        PEER.join(", "),
-        dir.display()
-    );
-    if !python.exists() {
-        let mut venv = Command::new("python3");
-        venv.args(["-m", "venv"]).arg(&dir);
-        check(
-            venv,
-            "python3 -m venv (Debian: apt-get install python3-venv)",
-        )?;
-    }
-    let mut pip = Command::new(&python);
-    pip.args(["-m", "pip", "install", "--disable-pip-version-check"])
-        .args(PEER);
-    check(pip, "pip install (the Allan benchmark's peer)")?;
-    std::fs::write(&marker, wanted).with_context(|| format!("writing {}", marker.display()))?;
-    Ok(python)
-}
+const PEER: Venv = Venv {
+    dir: "target/allan-peer-venv",
+    packages: &["allantools==2024.06", "numpy==2.4.6"],
+    purpose: "the Allan benchmark's peer (benchmark-only)",
+};
 
 /// Builds `triad` and the benchmark (release), installs the peer, runs it
 /// (`long`: the 24-hour, 2 kHz case too) and returns its figures as the
 /// markdown section of docs/BENCHMARKS.md (the benchmark's own progress on
 /// stderr).
 pub fn section(long: bool) -> Result<String> {
-    let python = peer_python()?;
+    let python = python_peers::ensure_venv(&PEER)?;
     build_host_tool()?;
     let mut build = cargo();
     build.args([

@@ -136,6 +136,7 @@ pub fn bench_cargo(subcommand: &str, core: Core) -> Command {
         .args([subcommand, "--quiet", "-p", "triad-bench"])
         .args(["--bin", "triad-bench", "--features", "firmware"])
         .args(["--target", core.target()])
+        .env(crate::cmd::EMBEDDED_PANIC.0, crate::cmd::EMBEDDED_PANIC.1)
         .env("CARGO_TARGET_DIR", bench_target_dir());
     command
 }

@@ -8,6 +8,7 @@ pub mod allan;
 mod command_report;
 mod commands;
 mod cores;
+mod fuzz_afl;
 mod host;
 mod plot;
 mod report;
@@ -44,7 +45,8 @@ pub fn run_whole_firmware_one(rate_hz: u32, watermark: u16) -> Result<()> {
 }
 
 /// The long mutation run of every parser that takes outside bytes
-/// (host/examples/bench_fuzz.rs, release): its figures on stderr.
+/// (host/examples/bench_fuzz.rs, release): its figures on stderr; then the
+/// coverage-guided runs of fuzz/'s targets under AFL++ ([`fuzz_afl`]).
 pub fn run_fuzz() -> Result<()> {
     let mut command = crate::cmd::cargo();
     command.args([
@@ -56,8 +58,12 @@ pub fn run_fuzz() -> Result<()> {
         "--example",
         "bench_fuzz",
     ]);
-    crate::cmd::check(command, "the parsers' mutation run (bench_fuzz)")
+    crate::cmd::check(command, "the parsers' mutation run (bench_fuzz)")?;
+    fuzz_afl::run(AFL_SECONDS)
 }
+
+/// How long AFL++ fuzzes each target of fuzz/ in the benchmark.
+const AFL_SECONDS: u64 = 600;
 
 /// One row of the report: a variant on a core.
 #[derive(Clone, Debug)]

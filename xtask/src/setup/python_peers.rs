@@ -1,9 +1,11 @@
-//! The Python peers the recordings tests run beside triad (test-only,
-//! never dependencies of the product): rosbags (writes ROS 1 and ROS 2
-//! bags, both storages), pyulog (reads ULog), mcap and mcap-ros2-support
-//! (read an MCAP from its schema text), pinned, in a venv under
-//! `target/py-peers`, installed from PyPI by pip with its output on stderr.
-//! Python's venv module comes from Debian's python3-venv where it is missing.
+//! The Python peers triad runs beside itself in tests and benchmarks (never
+//! dependencies of the product), each set pinned in a venv under target/,
+//! installed from PyPI by pip with its output on stderr; Python's venv
+//! module comes from Debian's python3-venv where it is missing. The
+//! recordings tests' set ([`RECORDINGS_PEERS`]): rosbags (writes ROS 1 and
+//! ROS 2 bags, both storages), pyulog (reads ULog), mcap and
+//! mcap-ros2-support (read an MCAP from its schema text); the Allan
+//! benchmark's is in xtask/src/bench/allan.rs.
 
 use super::{apt, privilege};
 use crate::cmd::{check, root};
@@ -11,36 +13,51 @@ use anyhow::{Context, Result};
 use std::path::PathBuf;
 use std::process::Command;
 
-/// What the tests need, pinned (the versions the tests were written against).
-const PACKAGES: [&str; 4] = [
-    "rosbags==0.11.9",
-    "pyulog==1.3.0",
-    "mcap==1.6.0",
-    "mcap-ros2-support==0.6.0",
-];
+/// A venv of pinned Python packages under target/, for tests or benchmarks
+/// only (never a dependency of the product).
+pub struct Venv {
+    /// Its directory, relative to the workspace root.
+    pub dir: &'static str,
+    /// What is installed, pinned (the versions the tests or figures were made with).
+    pub packages: &'static [&'static str],
+    /// Who needs it, for the note printed when it is installed.
+    pub purpose: &'static str,
+}
+
+/// The recordings tests' peers.
+pub const RECORDINGS_PEERS: Venv = Venv {
+    dir: "target/py-peers",
+    packages: &[
+        "rosbags==0.11.9",
+        "pyulog==1.3.0",
+        "mcap==1.6.0",
+        "mcap-ros2-support==0.6.0",
+    ],
+    purpose: "the Python peers of the recordings tests (test-only)",
+};
 
 /// The Debian packages that give `python3 -m venv`.
 const DEBIAN: [&str; 2] = ["python3", "python3-venv"];
 
-/// The venv's directory.
-fn venv() -> PathBuf {
-    root().join("target/py-peers")
+/// The recordings tests' venv's python ([`RECORDINGS_PEERS`]).
+pub fn ensure() -> Result<PathBuf> {
+    ensure_venv(&RECORDINGS_PEERS)
 }
 
-/// The venv's python, the peers installed in it (once: a marker file lists
-/// what was installed).
-pub fn ensure() -> Result<PathBuf> {
-    let dir = venv();
+/// The python of `venv`, its packages installed (once: a marker file lists
+/// what was installed; another list installs again).
+pub fn ensure_venv(venv: &Venv) -> Result<PathBuf> {
+    let dir = root().join(venv.dir);
     let python = dir.join("bin/python");
     let marker = dir.join("triad-peers.txt");
-    let wanted = PACKAGES.join("\n");
+    let wanted = venv.packages.join("\n");
     if python.exists() && std::fs::read_to_string(&marker).ok().as_deref() == Some(&wanted) {
         return Ok(python);
     }
     note!(
-        "xtask: installing the Python peers of the recordings tests ({}) into a venv in {} \
-         (test-only; pip's output follows)",
-        PACKAGES.join(", "),
+        "xtask: installing {} ({}) into a venv in {} (pip's output follows)",
+        venv.purpose,
+        venv.packages.join(", "),
         dir.display()
     );
     if !python.exists() && !make_venv(&dir)? {
@@ -51,8 +68,8 @@ pub fn ensure() -> Result<PathBuf> {
     }
     let mut pip = Command::new(&python);
     pip.args(["-m", "pip", "install", "--disable-pip-version-check"])
-        .args(PACKAGES);
-    check(pip, "pip install (the recordings tests' Python peers)")?;
+        .args(venv.packages);
+    check(pip, &format!("pip install ({})", venv.purpose))?;
     std::fs::write(&marker, wanted).with_context(|| format!("writing {}", marker.display()))?;
     Ok(python)
 }

@@ -1,0 +1,7 @@
+//! AFL++ target: [`triad_fuzz::record`] (`cargo xtask bench --fuzz` runs it).
+
+fn main() {
+    afl::fuzz!(|data: &[u8]| {
+        triad_fuzz::record(data);
+    });
+}

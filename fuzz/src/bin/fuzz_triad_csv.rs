@@ -1,0 +1,7 @@
+//! AFL++ target: [`triad_fuzz::triad_csv`] (`cargo xtask bench --fuzz` runs it).
+
+fn main() {
+    afl::fuzz!(|data: &[u8]| {
+        triad_fuzz::triad_csv(data);
+    });
+}
