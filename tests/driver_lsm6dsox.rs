@@ -11,7 +11,7 @@ use embedded_hal_mock::eh1::i2c::{Mock as I2cMock, Transaction as I2cTrans};
 use triad::sensor::lsm6dsox::{
     AccelRange, Config, FifoConfig, FifoMode, GyroRange, InterruptPin, Lsm6dsox, Odr,
 };
-use triad::sensor::{Error, FifoImu, FifoRead, Imu, RawSample};
+use triad::sensor::{Error, FifoImu, FifoRead, FullScale, Imu, RawSample};
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
 
 const I2C_ADDRESS: u8 = 0x6B;

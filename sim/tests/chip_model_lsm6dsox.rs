@@ -11,7 +11,7 @@ use embedded_hal::spi::{ErrorKind as SpiErrorKind, Operation, SpiDevice};
 use embedded_hal_mock::eh1::delay::NoopDelay;
 use triad::sensor::interface::{I2cInterface, SpiInterface};
 use triad::sensor::lsm6dsox::{AccelRange, Config, FifoConfig, FifoMode, GyroRange, Lsm6dsox, Odr};
-use triad::sensor::{Error, FifoImu, Imu, ImuScale, RawSample};
+use triad::sensor::{Error, FifoImu, FullScale, Imu, ImuScale, RawSample};
 use triad_sim::chips::fault::Fault;
 use triad_sim::chips::lsm6dsox_model::Lsm6dsoxModel;
 use triad_sim::chips::source::{SampleSource, TrueSample};

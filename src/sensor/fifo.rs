@@ -21,6 +21,28 @@ pub struct FifoRead {
     pub lost_is_lower_bound: bool,
 }
 
+impl FifoRead {
+    /// `samples` delivered, `remaining` still waiting in the FIFO.
+    pub fn drained(samples: usize, remaining: u16) -> Self {
+        Self {
+            samples,
+            remaining,
+            ..Self::default()
+        }
+    }
+
+    /// The FIFO had overflowed and was reset: `lost` samples, a lower bound
+    /// when the chip does not count what it dropped while full.
+    pub fn overflowed(lost: u32, lost_is_lower_bound: bool) -> Self {
+        Self {
+            overflowed: true,
+            lost,
+            lost_is_lower_bound,
+            ..Self::default()
+        }
+    }
+}
+
 /// A chip whose FIFO the driver can drain.
 pub trait FifoImu: Imu {
     /// Reads up to `out.len()` whole samples from the FIFO, oldest first.

@@ -13,8 +13,19 @@ pub mod source;
 
 pub use emulated_chip::EmulatedChip;
 
+use self::source::Source;
+
 use triad::device::board::BoardDescription;
 use triad::model::Orientation;
+
+/// A chip the emulated board can carry: its register-level model serving
+/// the board's source. Each listed chip (`triad::for_each_chip!`) has one.
+pub trait Emulated: triad::sensor::Chip {
+    /// The chip model behind the bus.
+    type Model;
+    /// A powered-up chip model serving `source`.
+    fn model(source: Source) -> Self::Model;
+}
 
 /// The emulated board (QEMU's netduinoplus2): chip mounted in the board's
 /// axes, every sample streamed, USART1 at 921600 baud (QEMU ignores the
