@@ -78,7 +78,8 @@ fn init_writes_typed_ranges_and_rate_codes() {
     let config = Config {
         accel_range: AccelRange::G4,
         gyro_range: GyroRange::Dps500,
-        odr: Odr::Hz200,
+        accel_odr: Odr::Hz200,
+        gyro_odr: Odr::Hz200,
         interrupt: InterruptPin {
             active_high: false,
             push_pull: false,

@@ -55,7 +55,8 @@ fn init_writes_typed_ranges_rate_and_pin_codes() {
     let config = Config {
         accel_range: AccelRange::G4,
         gyro_range: GyroRange::Dps125,
-        odr: Odr::Hz104,
+        accel_odr: Odr::Hz104,
+        gyro_odr: Odr::Hz104,
         interrupt: InterruptPin {
             active_high: false,
             push_pull: false,

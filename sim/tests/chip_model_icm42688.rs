@@ -52,7 +52,8 @@ fn config(accel_range: AccelRange, gyro_range: GyroRange, odr: Odr) -> Config {
     Config {
         accel_range,
         gyro_range,
-        odr,
+        accel_odr: odr,
+        gyro_odr: odr,
         ..Config::default()
     }
 }

@@ -186,7 +186,8 @@ fn unusual_config() -> Config {
     Config {
         accel_range: AccelRange::G8,
         gyro_range: GyroRange::Dps500,
-        odr: Odr::Hz200,
+        accel_odr: Odr::Hz200,
+        gyro_odr: Odr::Hz200,
         interrupt: InterruptPin {
             active_high: false,
             push_pull: false,

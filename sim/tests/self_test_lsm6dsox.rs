@@ -101,7 +101,8 @@ fn unusual_config() -> Config {
     Config {
         accel_range: AccelRange::G8,
         gyro_range: GyroRange::Dps500,
-        odr: Odr::Hz104,
+        accel_odr: Odr::Hz104,
+        gyro_odr: Odr::Hz104,
         interrupt: InterruptPin {
             active_high: false,
             push_pull: false,

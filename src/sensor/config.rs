@@ -15,8 +15,12 @@ pub struct Config<C: Chip> {
     pub accel_range: C::AccelRange,
     /// Gyroscope range.
     pub gyro_range: C::GyroRange,
-    /// Output data rate of both sensors.
-    pub odr: C::Odr,
+    /// Accelerometer output data rate.
+    pub accel_odr: C::Odr,
+    /// Gyroscope output data rate. When the two rates differ the driver
+    /// delivers samples at the faster one, the slower sensor's latest value
+    /// held in the samples where it has none (docs/PROTOCOL.md §22).
+    pub gyro_odr: C::Odr,
     /// INT1 electrical behaviour.
     pub interrupt: InterruptPin,
     /// `None`: FIFO off, INT1 signals data ready. `Some`: FIFO on
@@ -25,10 +29,20 @@ pub struct Config<C: Chip> {
 }
 
 impl<C: Chip> Config<C> {
-    /// Data-ready events per second: the output data rate. The firmware's
-    /// sample period, and everything timed by it, comes from here.
+    /// Samples per second the driver delivers: the faster sensor's output
+    /// data rate. The firmware's sample period, and everything timed by it,
+    /// comes from here.
     pub fn sample_rate_hz(&self) -> f64 {
-        self.odr.hz()
+        self.accel_odr.hz().max(self.gyro_odr.hz())
+    }
+
+    /// Both sensors at `odr`.
+    pub fn with_odr(self, odr: C::Odr) -> Self {
+        Self {
+            accel_odr: odr,
+            gyro_odr: odr,
+            ..self
+        }
     }
 
     /// The counts → SI sensitivities of this configuration's ranges and the

@@ -11,7 +11,7 @@
 use embedded_hal::delay::DelayNs;
 use embedded_hal::i2c::I2c;
 
-use super::chip::{Chip, DataRate};
+use super::chip::Chip;
 use super::config::Config;
 use super::driver::Driver;
 use super::error::Error;
@@ -140,26 +140,17 @@ macro_rules! define_any_chip {
                 }
             }
 
-            /// As [`Self::start`], with `settings`' rate and FIFO watermark in
-            /// place of the default's; a rate the chip does not have is
-            /// refused (`InvalidConfig`, with the rate) before any write.
+            /// As [`Self::start`], with `settings`' rates and FIFO watermark in
+            /// place of the default's ([`Settings::config`]); a rate the
+            /// chip does not have is refused (`InvalidConfig`, with the
+            /// rate) before any write.
             pub fn start_with(
                 &mut self,
                 delay: &mut impl DelayNs,
                 settings: &Settings,
             ) -> Result<(), Error<I::BusError>> {
                 match self {
-                    $(Self::$variant(chip) => {
-                        let mut config = Config::<$chip>::default();
-                        if let Some(hz) = settings.rate_hz {
-                            config.odr = DataRate::of_hz(hz).ok_or(Error::InvalidConfig {
-                                what: "output data rate, Hz (not one of this chip's rates)",
-                                value: hz,
-                            })?;
-                        }
-                        config.fifo = settings.fifo();
-                        chip.init(delay, &config)
-                    })+
+                    $(Self::$variant(chip) => chip.init(delay, &settings.config::<$chip, _>()?),)+
                 }
             }
 

@@ -17,12 +17,27 @@ use super::{Imu, ImuScale, RawSample};
 /// FIFO records read per bus transaction (at most 32 × 16 B = 512 B of stack).
 const FIFO_CHUNK_RECORDS: usize = 32;
 
+/// What a sensor reads before its first sample: -32768 on every axis, the
+/// marker both chips use for "no data" (ICM-42688-P §6.1, §14; the
+/// corrector flags a triad at this full-scale value as clipped, so no
+/// frame passes it off as a measurement).
+const NOT_YET_SAMPLED: RawSample = RawSample {
+    accel: [i16::MIN; 3],
+    gyro: [i16::MIN; 3],
+    temperature: 0,
+};
+
 /// Chip `C` behind a register interface `I` (e.g.
 /// [`super::icm42688::Icm42688`]`<I>` is `Driver<Icm42688Chip, I>`).
 #[derive(Debug)]
 pub struct Driver<C: Chip, I> {
     pub(super) interface: I,
     pub(super) config: Config<C>,
+    /// The last sample delivered from the FIFO (or, for a chip whose data
+    /// registers cannot say which sensor is new, from them): a sensor with
+    /// no new sample (it runs at the lower rate) keeps its value from here;
+    /// [`NOT_YET_SAMPLED`] until it has one.
+    pub(super) held: RawSample,
 }
 
 impl<C: Chip, SPI: SpiDevice> Driver<C, SpiInterface<SPI>> {
@@ -46,6 +61,7 @@ impl<C: Chip, I: RegisterInterface> Driver<C, I> {
         Self {
             interface,
             config: C::RESET_CONFIG,
+            held: NOT_YET_SAMPLED,
         }
     }
 
@@ -98,6 +114,7 @@ impl<C: Chip, I: RegisterInterface> Driver<C, I> {
         }
         C::start(self, delay, config)?;
         self.config = *config;
+        self.held = NOT_YET_SAMPLED;
         Ok(())
     }
 
@@ -129,20 +146,22 @@ impl<C: Chip, I: RegisterInterface> Driver<C, I> {
     }
 
     /// Fills `out` from the FIFO data port `register`: whole records of
-    /// `RECORD` bytes, 32 per transaction, each decoded by `decode` (whose
-    /// error is the header or tag byte of a record it does not take).
+    /// `RECORD` bytes, 32 per transaction, each decoded by `decode` into the
+    /// held sample (it overwrites what the record carries new; its error is
+    /// the header or tag byte of a record it does not take).
     pub(super) fn read_fifo_records<const RECORD: usize>(
         &mut self,
         register: u8,
         out: &mut [RawSample],
-        mut decode: impl FnMut(&[u8; RECORD]) -> Result<RawSample, u8>,
+        mut decode: impl FnMut(&[u8; RECORD], &mut RawSample) -> Result<(), u8>,
     ) -> Result<(), Error<I::BusError>> {
         let mut buffer = [[0u8; RECORD]; FIFO_CHUNK_RECORDS];
         for chunk in out.chunks_mut(FIFO_CHUNK_RECORDS) {
             let records = &mut buffer[..chunk.len()];
             self.read_registers(register, records.as_flattened_mut())?;
             for (record, slot) in records.iter().zip(chunk) {
-                *slot = decode(record).map_err(|header| Error::BadFifoPacket { header })?;
+                decode(record, &mut self.held).map_err(|header| Error::BadFifoPacket { header })?;
+                *slot = self.held;
             }
         }
         Ok(())

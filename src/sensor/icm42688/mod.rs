@@ -51,7 +51,8 @@ impl Chip for Icm42688Chip {
     const DEFAULT_CONFIG: Config = Config {
         accel_range: AccelRange::G16,
         gyro_range: GyroRange::Dps2000,
-        odr: Odr::Hz1000,
+        accel_odr: Odr::Hz1000,
+        gyro_odr: Odr::Hz1000,
         interrupt: InterruptPin::DEFAULT,
         fifo: None,
     };
@@ -103,11 +104,11 @@ impl Chip for Icm42688Chip {
         driver.write(reg::INT_CONFIG1, 0)?;
         driver.write(
             reg::GYRO_CONFIG0,
-            (config.gyro_range.code() << reg::FS_SEL_SHIFT) | config.odr.code(),
+            (config.gyro_range.code() << reg::FS_SEL_SHIFT) | config.gyro_odr.code(),
         )?;
         driver.write(
             reg::ACCEL_CONFIG0,
-            (config.accel_range.code() << reg::FS_SEL_SHIFT) | config.odr.code(),
+            (config.accel_range.code() << reg::FS_SEL_SHIFT) | config.accel_odr.code(),
         )?;
         match config.fifo {
             Some(fifo) => {
@@ -163,9 +164,7 @@ impl Chip for Icm42688Chip {
             return Ok(FifoRead::overflowed(lost, false));
         }
         let wanted = usize::from(count).min(out.len());
-        driver.read_fifo_records(reg::FIFO_DATA, &mut out[..wanted], |packet| {
-            decode_fifo_packet(packet).ok_or(packet[0])
-        })?;
+        driver.read_fifo_records(reg::FIFO_DATA, &mut out[..wanted], decode_fifo_packet)?;
         // `wanted` ≤ `count`, so this fits.
         Ok(FifoRead::drained(wanted, count - wanted as u16))
     }
@@ -227,20 +226,27 @@ fn decode_sample_block(b: &[u8; 14]) -> RawSample {
 }
 
 /// Decodes one 16-byte FIFO packet 3 (§6.1): header, accel, gyro, 8-bit
-/// temperature, timestamp. The temperature is brought to the register scale.
-fn decode_fifo_packet(p: &[u8; reg::FIFO_PACKET_LEN]) -> Option<RawSample> {
+/// temperature, timestamp, into `sample`. The temperature is brought to the
+/// register scale. A sensor with no new sample in the packet (it runs at
+/// the lower rate) reads -32768 on every axis (§6.1): its triad is left as
+/// it was. `Err`: the header, when the packet is not a packet 3.
+fn decode_fifo_packet(p: &[u8; reg::FIFO_PACKET_LEN], sample: &mut RawSample) -> Result<(), u8> {
     let header = p[0];
     let expected = reg::HEADER_ACCEL | reg::HEADER_GYRO;
     let mask = reg::HEADER_MSG | reg::HEADER_ACCEL | reg::HEADER_GYRO | reg::HEADER_20;
     if header & mask != expected {
-        return None;
+        return Err(header);
     }
     let w = |i: usize| i16::from_be_bytes([p[1 + 2 * i], p[2 + 2 * i]]);
+    let (accel, gyro) = ([w(0), w(1), w(2)], [w(3), w(4), w(5)]);
+    let invalid = [reg::INVALID_SAMPLE; 3];
+    if accel != invalid {
+        sample.accel = accel;
+    }
+    if gyro != invalid {
+        sample.gyro = gyro;
+    }
     // 132.48 / 2.07 = 64: the FIFO's 8-bit temperature on the 16-bit scale.
-    let temperature = i16::from(p[13] as i8) * 64;
-    Some(RawSample {
-        accel: [w(0), w(1), w(2)],
-        gyro: [w(3), w(4), w(5)],
-        temperature,
-    })
+    sample.temperature = i16::from(p[13] as i8) * 64;
+    Ok(())
 }

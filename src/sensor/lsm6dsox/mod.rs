@@ -11,7 +11,7 @@ mod self_test;
 use embedded_hal::delay::DelayNs;
 
 use self::registers as reg;
-use super::chip::Chip;
+use super::chip::{Chip, DataRate};
 use super::driver::Driver;
 use super::error::Error;
 use super::fifo::FifoRead;
@@ -51,7 +51,8 @@ impl Chip for Lsm6dsoxChip {
     const DEFAULT_CONFIG: Config = Config {
         accel_range: AccelRange::G16,
         gyro_range: GyroRange::Dps2000,
-        odr: Odr::Hz833,
+        accel_odr: Odr::Hz833,
+        gyro_odr: Odr::Hz833,
         interrupt: InterruptPin::DEFAULT,
         fifo: None,
     };
@@ -75,6 +76,14 @@ impl Chip for Lsm6dsoxChip {
         delay: &mut impl DelayNs,
         config: &Config,
     ) -> Result<(), Error<I::BusError>> {
+        if config.fifo.is_some() && config.accel_odr != config.gyro_odr {
+            // The tagged FIFO then holds one sensor's words more often than
+            // the other's; this driver drains gyro + accel pairs only.
+            return Err(Error::InvalidConfig {
+                what: "accelerometer rate, Hz, with the FIFO on (the LSM6DSOX driver batches both sensors at one rate)",
+                value: config.accel_odr.hz() as u32,
+            });
+        }
         driver.expect_identity(reg::WHO_AM_I)?;
         driver.write(reg::CTRL3_C, reg::IF_INC | reg::SW_RESET)?;
         delay.delay_us(reg::SW_RESET_WAIT_US);
@@ -89,40 +98,67 @@ impl Chip for Lsm6dsoxChip {
             reg::DATAREADY_PULSED
         };
         driver.write(reg::COUNTER_BDR_REG1, pulsed)?;
-        let odr = config.odr.code();
+        let (accel_odr, gyro_odr) = (config.accel_odr.code(), config.gyro_odr.code());
         match config.fifo {
             Some(fifo) => {
                 let [high, low] = (fifo.watermark * reg::WORDS_PER_SAMPLE).to_be_bytes();
                 driver.write(reg::FIFO_CTRL1, low)?;
                 driver.write(reg::FIFO_CTRL2, high & 0x01)?;
-                driver.write(reg::FIFO_CTRL3, (odr << reg::ODR_SHIFT) | odr)?;
+                // BDR_GY in bits 7:4, BDR_XL in 3:0: each sensor batched at its ODR.
+                driver.write(reg::FIFO_CTRL3, (gyro_odr << reg::ODR_SHIFT) | accel_odr)?;
                 driver.write(reg::FIFO_CTRL4, fifo_mode_bits(fifo.mode))?;
                 driver.write(reg::INT1_CTRL, reg::INT1_FIFO_TH)?;
+            }
+            // Data ready of the faster sensor: one interrupt per sample delivered.
+            None if config.accel_odr.hz() > config.gyro_odr.hz() => {
+                driver.write(reg::INT1_CTRL, reg::INT1_DRDY_XL)?
             }
             None => driver.write(reg::INT1_CTRL, reg::INT1_DRDY_G)?,
         }
         driver.write(
             reg::CTRL1_XL,
-            (odr << reg::ODR_SHIFT) | (config.accel_range.code() << reg::FS_SHIFT),
+            (accel_odr << reg::ODR_SHIFT) | (config.accel_range.code() << reg::FS_SHIFT),
         )?;
         driver.write(
             reg::CTRL2_G,
-            (odr << reg::ODR_SHIFT) | config.gyro_range.bits(),
+            (gyro_odr << reg::ODR_SHIFT) | config.gyro_range.bits(),
         )?;
         Ok(())
     }
 
     /// One burst of 14 bytes from OUT_TEMP_L to OUTZ_H_A.
+    ///
+    /// With the two sensors at different rates, STATUS_REG first: a triad
+    /// whose XLDA or GDA is clear keeps its previous value, -32768 on
+    /// every axis before its first sample (the output registers' reset
+    /// value, 0, would pass for a measurement; docs/PROTOCOL.md §22).
     fn read_sample<I: RegisterInterface>(
         driver: &mut Lsm6dsox<I>,
     ) -> Result<RawSample, Error<I::BusError>> {
+        let two_rates = driver.config.accel_odr != driver.config.gyro_odr;
+        let status = match two_rates {
+            true => driver.read_register(reg::STATUS_REG)?,
+            false => reg::XLDA | reg::GDA,
+        };
         let mut b = [0u8; 14];
         driver.read_registers(reg::OUT_TEMP_L, &mut b)?;
-        Ok(RawSample {
+        let sample = RawSample {
             temperature: i16::from_le_bytes([b[0], b[1]]),
             gyro: triad_le(&b[2..8]),
             accel: triad_le(&b[8..14]),
-        })
+        };
+        if !two_rates {
+            return Ok(sample);
+        }
+        let held = &mut driver.held;
+        held.temperature = sample.temperature;
+        if status & reg::XLDA != 0 {
+            held.accel = sample.accel;
+        }
+        if status & reg::GDA != 0 {
+            held.gyro = sample.gyro;
+        }
+        Ok(*held)
     }
 
     /// Reads FIFO_STATUS1/2 in one burst; on overrun resets the FIFO (bypass,
@@ -149,9 +185,11 @@ impl Chip for Lsm6dsoxChip {
         let mut t = [0u8; 2];
         driver.read_registers(reg::OUT_TEMP_L, &mut t)?;
         let temperature = i16::from_le_bytes(t);
-        driver.read_fifo_records(reg::FIFO_DATA_OUT_TAG, &mut out[..wanted], |pair| {
-            decode_fifo_pair(pair, temperature)
-        })?;
+        driver.read_fifo_records(
+            reg::FIFO_DATA_OUT_TAG,
+            &mut out[..wanted],
+            |pair, sample| decode_fifo_pair(pair, temperature, sample),
+        )?;
         // `wanted` ≤ `available`, so this fits.
         Ok(FifoRead::drained(wanted, available - wanted as u16))
     }
@@ -221,15 +259,13 @@ fn triad_le(b: &[u8]) -> [i16; 3] {
     [w(0), w(1), w(2)]
 }
 
-/// Decodes one gyro + accel pair of FIFO words (either order).
+/// Decodes one gyro + accel pair of FIFO words (either order) into `sample`.
 fn decode_fifo_pair(
     words: &[u8; 2 * reg::FIFO_WORD_LEN],
     temperature: i16,
-) -> Result<RawSample, u8> {
-    let mut sample = RawSample {
-        temperature,
-        ..RawSample::default()
-    };
+    sample: &mut RawSample,
+) -> Result<(), u8> {
+    sample.temperature = temperature;
     let (mut gyro, mut accel) = (false, false);
     for word in words.chunks_exact(reg::FIFO_WORD_LEN) {
         let tag = word[0];
@@ -245,5 +281,5 @@ fn decode_fifo_pair(
             _ => return Err(tag),
         }
     }
-    Ok(sample)
+    Ok(())
 }
