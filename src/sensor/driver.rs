@@ -146,25 +146,46 @@ impl<C: Chip, I: RegisterInterface> Driver<C, I> {
     }
 
     /// Fills `out` from the FIFO data port `register`: whole records of
-    /// `RECORD` bytes, 32 per transaction, each decoded by `decode` into the
-    /// held sample (it overwrites what the record carries new; its error is
-    /// the header or tag byte of a record it does not take).
+    /// `RECORD` bytes, 32 per transaction, each decoded by `decode` (whose
+    /// error is the header or tag byte of a record it does not take). With
+    /// the sensors at different rates, a triad the record has no new sample
+    /// of (-32768 on every axis) then takes its previous value
+    /// ([`Self::hold_slower`]); at one rate the records go out as decoded.
     pub(super) fn read_fifo_records<const RECORD: usize>(
         &mut self,
         register: u8,
         out: &mut [RawSample],
-        mut decode: impl FnMut(&[u8; RECORD], &mut RawSample) -> Result<(), u8>,
+        mut decode: impl FnMut(&[u8; RECORD]) -> Result<RawSample, u8>,
     ) -> Result<(), Error<I::BusError>> {
         let mut buffer = [[0u8; RECORD]; FIFO_CHUNK_RECORDS];
         for chunk in out.chunks_mut(FIFO_CHUNK_RECORDS) {
             let records = &mut buffer[..chunk.len()];
             self.read_registers(register, records.as_flattened_mut())?;
             for (record, slot) in records.iter().zip(chunk) {
-                decode(record, &mut self.held).map_err(|header| Error::BadFifoPacket { header })?;
-                *slot = self.held;
+                *slot = decode(record).map_err(|header| Error::BadFifoPacket { header })?;
             }
         }
+        if self.config.accel_odr != self.config.gyro_odr {
+            self.hold_slower(out);
+        }
         Ok(())
+    }
+
+    /// Each triad of `samples` at -32768 on every axis (no new sample: the
+    /// sensor runs at the lower rate) takes the previous sample's value,
+    /// the first one [`Self::held`]'s; the last sample is held next.
+    fn hold_slower(&mut self, samples: &mut [RawSample]) {
+        let mut previous = self.held;
+        for sample in samples {
+            if sample.accel == NOT_YET_SAMPLED.accel {
+                sample.accel = previous.accel;
+            }
+            if sample.gyro == NOT_YET_SAMPLED.gyro {
+                sample.gyro = previous.gyro;
+            }
+            previous = *sample;
+        }
+        self.held = previous;
     }
 
     /// Reads `buffer.len()` bytes from `register` in one transaction.

@@ -226,11 +226,11 @@ fn decode_sample_block(b: &[u8; 14]) -> RawSample {
 }
 
 /// Decodes one 16-byte FIFO packet 3 (§6.1): header, accel, gyro, 8-bit
-/// temperature, timestamp, into `sample`. The temperature is brought to the
-/// register scale. A sensor with no new sample in the packet (it runs at
-/// the lower rate) reads -32768 on every axis (§6.1): its triad is left as
-/// it was. `Err`: the header, when the packet is not a packet 3.
-fn decode_fifo_packet(p: &[u8; reg::FIFO_PACKET_LEN], sample: &mut RawSample) -> Result<(), u8> {
+/// temperature, timestamp. The temperature is brought to the register
+/// scale. A sensor with no new sample in the packet (it runs at the lower
+/// rate) reads -32768 on every axis (§6.1; the driver then holds its
+/// previous value). `Err`: the header, when the packet is not a packet 3.
+fn decode_fifo_packet(p: &[u8; reg::FIFO_PACKET_LEN]) -> Result<RawSample, u8> {
     let header = p[0];
     let expected = reg::HEADER_ACCEL | reg::HEADER_GYRO;
     let mask = reg::HEADER_MSG | reg::HEADER_ACCEL | reg::HEADER_GYRO | reg::HEADER_20;
@@ -238,15 +238,11 @@ fn decode_fifo_packet(p: &[u8; reg::FIFO_PACKET_LEN], sample: &mut RawSample) ->
         return Err(header);
     }
     let w = |i: usize| i16::from_be_bytes([p[1 + 2 * i], p[2 + 2 * i]]);
-    let (accel, gyro) = ([w(0), w(1), w(2)], [w(3), w(4), w(5)]);
-    let invalid = [reg::INVALID_SAMPLE; 3];
-    if accel != invalid {
-        sample.accel = accel;
-    }
-    if gyro != invalid {
-        sample.gyro = gyro;
-    }
     // 132.48 / 2.07 = 64: the FIFO's 8-bit temperature on the 16-bit scale.
-    sample.temperature = i16::from(p[13] as i8) * 64;
-    Ok(())
+    let temperature = i16::from(p[13] as i8) * 64;
+    Ok(RawSample {
+        accel: [w(0), w(1), w(2)],
+        gyro: [w(3), w(4), w(5)],
+        temperature,
+    })
 }

@@ -185,11 +185,9 @@ impl Chip for Lsm6dsoxChip {
         let mut t = [0u8; 2];
         driver.read_registers(reg::OUT_TEMP_L, &mut t)?;
         let temperature = i16::from_le_bytes(t);
-        driver.read_fifo_records(
-            reg::FIFO_DATA_OUT_TAG,
-            &mut out[..wanted],
-            |pair, sample| decode_fifo_pair(pair, temperature, sample),
-        )?;
+        driver.read_fifo_records(reg::FIFO_DATA_OUT_TAG, &mut out[..wanted], |pair| {
+            decode_fifo_pair(pair, temperature)
+        })?;
         // `wanted` ≤ `available`, so this fits.
         Ok(FifoRead::drained(wanted, available - wanted as u16))
     }
@@ -259,13 +257,15 @@ fn triad_le(b: &[u8]) -> [i16; 3] {
     [w(0), w(1), w(2)]
 }
 
-/// Decodes one gyro + accel pair of FIFO words (either order) into `sample`.
+/// Decodes one gyro + accel pair of FIFO words (either order).
 fn decode_fifo_pair(
     words: &[u8; 2 * reg::FIFO_WORD_LEN],
     temperature: i16,
-    sample: &mut RawSample,
-) -> Result<(), u8> {
-    sample.temperature = temperature;
+) -> Result<RawSample, u8> {
+    let mut sample = RawSample {
+        temperature,
+        ..RawSample::default()
+    };
     let (mut gyro, mut accel) = (false, false);
     for word in words.chunks_exact(reg::FIFO_WORD_LEN) {
         let tag = word[0];
@@ -281,5 +281,5 @@ fn decode_fifo_pair(
             _ => return Err(tag),
         }
     }
-    Ok(())
+    Ok(sample)
 }
