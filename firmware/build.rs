@@ -44,11 +44,23 @@ fn main() {
     let rate = number("TRIAD_SAMPLE_RATE_HZ", 1..=32_000);
     let watermark = number("TRIAD_FIFO_WATERMARK", 1..=32).unwrap_or(1);
     let rate = rate.map_or("None".to_string(), |hz| format!("Some({hz})"));
+    let slower = match (
+        number("TRIAD_ACCEL_RATE_HZ", 1..=32_000),
+        number("TRIAD_GYRO_RATE_HZ", 1..=32_000),
+    ) {
+        (None, None) => "None".to_string(),
+        (Some(hz), None) => format!("Some((triad::model::Triad::Accel, {hz}))"),
+        (None, Some(hz)) => format!("Some((triad::model::Triad::Gyro, {hz}))"),
+        (Some(_), Some(_)) => panic!(
+            "TRIAD_ACCEL_RATE_HZ and TRIAD_GYRO_RATE_HZ are both set: name the slower sensor only \
+             (the other runs at TRIAD_SAMPLE_RATE_HZ)"
+        ),
+    };
     fs::write(
         out.join("settings.rs"),
         format!(
-            "/// From TRIAD_SAMPLE_RATE_HZ and TRIAD_FIFO_WATERMARK at build.\n\
-             pub const SETTINGS: triad::sensor::Settings = triad::sensor::Settings {{ rate_hz: {rate}, watermark: {watermark} }};\n"
+            "/// From TRIAD_SAMPLE_RATE_HZ, TRIAD_ACCEL_RATE_HZ / TRIAD_GYRO_RATE_HZ and TRIAD_FIFO_WATERMARK at build.\n\
+             pub const SETTINGS: triad::sensor::Settings = triad::sensor::Settings {{ rate_hz: {rate}, slower: {slower}, watermark: {watermark} }};\n"
         ),
     )
     .expect("write settings.rs");

@@ -10,7 +10,7 @@ use embedded_hal_mock::eh1::delay::{CheckedDelay, NoopDelay, Transaction as Dela
 use embedded_hal_mock::eh1::i2c::{Mock as I2cMock, Transaction as I2cTrans};
 use triad::sensor::icm42688::config::{Config, FifoMode};
 use triad::sensor::icm42688::{AccelRange, FifoConfig, GyroRange, Icm42688, InterruptPin, Odr};
-use triad::sensor::{Error, FifoImu, FifoRead, Imu, RawSample};
+use triad::sensor::{Error, FifoImu, FifoRead, FullScale, Imu, RawSample};
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
 
 const I2C_ADDRESS: u8 = 0x69;
@@ -78,7 +78,8 @@ fn init_writes_typed_ranges_and_rate_codes() {
     let config = Config {
         accel_range: AccelRange::G4,
         gyro_range: GyroRange::Dps500,
-        odr: Odr::Hz200,
+        accel_odr: Odr::Hz200,
+        gyro_odr: Odr::Hz200,
         interrupt: InterruptPin {
             active_high: false,
             push_pull: false,

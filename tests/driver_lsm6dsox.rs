@@ -11,7 +11,7 @@ use embedded_hal_mock::eh1::i2c::{Mock as I2cMock, Transaction as I2cTrans};
 use triad::sensor::lsm6dsox::{
     AccelRange, Config, FifoConfig, FifoMode, GyroRange, InterruptPin, Lsm6dsox, Odr,
 };
-use triad::sensor::{Error, FifoImu, FifoRead, Imu, RawSample};
+use triad::sensor::{Error, FifoImu, FifoRead, FullScale, Imu, RawSample};
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
 
 const I2C_ADDRESS: u8 = 0x6B;
@@ -55,7 +55,8 @@ fn init_writes_typed_ranges_rate_and_pin_codes() {
     let config = Config {
         accel_range: AccelRange::G4,
         gyro_range: GyroRange::Dps125,
-        odr: Odr::Hz104,
+        accel_odr: Odr::Hz104,
+        gyro_odr: Odr::Hz104,
         interrupt: InterruptPin {
             active_high: false,
             push_pull: false,

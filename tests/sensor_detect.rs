@@ -8,8 +8,10 @@ mod common;
 use common::{r, spi_interface, w, Op};
 use embedded_hal::i2c::ErrorKind;
 use embedded_hal_mock::eh1::i2c::{Mock as I2cMock, Transaction as I2cTrans};
+use triad::sensor::icm42688::Icm42688Chip;
 use triad::sensor::interface::SpiInterface;
-use triad::sensor::{icm42688, lsm6dsox, AnyChip, DetectError, Imu, CHIP_NAMES};
+use triad::sensor::lsm6dsox::Lsm6dsoxChip;
+use triad::sensor::{AnyChip, Chip, DetectError, Imu, CHIP_NAMES};
 use triad_sim::chips::icm42688_model::Icm42688Model;
 use triad_sim::chips::lsm6dsox_model::Lsm6dsoxModel;
 use triad_sim::motion::demo_motion::{DemoMotion, DemoSource};
@@ -30,7 +32,7 @@ fn demo() -> DemoSource {
 
 #[test]
 fn every_listed_chip_model_is_found_on_spi_and_started() {
-    assert_eq!(CHIP_NAMES, [icm42688::NAME, lsm6dsox::NAME]);
+    assert_eq!(CHIP_NAMES, [Icm42688Chip::NAME, Lsm6dsoxChip::NAME]);
     let icm = AnyChip::detect(SpiInterface::new(Icm42688Model::new(demo())));
     let lsm = AnyChip::detect(SpiInterface::new(Lsm6dsoxModel::new(demo())));
     let mut icm = icm.expect("ICM-42688-P found");
@@ -41,8 +43,8 @@ fn every_listed_chip_model_is_found_on_spi_and_started() {
     // Each started with its driver's default configuration.
     assert_eq!(icm.sample_rate_hz(), 1000.0);
     assert_eq!(lsm.sample_rate_hz(), 833.0);
-    assert_eq!(icm.scale(), icm42688::Config::default().scale());
-    assert_eq!(lsm.scale(), lsm6dsox::Config::default().scale());
+    assert_eq!(icm.scale(), Icm42688Chip::DEFAULT_CONFIG.scale());
+    assert_eq!(lsm.scale(), Lsm6dsoxChip::DEFAULT_CONFIG.scale());
 }
 
 #[test]
@@ -112,9 +114,9 @@ fn an_unknown_chip_is_reported_with_what_each_probe_read_and_the_bus_given_back(
 #[test]
 fn no_chip_on_i2c_reports_no_answer() {
     // Every address NACKs: nothing is there.
-    let addresses: Vec<u8> = icm42688::I2C_ADDRESSES
+    let addresses: Vec<u8> = Icm42688Chip::I2C_ADDRESSES
         .iter()
-        .chain(&lsm6dsox::I2C_ADDRESSES)
+        .chain(Lsm6dsoxChip::I2C_ADDRESSES)
         .copied()
         .collect();
     let expectations: Vec<I2cTrans> = addresses

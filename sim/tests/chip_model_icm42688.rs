@@ -12,7 +12,7 @@ use embedded_hal_mock::eh1::delay::NoopDelay;
 use triad::sensor::icm42688::config::{Config, FifoMode};
 use triad::sensor::icm42688::{AccelRange, FifoConfig, GyroRange, Icm42688, Odr};
 use triad::sensor::interface::{I2cInterface, SpiInterface};
-use triad::sensor::{Error, FifoImu, Imu, RawSample};
+use triad::sensor::{Error, FifoImu, FullScale, Imu, RawSample};
 use triad_sim::chips::fault::Fault;
 use triad_sim::chips::icm42688_model::Icm42688Model;
 use triad_sim::chips::source::{SampleSource, TrueSample};
@@ -52,7 +52,8 @@ fn config(accel_range: AccelRange, gyro_range: GyroRange, odr: Odr) -> Config {
     Config {
         accel_range,
         gyro_range,
-        odr,
+        accel_odr: odr,
+        gyro_odr: odr,
         ..Config::default()
     }
 }

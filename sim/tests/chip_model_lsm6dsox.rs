@@ -11,7 +11,7 @@ use embedded_hal::spi::{ErrorKind as SpiErrorKind, Operation, SpiDevice};
 use embedded_hal_mock::eh1::delay::NoopDelay;
 use triad::sensor::interface::{I2cInterface, SpiInterface};
 use triad::sensor::lsm6dsox::{AccelRange, Config, FifoConfig, FifoMode, GyroRange, Lsm6dsox, Odr};
-use triad::sensor::{Error, FifoImu, Imu, ImuScale, RawSample};
+use triad::sensor::{Error, FifoImu, FullScale, Imu, ImuScale, RawSample};
 use triad_sim::chips::fault::Fault;
 use triad_sim::chips::lsm6dsox_model::Lsm6dsoxModel;
 use triad_sim::chips::source::{SampleSource, TrueSample};
@@ -63,7 +63,8 @@ fn every_range_and_rate_round_trips_and_sets_sensitivity_and_timing() {
         let cfg = Config {
             accel_range,
             gyro_range,
-            odr,
+            accel_odr: odr,
+            gyro_odr: odr,
             ..Config::default()
         };
         // Inputs within ±1.2 full scale: some axes saturate, most do not.
@@ -105,7 +106,8 @@ fn i2c_reads_the_same_values_as_spi() {
     let cfg = Config {
         accel_range: AccelRange::G2,
         gyro_range: GyroRange::Dps250,
-        odr: Odr::Hz833,
+        accel_odr: Odr::Hz833,
+        gyro_odr: Odr::Hz833,
         ..Config::default()
     };
     let mut spi = spi_imu(RandomSource::new(3, 25.0, 5.0), &cfg);
@@ -227,7 +229,8 @@ fn without_if_inc_a_burst_rereads_one_register() {
 
 fn fifo_cfg(watermark: u16, mode: FifoMode, odr: Odr) -> Config {
     Config {
-        odr,
+        accel_odr: odr,
+        gyro_odr: odr,
         fifo: Some(FifoConfig { watermark, mode }),
         ..Config::default()
     }

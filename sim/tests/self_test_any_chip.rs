@@ -12,9 +12,11 @@ use std::cell::RefCell;
 use common::self_test::{configuration, ActAt, ModelUnderTest, NoisyRest};
 use embedded_hal_mock::eh1::delay::NoopDelay;
 use triad::model::Triad;
+use triad::sensor::icm42688::Icm42688Chip;
 use triad::sensor::interface::SpiInterface;
+use triad::sensor::lsm6dsox::Lsm6dsoxChip;
 use triad::sensor::{
-    icm42688, lsm6dsox, AnyChip, Axis, ChipLeft, Error, SelfTestError, SelfTestReport,
+    AnyChip, Axis, Chip as _, ChipLeft, ChipSelfTest as _, Error, SelfTestError, SelfTestReport,
 };
 use triad_sim::chips::fault::Fault;
 use triad_sim::chips::icm42688_model::Icm42688Model;
@@ -161,8 +163,14 @@ fn every_chip_self_tests_on_i2c_within_its_stated_bound() {
         passes_on_i2c(Lsm6dsoxModel::new(rest()).with_sa0(true)),
     ];
     let modules = [
-        (icm42688::NAME, icm42688::self_test_max_duration_ms()),
-        (lsm6dsox::NAME, lsm6dsox::self_test_max_duration_ms()),
+        (
+            Icm42688Chip::NAME,
+            Icm42688Chip::self_test_max_duration_ms(),
+        ),
+        (
+            Lsm6dsoxChip::NAME,
+            Lsm6dsoxChip::self_test_max_duration_ms(),
+        ),
     ];
     assert_eq!(runs, modules);
 }

@@ -16,12 +16,11 @@ use common::self_test::{
 use embedded_hal_mock::eh1::delay::NoopDelay;
 use triad::model::Triad;
 use triad::sensor::icm42688::{
-    self_test_max_duration_ms, AccelRange, Config, FifoConfig, FifoMode, GyroRange, Icm42688,
-    InterruptPin, Odr,
+    AccelRange, Config, FifoConfig, FifoMode, GyroRange, Icm42688, Icm42688Chip, InterruptPin, Odr,
 };
 use triad::sensor::interface::SpiInterface;
 use triad::sensor::self_test::{si_per_data_sheet_unit, SelfTestLimits};
-use triad::sensor::{Axis, Imu, SelfTestReport};
+use triad::sensor::{Axis, ChipSelfTest, Imu, SelfTestReport};
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
 use triad_sim::chips::icm42688_factory_trim::FactoryTrim;
 use triad_sim::chips::icm42688_model::Icm42688Model;
@@ -187,7 +186,8 @@ fn unusual_config() -> Config {
     Config {
         accel_range: AccelRange::G8,
         gyro_range: GyroRange::Dps500,
-        odr: Odr::Hz200,
+        accel_odr: Odr::Hz200,
+        gyro_odr: Odr::Hz200,
         interrupt: InterruptPin {
             active_high: false,
             push_pull: false,
@@ -287,7 +287,10 @@ fn it_takes_tdks_waits_and_samples_within_the_stated_bound() {
     // 200 ms after the write-back; four passes of 200 samples at 1 kHz, each
     // at least 199 periods from its first sample to its last.
     let least = 595.0 + 4.0 * 199.0;
-    assert_duration(&model, least, self_test_max_duration_ms(), |delay| {
-        imu.self_test(delay)
-    });
+    assert_duration(
+        &model,
+        least,
+        Icm42688Chip::self_test_max_duration_ms(),
+        |delay| imu.self_test(delay),
+    );
 }

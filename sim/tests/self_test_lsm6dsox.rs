@@ -16,11 +16,10 @@ use embedded_hal_mock::eh1::delay::NoopDelay;
 use triad::model::Triad;
 use triad::sensor::interface::SpiInterface;
 use triad::sensor::lsm6dsox::{
-    self_test_max_duration_ms, AccelRange, Config, FifoConfig, FifoMode, GyroRange, InterruptPin,
-    Lsm6dsox, Odr,
+    AccelRange, Config, FifoConfig, FifoMode, GyroRange, InterruptPin, Lsm6dsox, Lsm6dsoxChip, Odr,
 };
 use triad::sensor::self_test::SelfTestLimits;
-use triad::sensor::{Axis, Imu, SelfTestReport};
+use triad::sensor::{Axis, ChipSelfTest, Imu, SelfTestReport};
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
 use triad_sim::chips::lsm6dsox_model::Lsm6dsoxModel;
 use triad_sim::chips::model_clock::{ModelDelay, SharedBus};
@@ -102,7 +101,8 @@ fn unusual_config() -> Config {
     Config {
         accel_range: AccelRange::G8,
         gyro_range: GyroRange::Dps500,
-        odr: Odr::Hz104,
+        accel_odr: Odr::Hz104,
+        gyro_odr: Odr::Hz104,
         interrupt: InterruptPin {
             active_high: false,
             push_pull: false,
@@ -187,7 +187,10 @@ fn it_takes_the_an5272_waits_and_samples_within_the_stated_bound() {
     // Four 100 ms waits, and per pass at least four sample periods after
     // the discarded sample (the fifth new sample comes four periods after the first).
     let least = 400.0 + 2.0 * 4.0 * (1000.0 / 52.0) + 2.0 * 4.0 * (1000.0 / 208.0);
-    assert_duration(&model, least, self_test_max_duration_ms(), |delay| {
-        imu.self_test(delay)
-    });
+    assert_duration(
+        &model,
+        least,
+        Lsm6dsoxChip::self_test_max_duration_ms(),
+        |delay| imu.self_test(delay),
+    );
 }

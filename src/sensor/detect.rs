@@ -2,36 +2,35 @@
 //! identity register, so one firmware build serves whichever of them a board
 //! carries, and a board or a test never names a chip.
 //!
-//! [`for_each_chip!`](crate::for_each_chip) is the one list of chips. A chip
-//! module (e.g. [`super::icm42688`]) offers `NAME`, `IDENTITY`, `SPI_MAX_HZ`,
-//! `I2C_ADDRESSES`, `identify` (a read of the identity register that changes
-//! nothing on any listed chip), `Config: Default` with `sample_rate_hz` and
-//! pub `odr` and `fifo`, `Odr::of_hz`, and
-//! a driver with `new`, `init`, `config`, `interface_mut`, `bus`, `bus_mut`,
-//! `self_test` (with `self_test_max_duration_ms` beside it), [`Imu`] and
-//! [`FifoImu`]:
-//! adding a chip is that module, its chip model in the simulator, and one
-//! line in the list.
+//! [`for_each_chip!`](crate::for_each_chip) is the one list of chips: each
+//! entry names a type implementing [`Chip`] (the contract), and [`AnyChip`]
+//! holds the [`Driver`] of whichever one answered. Adding a chip is its
+//! module (a [`Chip`] implementation), its chip model in the simulator, and
+//! one entry in the list.
 
 use embedded_hal::delay::DelayNs;
 use embedded_hal::i2c::I2c;
 
+use super::chip::Chip;
+use super::config::Config;
+use super::driver::Driver;
 use super::error::Error;
 use super::fifo::{FifoImu, FifoRead};
 use super::interface::{I2cInterface, RegisterInterface};
-use super::self_test::{SelfTestError, SelfTestReport};
+use super::self_test::{ChipSelfTest, SelfTestError, SelfTestReport};
 use super::settings::Settings;
-use super::{icm42688, lsm6dsox, Imu, ImuScale, RawSample};
+use super::{Imu, ImuScale, RawSample};
 
-/// Calls `$callback! { module::Driver, ... }` with every chip triad drives,
-/// in the order detection tries them: the one list of chips. Crates that
-/// keep something per chip (the simulator's chip models) build it from this.
+/// Calls `$callback! { Variant: ChipType, ... }` with every chip triad
+/// drives (each type implements [`Chip`]), in the order detection tries
+/// them: the one list of chips. Crates that keep something per chip (the
+/// simulator's chip models) build it from this.
 #[macro_export]
 macro_rules! for_each_chip {
     ($callback:ident) => {
         $callback! {
-            icm42688::Icm42688,
-            lsm6dsox::Lsm6dsox,
+            Icm42688: $crate::sensor::icm42688::Icm42688Chip,
+            Lsm6dsox: $crate::sensor::lsm6dsox::Lsm6dsoxChip,
         }
     };
 }
@@ -83,20 +82,20 @@ const fn min_of(values: &[u32]) -> u32 {
 }
 
 macro_rules! define_any_chip {
-    ($($module:ident::$driver:ident),+ $(,)?) => {
+    ($($variant:ident: $chip:ty),+ $(,)?) => {
         /// Every chip's name, in the order detection tries them.
-        pub const CHIP_NAMES: [&str; [$($module::NAME),+].len()] = [$($module::NAME),+];
+        pub const CHIP_NAMES: [&str; [$(<$chip as Chip>::NAME),+].len()] = [$(<$chip as Chip>::NAME),+];
 
         /// The fastest SPI clock every listed chip takes, Hz: what a board
         /// sets before it knows which chip it carries.
-        pub const SPI_MAX_HZ: u32 = min_of(&[$($module::SPI_MAX_HZ),+]);
+        pub const SPI_MAX_HZ: u32 = min_of(&[$(<$chip as Chip>::SPI_MAX_HZ),+]);
 
         /// The chip found on the bus, driven by its own driver.
         #[derive(Debug)]
         pub enum AnyChip<I> {
             $(
-                #[doc = concat!("The `", stringify!($module), "` driver.")]
-                $driver($module::$driver<I>),
+                #[doc = concat!("The `", stringify!($chip), "` driver.")]
+                $variant(Driver<$chip, I>),
             )+
         }
 
@@ -108,15 +107,15 @@ macro_rules! define_any_chip {
                 let mut identities = [None; CHIP_NAMES.len()];
                 let mut slot = identities.iter_mut();
                 $(
-                    let found = match $module::identify(&mut interface) {
+                    let found = match <$chip>::identify(&mut interface) {
                         Ok(found) => found,
                         Err(error) => {
                             let reason = DetectError::Bus(error);
                             return Err(Undetected { reason, bus: interface });
                         }
                     };
-                    if found == $module::IDENTITY {
-                        return Ok(Self::$driver($module::$driver::new(interface)));
+                    if found == <$chip>::IDENTITY {
+                        return Ok(Self::$variant(Driver::new(interface)));
                     }
                     if let Some(slot) = slot.next() {
                         *slot = Some(found);
@@ -129,7 +128,7 @@ macro_rules! define_any_chip {
             /// The chip's name (e.g. `icm42688`).
             pub fn name(&self) -> &'static str {
                 match self {
-                    $(Self::$driver(_) => $module::NAME,)+
+                    $(Self::$variant(_) => <$chip>::NAME,)+
                 }
             }
 
@@ -137,30 +136,21 @@ macro_rules! define_any_chip {
             /// default configuration (each module's `Config::default()`).
             pub fn start(&mut self, delay: &mut impl DelayNs) -> Result<(), Error<I::BusError>> {
                 match self {
-                    $(Self::$driver(chip) => chip.init(delay, &$module::Config::default()),)+
+                    $(Self::$variant(chip) => chip.init(delay, &Config::default()),)+
                 }
             }
 
-            /// As [`Self::start`], with `settings`' rate and FIFO watermark in
-            /// place of the default's; a rate the chip does not have is
-            /// refused (`InvalidConfig`, with the rate) before any write.
+            /// As [`Self::start`], with `settings`' rates and FIFO watermark in
+            /// place of the default's ([`Settings::config`]); a rate the
+            /// chip does not have is refused (`InvalidConfig`, with the
+            /// rate) before any write.
             pub fn start_with(
                 &mut self,
                 delay: &mut impl DelayNs,
                 settings: &Settings,
             ) -> Result<(), Error<I::BusError>> {
                 match self {
-                    $(Self::$driver(chip) => {
-                        let mut config = $module::Config::default();
-                        if let Some(hz) = settings.rate_hz {
-                            config.odr = $module::Odr::of_hz(hz).ok_or(Error::InvalidConfig {
-                                what: "output data rate, Hz (not one of this chip's rates)",
-                                value: hz,
-                            })?;
-                        }
-                        config.fifo = settings.fifo();
-                        chip.init(delay, &config)
-                    })+
+                    $(Self::$variant(chip) => chip.init(delay, &settings.config::<$chip, _>()?),)+
                 }
             }
 
@@ -168,14 +158,14 @@ macro_rules! define_any_chip {
             /// once it has found the chip (detection runs at [`SPI_MAX_HZ`]).
             pub fn spi_max_hz(&self) -> u32 {
                 match self {
-                    $(Self::$driver(_) => $module::SPI_MAX_HZ,)+
+                    $(Self::$variant(_) => <$chip>::SPI_MAX_HZ,)+
                 }
             }
 
             /// The output data rate of the configuration applied, Hz.
             pub fn sample_rate_hz(&self) -> f64 {
                 match self {
-                    $(Self::$driver(chip) => chip.config().sample_rate_hz(),)+
+                    $(Self::$variant(chip) => chip.config().sample_rate_hz(),)+
                 }
             }
 
@@ -190,28 +180,28 @@ macro_rules! define_any_chip {
                 delay: &mut impl DelayNs,
             ) -> Result<SelfTestReport, SelfTestError<I::BusError>> {
                 match self {
-                    $(Self::$driver(chip) => chip.self_test(delay),)+
+                    $(Self::$variant(chip) => chip.self_test(delay),)+
                 }
             }
 
             /// The longest this chip's [`Self::self_test`] can take, ms (bus time excluded).
             pub fn self_test_max_duration_ms(&self) -> u32 {
                 match self {
-                    $(Self::$driver(_) => $module::self_test_max_duration_ms(),)+
+                    $(Self::$variant(_) => <$chip as ChipSelfTest>::self_test_max_duration_ms(),)+
                 }
             }
 
             /// The bus (e.g. the chip model, whose clock the emulated board advances).
             pub fn bus_mut(&mut self) -> &mut I::Bus {
                 match self {
-                    $(Self::$driver(chip) => chip.bus_mut(),)+
+                    $(Self::$variant(chip) => chip.bus_mut(),)+
                 }
             }
 
             /// The bus, shared.
             pub fn bus(&self) -> &I::Bus {
                 match self {
-                    $(Self::$driver(chip) => chip.bus(),)+
+                    $(Self::$variant(chip) => chip.bus(),)+
                 }
             }
         }
@@ -226,11 +216,11 @@ macro_rules! define_any_chip {
                 let mut slot = identities.iter_mut();
                 $(
                     let mut read = None;
-                    for address in $module::I2C_ADDRESSES {
+                    for &address in <$chip>::I2C_ADDRESSES {
                         let mut interface = I2cInterface::new(i2c, address);
-                        match $module::identify(&mut interface) {
-                            Ok(found) if found == $module::IDENTITY => {
-                                return Ok(Self::$driver($module::$driver::new(interface)));
+                        match <$chip>::identify(&mut interface) {
+                            Ok(found) if found == <$chip>::IDENTITY => {
+                                return Ok(Self::$variant(Driver::new(interface)));
                             }
                             Ok(found) => read = read.or(Some(found)),
                             Err(_) => {}
@@ -251,13 +241,13 @@ macro_rules! define_any_chip {
 
             fn read_sample(&mut self) -> Result<RawSample, Self::Error> {
                 match self {
-                    $(Self::$driver(chip) => chip.read_sample(),)+
+                    $(Self::$variant(chip) => chip.read_sample(),)+
                 }
             }
 
             fn scale(&self) -> ImuScale {
                 match self {
-                    $(Self::$driver(chip) => chip.scale(),)+
+                    $(Self::$variant(chip) => chip.scale(),)+
                 }
             }
         }
@@ -265,13 +255,13 @@ macro_rules! define_any_chip {
         impl<I: RegisterInterface> FifoImu for AnyChip<I> {
             fn read_fifo(&mut self, out: &mut [RawSample]) -> Result<FifoRead, Self::Error> {
                 match self {
-                    $(Self::$driver(chip) => chip.read_fifo(out),)+
+                    $(Self::$variant(chip) => chip.read_fifo(out),)+
                 }
             }
 
             fn reset_fifo(&mut self) -> Result<(), Self::Error> {
                 match self {
-                    $(Self::$driver(chip) => chip.reset_fifo(),)+
+                    $(Self::$variant(chip) => chip.reset_fifo(),)+
                 }
             }
         }

@@ -27,12 +27,26 @@ impl FifoRead {
     /// that raised the interrupt; flagged as an overflow (the loss is the
     /// chip's FIFO's), the count a lower bound.
     pub fn impossible_count(fifo: Option<FifoConfig>) -> Self {
-        FifoRead {
-            samples: 0,
-            remaining: 0,
+        Self::overflowed(u32::from(fifo.map_or(1, |f| f.watermark)), true)
+    }
+
+    /// `samples` delivered, `remaining` still waiting in the FIFO.
+    pub fn drained(samples: usize, remaining: u16) -> Self {
+        Self {
+            samples,
+            remaining,
+            ..Self::default()
+        }
+    }
+
+    /// The FIFO had overflowed and was reset: `lost` samples, a lower bound
+    /// when the chip does not count what it dropped while full.
+    pub fn overflowed(lost: u32, lost_is_lower_bound: bool) -> Self {
+        Self {
             overflowed: true,
-            lost: u32::from(fifo.map_or(1, |f| f.watermark)),
-            lost_is_lower_bound: true,
+            lost,
+            lost_is_lower_bound,
+            ..Self::default()
         }
     }
 }

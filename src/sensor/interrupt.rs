@@ -12,13 +12,18 @@ pub struct InterruptPin {
     pub latched: bool,
 }
 
-impl Default for InterruptPin {
+impl InterruptPin {
     /// Active-high push-pull pulses: what an MCU's rising-edge EXTI expects.
+    pub const DEFAULT: InterruptPin = InterruptPin {
+        active_high: true,
+        push_pull: true,
+        latched: false,
+    };
+}
+
+impl Default for InterruptPin {
+    /// [`InterruptPin::DEFAULT`].
     fn default() -> Self {
-        Self {
-            active_high: true,
-            push_pull: true,
-            latched: false,
-        }
+        Self::DEFAULT
     }
 }

@@ -1,7 +1,11 @@
-//! Sensors: the raw sample, the IMU trait the firmware and the model see, and
-//! one module per chip.
+//! Sensors: the raw sample, the IMU trait the firmware and the model see,
+//! the [`Chip`] trait (what differs between chips), the one generic
+//! [`Driver`] over it, and one module per chip.
 
+pub mod chip;
+pub mod config;
 pub mod detect;
+pub mod driver;
 pub mod error;
 pub mod fifo;
 pub mod icm42688;
@@ -11,11 +15,14 @@ pub mod lsm6dsox;
 pub mod self_test;
 pub mod settings;
 
+pub use chip::{Chip, DataRate, FullScale};
+pub use config::Config;
 pub use detect::{AnyChip, DetectError, Undetected, CHIP_NAMES};
+pub use driver::Driver;
 pub use error::Error;
 pub use fifo::{FifoConfig, FifoImu, FifoMode, FifoRead};
 pub use interrupt::InterruptPin;
-pub use self_test::{Axis, ChipLeft, SelfTestError, SelfTestReport};
+pub use self_test::{Axis, ChipLeft, ChipSelfTest, SelfTestError, SelfTestReport};
 pub use settings::Settings;
 
 /// One raw reading of both triads, in the chip's own counts (LSB).

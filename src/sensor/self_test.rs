@@ -4,13 +4,17 @@
 //! A self-test moves each proof mass with a built-in electrostatic force and
 //! reads the change of the output: the response is mean(output, self-test on)
 //! − mean(output, self-test off), so the sensor must be still while it runs.
-//! Each chip module runs its maker's procedure (`self_test` on the driver and
-//! on [`AnyChip`](super::AnyChip)); this module holds what they report, the
-//! acceptance rule, and the sampling loop both procedures share.
+//! Each chip module runs its maker's procedure ([`ChipSelfTest`]: `self_test`
+//! on the driver and on [`AnyChip`](super::AnyChip)); this module holds the
+//! save–run–write-back frame every procedure runs in, what they report, the
+//! acceptance rule, and the sampling loop they share.
 
 use embedded_hal::delay::DelayNs;
 
+use super::chip::Chip;
+use super::driver::Driver;
 use super::error::Error;
+use super::interface::RegisterInterface;
 use crate::model::Triad;
 use crate::units::{deg_to_rad, STANDARD_GRAVITY};
 
@@ -259,10 +263,62 @@ pub struct SelfTestError<E> {
     pub chip: ChipLeft,
 }
 
+/// A chip's data-sheet self-test, as its maker publishes it (each chip
+/// module's `self_test.rs`): the configuration it changes is saved first
+/// and written back at the end, whatever happened in between.
+pub trait ChipSelfTest: Chip {
+    /// What the procedure saves before it changes anything.
+    type Saved;
+
+    /// The longest the procedure can take, ms (bus time excluded): what a
+    /// caller's watchdog or link timeout should allow.
+    fn self_test_max_duration_ms() -> u32;
+
+    /// Reads the configuration the procedure changes.
+    fn save<I: RegisterInterface>(
+        driver: &mut Driver<Self, I>,
+    ) -> Result<Self::Saved, Error<I::BusError>>;
+
+    /// The procedure on both triads, and the verdicts.
+    fn run<I: RegisterInterface>(
+        driver: &mut Driver<Self, I>,
+        delay: &mut impl DelayNs,
+        saved: &Self::Saved,
+    ) -> Result<SelfTestReport, Error<I::BusError>>;
+
+    /// Writes `saved` back and empties the FIFO (which took self-test
+    /// samples), so sampling resumes in the configuration it had.
+    fn restore<I: RegisterInterface>(
+        driver: &mut Driver<Self, I>,
+        delay: &mut impl DelayNs,
+        saved: &Self::Saved,
+    ) -> Result<(), Error<I::BusError>>;
+}
+
+impl<C: ChipSelfTest, I: RegisterInterface> Driver<C, I> {
+    /// Runs the chip's data-sheet self-test on both triads and reports each
+    /// axis's response, limits and verdict (each chip module documents its
+    /// procedure). The chip must be still and sampling paused; it takes at
+    /// most [`ChipSelfTest::self_test_max_duration_ms`]. The configuration
+    /// is written back at the end. A verdict of fail is `Ok` with the
+    /// failing axes in the report; `Err` means the procedure did not finish
+    /// (bus error, or no new sample within twice the expected time), and
+    /// says whether the write-back restored the chip.
+    pub fn self_test(
+        &mut self,
+        delay: &mut impl DelayNs,
+    ) -> Result<SelfTestReport, SelfTestError<I::BusError>> {
+        let saved = C::save(self).map_err(untouched)?;
+        let run = C::run(self, delay, &saved);
+        let restore = C::restore(self, delay, &saved);
+        conclude(run, restore)
+    }
+}
+
 /// The outcome of a procedure run between saving and writing back the
 /// configuration: the report if both succeeded; otherwise the first error,
 /// and whether the write-back (always attempted) restored the chip.
-pub(crate) fn conclude<E>(
+fn conclude<E>(
     run: Result<SelfTestReport, Error<E>>,
     restore: Result<(), Error<E>>,
 ) -> Result<SelfTestReport, SelfTestError<E>> {
@@ -280,7 +336,7 @@ pub(crate) fn conclude<E>(
 }
 
 /// An error before anything was written: the chip is as it was.
-pub(crate) fn untouched<E>(error: Error<E>) -> SelfTestError<E> {
+fn untouched<E>(error: Error<E>) -> SelfTestError<E> {
     SelfTestError {
         error,
         chip: ChipLeft::AsConfigured,

@@ -198,11 +198,15 @@ pub struct Firmware {
 }
 
 /// The firmware's sampling settings at build (firmware/build.rs):
-/// `TRIAD_SAMPLE_RATE_HZ` and `TRIAD_FIFO_WATERMARK`.
+/// `TRIAD_SAMPLE_RATE_HZ`, `TRIAD_ACCEL_RATE_HZ` or `TRIAD_GYRO_RATE_HZ`,
+/// and `TRIAD_FIFO_WATERMARK`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct Sampling {
-    /// The chip's output data rate, Hz; `None`: the driver's default.
+    /// The chip's output data rate, Hz (the faster sensor's when `slower`
+    /// is set); `None`: the driver's default.
     pub rate_hz: Option<u32>,
+    /// One sensor at a lower rate, Hz; `None`: both at `rate_hz`.
+    pub slower: Option<(Triad, u32)>,
     /// Samples per interrupt; `None` (or 1): one, FIFO off.
     pub watermark: Option<u16>,
 }
@@ -252,6 +256,11 @@ impl Firmware {
         if let Some(hz) = self.sampling.rate_hz {
             env.push(("TRIAD_SAMPLE_RATE_HZ", hz.to_string()));
         }
+        match self.sampling.slower {
+            Some((Triad::Accel, hz)) => env.push(("TRIAD_ACCEL_RATE_HZ", hz.to_string())),
+            Some((Triad::Gyro, hz)) => env.push(("TRIAD_GYRO_RATE_HZ", hz.to_string())),
+            None => {}
+        }
         if let Some(w) = self.sampling.watermark {
             env.push(("TRIAD_FIFO_WATERMARK", w.to_string()));
         }
@@ -267,6 +276,9 @@ impl Firmware {
         };
         if let Some(hz) = self.sampling.rate_hz {
             label += &format!(" at {hz} Hz");
+        }
+        if let Some((triad, hz)) = self.sampling.slower {
+            label += &format!(" ({} at {hz} Hz)", slower_name(triad));
         }
         if let Some(w) = self.sampling.watermark {
             label += &format!(", W = {w}");
@@ -284,12 +296,25 @@ impl Firmware {
         if let Some(hz) = self.sampling.rate_hz {
             stem += &format!("-{hz}hz");
         }
+        if let Some((triad, hz)) = self.sampling.slower {
+            stem += &format!("-{}{hz}hz", slower_name(triad));
+        }
         if let Some(w) = self.sampling.watermark {
             stem += &format!("-w{w}");
         }
         stem
     }
 }
+
+/// The name of a triad in labels and file names.
+fn slower_name(triad: Triad) -> &'static str {
+    match triad {
+        Triad::Accel => "accel",
+        Triad::Gyro => "gyro",
+    }
+}
+
+use triad::model::Triad;
 
 use crate::cmd::root;
 use anyhow::{bail, Context};

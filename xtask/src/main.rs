@@ -60,6 +60,10 @@ enum Command {
         /// outside the checkout.
         #[arg(long)]
         first_run_only: bool,
+        /// Only the end-to-end tests on QEMU of each chip with its
+        /// accelerometer and gyroscope at different rates.
+        #[arg(long, conflicts_with_all = ["e2e_only", "first_run_only"])]
+        rates_only: bool,
     },
     /// Benchmark every variant on the emulated cores; write docs/BENCHMARKS.md.
     Bench {
@@ -165,9 +169,18 @@ pub struct FirmwareArgs {
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// The chip's output data rate, Hz (one the chip has, e.g. 1000, 8000
-    /// for the ICM-42688-P); default the driver's.
+    /// for the ICM-42688-P); default the driver's. With --accel-rate or
+    /// --gyro-rate, the faster sensor's: the stream's rate.
     #[arg(long, value_name = "HZ")]
     rate: Option<u32>,
+    /// The accelerometer at this lower output data rate, Hz (the gyroscope
+    /// at --rate): samples still stream at --rate, the accelerometer's
+    /// latest value held between its own (docs/PROTOCOL.md §22).
+    #[arg(long, value_name = "HZ", conflicts_with = "gyro_rate")]
+    accel_rate: Option<u32>,
+    /// The gyroscope at this lower output data rate, Hz (the accelerometer at --rate).
+    #[arg(long, value_name = "HZ")]
+    gyro_rate: Option<u32>,
     /// Samples per interrupt from the chip's FIFO (1..=32), streamed in batch
     /// frames; default 1 (FIFO off, one data frame per sample).
     #[arg(long, value_name = "W", value_parser = clap::value_parser!(u16).range(1..=32))]
@@ -228,9 +241,11 @@ fn main() -> std::process::ExitCode {
         Command::Test {
             e2e_only,
             first_run_only,
-        } => test::run(match (e2e_only, first_run_only) {
-            (true, _) => test::Scope::EndToEnd,
-            (_, true) => test::Scope::FirstRun,
+            rates_only,
+        } => test::run(match (e2e_only, first_run_only, rates_only) {
+            (true, _, _) => test::Scope::EndToEnd,
+            (_, true, _) => test::Scope::FirstRun,
+            (_, _, true) => test::Scope::DifferentRates,
             _ => test::Scope::All,
         }),
         Command::Bench {
@@ -358,6 +373,11 @@ fn build(args: &FirmwareArgs) -> anyhow::Result<(std::path::PathBuf, std::path::
         emulated_chip,
         sampling: board::Sampling {
             rate_hz: args.rate,
+            slower: match (args.accel_rate, args.gyro_rate) {
+                (Some(hz), _) => Some((triad::model::Triad::Accel, hz)),
+                (None, Some(hz)) => Some((triad::model::Triad::Gyro, hz)),
+                (None, None) => None,
+            },
             watermark: args.watermark,
         },
     };

@@ -113,8 +113,14 @@ pub fn settings_from_env() -> Settings {
             .ok()
             .map(|v| v.parse::<u32>().unwrap_or_else(|_| panic!("{name}={v:?}")))
     };
+    let slower = match (number("TRIAD_ACCEL_RATE_HZ"), number("TRIAD_GYRO_RATE_HZ")) {
+        (Some(hz), _) => Some((triad::model::Triad::Accel, hz)),
+        (None, Some(hz)) => Some((triad::model::Triad::Gyro, hz)),
+        (None, None) => None,
+    };
     Settings {
         rate_hz: number("TRIAD_SAMPLE_RATE_HZ"),
+        slower,
         watermark: number("TRIAD_FIFO_WATERMARK").map_or(1, |w| w as u16),
     }
 }

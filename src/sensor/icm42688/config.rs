@@ -3,9 +3,10 @@
 //! (Tables 1 and 2, sensitivity scale factors) and §14 (GYRO_CONFIG0,
 //! ACCEL_CONFIG0).
 
+use crate::sensor::chip::{DataRate, FullScale};
 pub use crate::sensor::fifo::{FifoConfig, FifoMode};
 pub use crate::sensor::interrupt::InterruptPin;
-use crate::sensor::{ImuScale, TriadScale};
+use crate::sensor::TriadScale;
 use crate::units::{deg_to_rad, STANDARD_GRAVITY};
 
 /// Accelerometer full-scale range (ACCEL_CONFIG0 ACCEL_FS_SEL).
@@ -60,9 +61,11 @@ impl AccelRange {
             Self::G16 => 2048.0,
         }
     }
+}
 
+impl FullScale for AccelRange {
     /// Counts → m/s² and the range in m/s².
-    pub fn scale(self) -> TriadScale {
+    fn scale(self) -> TriadScale {
         TriadScale {
             si_per_lsb: STANDARD_GRAVITY / self.lsb_per_g(),
             full_scale: self.g() * STANDARD_GRAVITY,
@@ -152,9 +155,11 @@ impl GyroRange {
             Self::Dps2000 => 16.4,
         }
     }
+}
 
+impl FullScale for GyroRange {
     /// Counts → rad/s and the range in rad/s.
-    pub fn scale(self) -> TriadScale {
+    fn scale(self) -> TriadScale {
         TriadScale {
             si_per_lsb: deg_to_rad(1.0 / self.lsb_per_dps()),
             full_scale: deg_to_rad(self.dps()),
@@ -195,12 +200,6 @@ pub enum Odr {
 }
 
 impl Odr {
-    /// The rate whose whole number of hertz is `hz` (833 for 833 Hz, 12
-    /// for 12.5 Hz), if the chip has it.
-    pub fn of_hz(hz: u32) -> Option<Self> {
-        Self::ALL.into_iter().find(|r| r.hz() as u32 == hz)
-    }
-
     /// All rates, fastest first.
     pub const ALL: [Odr; 12] = [
         Self::Hz32000,
@@ -257,9 +256,13 @@ impl Odr {
             Self::Hz12_5 => 80_000_000,
         }
     }
+}
+
+impl DataRate for Odr {
+    const ALL: &'static [Odr] = &Odr::ALL;
 
     /// The rate in Hz.
-    pub fn hz(self) -> f64 {
+    fn hz(self) -> f64 {
         1e9 / f64::from(self.period_ns())
     }
 }
@@ -280,50 +283,7 @@ pub fn int_config(pin: InterruptPin) -> u8 {
     v
 }
 
-/// A complete driver configuration.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Config {
-    /// Accelerometer range.
-    pub accel_range: AccelRange,
-    /// Gyroscope range.
-    pub gyro_range: GyroRange,
-    /// Output data rate of both sensors.
-    pub odr: Odr,
-    /// INT1 electrical behaviour.
-    pub interrupt: InterruptPin,
-    /// `None`: FIFO off, INT1 signals data ready. `Some`: FIFO on, INT1 signals the watermark.
-    pub fifo: Option<FifoConfig>,
-}
-
-impl Config {
-    /// Data-ready events per second: the output data rate. The firmware's
-    /// sample period, and everything timed by it, comes from here.
-    pub fn sample_rate_hz(&self) -> f64 {
-        self.odr.hz()
-    }
-
-    /// The counts → SI sensitivities of this configuration's ranges and the
-    /// chip's temperature sensor (what [`crate::sensor::Imu::scale`] reports).
-    pub fn scale(&self) -> ImuScale {
-        ImuScale {
-            accel: self.accel_range.scale(),
-            gyro: self.gyro_range.scale(),
-            temperature_per_lsb: 1.0 / super::registers::TEMP_LSB_PER_C,
-            temperature_offset: super::registers::TEMP_OFFSET_C,
-        }
-    }
-}
-
-impl Default for Config {
-    /// ±16 g, ±2000 °/s, 1 kHz, data-ready interrupt, FIFO off.
-    fn default() -> Self {
-        Self {
-            accel_range: AccelRange::G16,
-            gyro_range: GyroRange::Dps2000,
-            odr: Odr::Hz1000,
-            interrupt: InterruptPin::default(),
-            fifo: None,
-        }
-    }
-}
+/// A complete driver configuration of this chip (the shared
+/// [`crate::sensor::config::Config`]; default: [`super::Icm42688Chip`]'s
+/// `DEFAULT_CONFIG`).
+pub type Config = crate::sensor::config::Config<super::Icm42688Chip>;

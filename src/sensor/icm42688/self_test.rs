@@ -21,13 +21,12 @@ use embedded_hal::delay::DelayNs;
 
 use super::config::{AccelRange, GyroRange, Odr};
 use super::registers as reg;
-use super::Icm42688;
+use super::{Icm42688, Icm42688Chip};
 use crate::model::Triad;
 use crate::sensor::error::Error;
 use crate::sensor::interface::RegisterInterface;
 use crate::sensor::self_test::{
-    conclude, untouched, Poll, Sampling, SelfTestError, SelfTestLimits, SelfTestReport,
-    TriadSelfTest,
+    ChipSelfTest, Poll, Sampling, SelfTestLimits, SelfTestReport, TriadSelfTest,
 };
 
 /// PWR_MGMT0..=ACCEL_CONFIG1 (0x4E..=0x53): the configuration the procedure changes.
@@ -136,57 +135,70 @@ fn factory_response_lsb(code: u8, fs_sel: u8) -> Option<f64> {
     Some(libm::floor(scaled + 0.5))
 }
 
-/// The longest [`Icm42688::self_test`] can take, ms: its waits plus every
-/// sampling pass's time budget (bus time excluded). Nominally it takes about
-/// 1.4 s; this bound is what a caller's watchdog or link timeout should allow.
-pub fn self_test_max_duration_ms() -> u32 {
-    let waits: u32 = [Procedure::gyro(), Procedure::accel()]
-        .iter()
-        .map(Procedure::settle_ms)
-        .sum::<u32>()
-        + RESTORE_SETTLE_MS;
-    let budgets_ns = 4 * sampling().budget_ns;
-    // About two seconds: fits.
-    let budgets_ms = u32::try_from(budgets_ns.div_ceil(1_000_000)).unwrap_or(u32::MAX);
-    waits.saturating_add(budgets_ms)
+/// PWR_MGMT0..=ACCEL_CONFIG1 and SELF_TEST_CONFIG, as the procedure found them.
+pub struct Saved {
+    configuration: [u8; SAVED_REGISTERS],
+    self_test_config: u8,
+}
+
+/// TDK InvenSense's self-test procedure on the gyroscope, then the
+/// accelerometer: each axis's response against the factory response stored
+/// in the chip (0.5 < ratio < 1.5; see the module source for the limits
+/// without one).
+///
+/// The chip must be still. It takes about 1.4 s: gyroscope 60 ms + 200
+/// samples off, 60 ms + 200 ms + 200 samples on; accelerometer 25 ms +
+/// 200 samples off, 25 + 25 ms + 200 samples on (samples at 1 kHz); and
+/// 200 ms for the gyroscope to settle after the write-back.
+///
+/// PWR_MGMT0, GYRO_CONFIG0, ACCEL_CONFIG0, GYRO_CONFIG1,
+/// GYRO_ACCEL_CONFIG0, ACCEL_CONFIG1 and SELF_TEST_CONFIG are read first
+/// and written back at the end (bank 0 selected), and the FIFO is flushed.
+impl ChipSelfTest for Icm42688Chip {
+    type Saved = Saved;
+
+    /// The procedure's waits plus every sampling pass's time budget.
+    /// Nominally it takes about 1.4 s.
+    fn self_test_max_duration_ms() -> u32 {
+        let waits: u32 = [Procedure::gyro(), Procedure::accel()]
+            .iter()
+            .map(Procedure::settle_ms)
+            .sum::<u32>()
+            + RESTORE_SETTLE_MS;
+        let budgets_ns = 4 * sampling().budget_ns;
+        // About two seconds: fits.
+        let budgets_ms = u32::try_from(budgets_ns.div_ceil(1_000_000)).unwrap_or(u32::MAX);
+        waits.saturating_add(budgets_ms)
+    }
+
+    fn save<I: RegisterInterface>(driver: &mut Icm42688<I>) -> Result<Saved, Error<I::BusError>> {
+        let mut configuration = [0u8; SAVED_REGISTERS];
+        driver.read_registers(reg::PWR_MGMT0, &mut configuration)?;
+        let self_test_config = driver.read_register(reg::SELF_TEST_CONFIG)?;
+        Ok(Saved {
+            configuration,
+            self_test_config,
+        })
+    }
+
+    fn run<I: RegisterInterface>(
+        driver: &mut Icm42688<I>,
+        delay: &mut impl DelayNs,
+        saved: &Saved,
+    ) -> Result<SelfTestReport, Error<I::BusError>> {
+        driver.run_self_test(delay, &saved.configuration)
+    }
+
+    fn restore<I: RegisterInterface>(
+        driver: &mut Icm42688<I>,
+        delay: &mut impl DelayNs,
+        saved: &Saved,
+    ) -> Result<(), Error<I::BusError>> {
+        driver.restore_after_self_test(delay, &saved.configuration, saved.self_test_config)
+    }
 }
 
 impl<I: RegisterInterface> Icm42688<I> {
-    /// Runs TDK InvenSense's self-test procedure on the gyroscope, then the
-    /// accelerometer, and reports each axis's response against the factory
-    /// response stored in the chip (0.5 < ratio < 1.5; see the module source
-    /// for the limits without one).
-    ///
-    /// The chip must be still. It takes about 1.4 s: gyroscope 60 ms + 200
-    /// samples off, 60 ms + 200 ms + 200 samples on; accelerometer 25 ms +
-    /// 200 samples off, 25 + 25 ms + 200 samples on (samples at 1 kHz); and
-    /// 200 ms for the gyroscope to settle after the write-back. At most
-    /// [`self_test_max_duration_ms`]; the caller stops sampling meanwhile.
-    ///
-    /// PWR_MGMT0, GYRO_CONFIG0, ACCEL_CONFIG0, GYRO_CONFIG1,
-    /// GYRO_ACCEL_CONFIG0, ACCEL_CONFIG1 and SELF_TEST_CONFIG are read first
-    /// and written back at the end (bank 0 selected), and the FIFO, which
-    /// took self-test samples, is flushed, so sampling resumes in the
-    /// configuration it had. A verdict of fail is `Ok` with the failing axes
-    /// in the report; `Err` means the procedure did not finish (bus error,
-    /// or no new sample within twice the expected time), and says whether
-    /// the write-back restored the chip.
-    pub fn self_test(
-        &mut self,
-        delay: &mut impl DelayNs,
-    ) -> Result<SelfTestReport, SelfTestError<I::BusError>> {
-        let mut saved = [0u8; SAVED_REGISTERS];
-        self.interface
-            .read_registers(reg::PWR_MGMT0, &mut saved)
-            .map_err(|e| untouched(Error::Bus(e)))?;
-        let self_test_config = self
-            .read_register(reg::SELF_TEST_CONFIG)
-            .map_err(untouched)?;
-        let run = self.run_self_test(delay, &saved);
-        let restore = self.restore_after_self_test(delay, &saved, self_test_config);
-        conclude(run, restore)
-    }
-
     fn run_self_test(
         &mut self,
         delay: &mut impl DelayNs,

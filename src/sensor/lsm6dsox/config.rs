@@ -1,9 +1,10 @@
 //! LSM6DSOX configuration as typed values. Codes from DS12814 §9 (CTRL1_XL,
 //! CTRL2_G); sensitivities from §4.1 Table 2 (mechanical characteristics).
 
+use crate::sensor::chip::{DataRate, FullScale};
 pub use crate::sensor::fifo::{FifoConfig, FifoMode};
 pub use crate::sensor::interrupt::InterruptPin;
-use crate::sensor::{ImuScale, TriadScale};
+use crate::sensor::TriadScale;
 use crate::units::{deg_to_rad, STANDARD_GRAVITY};
 
 /// Accelerometer full-scale range (CTRL1_XL FS_XL, with XL_FS_MODE = 0).
@@ -58,9 +59,11 @@ impl AccelRange {
             Self::G16 => 0.488,
         }
     }
+}
 
+impl FullScale for AccelRange {
     /// Counts → m/s² and the range in m/s².
-    pub fn scale(self) -> TriadScale {
+    fn scale(self) -> TriadScale {
         TriadScale {
             si_per_lsb: self.mg_per_lsb() * 1e-3 * STANDARD_GRAVITY,
             full_scale: self.g() * STANDARD_GRAVITY,
@@ -139,9 +142,11 @@ impl GyroRange {
             Self::Dps2000 => 70.0,
         }
     }
+}
 
+impl FullScale for GyroRange {
     /// Counts → rad/s and the range in rad/s.
-    pub fn scale(self) -> TriadScale {
+    fn scale(self) -> TriadScale {
         TriadScale {
             si_per_lsb: deg_to_rad(self.mdps_per_lsb() * 1e-3),
             full_scale: deg_to_rad(self.dps()),
@@ -177,12 +182,6 @@ pub enum Odr {
 }
 
 impl Odr {
-    /// The rate whose whole number of hertz is `hz` (833 for 833 Hz, 12
-    /// for 12.5 Hz), if the chip has it.
-    pub fn of_hz(hz: u32) -> Option<Self> {
-        Self::ALL.into_iter().find(|r| r.hz() as u32 == hz)
-    }
-
     /// All rates, slowest first.
     pub const ALL: [Odr; 10] = [
         Self::Hz12_5,
@@ -234,9 +233,13 @@ impl Odr {
             Self::Hz6667 => 6_667_000,
         }
     }
+}
+
+impl DataRate for Odr {
+    const ALL: &'static [Odr] = &Odr::ALL;
 
     /// The nominal rate in Hz.
-    pub fn hz(self) -> f64 {
+    fn hz(self) -> f64 {
         f64::from(self.millihertz()) / 1000.0
     }
 }
@@ -254,51 +257,7 @@ pub fn ctrl3_c(pin: InterruptPin) -> u8 {
     v
 }
 
-/// A complete driver configuration.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Config {
-    /// Accelerometer range.
-    pub accel_range: AccelRange,
-    /// Gyroscope range.
-    pub gyro_range: GyroRange,
-    /// Output data rate of both sensors.
-    pub odr: Odr,
-    /// INT1 electrical behaviour (`latched` selects latched data-ready).
-    pub interrupt: InterruptPin,
-    /// `None`: FIFO off, INT1 signals gyro data ready. `Some`: FIFO on
-    /// (watermark 1..=255 samples), INT1 signals the watermark.
-    pub fifo: Option<FifoConfig>,
-}
-
-impl Config {
-    /// Data-ready events per second: the output data rate. The firmware's
-    /// sample period, and everything timed by it, comes from here.
-    pub fn sample_rate_hz(&self) -> f64 {
-        self.odr.hz()
-    }
-
-    /// The counts → SI sensitivities of this configuration's ranges and the
-    /// chip's temperature sensor (what [`crate::sensor::Imu::scale`] reports).
-    pub fn scale(&self) -> ImuScale {
-        ImuScale {
-            accel: self.accel_range.scale(),
-            gyro: self.gyro_range.scale(),
-            temperature_per_lsb: 1.0 / super::registers::TEMP_LSB_PER_C,
-            temperature_offset: super::registers::TEMP_OFFSET_C,
-        }
-    }
-}
-
-impl Default for Config {
-    /// ±16 g, ±2000 °/s, 833 Hz, data-ready interrupt, FIFO off.
-    fn default() -> Self {
-        Self {
-            accel_range: AccelRange::G16,
-            gyro_range: GyroRange::Dps2000,
-            odr: Odr::Hz833,
-            interrupt: InterruptPin::default(),
-            fifo: None,
-        }
-    }
-}
+/// A complete driver configuration of this chip (the shared
+/// [`crate::sensor::config::Config`]; default: [`super::Lsm6dsoxChip`]'s
+/// `DEFAULT_CONFIG`).
+pub type Config = crate::sensor::config::Config<super::Lsm6dsoxChip>;

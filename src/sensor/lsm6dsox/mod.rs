@@ -9,172 +9,215 @@ mod registers;
 mod self_test;
 
 use embedded_hal::delay::DelayNs;
-use embedded_hal::i2c::I2c;
-use embedded_hal::spi::SpiDevice;
 
 use self::registers as reg;
+use super::chip::{Chip, DataRate};
+use super::driver::Driver;
 use super::error::Error;
-use super::fifo::{FifoImu, FifoRead};
-use super::interface::{I2cInterface, RegisterInterface, SpiInterface};
-use super::{Imu, ImuScale, RawSample};
+use super::fifo::FifoRead;
+use super::interface::RegisterInterface;
+use super::{Imu, RawSample};
 
 pub use self::config::{AccelRange, Config, FifoConfig, FifoMode, GyroRange, InterruptPin, Odr};
 pub use self::registers::{I2C_ADDRESS_SA0_HIGH, I2C_ADDRESS_SA0_LOW};
-pub use self::self_test::self_test_max_duration_ms;
 
-/// The chip's name, as the link and the log report it.
-pub const NAME: &str = "lsm6dsox";
-/// The identity WHO_AM_I holds (DS12814 §9).
-pub const IDENTITY: u8 = reg::WHO_AM_I_VALUE;
-/// The fastest SPI clock the chip takes, Hz (DS12814 §4.4.1).
-pub const SPI_MAX_HZ: u32 = 10_000_000;
-/// The chip's I²C addresses: SA0 low, then high (DS12814 §6.3).
-pub const I2C_ADDRESSES: [u8; 2] = [I2C_ADDRESS_SA0_LOW, I2C_ADDRESS_SA0_HIGH];
-
-/// Reads the chip's identity register (WHO_AM_I); changes nothing.
-pub fn identify<I: RegisterInterface>(interface: &mut I) -> Result<u8, I::BusError> {
-    let mut value = [0];
-    interface.read_registers(reg::WHO_AM_I, &mut value)?;
-    Ok(value[0])
-}
-
-/// Samples read per FIFO bus transaction: 32 × 2 words × 7 B = 448 B of stack.
-const FIFO_CHUNK_SAMPLES: usize = 32;
-/// Largest watermark in samples: WTM has 9 bits of words, two words per sample.
-const MAX_WATERMARK_SAMPLES: u16 = 255;
+/// The LSM6DSOX: what differs from the other chips ([`Chip`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Lsm6dsoxChip;
 
 /// An LSM6DSOX behind a register interface `I`.
-#[derive(Debug)]
-pub struct Lsm6dsox<I> {
-    interface: I,
-    config: Config,
-}
+pub type Lsm6dsox<I> = Driver<Lsm6dsoxChip, I>;
 
-impl<SPI: SpiDevice> Lsm6dsox<SpiInterface<SPI>> {
-    /// A driver for a chip on SPI (mode 0 or 3, up to 10 MHz, DS12814 §6.1).
-    pub fn new_spi(spi: SPI) -> Self {
-        Self::new(SpiInterface::new(spi))
-    }
-}
+impl Chip for Lsm6dsoxChip {
+    const NAME: &'static str = "lsm6dsox";
+    /// WHO_AM_I (DS12814 §9).
+    const IDENTITY: u8 = reg::WHO_AM_I_VALUE;
+    /// DS12814 §4.4.1.
+    const SPI_MAX_HZ: u32 = 10_000_000;
+    /// SA0 low, then high (DS12814 §6.3).
+    const I2C_ADDRESSES: &'static [u8] = &[I2C_ADDRESS_SA0_LOW, I2C_ADDRESS_SA0_HIGH];
+    /// WTM has 9 bits of words, two words per sample.
+    const MAX_WATERMARK: u16 = 255;
+    const WATERMARK_WHAT: &'static str = "FIFO watermark (samples, 1..=255)";
+    const TEMP_LSB_PER_C: f64 = reg::TEMP_LSB_PER_C;
+    const TEMP_OFFSET_C: f64 = reg::TEMP_OFFSET_C;
 
-impl<I2C: I2c> Lsm6dsox<I2cInterface<I2C>> {
-    /// A driver for a chip on I²C at `address` (0x6A with SA0 low, 0x6B high).
-    pub fn new_i2c(i2c: I2C, address: u8) -> Self {
-        Self::new(I2cInterface::new(i2c, address))
-    }
-}
+    type AccelRange = AccelRange;
+    type GyroRange = GyroRange;
+    type Odr = Odr;
 
-impl<I: RegisterInterface> Lsm6dsox<I> {
-    /// A driver over any register interface. The chip is untouched until [`Self::init`].
-    pub fn new(interface: I) -> Self {
-        Self {
-            interface,
-            config: Config {
-                // The reset ranges, so `scale` is right before `init` too.
-                accel_range: AccelRange::G2,
-                gyro_range: GyroRange::Dps250,
-                ..Config::default()
-            },
-        }
-    }
+    /// ±16 g, ±2000 °/s, 833 Hz, data-ready interrupt, FIFO off.
+    const DEFAULT_CONFIG: Config = Config {
+        accel_range: AccelRange::G16,
+        gyro_range: GyroRange::Dps2000,
+        accel_odr: Odr::Hz833,
+        gyro_odr: Odr::Hz833,
+        interrupt: InterruptPin::DEFAULT,
+        fifo: None,
+    };
+    /// The reset ranges (±2 g, ±250 °/s).
+    const RESET_CONFIG: Config = Config {
+        accel_range: AccelRange::G2,
+        gyro_range: GyroRange::Dps250,
+        ..Self::DEFAULT_CONFIG
+    };
 
-    /// The configuration last applied.
-    pub fn config(&self) -> &Config {
-        &self.config
-    }
-
-    /// The register interface.
-    pub fn interface_mut(&mut self) -> &mut I {
-        &mut self.interface
-    }
-
-    /// The bus (e.g. the chip model, whose clock the emulated board advances).
-    pub fn bus_mut(&mut self) -> &mut I::Bus {
-        self.interface.bus_mut()
+    /// Reads WHO_AM_I; changes nothing.
+    fn identify<I: RegisterInterface>(interface: &mut I) -> Result<u8, I::BusError> {
+        let mut value = [0];
+        interface.read_registers(reg::WHO_AM_I, &mut value)?;
+        Ok(value[0])
     }
 
-    /// The bus, shared.
-    pub fn bus(&self) -> &I::Bus {
-        self.interface.bus()
-    }
-
-    /// Gives the bus back.
-    pub fn release(self) -> I::Bus {
-        self.interface.release()
-    }
-
-    /// Gives the register interface back.
-    pub fn into_interface(self) -> I {
-        self.interface
-    }
-
-    /// Checks the identity, soft-resets, and applies `config`: interrupt pin,
-    /// FIFO, ranges and rate (a non-zero rate turns each sensor on).
-    pub fn init(
-        &mut self,
+    /// Interrupt pin, FIFO, ranges and rate (a non-zero rate turns each sensor on).
+    fn start<I: RegisterInterface>(
+        driver: &mut Lsm6dsox<I>,
         delay: &mut impl DelayNs,
         config: &Config,
     ) -> Result<(), Error<I::BusError>> {
-        if let Some(fifo) = config.fifo {
-            if fifo.watermark == 0 || fifo.watermark > MAX_WATERMARK_SAMPLES {
-                return Err(Error::InvalidConfig {
-                    what: "FIFO watermark (samples, 1..=255)",
-                    value: u32::from(fifo.watermark),
-                });
-            }
-        }
-        let found = self.read_register(reg::WHO_AM_I)?;
-        if found != reg::WHO_AM_I_VALUE {
-            return Err(Error::WrongChip {
-                expected: reg::WHO_AM_I_VALUE,
-                found,
+        if config.fifo.is_some() && config.accel_odr != config.gyro_odr {
+            // The tagged FIFO then holds one sensor's words more often than
+            // the other's; this driver drains gyro + accel pairs only.
+            return Err(Error::InvalidConfig {
+                what: "accelerometer rate, Hz, with the FIFO on (the LSM6DSOX driver batches both sensors at one rate)",
+                value: config.accel_odr.hz() as u32,
             });
         }
-        self.write(reg::CTRL3_C, reg::IF_INC | reg::SW_RESET)?;
+        driver.expect_identity(reg::WHO_AM_I)?;
+        driver.write(reg::CTRL3_C, reg::IF_INC | reg::SW_RESET)?;
         delay.delay_us(reg::SW_RESET_WAIT_US);
-        let status = self.read_register(reg::CTRL3_C)?;
+        let status = driver.read_register(reg::CTRL3_C)?;
         if status & reg::SW_RESET != 0 {
             return Err(Error::ResetNotDone { status });
         }
-        self.write(reg::CTRL3_C, config::ctrl3_c(config.interrupt))?;
+        driver.write(reg::CTRL3_C, config::ctrl3_c(config.interrupt))?;
         let pulsed = if config.interrupt.latched {
             0
         } else {
             reg::DATAREADY_PULSED
         };
-        self.write(reg::COUNTER_BDR_REG1, pulsed)?;
-        let odr = config.odr.code();
+        driver.write(reg::COUNTER_BDR_REG1, pulsed)?;
+        let (accel_odr, gyro_odr) = (config.accel_odr.code(), config.gyro_odr.code());
         match config.fifo {
             Some(fifo) => {
                 let [high, low] = (fifo.watermark * reg::WORDS_PER_SAMPLE).to_be_bytes();
-                self.write(reg::FIFO_CTRL1, low)?;
-                self.write(reg::FIFO_CTRL2, high & 0x01)?;
-                self.write(reg::FIFO_CTRL3, (odr << reg::ODR_SHIFT) | odr)?;
-                self.write(reg::FIFO_CTRL4, fifo_mode_bits(fifo.mode))?;
-                self.write(reg::INT1_CTRL, reg::INT1_FIFO_TH)?;
+                driver.write(reg::FIFO_CTRL1, low)?;
+                driver.write(reg::FIFO_CTRL2, high & 0x01)?;
+                // BDR_GY in bits 7:4, BDR_XL in 3:0: each sensor batched at its ODR.
+                driver.write(reg::FIFO_CTRL3, (gyro_odr << reg::ODR_SHIFT) | accel_odr)?;
+                driver.write(reg::FIFO_CTRL4, fifo_mode_bits(fifo.mode))?;
+                driver.write(reg::INT1_CTRL, reg::INT1_FIFO_TH)?;
             }
-            None => self.write(reg::INT1_CTRL, reg::INT1_DRDY_G)?,
+            // Data ready of the faster sensor: one interrupt per sample delivered.
+            None if config.accel_odr.hz() > config.gyro_odr.hz() => {
+                driver.write(reg::INT1_CTRL, reg::INT1_DRDY_XL)?
+            }
+            None => driver.write(reg::INT1_CTRL, reg::INT1_DRDY_G)?,
         }
-        self.write(
+        driver.write(
             reg::CTRL1_XL,
-            (odr << reg::ODR_SHIFT) | (config.accel_range.code() << reg::FS_SHIFT),
+            (accel_odr << reg::ODR_SHIFT) | (config.accel_range.code() << reg::FS_SHIFT),
         )?;
-        self.write(
+        driver.write(
             reg::CTRL2_G,
-            (odr << reg::ODR_SHIFT) | config.gyro_range.bits(),
+            (gyro_odr << reg::ODR_SHIFT) | config.gyro_range.bits(),
         )?;
-        self.config = *config;
         Ok(())
     }
 
+    /// One burst of 14 bytes from OUT_TEMP_L to OUTZ_H_A.
+    ///
+    /// With the two sensors at different rates, STATUS_REG first: a triad
+    /// whose XLDA or GDA is clear keeps its previous value, -32768 on
+    /// every axis before its first sample (the output registers' reset
+    /// value, 0, would pass for a measurement; docs/PROTOCOL.md §22).
+    fn read_sample<I: RegisterInterface>(
+        driver: &mut Lsm6dsox<I>,
+    ) -> Result<RawSample, Error<I::BusError>> {
+        let two_rates = driver.config.accel_odr != driver.config.gyro_odr;
+        let status = match two_rates {
+            true => driver.read_register(reg::STATUS_REG)?,
+            false => reg::XLDA | reg::GDA,
+        };
+        let mut b = [0u8; 14];
+        driver.read_registers(reg::OUT_TEMP_L, &mut b)?;
+        let sample = RawSample {
+            temperature: i16::from_le_bytes([b[0], b[1]]),
+            gyro: triad_le(&b[2..8]),
+            accel: triad_le(&b[8..14]),
+        };
+        if !two_rates {
+            return Ok(sample);
+        }
+        let held = &mut driver.held;
+        held.temperature = sample.temperature;
+        if status & reg::XLDA != 0 {
+            held.accel = sample.accel;
+        }
+        if status & reg::GDA != 0 {
+            held.gyro = sample.gyro;
+        }
+        Ok(*held)
+    }
+
+    /// Reads FIFO_STATUS1/2 in one burst; on overrun resets the FIFO (bypass,
+    /// then the configured mode again) and reports the discarded samples as a
+    /// lower bound of the loss (the chip does not count what it dropped).
+    /// Otherwise reads OUT_TEMP (the FIFO carries no temperature here) and the
+    /// whole gyro + accel word pairs that fit in `out`, 32 samples per transaction.
+    fn read_fifo<I: RegisterInterface>(
+        driver: &mut Lsm6dsox<I>,
+        out: &mut [RawSample],
+    ) -> Result<FifoRead, Error<I::BusError>> {
+        let mut status = [0u8; 2];
+        driver.read_registers(reg::FIFO_STATUS1, &mut status)?;
+        let words = u16::from_le_bytes([status[0], status[1] & reg::DIFF_FIFO_HIGH_MASK]);
+        let available = words / reg::WORDS_PER_SAMPLE;
+        if words > reg::FIFO_CAPACITY_WORDS {
+            // More than the FIFO holds: the count cannot be trusted, nor
+            // what reading that many would bring. Start the FIFO afresh;
+            // what it held is lost, at least the watermark that raised this.
+            Self::reset_fifo(driver)?;
+            return Ok(FifoRead::impossible_count(driver.config().fifo));
+        }
+        if status[1] & (reg::FIFO_OVR_IA | reg::FIFO_OVR_LATCHED) != 0 {
+            Self::reset_fifo(driver)?;
+            return Ok(FifoRead::overflowed(u32::from(available), true));
+        }
+        let wanted = usize::from(available).min(out.len());
+        if wanted == 0 {
+            return Ok(FifoRead::drained(0, available));
+        }
+        let mut t = [0u8; 2];
+        driver.read_registers(reg::OUT_TEMP_L, &mut t)?;
+        let temperature = i16::from_le_bytes(t);
+        driver.read_fifo_records(reg::FIFO_DATA_OUT_TAG, &mut out[..wanted], |pair| {
+            decode_fifo_pair(pair, temperature)
+        })?;
+        // `wanted` ≤ `available`, so this fits.
+        Ok(FifoRead::drained(wanted, available - wanted as u16))
+    }
+
+    /// Bypass mode empties the FIFO; the configured mode then restarts it.
+    fn reset_fifo<I: RegisterInterface>(
+        driver: &mut Lsm6dsox<I>,
+    ) -> Result<(), Error<I::BusError>> {
+        driver.write(reg::FIFO_CTRL4, reg::FIFO_MODE_BYPASS)?;
+        if let Some(fifo) = driver.config.fifo {
+            driver.write(reg::FIFO_CTRL4, fifo_mode_bits(fifo.mode))?;
+        }
+        Ok(())
+    }
+}
+
+impl<I: RegisterInterface> Lsm6dsox<I> {
     /// Reads back the ranges and rates the chip holds (CTRL1_XL, CTRL2_G) as
     /// (accel range, gyro range, gyro ODR, accel ODR); a power-down or
     /// low-power-only rate reads as `InvalidConfig`.
     pub fn read_ranges(&mut self) -> Result<(AccelRange, GyroRange, Odr, Odr), Error<I::BusError>> {
         let mut b = [0u8; 2];
-        self.interface
-            .read_registers(reg::CTRL1_XL, &mut b)
-            .map_err(Error::Bus)?;
+        self.read_registers(reg::CTRL1_XL, &mut b)?;
         let [ctrl1_xl, ctrl2_g] = b;
         let invalid = |what, value: u8| Error::InvalidConfig {
             what,
@@ -205,20 +248,6 @@ impl<I: RegisterInterface> Lsm6dsox<I> {
         }
         self.read_sample()
     }
-
-    fn write(&mut self, register: u8, value: u8) -> Result<(), Error<I::BusError>> {
-        self.interface
-            .write_register(register, value)
-            .map_err(Error::Bus)
-    }
-
-    fn read_register(&mut self, register: u8) -> Result<u8, Error<I::BusError>> {
-        let mut b = [0u8];
-        self.interface
-            .read_registers(register, &mut b)
-            .map_err(Error::Bus)?;
-        Ok(b[0])
-    }
 }
 
 /// FIFO_CTRL4 FIFO_MODE for a [`FifoMode`].
@@ -236,7 +265,10 @@ fn triad_le(b: &[u8]) -> [i16; 3] {
 }
 
 /// Decodes one gyro + accel pair of FIFO words (either order).
-fn decode_fifo_pair(words: &[u8], temperature: i16) -> Result<RawSample, u8> {
+fn decode_fifo_pair(
+    words: &[u8; 2 * reg::FIFO_WORD_LEN],
+    temperature: i16,
+) -> Result<RawSample, u8> {
     let mut sample = RawSample {
         temperature,
         ..RawSample::default()
@@ -257,102 +289,4 @@ fn decode_fifo_pair(words: &[u8], temperature: i16) -> Result<RawSample, u8> {
         }
     }
     Ok(sample)
-}
-
-impl<I: RegisterInterface> Imu for Lsm6dsox<I> {
-    type Error = Error<I::BusError>;
-
-    /// One burst of 14 bytes from OUT_TEMP_L to OUTZ_H_A.
-    fn read_sample(&mut self) -> Result<RawSample, Self::Error> {
-        let mut b = [0u8; 14];
-        self.interface
-            .read_registers(reg::OUT_TEMP_L, &mut b)
-            .map_err(Error::Bus)?;
-        Ok(RawSample {
-            temperature: i16::from_le_bytes([b[0], b[1]]),
-            gyro: triad_le(&b[2..8]),
-            accel: triad_le(&b[8..14]),
-        })
-    }
-
-    fn scale(&self) -> ImuScale {
-        self.config.scale()
-    }
-}
-
-impl<I: RegisterInterface> FifoImu for Lsm6dsox<I> {
-    /// Reads FIFO_STATUS1/2 in one burst; on overrun resets the FIFO (bypass,
-    /// then the configured mode again) and reports the discarded samples as a
-    /// lower bound of the loss (the chip does not count what it dropped).
-    /// Otherwise reads OUT_TEMP (the FIFO carries no temperature here) and the
-    /// whole gyro + accel word pairs that fit in `out`, 32 samples per transaction.
-    fn read_fifo(&mut self, out: &mut [RawSample]) -> Result<FifoRead, Self::Error> {
-        let mut status = [0u8; 2];
-        self.interface
-            .read_registers(reg::FIFO_STATUS1, &mut status)
-            .map_err(Error::Bus)?;
-        let words = u16::from_le_bytes([status[0], status[1] & reg::DIFF_FIFO_HIGH_MASK]);
-        let available = words / reg::WORDS_PER_SAMPLE;
-        if words > reg::FIFO_CAPACITY_WORDS {
-            // More than the FIFO holds: the count cannot be trusted, nor
-            // what reading that many would bring. Start the FIFO afresh;
-            // what it held is lost, at least the watermark that raised this.
-            self.reset_fifo()?;
-            return Ok(FifoRead::impossible_count(self.config.fifo));
-        }
-        if status[1] & (reg::FIFO_OVR_IA | reg::FIFO_OVR_LATCHED) != 0 {
-            self.reset_fifo()?;
-            return Ok(FifoRead {
-                samples: 0,
-                remaining: 0,
-                overflowed: true,
-                lost: u32::from(available),
-                lost_is_lower_bound: true,
-            });
-        }
-        let wanted = usize::from(available).min(out.len());
-        if wanted == 0 {
-            return Ok(FifoRead {
-                remaining: available,
-                ..FifoRead::default()
-            });
-        }
-        let mut t = [0u8; 2];
-        self.interface
-            .read_registers(reg::OUT_TEMP_L, &mut t)
-            .map_err(Error::Bus)?;
-        let temperature = i16::from_le_bytes(t);
-        const PAIR: usize = 2 * reg::FIFO_WORD_LEN;
-        let mut buffer = [0u8; FIFO_CHUNK_SAMPLES * PAIR];
-        let mut done = 0;
-        while done < wanted {
-            let samples = (wanted - done).min(FIFO_CHUNK_SAMPLES);
-            let bytes = &mut buffer[..samples * PAIR];
-            self.interface
-                .read_registers(reg::FIFO_DATA_OUT_TAG, bytes)
-                .map_err(Error::Bus)?;
-            for (pair, slot) in bytes.chunks_exact(PAIR).zip(out[done..].iter_mut()) {
-                *slot = decode_fifo_pair(pair, temperature)
-                    .map_err(|header| Error::BadFifoPacket { header })?;
-            }
-            done += samples;
-        }
-        Ok(FifoRead {
-            samples: wanted,
-            // `wanted` ≤ `available`, so this fits.
-            remaining: available - wanted as u16,
-            overflowed: false,
-            lost: 0,
-            lost_is_lower_bound: false,
-        })
-    }
-
-    /// Bypass mode empties the FIFO; the configured mode then restarts it.
-    fn reset_fifo(&mut self) -> Result<(), Self::Error> {
-        self.write(reg::FIFO_CTRL4, reg::FIFO_MODE_BYPASS)?;
-        if let Some(fifo) = self.config.fifo {
-            self.write(reg::FIFO_CTRL4, fifo_mode_bits(fifo.mode))?;
-        }
-        Ok(())
-    }
 }

@@ -78,6 +78,8 @@ pub const DATAREADY_PULSED: u8 = 1 << 7;
 pub const INT1_FIFO_TH: u8 = 1 << 3;
 /// INT1_CTRL bit 1: gyro data ready on INT1.
 pub const INT1_DRDY_G: u8 = 1 << 1;
+/// INT1_CTRL bit 0: accelerometer data ready on INT1.
+pub const INT1_DRDY_XL: u8 = 1 << 0;
 
 /// STATUS_REG bit 1: new gyro sample.
 pub const GDA: u8 = 1 << 1;

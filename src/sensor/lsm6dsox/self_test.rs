@@ -13,13 +13,12 @@ use embedded_hal::delay::DelayNs;
 
 use super::config::{AccelRange, GyroRange, Odr};
 use super::registers as reg;
-use super::Lsm6dsox;
+use super::{Lsm6dsox, Lsm6dsoxChip};
 use crate::model::Triad;
 use crate::sensor::error::Error;
 use crate::sensor::interface::RegisterInterface;
 use crate::sensor::self_test::{
-    conclude, untouched, Poll, Sampling, SelfTestError, SelfTestLimits, SelfTestReport,
-    TriadSelfTest,
+    ChipSelfTest, Poll, Sampling, SelfTestLimits, SelfTestReport, TriadSelfTest,
 };
 
 /// CTRL1_XL..=CTRL10_C: the registers the procedure writes.
@@ -114,49 +113,66 @@ fn control_setup(ctrl1_xl: u8, ctrl2_g: u8) -> [u8; CONTROL_REGISTERS] {
     setup
 }
 
-/// The longest [`Lsm6dsox::self_test`] can take, ms: its waits plus every
-/// sampling pass's time budget (bus time excluded). Nominally it takes about
-/// 0.64 s; this bound is what a caller's watchdog or link timeout should allow.
-pub fn self_test_max_duration_ms() -> u32 {
-    let ns: u64 = [Procedure::accel(), Procedure::gyro()]
-        .iter()
-        .map(|p| 2 * (u64::from(SETTLE_MS) * 1_000_000 + p.sampling().budget_ns))
-        .sum();
-    // Under a second: fits.
-    u32::try_from(ns.div_ceil(1_000_000)).unwrap_or(u32::MAX)
+/// CTRL1_XL..=CTRL10_C and FIFO_CTRL4, as the procedure found them.
+pub struct Saved {
+    control: [u8; CONTROL_REGISTERS],
+    fifo_ctrl4: u8,
+}
+
+/// The data sheet's self-test (AN5272) on the accelerometer, then the
+/// gyroscope: each axis's response against DS12814's limits (accelerometer
+/// 50–1700 mg, gyroscope 150–700 °/s).
+///
+/// The chip must be still. It takes about 0.64 s (accelerometer: 2 ×
+/// (100 ms wait + 6 samples at 52 Hz); gyroscope: 2 × (100 ms + 6 samples
+/// at 208 Hz)); the caller stops sampling meanwhile, as the outputs carry
+/// the self-test configuration.
+///
+/// CTRL1_XL..=CTRL10_C are read first and written back at the end, and the
+/// FIFO (which batched self-test samples) is emptied by a pass through
+/// bypass mode back to FIFO_CTRL4's value.
+impl ChipSelfTest for Lsm6dsoxChip {
+    type Saved = Saved;
+
+    /// The procedure's waits plus every sampling pass's time budget.
+    /// Nominally it takes about 0.64 s.
+    fn self_test_max_duration_ms() -> u32 {
+        let ns: u64 = [Procedure::accel(), Procedure::gyro()]
+            .iter()
+            .map(|p| 2 * (u64::from(SETTLE_MS) * 1_000_000 + p.sampling().budget_ns))
+            .sum();
+        // Under a second: fits.
+        u32::try_from(ns.div_ceil(1_000_000)).unwrap_or(u32::MAX)
+    }
+
+    fn save<I: RegisterInterface>(driver: &mut Lsm6dsox<I>) -> Result<Saved, Error<I::BusError>> {
+        let mut control = [0u8; CONTROL_REGISTERS];
+        driver.read_registers(reg::CTRL1_XL, &mut control)?;
+        let fifo_ctrl4 = driver.read_register(reg::FIFO_CTRL4)?;
+        Ok(Saved {
+            control,
+            fifo_ctrl4,
+        })
+    }
+
+    fn run<I: RegisterInterface>(
+        driver: &mut Lsm6dsox<I>,
+        delay: &mut impl DelayNs,
+        _saved: &Saved,
+    ) -> Result<SelfTestReport, Error<I::BusError>> {
+        driver.run_self_test(delay)
+    }
+
+    fn restore<I: RegisterInterface>(
+        driver: &mut Lsm6dsox<I>,
+        _delay: &mut impl DelayNs,
+        saved: &Saved,
+    ) -> Result<(), Error<I::BusError>> {
+        driver.restore_after_self_test(&saved.control, saved.fifo_ctrl4)
+    }
 }
 
 impl<I: RegisterInterface> Lsm6dsox<I> {
-    /// Runs the data sheet's self-test (AN5272) on the accelerometer, then
-    /// the gyroscope, and reports each axis's response against DS12814's
-    /// limits (accelerometer 50–1700 mg, gyroscope 150–700 °/s).
-    ///
-    /// The chip must be still. It takes about 0.64 s (accelerometer: 2 ×
-    /// (100 ms wait + 6 samples at 52 Hz); gyroscope: 2 × (100 ms + 6 samples
-    /// at 208 Hz)), at most [`self_test_max_duration_ms`]; the caller stops
-    /// sampling meanwhile, as the outputs carry the self-test configuration.
-    ///
-    /// CTRL1_XL..=CTRL10_C are read first and written back at the end, and
-    /// the FIFO (which batched self-test samples) is emptied by a pass
-    /// through bypass mode back to FIFO_CTRL4's value, so sampling resumes in
-    /// the configuration it had. A verdict of fail is `Ok` with the failing
-    /// axes in the report; `Err` means the procedure did not finish (bus
-    /// error, or no new sample within twice the expected time), and says
-    /// whether the write-back restored the chip.
-    pub fn self_test(
-        &mut self,
-        delay: &mut impl DelayNs,
-    ) -> Result<SelfTestReport, SelfTestError<I::BusError>> {
-        let mut saved = [0u8; CONTROL_REGISTERS];
-        self.interface
-            .read_registers(reg::CTRL1_XL, &mut saved)
-            .map_err(|e| untouched(Error::Bus(e)))?;
-        let fifo_ctrl4 = self.read_register(reg::FIFO_CTRL4).map_err(untouched)?;
-        let run = self.run_self_test(delay);
-        let restore = self.restore_after_self_test(&saved, fifo_ctrl4);
-        conclude(run, restore)
-    }
-
     fn run_self_test(
         &mut self,
         delay: &mut impl DelayNs,

@@ -67,6 +67,7 @@ fn firmware(rate_hz: u32, watermark: u16) -> Firmware {
         sampling: Sampling {
             rate_hz: Some(rate_hz),
             watermark: (watermark > 1).then_some(watermark),
+            ..Sampling::default()
         },
         ..Firmware::default_emulated()
     }

@@ -108,6 +108,7 @@ fn parse_sampling(text: &str) -> Result<Sampling, String> {
     Ok(Sampling {
         rate_hz,
         watermark: Some(watermark),
+        ..Sampling::default()
     })
 }
 
@@ -144,8 +145,8 @@ pub fn run(args: HilArgs) -> Result<()> {
     let samplings = match args.sampling.is_empty() {
         true => [1, 8, 32]
             .map(|w| Sampling {
-                rate_hz: None,
                 watermark: Some(w),
+                ..Sampling::default()
             })
             .to_vec(),
         false => args.sampling.clone(),

@@ -1,23 +1,24 @@
 //! The emulated board's chip: the model of whichever listed chip the build
 //! names (`TRIAD_EMULATED_CHIP`), built from the core's one list of chips
 //! (`triad::for_each_chip!`), so adding a chip model here is its module
-//! under `emulated_board/` (`Model`, `model`) and nothing else. It answers SPI and I²C like the chip it models.
+//! under `emulated_board/` (an [`Emulated`] implementation for the chip)
+//! and nothing else. It answers SPI and I²C like the chip it models.
 
 use embedded_hal::{i2c, spi};
 
 use super::source::Source;
+use super::Emulated;
 use crate::chips::model_clock::Clocked;
-// The chip modules by the names the core's list gives them.
-use super::{icm42688, lsm6dsox};
+use triad::sensor::{Chip, DataRate};
 
 macro_rules! define_emulated_chip {
-    ($($module:ident::$driver:ident),+ $(,)?) => {
+    ($($variant:ident: $chip:ty),+ $(,)?) => {
         /// A powered-up chip model of one of the listed chips.
         #[allow(clippy::large_enum_variant)] // one of them, built once at start-up
         pub enum EmulatedChip {
             $(
-                #[doc = concat!("The `", stringify!($module), "` model.")]
-                $driver($module::Model),
+                #[doc = concat!("The model of `", stringify!($chip), "`.")]
+                $variant(<$chip as Emulated>::Model),
             )+
         }
 
@@ -28,10 +29,10 @@ macro_rules! define_emulated_chip {
             /// or a rate the chip does not have.
             pub fn rate_hz(name: &str, rate_hz: Option<u32>) -> Option<f64> {
                 $(
-                    if name == triad::sensor::$module::NAME {
+                    if name == <$chip>::NAME {
                         return match rate_hz {
-                            Some(hz) => Some(triad::sensor::$module::config::Odr::of_hz(hz)?.hz()),
-                            None => Some(triad::sensor::$module::Config::default().sample_rate_hz()),
+                            Some(hz) => Some(<$chip as Chip>::Odr::of_hz(hz)?.hz()),
+                            None => Some(<$chip>::DEFAULT_CONFIG.sample_rate_hz()),
                         };
                     }
                 )+
@@ -55,8 +56,8 @@ macro_rules! define_emulated_chip {
             ) -> Option<Self> {
                 let rate_hz = Self::rate_hz(name, rate_hz)?;
                 $(
-                    if name == triad::sensor::$module::NAME {
-                        return Some(Self::$driver($module::model(source(rate_hz))));
+                    if name == <$chip>::NAME {
+                        return Some(Self::$variant(<$chip>::model(source(rate_hz))));
                     }
                 )+
                 None
@@ -65,7 +66,7 @@ macro_rules! define_emulated_chip {
             /// The listed chip's name.
             pub fn name(&self) -> &'static str {
                 match self {
-                    $(Self::$driver(_) => triad::sensor::$module::NAME,)+
+                    $(Self::$variant(_) => <$chip>::NAME,)+
                 }
             }
 
@@ -73,7 +74,7 @@ macro_rules! define_emulated_chip {
             /// `None` while its sensors are off.
             pub fn next_sample_ns(&self) -> Option<u64> {
                 match self {
-                    $(Self::$driver(model) => model.ns_to_next_sample(),)+
+                    $(Self::$variant(model) => model.ns_to_next_sample(),)+
                 }
             }
 
@@ -82,7 +83,7 @@ macro_rules! define_emulated_chip {
             pub fn advance_one_sample(&mut self) {
                 if let Some(ns) = self.next_sample_ns() {
                     match self {
-                        $(Self::$driver(model) => model.advance(ns),)+
+                        $(Self::$variant(model) => model.advance(ns),)+
                     }
                 }
             }
@@ -90,40 +91,40 @@ macro_rules! define_emulated_chip {
             /// Injects a fault into the model (see [`Fault`](crate::chips::fault::Fault)).
             pub fn inject(&mut self, fault: crate::chips::fault::Fault) {
                 match self {
-                    $(Self::$driver(model) => model.inject(fault),)+
+                    $(Self::$variant(model) => model.inject(fault),)+
                 }
             }
 
             /// Clears the model's persistent faults and pending bus errors.
             pub fn clear_faults(&mut self) {
                 match self {
-                    $(Self::$driver(model) => model.clear_faults(),)+
+                    $(Self::$variant(model) => model.clear_faults(),)+
                 }
             }
 
             /// Puts the chip back at its power-on registers (sensors off,
-            /// FIFO empty), as after its supply came back: the module's
-            /// `power_on_reset`, its own reset through its registers.
+            /// FIFO empty), as after its supply came back: the chip's
+            /// [`Emulated::power_on_reset`], its own reset through its registers.
             pub fn power_on_reset(&mut self) {
                 match self {
-                    $(Self::$driver(model) => $module::power_on_reset(model),)+
+                    $(Self::$variant(model) => <$chip as Emulated>::power_on_reset(model),)+
                 }
             }
 
             /// `byte` as read at `address` when the FIFO's count is
-            /// impossible (the module's `impossible_fifo_count`): the count
+            /// impossible ([`Emulated::impossible_fifo_count`]): the count
             /// registers give a count beyond the FIFO's size, any other
             /// register its own byte.
             pub fn impossible_fifo_count(&self, address: u8, byte: u8) -> u8 {
                 match self {
-                    $(Self::$driver(_) => $module::impossible_fifo_count(address, byte),)+
+                    $(Self::$variant(_) => <$chip as Emulated>::impossible_fifo_count(address, byte),)+
                 }
             }
 
             /// The samples the model has produced so far.
             pub fn samples_produced(&self) -> u64 {
                 match self {
-                    $(Self::$driver(model) => model.samples_produced(),)+
+                    $(Self::$variant(model) => model.samples_produced(),)+
                 }
             }
         }
@@ -134,7 +135,7 @@ macro_rules! define_emulated_chip {
         impl Clocked for EmulatedChip {
             fn advance(&mut self, ns: u64) {
                 match self {
-                    $(Self::$driver(model) => model.advance(ns),)+
+                    $(Self::$variant(model) => model.advance(ns),)+
                 }
             }
         }
@@ -149,7 +150,7 @@ macro_rules! define_emulated_chip {
                 operations: &mut [spi::Operation<'_, u8>],
             ) -> Result<(), spi::ErrorKind> {
                 match self {
-                    $(Self::$driver(model) => model.transaction(operations),)+
+                    $(Self::$variant(model) => model.transaction(operations),)+
                 }
             }
         }
@@ -165,7 +166,7 @@ macro_rules! define_emulated_chip {
                 operations: &mut [i2c::Operation<'_>],
             ) -> Result<(), i2c::ErrorKind> {
                 match self {
-                    $(Self::$driver(model) => model.transaction(address, operations),)+
+                    $(Self::$variant(model) => model.transaction(address, operations),)+
                 }
             }
         }

@@ -4,38 +4,44 @@
 //! The end-to-end test on the host builds this very chip, so it knows what the
 //! firmware read.
 
+use triad::sensor::icm42688::Icm42688Chip;
+
+use super::source::Source;
+use super::Emulated;
 use crate::chips::icm42688_model::Icm42688Model;
 
-/// The chip model behind the bus, at I²C address 0x68 (AP_AD0 low).
-pub type Model = Icm42688Model<super::source::Source>;
+impl Emulated for Icm42688Chip {
+    /// The chip model behind the bus, at I²C address 0x68 (AP_AD0 low).
+    type Model = Icm42688Model<Source>;
 
-/// A powered-up chip model serving `source` (built at the sample rate of
-/// the driver's default configuration: 1 kHz, one data-ready per ms).
-pub fn model(source: super::source::Source) -> Model {
-    Icm42688Model::new(source)
-}
-
-/// Back at the power-on registers: bank 0 selected, then DEVICE_CONFIG's
-/// SOFT_RESET_CONFIG, which sets every register to its §13 reset value.
-pub fn power_on_reset(model: &mut Model) {
-    use crate::chips::icm42688_registers as reg;
-    use embedded_hal::spi::{Operation, SpiDevice};
-    for (address, value) in [
-        (reg::REG_BANK_SEL, 0),
-        (reg::DEVICE_CONFIG, reg::SOFT_RESET_CONFIG),
-    ] {
-        // The model's own SPI port: nothing fails once faults are cleared.
-        let _ = model.transaction(&mut [Operation::Write(&[address, value])]);
+    /// A powered-up chip model serving `source` (built at the sample rate of
+    /// the driver's default configuration: 1 kHz, one data-ready per ms).
+    fn model(source: Source) -> Self::Model {
+        Icm42688Model::new(source)
     }
-}
 
-/// FIFO_COUNTH and FIFO_COUNTL (bank 0) reading 4095: records, as the
-/// driver counts them, where the FIFO holds 128.
-pub fn impossible_fifo_count(address: u8, byte: u8) -> u8 {
-    use crate::chips::icm42688_registers as reg;
-    match address {
-        reg::FIFO_COUNTH => 0x0F,
-        a if a == reg::FIFO_COUNTH + 1 => 0xFF,
-        _ => byte,
+    /// Back at the power-on registers: bank 0 selected, then DEVICE_CONFIG's
+    /// SOFT_RESET_CONFIG, which sets every register to its §13 reset value.
+    fn power_on_reset(model: &mut Self::Model) {
+        use crate::chips::icm42688_registers as reg;
+        use embedded_hal::spi::{Operation, SpiDevice};
+        for (address, value) in [
+            (reg::REG_BANK_SEL, 0),
+            (reg::DEVICE_CONFIG, reg::SOFT_RESET_CONFIG),
+        ] {
+            // The model's own SPI port: nothing fails once faults are cleared.
+            let _ = model.transaction(&mut [Operation::Write(&[address, value])]);
+        }
+    }
+
+    /// FIFO_COUNTH and FIFO_COUNTL (bank 0) reading 4095: records, as the
+    /// driver counts them, where the FIFO holds 128.
+    fn impossible_fifo_count(address: u8, byte: u8) -> u8 {
+        use crate::chips::icm42688_registers as reg;
+        match address {
+            reg::FIFO_COUNTH => 0x0F,
+            a if a == reg::FIFO_COUNTH + 1 => 0xFF,
+            _ => byte,
+        }
     }
 }

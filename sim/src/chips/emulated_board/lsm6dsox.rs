@@ -4,41 +4,47 @@
 //! The end-to-end test on the host builds this very chip, so it knows what the
 //! firmware read.
 
+use triad::sensor::lsm6dsox::Lsm6dsoxChip;
+
+use super::source::Source;
+use super::Emulated;
 use crate::chips::lsm6dsox_model::Lsm6dsoxModel;
 
-/// The chip model behind the bus, at I²C address 0x6A (SA0/SDO low).
-pub type Model = Lsm6dsoxModel<super::source::Source>;
+impl Emulated for Lsm6dsoxChip {
+    /// The chip model behind the bus, at I²C address 0x6A (SA0/SDO low).
+    type Model = Lsm6dsoxModel<Source>;
 
-/// A powered-up chip model serving `source` (built at the sample rate of the
-/// driver's default configuration: 833 Hz in high-performance mode). The
-/// board's sample timer runs at the whole microsecond nearest the chip's
-/// 1200.48 µs period; the chip model's own clock keeps the exact period
-/// (`Lsm6dsoxModel::ns_to_next_sample`), so every data-ready brings exactly one new sample.
-pub fn model(source: super::source::Source) -> Model {
-    Lsm6dsoxModel::new(source)
-}
-
-/// Back at the power-on registers: the main page selected, then CTRL3_C's
-/// SW_RESET, which sets every register to its §8 reset value.
-pub fn power_on_reset(model: &mut Model) {
-    use crate::chips::lsm6dsox_registers as reg;
-    use embedded_hal::spi::{Operation, SpiDevice};
-    for (address, value) in [
-        (reg::FUNC_CFG_ACCESS, 0),
-        (reg::CTRL3_C, reg::CTRL3_C_RESET | reg::SW_RESET),
-    ] {
-        // The model's own SPI port: nothing fails once faults are cleared.
-        let _ = model.transaction(&mut [Operation::Write(&[address, value])]);
+    /// A powered-up chip model serving `source` (built at the sample rate of the
+    /// driver's default configuration: 833 Hz in high-performance mode). The
+    /// board's sample timer runs at the whole microsecond nearest the chip's
+    /// 1200.48 µs period; the chip model's own clock keeps the exact period
+    /// (`Lsm6dsoxModel::ns_to_next_sample`), so every data-ready brings exactly one new sample.
+    fn model(source: Source) -> Self::Model {
+        Lsm6dsoxModel::new(source)
     }
-}
 
-/// FIFO_STATUS1 and FIFO_STATUS2's DIFF_FIFO bits reading 1023 words, where
-/// the FIFO holds 512; FIFO_STATUS2's flags as they are.
-pub fn impossible_fifo_count(address: u8, byte: u8) -> u8 {
-    use crate::chips::lsm6dsox_registers as reg;
-    match address {
-        reg::FIFO_STATUS1 => 0xFF,
-        reg::FIFO_STATUS2 => byte | reg::DIFF_FIFO_HIGH_MASK,
-        _ => byte,
+    /// Back at the power-on registers: the main page selected, then CTRL3_C's
+    /// SW_RESET, which sets every register to its §8 reset value.
+    fn power_on_reset(model: &mut Self::Model) {
+        use crate::chips::lsm6dsox_registers as reg;
+        use embedded_hal::spi::{Operation, SpiDevice};
+        for (address, value) in [
+            (reg::FUNC_CFG_ACCESS, 0),
+            (reg::CTRL3_C, reg::CTRL3_C_RESET | reg::SW_RESET),
+        ] {
+            // The model's own SPI port: nothing fails once faults are cleared.
+            let _ = model.transaction(&mut [Operation::Write(&[address, value])]);
+        }
+    }
+
+    /// FIFO_STATUS1 and FIFO_STATUS2's DIFF_FIFO bits reading 1023 words, where
+    /// the FIFO holds 512; FIFO_STATUS2's flags as they are.
+    fn impossible_fifo_count(address: u8, byte: u8) -> u8 {
+        use crate::chips::lsm6dsox_registers as reg;
+        match address {
+            reg::FIFO_STATUS1 => 0xFF,
+            reg::FIFO_STATUS2 => byte | reg::DIFF_FIFO_HIGH_MASK,
+            _ => byte,
+        }
     }
 }

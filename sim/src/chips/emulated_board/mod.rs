@@ -15,8 +15,26 @@ pub mod source;
 pub use emulated_chip::EmulatedChip;
 pub use faulted_chip::FaultedChip;
 
+use self::source::Source;
+
 use triad::device::board::BoardDescription;
 use triad::model::Orientation;
+
+/// A chip the emulated board can carry: its register-level model serving
+/// the board's source. Each listed chip (`triad::for_each_chip!`) has one.
+pub trait Emulated: triad::sensor::Chip {
+    /// The chip model behind the bus.
+    type Model;
+    /// A powered-up chip model serving `source`.
+    fn model(source: Source) -> Self::Model;
+    /// Puts the model back at its power-on registers (sensors off, FIFO
+    /// empty), as after its supply came back, through its own reset.
+    fn power_on_reset(model: &mut Self::Model);
+    /// `byte` as read at `address` when the FIFO's count is impossible: the
+    /// count registers give a count beyond the FIFO's size, any other
+    /// register its own byte.
+    fn impossible_fifo_count(address: u8, byte: u8) -> u8;
+}
 
 /// The emulated board (QEMU's netduinoplus2): chip mounted in the board's
 /// axes, every sample streamed, USART1 at 921600 baud (QEMU ignores the

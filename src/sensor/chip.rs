@@ -1,0 +1,115 @@
+//! What a chip is to triad: one trait. A chip module implements [`Chip`] on
+//! a marker type (its identity, names, bus limits, configuration types and
+//! the register-level steps that differ: start-up, sample and FIFO reads;
+//! its self-test is [`ChipSelfTest`](super::self_test::ChipSelfTest)); the
+//! generic [`Driver`] does the rest, and
+//! [`for_each_chip!`](crate::for_each_chip) lists the chips detection
+//! tries. Adding a chip is its module, its chip model in the simulator, and
+//! one entry in that list.
+
+use core::fmt::Debug;
+
+use embedded_hal::delay::DelayNs;
+
+use super::config::Config;
+use super::driver::Driver;
+use super::error::Error;
+use super::fifo::FifoRead;
+use super::interface::RegisterInterface;
+use super::{RawSample, TriadScale};
+
+/// `defmt::Format` when the crate logs with defmt, nothing otherwise: lets a
+/// chip's configuration types be logged without a bound that only exists
+/// with the feature.
+#[cfg(feature = "defmt")]
+pub trait Loggable: defmt::Format {}
+#[cfg(feature = "defmt")]
+impl<T: defmt::Format> Loggable for T {}
+/// `defmt::Format` when the crate logs with defmt, nothing otherwise.
+#[cfg(not(feature = "defmt"))]
+pub trait Loggable {}
+#[cfg(not(feature = "defmt"))]
+impl<T> Loggable for T {}
+
+/// A full-scale range setting of one triad (a chip's `AccelRange`, `GyroRange`).
+pub trait FullScale: Copy + Debug + PartialEq + Eq + Loggable {
+    /// Counts → SI units and the range in SI units, from the data sheet.
+    fn scale(self) -> TriadScale;
+}
+
+/// An output data rate setting (a chip's `Odr`).
+pub trait DataRate: Copy + Debug + PartialEq + Eq + Loggable + 'static {
+    /// Every rate the driver offers.
+    const ALL: &'static [Self];
+
+    /// The rate in Hz.
+    fn hz(self) -> f64;
+
+    /// The rate whose whole number of hertz is `hz` (833 for 833 Hz, 12
+    /// for 12.5 Hz), if the chip has it.
+    fn of_hz(hz: u32) -> Option<Self> {
+        Self::ALL.iter().copied().find(|r| r.hz() as u32 == hz)
+    }
+}
+
+/// A chip triad drives: what differs from one chip to another. Implemented
+/// on a marker type; [`Driver<C, I>`](Driver) is the driver of chip `C`.
+pub trait Chip: Copy + Debug + PartialEq + Eq + Loggable + Sized + 'static {
+    /// The chip's name, as the link, the log and `--sensor` spell it.
+    const NAME: &'static str;
+    /// The value of the chip's identity register (WHO_AM_I).
+    const IDENTITY: u8;
+    /// The fastest SPI clock the chip takes, Hz.
+    const SPI_MAX_HZ: u32;
+    /// The chip's 7-bit I²C addresses, in the order detection tries them.
+    const I2C_ADDRESSES: &'static [u8];
+    /// The largest FIFO watermark, in the samples [`Config::fifo`] counts.
+    const MAX_WATERMARK: u16;
+    /// How an out-of-range watermark is named in [`Error::InvalidConfig`].
+    const WATERMARK_WHAT: &'static str;
+    /// Temperature sensitivity, LSB per °C.
+    const TEMP_LSB_PER_C: f64;
+    /// °C at temperature reading 0.
+    const TEMP_OFFSET_C: f64;
+
+    /// Accelerometer full-scale range.
+    type AccelRange: FullScale;
+    /// Gyroscope full-scale range.
+    type GyroRange: FullScale;
+    /// Output data rate.
+    type Odr: DataRate;
+
+    /// The driver's default configuration.
+    const DEFAULT_CONFIG: Config<Self>;
+    /// The ranges and rate the chip holds after a reset (the FIFO off):
+    /// what the driver reports before `init`.
+    const RESET_CONFIG: Config<Self>;
+
+    /// Reads the identity register without changing anything a listed chip
+    /// holds (detection probes every listed chip this way).
+    fn identify<I: RegisterInterface>(interface: &mut I) -> Result<u8, I::BusError>;
+
+    /// Checks the identity, soft-resets and applies `config` (validated by
+    /// the driver: watermark in range); leaves the chip sampling.
+    fn start<I: RegisterInterface>(
+        driver: &mut Driver<Self, I>,
+        delay: &mut impl DelayNs,
+        config: &Config<Self>,
+    ) -> Result<(), Error<I::BusError>>;
+
+    /// Reads the latest accelerometer, gyroscope and temperature sample in one burst.
+    fn read_sample<I: RegisterInterface>(
+        driver: &mut Driver<Self, I>,
+    ) -> Result<RawSample, Error<I::BusError>>;
+
+    /// Drains whole samples from the FIFO (see [`super::FifoImu::read_fifo`]).
+    fn read_fifo<I: RegisterInterface>(
+        driver: &mut Driver<Self, I>,
+        out: &mut [RawSample],
+    ) -> Result<FifoRead, Error<I::BusError>>;
+
+    /// Empties the FIFO.
+    fn reset_fifo<I: RegisterInterface>(
+        driver: &mut Driver<Self, I>,
+    ) -> Result<(), Error<I::BusError>>;
+}
