@@ -193,10 +193,14 @@ mod app {
         // Spawning at start-up cannot fail: neither task is running yet.
         let _ = commands::spawn();
         let _ = transmit::spawn();
+        // Last: the first data-ready edge a board paces itself comes one
+        // period from here, not from part-way through start-up.
+        let mut sample_line = b.sample_line;
+        sample_line.start();
         (
             Shared {},
             Local {
-                sample_line: b.sample_line,
+                sample_line,
                 clock: b.clock,
                 sensor: Some(started.sensor),
                 sampler: started.sampler,

@@ -12,6 +12,10 @@ use embedded_storage::nor_flash::NorFlash;
 
 /// The IMU's data-ready line as the sampling task sees it.
 pub trait DataReadyLine {
+    /// Sampling begins: called once, at the end of the firmware's start-up.
+    /// A line that the board itself paces (the emulated board's timer)
+    /// starts here; a chip's line needs nothing (the default).
+    fn start(&mut self) {}
     /// Clears what started this step (an EXTI pending bit), if anything must.
     fn acknowledge(&mut self);
     /// True when the next data-ready is already pending: this step overran.

@@ -76,11 +76,7 @@ impl triad::device::board::Board for Board {
         // bits as they were).
         let serial_rx = SerialRx::new(unsafe { pac::USART2::steal() }, tx_drain);
         Parts {
-            sample_line: SampleLine::new(
-                dp.TIM2,
-                &dp.TIM4,
-                rate_hz / f64::from(settings.watermark.max(1)),
-            ),
+            sample_line: SampleLine::new(dp.TIM2, rate_hz / f64::from(settings.watermark.max(1))),
             clock: MicrosecondClock::new(dp.TIM5, TIMER_CLOCK_HZ),
             serial,
             serial_rx,
@@ -143,16 +139,31 @@ impl triad::device::board::Board for Board {
 /// or EGR.UG) minus the value written. The board makes that offset exactly
 /// zero by writing CNT with the current tick count, which it reads from
 /// TIM4: a timer never written counts virtual nanoseconds since reset.
-pub struct SampleLine(pac::TIM2);
+pub struct SampleLine {
+    tim: pac::TIM2,
+    period_us: u32,
+}
 
 impl SampleLine {
     /// TIM2 pending EXTI0 at `rate_hz` (the sample rate over the watermark),
-    /// to the microsecond.
-    fn new(tim: pac::TIM2, virtual_ns: &pac::TIM4, rate_hz: f64) -> Self {
-        let period_us = triad::device::sample_period_us(rate_hz);
-        let ticks_now = || virtual_ns.cnt().read().bits() / (TIMER_CLOCK_HZ / 1_000_000);
+    /// to the microsecond, once [`DataReadyLine::start`] starts it.
+    fn new(tim: pac::TIM2, rate_hz: f64) -> Self {
         tim.psc()
             .write(|w| w.psc().set((TIMER_CLOCK_HZ / 1_000_000 - 1) as u16));
+        Self {
+            tim,
+            period_us: triad::device::sample_period_us(rate_hz),
+        }
+    }
+}
+
+impl DataReadyLine for SampleLine {
+    /// The timer starts at the end of the firmware's start-up, so that its
+    /// first edge comes one period later whatever start-up took (as a chip
+    /// configured last raises its first data-ready a period after).
+    fn start(&mut self) {
+        let tim = &self.tim;
+        let ticks_now = || cycles() / (TIMER_CLOCK_HZ / 1_000_000);
         // The offset is zero when the write lands in the microsecond read
         // before it; under -icount that is decided by instruction counts, so
         // a retry (at most once per microsecond boundary) settles it.
@@ -169,12 +180,9 @@ impl SampleLine {
         tim.dier().write(|w| w.uie().set_bit());
         tim.cr1().modify(|_, w| w.cen().set_bit());
         // The model schedules the first update one period after this write.
-        tim.arr().write(|w| w.arr().set(period_us));
-        Self(tim)
+        tim.arr().write(|w| w.arr().set(self.period_us));
     }
-}
 
-impl DataReadyLine for SampleLine {
     /// Nothing to acknowledge: a pended interrupt clears itself on entry.
     fn acknowledge(&mut self) {}
 
