@@ -3,7 +3,7 @@
 //! (a person turning a board for a calibration looks for directions not yet
 //! shown), so that every record of the script sees gravity from all sides.
 
-use super::rotation::{Mat3, IDENTITY};
+use super::rotation::{self, Mat3, IDENTITY};
 use crate::effects::rng::{mix64, Rng};
 use crate::motion::MAX_POSITIONS;
 
@@ -37,24 +37,7 @@ fn random_rotation(rng: &mut Rng) -> Mat3 {
         n2 = q.iter().map(|x| x * x).sum::<f64>();
     }
     let n = libm::sqrt(n2);
-    let [w, x, y, z] = q.map(|c| c / n);
-    [
-        [
-            1.0 - 2.0 * (y * y + z * z),
-            2.0 * (x * y - w * z),
-            2.0 * (x * z + w * y),
-        ],
-        [
-            2.0 * (x * y + w * z),
-            1.0 - 2.0 * (x * x + z * z),
-            2.0 * (y * z - w * x),
-        ],
-        [
-            2.0 * (x * z - w * y),
-            2.0 * (y * z + w * x),
-            1.0 - 2.0 * (x * x + y * y),
-        ],
-    ]
+    rotation::from_quaternion(&q.map(|c| c / n))
 }
 
 /// The level "up" seen in the body frame: Rᵀ·e_z, the third row of R.

@@ -3,6 +3,29 @@
 
 pub use triad::model::matrix::{mul, mul_transpose_vec, mul_vec, transpose_mul, Mat3, IDENTITY};
 
+/// The rotation matrix of the unit quaternion `[w, x, y, z]`: R·v = q·v·q*
+/// (body to reference). `q` is used as given: normalise it first.
+pub fn from_quaternion(q: &[f64; 4]) -> Mat3 {
+    let [w, x, y, z] = *q;
+    [
+        [
+            1.0 - 2.0 * (y * y + z * z),
+            2.0 * (x * y - w * z),
+            2.0 * (x * z + w * y),
+        ],
+        [
+            2.0 * (x * y + w * z),
+            1.0 - 2.0 * (x * x + z * z),
+            2.0 * (y * z - w * x),
+        ],
+        [
+            2.0 * (x * z - w * y),
+            2.0 * (y * z + w * x),
+            1.0 - 2.0 * (x * x + y * y),
+        ],
+    ]
+}
+
 /// Rotation about the frame's z axis by `angle` (radians).
 pub fn rot_z(angle: f64) -> Mat3 {
     let (s, c) = (libm::sin(angle), libm::cos(angle));

@@ -56,24 +56,7 @@ pub fn rotate_inverse(q: &Quat, v: &[f64; 3]) -> [f64; 3] {
 
 /// The rotation matrix R of q: R·v = q·v·q* (body to reference).
 pub fn to_matrix(q: &Quat) -> [[f64; 3]; 3] {
-    let [w, x, y, z] = *q;
-    [
-        [
-            1.0 - 2.0 * (y * y + z * z),
-            2.0 * (x * y - w * z),
-            2.0 * (x * z + w * y),
-        ],
-        [
-            2.0 * (x * y + w * z),
-            1.0 - 2.0 * (x * x + z * z),
-            2.0 * (y * z - w * x),
-        ],
-        [
-            2.0 * (x * z - w * y),
-            2.0 * (y * z + w * x),
-            1.0 - 2.0 * (x * x + y * y),
-        ],
-    ]
+    triad_sim::motion::rotation::from_quaternion(q)
 }
 
 /// q*.
