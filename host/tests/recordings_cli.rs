@@ -448,3 +448,67 @@ fn a_file_its_format_library_fails_on_is_an_error_naming_it() {
         assert!(!err.contains("panicked"), "{file}: no panic printed: {err}");
     }
 }
+
+/// `triad correct --calib calibrations/NAME [extra…] INPUT` must succeed; its stdout.
+fn corrected(name: &str, input: &Path, extra: &[&str]) -> String {
+    let calib = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../calibrations")
+        .join(name);
+    let mut args = vec!["correct", "--calib", s(&calib)];
+    args.extend(extra);
+    args.push(s(input));
+    let o = triad(&args);
+    assert!(o.status.success(), "{input:?}: {}", text(&o.stderr));
+    text(&o.stdout)
+}
+
+#[test]
+fn correct_reads_each_bag_as_the_csv_of_its_samples() {
+    // The bags hold the CSV's f64s: corrected natively they give the CSV's
+    // rows, in the f32 kernel (each value rounded once to f32 either way)
+    // and in the f64 reference, with and without g-sensitivity and
+    // temperature terms.
+    let d = dir("correct");
+    let csv = d.join("imu.csv");
+    std::fs::write(&csv, source_without_temp()).unwrap();
+    for calib in ["default.toml", "lab-example.toml"] {
+        for extra in [&[][..], &["--exact"][..]] {
+            let want = corrected(calib, &csv, extra);
+            for bag in &BAGS[..4] {
+                assert_eq!(
+                    corrected(calib, &fixture(bag), extra),
+                    want,
+                    "{bag} {calib} {extra:?}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn correct_on_one_triad_corrects_what_is_there_and_refuses_a_gyro_that_needs_g() {
+    let d = dir("correct-one-triad");
+    let (mut acc, mut gyr) = (String::new(), String::new());
+    for line in source_without_temp().lines().skip(1) {
+        let c: Vec<&str> = line.split(',').collect();
+        acc += &format!("{} {} {} {}\n", c[0], c[1], c[2], c[3]);
+        gyr += &format!("{} {} {} {}\n", c[0], c[4], c[5], c[6]);
+    }
+    let (a, g) = (d.join("acc.txt"), d.join("gyr.txt"));
+    std::fs::write(&a, acc).unwrap();
+    std::fs::write(&g, gyr).unwrap();
+    // The accelerometer's correction does not depend on the gyroscope: the
+    // imu_tk file's rows are the accel columns of the whole record's.
+    let whole = corrected("default.toml", &fixture("imu.bag"), &[]);
+    let want: String = whole
+        .lines()
+        .map(|l| l.split(',').take(4).collect::<Vec<_>>().join(",") + "\n")
+        .collect();
+    assert_eq!(corrected("default.toml", &a, &[]), want);
+    // The default calibration has G: a gyro alone cannot be corrected with it.
+    let calib = Path::new(env!("CARGO_MANIFEST_DIR")).join("../calibrations/default.toml");
+    refused(
+        &["correct", "--calib", s(&calib), s(&g)],
+        &["gyr.txt", "gyroscope only", "g-sensitivity"],
+    );
+}

@@ -6,8 +6,8 @@
 //!     TRIAD_PEERS_PYTHON=target/py-peers/bin/python \
 //!         cargo test -p triad-host --test recordings_peers -- --ignored
 //!
-//! Bags of a simulated record written by rosbags (ROS 1, ROS 2 SQLite and
-//! MCAP) give the CSV's Allan results; two IMU topics need --topic; an
+//! Bags of a simulated record written by rosbags (ROS 1 with plain, bz2 and
+//! lz4 chunks, ROS 2 SQLite and MCAP) give the CSV's Allan results; two IMU topics need --topic; an
 //! MCAP written by `triad convert` decodes (from its own schema text) with
 //! every sample in Python's mcap-ros2-support; a real PX4 ULog reads as
 //! pyulog reads it.
@@ -86,6 +86,8 @@ fn bags_written_by_rosbags_give_the_csvs_allan_and_two_topics_need_a_choice() {
     assert!(want.len() > 6 * 4 * 10, "{}", want.len());
     for bag in [
         "ros1.bag",
+        "ros1-bz2.bag",
+        "ros1-lz4.bag",
         "ros2_sqlite",
         "ros2_mcap",
         "ros2_mcap/ros2_mcap.mcap",

@@ -71,12 +71,7 @@ pub fn open_bytes(path: &Path, capacity: usize) -> anyhow::Result<Input> {
 /// A recording at `path` that is not triad's CSV (a regular file or a bag
 /// directory; FIFOs and devices are not looked into), as a CSV stream.
 fn foreign_record(path: &Path, capacity: usize) -> anyhow::Result<Option<Input>> {
-    let Ok(meta) = std::fs::metadata(path) else {
-        return Ok(None);
-    };
-    if !(meta.is_file() || meta.is_dir())
-        || !record::detect::detect(path)?.is_container_or_foreign()
-    {
+    if !is_foreign_record(path)? {
         return Ok(None);
     }
     let opened = record::open(path, &record::options::global())?;
@@ -93,6 +88,22 @@ fn foreign_record(path: &Path, capacity: usize) -> anyhow::Result<Option<Input>>
         )),
         size: 0,
     }))
+}
+
+/// True when `path` is a recording that is not triad's CSV: a regular file
+/// or a bag directory whose content says so (FIFOs, devices and standard
+/// input are read as CSV, not looked into).
+pub fn is_foreign_record(path: &Path) -> anyhow::Result<bool> {
+    if is_stdin(path) {
+        return Ok(false);
+    }
+    let Ok(meta) = std::fs::metadata(path) else {
+        return Ok(false);
+    };
+    Ok(
+        (meta.is_file() || meta.is_dir())
+            && record::detect::detect(path)?.is_container_or_foreign(),
+    )
 }
 
 /// The UTF-8 byte-order mark.

@@ -60,11 +60,20 @@ def bags(csv_path, out, topics):
     topics = topics or ["/imu0"]
     imu = "sensor_msgs/msg/Imu"
     ros1 = get_typestore(Stores.ROS1_NOETIC)
-    with Writer1(out / "ros1.bag") as w:
-        conns = [w.add_connection(tp, imu, typestore=ros1) for tp in topics]
-        for t, a, g in rows:
-            for c in conns:
-                w.write(c, stamp(t)[2], ros1.serialize_ros1(imu_message(ros1.types, t, a, g, True), imu))
+    # Plain chunks, and the two compressions ROS 1 bags use.
+    for name, compression in (
+        ("ros1.bag", None),
+        ("ros1-bz2.bag", Writer1.CompressionFormat.BZ2),
+        ("ros1-lz4.bag", Writer1.CompressionFormat.LZ4),
+    ):
+        w = Writer1(out / name)
+        if compression is not None:
+            w.set_compression(compression)
+        with w:
+            conns = [w.add_connection(tp, imu, typestore=ros1) for tp in topics]
+            for t, a, g in rows:
+                for c in conns:
+                    w.write(c, stamp(t)[2], ros1.serialize_ros1(imu_message(ros1.types, t, a, g, True), imu))
     ros2 = get_typestore(Stores.ROS2_HUMBLE)
     for name, plugin in (("ros2_sqlite", StoragePlugin.SQLITE3), ("ros2_mcap", StoragePlugin.MCAP)):
         with Writer2(out / name, version=8, storage_plugin=plugin) as w:

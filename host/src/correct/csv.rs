@@ -1,93 +1,17 @@
-//! `triad correct`: the firmware's correction, on a CSV of measured values in
-//! SI units. The f32 path runs the same kernel as the firmware
-//! (`Corrector::correct_si`); `--exact` runs the f64 reference. Streams line
-//! by line in constant memory.
-//!
-//! Input columns are found by name: `t`, `ax`…`gz` (s, m/s², rad/s) and an
-//! optional `temp` (°C), in any order among others (`triad decode` writes
-//! `seq,t,ax,ay,az,gx,gy,gz,temp,flags`). The output has the input's
-//! columns: the six values corrected, printed in the shortest form that
-//! reads back to the same f32 (or f64), every other cell copied as written.
-//! With a `temp` column and temperature terms, the coefficients are refolded
-//! whenever the temperature changes (clamped to the validated range).
-//! When the file records the temperature range its terms were fitted over
-//! (`temperature_range_c` of `[fit.accel]`/`[fit.gyro]`, written by `triad
-//! calib fit thermal`), the samples outside it are counted and reported on
-//! stderr: there the terms extrapolate.
+//! `triad correct` on triad's CSV: columns found by name, every other cell
+//! copied as written, streamed line by line in constant memory.
 
-use std::io::{self, BufRead, BufWriter, Write};
-use std::path::PathBuf;
-use std::process::ExitCode;
+use std::io::{self, BufRead, Write};
 
 use anyhow::{anyhow, bail, Context};
 use triad::model::Corrector;
 
-use crate::calib::file as calib_file;
-use crate::calib::{si_corrector, Ranges};
-use crate::plumbing::input::{self, strip_bom};
+use super::{six, How, Outside};
+use crate::plumbing::input::strip_bom;
 use crate::plumbing::stdio;
-
-/// Arguments of `triad correct`.
-#[derive(clap::Args)]
-pub struct CorrectArgs {
-    /// The calibration file (TOML).
-    #[arg(long)]
-    calib: PathBuf,
-    /// Input CSV with the columns `t,ax,ay,az,gx,gy,gz` and optionally
-    /// `temp`, found by name among any others (`-` for stdin), or a
-    /// recording (bag, MCAP, ULog, EuRoC, imu_tk: README, Recordings).
-    input: PathBuf,
-    /// Use the f64 reference instead of the firmware's f32 hot path.
-    #[arg(long)]
-    exact: bool,
-    #[command(flatten)]
-    ranges: Ranges,
-}
 
 /// The columns read, by name: `t`, the six values, then the optional `temp`.
 const COLUMNS: [&str; 8] = ["t", "ax", "ay", "az", "gx", "gy", "gz", "temp"];
-
-/// Runs `triad correct`.
-pub fn run(args: CorrectArgs) -> anyhow::Result<ExitCode> {
-    let file = calib_file::load(&args.calib)?;
-    let mut corrector = si_corrector(&file, &args.ranges)?;
-    let has_terms =
-        file.calibration.accel.temperature.is_some() || file.calibration.gyro.temperature.is_some();
-    let fitted_range = file.fitted_temperature_range();
-    let input = input::open(&args.input, 1 << 16)?;
-    let mut out = BufWriter::with_capacity(1 << 16, stdio::raw_stdout()?);
-    let outside = correct_stream(
-        input.reader,
-        &mut out,
-        &input.name,
-        &mut corrector,
-        has_terms,
-        args.exact,
-        fitted_range,
-    )?;
-    out.flush().map_err(stdio::stdout_error)?;
-    if let (Some([lo, hi]), Outside { outside: 1.., rows }) = (fitted_range, outside) {
-        stdio::note!(
-            "{}: {} of {rows} samples lie outside {lo:.1}..{hi:.1} °C, the range {} was fitted over: \
-             there its temperature terms extrapolate (the cubic bias and the linear (I+Σ) as fitted; \
-             the coefficients are clamped only to {}..{} °C)",
-            input.name,
-            outside.outside,
-            args.calib.display(),
-            triad::model::validate::TEMPERATURE_RANGE_C.0,
-            triad::model::validate::TEMPERATURE_RANGE_C.1
-        );
-    }
-    Ok(ExitCode::SUCCESS)
-}
-
-/// How many rows were corrected, and how many of them had a temperature
-/// outside the fitted range.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct Outside {
-    rows: usize,
-    outside: usize,
-}
 
 /// Where the columns are: the cell index of `t`, the six values and `temp`.
 struct Header {
@@ -249,19 +173,20 @@ impl<R: BufRead> Lines<R> {
 }
 
 /// Reads the CSV from `input`, writes the corrected CSV to `out`.
-fn correct_stream(
+pub(super) fn correct_stream(
     input: impl BufRead,
     out: &mut impl Write,
     name: &str,
     corrector: &mut Corrector,
-    has_terms: bool,
-    exact: bool,
-    fitted_range: Option<[f64; 2]>,
+    how: How,
 ) -> anyhow::Result<Outside> {
-    let mut count = Outside {
-        rows: 0,
-        outside: 0,
-    };
+    let How {
+        has_terms,
+        exact,
+        fitted_range,
+        ..
+    } = how;
+    let mut count = Outside::default();
     let mut lines = Lines {
         input,
         name: name.to_string(),
@@ -306,10 +231,7 @@ fn correct_stream(
             }
         }
         correct_row(out, corrector, at, &fields, &header, temperature, exact)?;
-        count.rows += 1;
-        if let (Some(t), Some([lo, hi])) = (temperature, fitted_range) {
-            count.outside += usize::from(!(lo..=hi).contains(&t));
-        }
+        count.add(temperature, fitted_range);
     }
 }
 
@@ -341,13 +263,6 @@ fn correct_row(
         write_row(out, fields, header, six(m.accel, m.gyro))
     };
     written.map_err(stdio::stdout_error)
-}
-
-/// The six corrected values in the order of [`COLUMNS`].
-fn six<T>(accel: [T; 3], gyro: [T; 3]) -> [T; 6] {
-    let [ax, ay, az] = accel;
-    let [gx, gy, gz] = gyro;
-    [ax, ay, az, gx, gy, gz]
 }
 
 /// One output row: the input's cells, the six values replaced by
@@ -393,9 +308,12 @@ mod tests {
             &mut out,
             "in.csv",
             &mut c,
-            false,
-            exact,
-            None,
+            How {
+                has_terms: false,
+                g_sensitivity: false,
+                exact,
+                fitted_range: None,
+            },
         )?;
         Ok(String::from_utf8(out).unwrap())
     }
