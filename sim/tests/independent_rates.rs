@@ -1,9 +1,9 @@
 //! triad's drivers with the accelerometer and the gyroscope at different
 //! output data rates, against the chip models: samples come at the faster
 //! sensor's rate, each carrying the faster sensor's new value and the slower
-//! sensor's latest one (held), on data ready and (ICM-42688-P) from the FIFO;
-//! a FIFO the driver cannot drain at two rates (LSM6DSOX) and settings that
-//! make no sense are refused before any write.
+//! sensor's latest one (held), on data ready and from the FIFO (the
+//! ICM-42688-P's packets; the LSM6DSOX's tagged words, one sample per time
+//! slot); settings that make no sense are refused before any write.
 
 mod common;
 
@@ -151,27 +151,65 @@ fn lsm6dsox_on_data_ready_interrupts_at_the_faster_accelerometer() {
 }
 
 #[test]
-fn lsm6dsox_fifo_at_two_rates_is_refused_before_any_write() {
-    let mut imu = Lsm6dsox::new_spi(Lsm6dsoxModel::new(RampSource::default()));
-    let config = Config::<Lsm6dsoxChip> {
-        accel_odr: LsmOdr::Hz1666,
-        gyro_odr: LsmOdr::Hz833,
-        fifo: Some(FifoConfig {
-            watermark: 8,
-            mode: FifoMode::StopOnFull,
-        }),
-        ..Config::default()
-    };
-    let error = imu.init(&mut NoopDelay::new(), &config).unwrap_err();
-    assert!(
-        matches!(error, Error::InvalidConfig { value: 1666, .. }),
-        "{error:?}"
-    );
-    assert_eq!(
-        imu.bus().peek(0x10),
-        0x00,
-        "CTRL1_XL untouched: the chip stays off"
-    );
+fn lsm6dsox_fifo_at_two_rates_gives_one_sample_per_slot_the_slower_held() {
+    // Each faster and slower sensor; an output of 32 (the firmware's) and
+    // one of 5, which cuts the FIFO's slots between drains.
+    for (accel, gyro, slower, ratio) in [
+        (LsmOdr::Hz1666, LsmOdr::Hz833, Triad::Gyro, 2),
+        // 52 and 208 Hz: a whole ratio in the model's nominal rates (833
+        // and 208 are not: 4.005), as the chip's dividers give.
+        (LsmOdr::Hz52, LsmOdr::Hz208, Triad::Accel, 4),
+    ] {
+        for room in [32usize, 5] {
+            let what = format!("{accel:?}/{gyro:?}, output of {room}");
+            let mut imu = Lsm6dsox::new_spi(Lsm6dsoxModel::new(RampSource::default()));
+            let config = Config::<Lsm6dsoxChip> {
+                accel_odr: accel,
+                gyro_odr: gyro,
+                fifo: Some(FifoConfig {
+                    watermark: 8,
+                    mode: FifoMode::StopOnFull,
+                }),
+                ..Config::default()
+            };
+            imu.init(&mut NoopDelay::new(), &config).unwrap();
+            // FIFO_CTRL1: 8 slots are 8 words of the faster sensor and
+            // 8 / ratio of the slower.
+            assert_eq!(imu.bus().peek(0x07), 8 + 8 / ratio as u8, "{what}");
+            let mut samples = Vec::new();
+            let mut out = vec![RawSample::default(); room];
+            let mut slots = 0usize;
+            for _ in 0..600 {
+                let ns = imu.bus().ns_to_next_sample().expect("sampling");
+                imu.bus_mut().advance(ns);
+                slots += 1;
+                if !imu.bus().int1() {
+                    continue;
+                }
+                for drain in 0.. {
+                    assert!(drain < 100, "{what}: the FIFO never drains");
+                    let read = imu.read_fifo(&mut out).unwrap();
+                    assert!(!read.overflowed, "{what}");
+                    samples.extend_from_slice(&out[..read.samples]);
+                    // What waits is what the chip made and was not delivered
+                    // (the slower sensor's pattern known from its first word).
+                    if samples.len() > ratio {
+                        assert_eq!(
+                            usize::from(read.remaining),
+                            slots - samples.len(),
+                            "{what}: after {} samples",
+                            samples.len()
+                        );
+                    }
+                    if read.remaining == 0 {
+                        break;
+                    }
+                }
+            }
+            assert!(samples.len() > 550, "{what}: {}", samples.len());
+            assert_held_every(&samples, slower, ratio);
+        }
+    }
 }
 
 #[test]

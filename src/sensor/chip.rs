@@ -78,6 +78,9 @@ pub trait Chip: Copy + Debug + PartialEq + Eq + Loggable + Sized + 'static {
     type GyroRange: FullScale;
     /// Output data rate.
     type Odr: DataRate;
+    /// What the driver keeps between FIFO drains beyond the held sample
+    /// (the LSM6DSOX: a time slot cut by a full output; `()` where nothing).
+    type FifoState: Copy + Default + core::fmt::Debug;
 
     /// The driver's default configuration.
     const DEFAULT_CONFIG: Config<Self>;

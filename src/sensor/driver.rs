@@ -38,6 +38,8 @@ pub struct Driver<C: Chip, I> {
     /// no new sample (it runs at the lower rate) keeps its value from here;
     /// [`NOT_YET_SAMPLED`] until it has one.
     pub(super) held: RawSample,
+    /// The chip's own FIFO bookkeeping between drains ([`Chip::FifoState`]).
+    pub(super) fifo_state: C::FifoState,
 }
 
 impl<C: Chip, SPI: SpiDevice> Driver<C, SpiInterface<SPI>> {
@@ -62,6 +64,7 @@ impl<C: Chip, I: RegisterInterface> Driver<C, I> {
             interface,
             config: C::RESET_CONFIG,
             held: NOT_YET_SAMPLED,
+            fifo_state: C::FifoState::default(),
         }
     }
 
@@ -115,6 +118,7 @@ impl<C: Chip, I: RegisterInterface> Driver<C, I> {
         C::start(self, delay, config)?;
         self.config = *config;
         self.held = NOT_YET_SAMPLED;
+        self.fifo_state = C::FifoState::default();
         Ok(())
     }
 

@@ -45,6 +45,7 @@ impl Chip for Icm42688Chip {
     type AccelRange = AccelRange;
     type GyroRange = GyroRange;
     type Odr = Odr;
+    type FifoState = ();
 
     /// ±16 g, ±2000 °/s, 1 kHz, data-ready interrupt, FIFO off: the chip's
     /// reset ranges and rate.

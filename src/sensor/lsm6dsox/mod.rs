@@ -7,10 +7,12 @@
 pub mod config;
 mod registers;
 mod self_test;
+mod tagged_fifo;
 
 use embedded_hal::delay::DelayNs;
 
 use self::registers as reg;
+use self::tagged_fifo::{Rates, TaggedFifo};
 use super::chip::{Chip, DataRate};
 use super::driver::Driver;
 use super::error::Error;
@@ -46,6 +48,7 @@ impl Chip for Lsm6dsoxChip {
     type AccelRange = AccelRange;
     type GyroRange = GyroRange;
     type Odr = Odr;
+    type FifoState = TaggedFifo;
 
     /// ±16 g, ±2000 °/s, 833 Hz, data-ready interrupt, FIFO off.
     const DEFAULT_CONFIG: Config = Config {
@@ -76,14 +79,6 @@ impl Chip for Lsm6dsoxChip {
         delay: &mut impl DelayNs,
         config: &Config,
     ) -> Result<(), Error<I::BusError>> {
-        if config.fifo.is_some() && config.accel_odr != config.gyro_odr {
-            // The tagged FIFO then holds one sensor's words more often than
-            // the other's; this driver drains gyro + accel pairs only.
-            return Err(Error::InvalidConfig {
-                what: "accelerometer rate, Hz, with the FIFO on (the LSM6DSOX driver batches both sensors at one rate)",
-                value: config.accel_odr.hz() as u32,
-            });
-        }
         driver.expect_identity(reg::WHO_AM_I)?;
         driver.write(reg::CTRL3_C, reg::IF_INC | reg::SW_RESET)?;
         delay.delay_us(reg::SW_RESET_WAIT_US);
@@ -101,7 +96,7 @@ impl Chip for Lsm6dsoxChip {
         let (accel_odr, gyro_odr) = (config.accel_odr.code(), config.gyro_odr.code());
         match config.fifo {
             Some(fifo) => {
-                let [high, low] = (fifo.watermark * reg::WORDS_PER_SAMPLE).to_be_bytes();
+                let [high, low] = watermark_words(config, fifo.watermark).to_be_bytes();
                 driver.write(reg::FIFO_CTRL1, low)?;
                 driver.write(reg::FIFO_CTRL2, high & 0x01)?;
                 // BDR_GY in bits 7:4, BDR_XL in 3:0: each sensor batched at its ODR.
@@ -173,7 +168,11 @@ impl Chip for Lsm6dsoxChip {
         let mut status = [0u8; 2];
         driver.read_registers(reg::FIFO_STATUS1, &mut status)?;
         let words = u16::from_le_bytes([status[0], status[1] & reg::DIFF_FIFO_HIGH_MASK]);
-        let available = words / reg::WORDS_PER_SAMPLE;
+        let rates = rates(driver.config());
+        let available = match rates {
+            Some(rates) => driver.fifo_state.slots_waiting(words, rates),
+            None => words / reg::WORDS_PER_SAMPLE,
+        };
         if words > reg::FIFO_CAPACITY_WORDS {
             // More than the FIFO holds: the count cannot be trusted, nor
             // what reading that many would bring. Start the FIFO afresh;
@@ -185,13 +184,14 @@ impl Chip for Lsm6dsoxChip {
             Self::reset_fifo(driver)?;
             return Ok(FifoRead::overflowed(u32::from(available), true));
         }
+        if let Some(rates) = rates {
+            return Self::read_fifo_slots(driver, out, words, rates);
+        }
         let wanted = usize::from(available).min(out.len());
         if wanted == 0 {
             return Ok(FifoRead::drained(0, available));
         }
-        let mut t = [0u8; 2];
-        driver.read_registers(reg::OUT_TEMP_L, &mut t)?;
-        let temperature = i16::from_le_bytes(t);
+        let temperature = Self::read_temperature(driver)?;
         driver.read_fifo_records(reg::FIFO_DATA_OUT_TAG, &mut out[..wanted], |pair| {
             decode_fifo_pair(pair, temperature)
         })?;
@@ -203,11 +203,99 @@ impl Chip for Lsm6dsoxChip {
     fn reset_fifo<I: RegisterInterface>(
         driver: &mut Lsm6dsox<I>,
     ) -> Result<(), Error<I::BusError>> {
+        driver.fifo_state = TaggedFifo::default();
         driver.write(reg::FIFO_CTRL4, reg::FIFO_MODE_BYPASS)?;
         if let Some(fifo) = driver.config.fifo {
             driver.write(reg::FIFO_CTRL4, fifo_mode_bits(fifo.mode))?;
         }
         Ok(())
+    }
+}
+
+impl Lsm6dsoxChip {
+    /// OUT_TEMP (the FIFO carries no temperature here: one reading per drain).
+    fn read_temperature<I: RegisterInterface>(
+        driver: &mut Lsm6dsox<I>,
+    ) -> Result<i16, Error<I::BusError>> {
+        let mut t = [0u8; 2];
+        driver.read_registers(reg::OUT_TEMP_L, &mut t)?;
+        Ok(i16::from_le_bytes(t))
+    }
+
+    /// The FIFO at two rates ([`tagged_fifo`]): reads the `words` counted,
+    /// word by word in bursts, one sample per time slot, never more words
+    /// at once than `out` has room for samples (a word closes at most one
+    /// slot); a slot cut by a full `out` stays open for the next drain.
+    fn read_fifo_slots<I: RegisterInterface>(
+        driver: &mut Lsm6dsox<I>,
+        out: &mut [RawSample],
+        words: u16,
+        rates: Rates,
+    ) -> Result<FifoRead, Error<I::BusError>> {
+        let temperature = Self::read_temperature(driver)?;
+        let mut buffer = [[0u8; reg::FIFO_WORD_LEN]; FIFO_BURST_WORDS];
+        let (mut delivered, mut left) = (0usize, usize::from(words));
+        while left > 0 && delivered < out.len() {
+            let burst = &mut buffer[..left.min(FIFO_BURST_WORDS).min(out.len() - delivered)];
+            driver.read_registers(reg::FIFO_DATA_OUT_TAG, burst.as_flattened_mut())?;
+            left -= burst.len();
+            for word in burst.iter() {
+                let closed = driver
+                    .fifo_state
+                    .push(word, rates, &mut driver.held)
+                    .map_err(|header| Error::BadFifoPacket { header })?;
+                if let Some(sample) = closed {
+                    out[delivered] = RawSample {
+                        temperature,
+                        ..sample
+                    };
+                    delivered += 1;
+                }
+            }
+        }
+        if left == 0 && delivered < out.len() {
+            if let Some(sample) = driver.fifo_state.flush(&mut driver.held) {
+                out[delivered] = RawSample {
+                    temperature,
+                    ..sample
+                };
+                delivered += 1;
+            }
+        }
+        // `left` ≤ `words`, a u16.
+        let waiting = driver.fifo_state.slots_waiting(left as u16, rates);
+        Ok(FifoRead::drained(delivered, waiting))
+    }
+}
+
+/// FIFO words read per bus transaction at two rates (32 × 7 B of stack).
+const FIFO_BURST_WORDS: usize = 32;
+
+/// The rates of `config` when they differ (the FIFO then holds the slower
+/// sensor's word in every `ratio`-th slot only).
+fn rates(config: &Config) -> Option<Rates> {
+    let (accel, gyro) = (config.accel_odr.hz(), config.gyro_odr.hz());
+    if config.accel_odr == config.gyro_odr {
+        return None;
+    }
+    let (fast, slow) = if gyro > accel {
+        (gyro, accel)
+    } else {
+        (accel, gyro)
+    };
+    Some(Rates {
+        gyro_faster: gyro > accel,
+        ratio: libm::round(fast / slow) as u16,
+    })
+}
+
+/// FIFO_CTRL1/2's watermark, words, for `watermark` samples: two words per
+/// sample at one rate; at two rates one per slot plus the slower sensor's
+/// in every `ratio`-th.
+fn watermark_words(config: &Config, watermark: u16) -> u16 {
+    match rates(config) {
+        None => watermark * reg::WORDS_PER_SAMPLE,
+        Some(r) => watermark + watermark.div_ceil(r.ratio),
     }
 }
 
