@@ -21,6 +21,7 @@
 use defmt_rtt as _;
 pub use stm32f4xx_hal::pac;
 
+mod dma_region;
 mod flash;
 mod serial_rx;
 mod serial_tx;

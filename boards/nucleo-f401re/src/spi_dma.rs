@@ -23,7 +23,6 @@
 
 use core::sync::atomic::{compiler_fence, AtomicU8, Ordering};
 
-use embedded_dma::{ReadBuffer, WriteBuffer};
 use embedded_hal::spi::{ErrorKind, ErrorType, SpiBus};
 use stm32f4xx_hal::dma::config::{DmaConfig, Priority};
 use stm32f4xx_hal::dma::traits::DmaFlagExt as _;
@@ -31,6 +30,7 @@ use stm32f4xx_hal::dma::{MemoryToPeripheral, PeripheralToMemory, Stream0, Stream
 use stm32f4xx_hal::spi;
 use stm32f4xx_hal::{ClearFlags as _, ReadFlags as _};
 
+use crate::dma_region::Region;
 use crate::pac;
 
 /// What a read sends: zeros (the chips ignore SDI while they answer). In
@@ -47,51 +47,6 @@ const CHUNK_LEN: usize = 512;
 /// The longest run a write receives into [`DISCARD`]: the drivers write a
 /// register address and at most one value.
 const DISCARD_LEN: usize = 16;
-
-/// Bytes the DMA reads or writes: an address and a length, for one
-/// transfer. Plain numbers, so that the bus stays `Send` for RTIC.
-#[derive(Clone, Copy)]
-struct Region {
-    address: usize,
-    len: usize,
-}
-
-impl Region {
-    const EMPTY: Region = Region { address: 0, len: 0 };
-
-    fn of(bytes: &[u8]) -> Region {
-        Region {
-            address: bytes.as_ptr() as usize,
-            len: bytes.len(),
-        }
-    }
-
-    fn discard(len: usize) -> Region {
-        Region {
-            address: DISCARD.as_ptr() as usize,
-            len,
-        }
-    }
-}
-
-// SAFETY: a `Region` is made only from bytes that stay valid, and are not
-// otherwise read or written, until the transfer using it has ended
-// (`DmaSpi::exchange` waits for that, or stops the streams, before it
-// returns); the stream reads `len` bytes from `address`.
-unsafe impl ReadBuffer for Region {
-    type Word = u8;
-    unsafe fn read_buffer(&self) -> (*const u8, usize) {
-        (self.address as *const u8, self.len)
-    }
-}
-
-// SAFETY: as for `ReadBuffer`; the stream writes `len` bytes from `address`.
-unsafe impl WriteBuffer for Region {
-    type Word = u8;
-    unsafe fn write_buffer(&mut self) -> (*mut u8, usize) {
-        (self.address as *mut u8, self.len)
-    }
-}
 
 /// Why an SPI transfer failed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, defmt::Format)]
@@ -158,8 +113,8 @@ impl DmaSpi {
     /// the same length, at most 65535), and returns when the last byte is
     /// in: the clock has stopped, so the device may raise CS.
     fn exchange(&mut self, source: Region, sink: Region) -> Result<(), SpiDmaError> {
-        debug_assert_eq!(source.len, sink.len);
-        if sink.len == 0 {
+        debug_assert_eq!(source.len(), sink.len());
+        if sink.len() == 0 {
             return Ok(());
         }
         // RM0368 (DMA_SxCR, EN): a stream's flags are cleared before it is
@@ -174,7 +129,7 @@ impl DmaSpi {
         }
         // At the slowest clock (PCLK2 / 256) a byte is 2048 core cycles;
         // each look takes more than 4.
-        let mut looks = (sink.len + 1) * 1024;
+        let mut looks = (sink.len() + 1) * 1024;
         loop {
             let (rx, tx) = (self.rx.flags(), self.tx.flags());
             if rx.is_transfer_error() || tx.is_transfer_error() {
@@ -235,7 +190,7 @@ impl SpiBus<u8> for DmaSpi {
     /// Discards what comes back, in runs of [`DISCARD_LEN`].
     fn write(&mut self, words: &[u8]) -> Result<(), SpiDmaError> {
         for chunk in words.chunks(DISCARD_LEN) {
-            self.exchange(Region::of(chunk), Region::discard(chunk.len()))?;
+            self.exchange(Region::of(chunk), Region::cells(&DISCARD, 0, chunk.len()))?;
         }
         Ok(())
     }
