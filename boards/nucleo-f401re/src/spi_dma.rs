@@ -6,10 +6,10 @@
 //! a byte at 21 MHz, where the HAL's blocking transfer waits for each byte
 //! and spends its loop between them.
 //!
-//! Every transfer goes by DMA, the one-byte register address included: a
-//! restart is a few register writes (`Transfer::next_transfer`), about
-//! what the CPU spends on one byte, and the HAL's `Spi` cannot be kept
-//! beside its DMA (`Spi::use_dma` consumes it).
+//! Every transfer goes by DMA, the one-byte register address included: the
+//! HAL's `Spi` cannot be kept beside its DMA (`Spi::use_dma` consumes it),
+//! and a restart is a few register writes per stream
+//! (`Transfer::next_transfer`), not a set-up of the stream.
 //!
 //! What the HAL lacks, and is here: a buffer that is not `'static` (each
 //! transfer borrows the caller's bytes; [`DmaSpi::exchange`] waits until
