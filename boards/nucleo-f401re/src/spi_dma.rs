@@ -151,26 +151,48 @@ impl DmaSpi {
         Ok(())
     }
 
-    /// Stops both streams after a failure (the next exchange restarts them).
+    /// Stops both streams after a failure (the next exchange restarts
+    /// them), and empties the receiver so that the next exchange's first
+    /// byte is its own.
     fn stop(&mut self, error: SpiDmaError) -> SpiDmaError {
         self.tx.pause(|_| {});
         self.rx.pause(|_| {});
+        let spi = spi1();
+        // A byte already in DR or the shift register still goes out: at
+        // most two bytes, 4096 core cycles at PCLK2 / 256.
+        for _ in 0..4096 {
+            if spi.sr().read().bsy().bit_is_clear() {
+                break;
+            }
+        }
+        clear_receiver(spi);
         error
     }
 }
 
-/// Whether SPI1 lost a received byte (OVR), clearing the flag (RM0368
-/// §20.4.8: read DR, then SR). The HAL checks OVR only in its own blocking
-/// transfers, which the DMA replaces.
+/// SPI1's registers, for what the HAL's DMA handles do not offer: the
+/// status flags (the HAL checks OVR only in its own blocking transfers,
+/// which the DMA replaces).
+fn spi1() -> &'static pac::spi1::RegisterBlock {
+    // SAFETY: used only to read SR and DR, which nothing else touches while
+    // this bus owns SPI1 and both of its streams are stopped.
+    unsafe { &*pac::SPI1::ptr() }
+}
+
+/// Empties DR and clears OVR (RM0368 §20.4.8: read DR, then SR).
+fn clear_receiver(spi: &pac::spi1::RegisterBlock) {
+    let _ = spi.dr().read();
+    let _ = spi.sr().read();
+}
+
+/// Whether SPI1 lost a received byte (OVR) during the exchange just ended,
+/// clearing the flag.
 fn overrun() -> bool {
-    // SAFETY: reads of SPI1's SR and DR; nothing else uses SPI1 while
-    // this bus owns it, and both streams have stopped.
-    let spi = unsafe { &*pac::SPI1::ptr() };
+    let spi = spi1();
     if spi.sr().read().ovr().bit_is_clear() {
         return false;
     }
-    let _ = spi.dr().read();
-    let _ = spi.sr().read();
+    clear_receiver(spi);
     true
 }
 
