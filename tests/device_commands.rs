@@ -259,6 +259,30 @@ fn identify_reports_the_facts_the_calibration_and_the_counters() {
 }
 
 #[test]
+fn identify_reports_the_flash_stalls_since_the_last_reset_and_older_replies_read_as_none() {
+    let mut device = Device::new(Some(RamFlash::new()));
+    assert_eq!(device.info(1).counters.flash_stalls, 0);
+    // A save on a single-bank board: one erase and two writes.
+    device.counters.publish_flash_stalls(3);
+    assert_eq!(device.info(2).counters.flash_stalls, 3);
+    device.ok(Command::ResetCounters, 3);
+    assert_eq!(device.info(4).counters.flash_stalls, 0);
+    // An erase since: two more, counted from the reset.
+    device.counters.publish_flash_stalls(5);
+    let payload = device.ok(Command::Identify, 5);
+    let info = DeviceInfo::parse(payload.as_slice()).unwrap();
+    assert_eq!(info.counters.flash_stalls, 2);
+    // Firmware from before the field: its reply ends after the sensor's
+    // health, and reads as no stall; a cut field is not read as a count.
+    let bytes = payload.as_slice();
+    for cut in 1..=4 {
+        let older = DeviceInfo::parse(&bytes[..bytes.len() - cut]).unwrap();
+        assert_eq!(older.counters.flash_stalls, 0, "cut {cut}");
+        assert_eq!(older.counters.commands, info.counters.commands, "cut {cut}");
+    }
+}
+
+#[test]
 fn identify_reports_each_tasks_share_of_the_last_second() {
     use triad::device::{LoadWindow, Task};
     let mut device = Device::new(None);

@@ -387,6 +387,7 @@ mod app {
         if stalls != *l.flash_stalls {
             *l.flash_stalls = stalls;
             l.sampler.flash_stalled();
+            COUNTERS.publish_flash_stalls(stalls);
         }
         // The chip is away in its self-test (the idle task's): nothing to
         // read until it is back; the sampler counts the samples it missed

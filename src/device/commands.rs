@@ -369,6 +369,7 @@ impl<F: NorFlash> CommandHandler<F> {
         c.rx_overflows = now.rx_overflows.wrapping_sub(b.rx_overflows);
         c.sensor_stalls = now.sensor_stalls.wrapping_sub(b.sensor_stalls);
         c.sensor_restarts = now.sensor_restarts.wrapping_sub(b.sensor_restarts);
+        c.flash_stalls = now.flash_stalls.wrapping_sub(b.flash_stalls);
         // This command is counted once its reply is made.
         c.commands = self.commands.wrapping_add(1);
         c.command_errors = self.errors;

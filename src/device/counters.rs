@@ -37,6 +37,7 @@ pub struct SharedCounters {
     rx_overflows: AtomicU32,
     sensor_stalls: AtomicU32,
     sensor_restarts: AtomicU32,
+    flash_stalls: AtomicU32,
     uptime_ms: AtomicU32,
     /// What each task costs.
     pub load: LoadCounters,
@@ -53,6 +54,7 @@ impl SharedCounters {
             rx_overflows: AtomicU32::new(0),
             sensor_stalls: AtomicU32::new(0),
             sensor_restarts: AtomicU32::new(0),
+            flash_stalls: AtomicU32::new(0),
             uptime_ms: AtomicU32::new(0),
             load: LoadCounters::new(),
         }
@@ -77,6 +79,12 @@ impl SharedCounters {
         self.sensor_stalls.store(health.stalls, Ordering::Relaxed);
         self.sensor_restarts
             .store(health.restarts, Ordering::Relaxed);
+    }
+
+    /// Publishes the board's count of flash operations that stalled the
+    /// CPU, as the data-ready task saw it (its writer only).
+    pub fn publish_flash_stalls(&self, stalls: u32) {
+        self.flash_stalls.store(stalls, Ordering::Relaxed);
     }
 
     /// A received byte was lost (the receive interrupt only).
@@ -104,6 +112,7 @@ impl SharedCounters {
             rx_overflows: self.rx_overflows.load(Ordering::Relaxed),
             sensor_stalls: self.sensor_stalls.load(Ordering::Relaxed),
             sensor_restarts: self.sensor_restarts.load(Ordering::Relaxed),
+            flash_stalls: self.flash_stalls.load(Ordering::Relaxed),
         }
     }
 }

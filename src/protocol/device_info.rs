@@ -123,6 +123,11 @@ pub struct Counters {
     /// Times the sensor was found again by its identity and configured
     /// after a stall or a run of failed reads.
     pub sensor_restarts: u32,
+    /// Flash operations (each sector erase, each write) that stalled the
+    /// CPU: on a board whose one flash bank holds the program and the
+    /// calibration, sampling pauses for each (0 from a board whose flash
+    /// does not stall, and from firmware that does not send it).
+    pub flash_stalls: u32,
 }
 
 impl Load {
@@ -247,6 +252,7 @@ impl DeviceInfo {
         }
         w.u8(self.stored_reason as u8);
         w.u32(c.sensor_stalls).u32(c.sensor_restarts);
+        w.u32(c.flash_stalls);
         let len = w.len();
         p.set_len(len);
         p
@@ -279,6 +285,7 @@ impl DeviceInfo {
             rx_overflows: r.u32(),
             sensor_stalls: 0,
             sensor_restarts: 0,
+            flash_stalls: 0,
         };
         let scale = RawScale {
             accel_si_per_lsb: r.f32(),
@@ -309,6 +316,14 @@ impl DeviceInfo {
             if !r.ran_short() {
                 counters.sensor_stalls = stalls;
                 counters.sensor_restarts = restarts;
+            }
+        }
+        // Added after the sensor's health: absent from older firmware's reply.
+        if let Some(flash) = rest.get(9..) {
+            let mut r = Reader::new(flash);
+            let stalls = r.u32();
+            if !r.ran_short() {
+                counters.flash_stalls = stalls;
             }
         }
         Some(DeviceInfo {

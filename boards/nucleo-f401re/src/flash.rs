@@ -3,14 +3,31 @@
 //! organization", STM32F401xD/E) may be written or erased. memory.x keeps
 //! the program out of them.
 //!
-//! Offsets are from the flash's base, 0x0800_0000, as the HAL's. Reads go
-//! through the HAL's memory-mapped view; writes through its `UnlockedFlash`
-//! (unlocked for the one operation, byte programming, x8 parallelism);
-//! erases are done here, with x32 parallelism: the HAL erases with x8, which
-//! takes twice as long (data sheet DS10086, "Flash memory programming",
-//! tERASE128KB: typ 2 s, max 4 s at x8; typ 1 s, max 2 s at x32). x32 needs
-//! VDD 2.7–3.6 V (RM0368, "Program/erase parallelism"): the NUCLEO runs the
-//! MCU at 3.3 V.
+//! Offsets are from the flash's base, 0x0800_0000, as the HAL's. What the
+//! HAL does here: reads (its memory-mapped view), writes (its
+//! `UnlockedFlash`'s embedded-storage `NorFlash::write`, unlocked for the
+//! one operation, byte programming), the unlock and lock around a write,
+//! the flash's size, and which sector an offset is in (`FlashExt::sector`).
+//!
+//! What is done here, and why the HAL's own does not serve:
+//! - The sector erase (`erase_sector`), with x32 parallelism. The HAL's
+//!   `UnlockedFlash::erase` writes PSIZE = x8 in the same register write
+//!   as STRT, and nothing lets a caller choose: at x8 a 128 KiB sector
+//!   takes twice as long, so sampling would stop twice as long on every
+//!   save (data sheet DS10086, "Flash memory programming", tERASE128KB:
+//!   typ 2 s, max 4 s at x8; typ 1 s, max 2 s at x32). x32 needs VDD
+//!   2.7–3.6 V (RM0368, "Program/erase parallelism"): the NUCLEO runs the
+//!   MCU at 3.3 V. (Writes stay the HAL's, x8: a 528-byte record is 8.4 ms
+//!   typ, next to the erase's second.)
+//! - Bounds: the HAL's `NorFlash` erases every sector `from..to` touches,
+//!   the program's included, and its read indexes out of range (a panic);
+//!   here writes and erases stay in sectors 6 and 7 and reads in the flash,
+//!   or fail with [`FlashError::OutOfBounds`].
+//! - Stale error flags: the HAL reads FLASH_SR's error flags after an
+//!   operation and never clears them, so one failure would fail every
+//!   later operation; they are cleared before each (`clear_errors`).
+//! - The data cache, which may hold what a sector held before (ST's C HAL
+//!   flushes it after an erase; this HAL does not): `flush_data_cache`.
 //!
 //! The flash has one bank: while it erases or programs, every fetch from it
 //! (the CPU's instructions, the vector table) stalls until the operation ends
@@ -29,8 +46,6 @@ use crate::pac;
 const SECTOR_LEN: u32 = 128 * 1024;
 /// Sector 6's offset from the flash's base (0x0804_0000).
 const SECTOR_6: u32 = 0x4_0000;
-/// The first sector of the calibration, and its number.
-const FIRST_SECTOR: (u32, u8) = (SECTOR_6, 6);
 /// Where the calibration's sectors end: the end of the 512 KiB flash.
 const STORAGE_END: u32 = SECTOR_6 + 2 * SECTOR_LEN;
 
@@ -170,6 +185,8 @@ impl Flash {
 
     /// Erases sector `number` with x32 parallelism (RM0368, "Sector erase": unlock,
     /// SER and SNB, then STRT; wait for BSY to clear), then locks again.
+    /// The unlock is written here too: the HAL's `unlocked()` holds FLASH
+    /// borrowed while unlocked, so CR could not be written beside it.
     fn erase_sector(&mut self, number: u8) -> Result<(), FlashError> {
         let flash = &self.0;
         self.wait_idle();
@@ -248,11 +265,16 @@ impl NorFlash for Flash {
         if from % SECTOR_LEN != 0 || to % SECTOR_LEN != 0 {
             return Err(FlashError::NotAligned);
         }
-        let (first_offset, first_number) = FIRST_SECTOR;
         let mut result = Ok(());
         for offset in (from..to).step_by(SECTOR_LEN as usize) {
-            // Sectors 6 and 7 are consecutive and the same size.
-            let number = first_number + ((offset - first_offset) / SECTOR_LEN) as u8;
+            // The HAL's map of the sectors: 6 at 0x4_0000, 7 at 0x6_0000.
+            let number = match self.0.sector(offset as usize) {
+                Some(sector) if sector.offset == offset as usize => sector.number,
+                _ => {
+                    result = Err(FlashError::NotAligned);
+                    break;
+                }
+            };
             result = stalling(|| self.erase_sector(number));
             if result.is_err() {
                 break;
@@ -270,7 +292,10 @@ impl NorFlash for Flash {
         Self::check_writable(offset, bytes.len())?;
         self.wait_idle();
         self.clear_errors();
-        // Unlocked for this write only: the HAL locks again on drop.
+        // Unlocked for this write only: the HAL locks again on drop. (Its
+        // unlock asserts that the flash opened; it stays shut only after a
+        // wrong key, and only the right keys are ever written, here and by
+        // the HAL.)
         let result = stalling(|| NorFlash::write(&mut self.0.unlocked(), offset, bytes));
         self.flush_data_cache();
         result.map_err(FlashError::from)

@@ -21,13 +21,18 @@
 use defmt_rtt as _;
 pub use stm32f4xx_hal::pac;
 
+mod dma_region;
 mod flash;
 mod serial_rx;
 mod serial_tx;
+#[cfg(not(feature = "bus-i2c"))]
+mod spi_dma;
 pub use flash::{Flash, FlashError, StorageUnavailable, STORAGE_SLOTS};
 pub use serial_rx::SerialRx;
 use serial_tx::transmit_dma_interrupt;
 pub use serial_tx::{Serial, TX_BUFFER_LEN};
+#[cfg(not(feature = "bus-i2c"))]
+pub use spi_dma::{DmaSpi, SpiDmaError};
 
 use stm32f4xx_hal::dma::StreamsTuple;
 use stm32f4xx_hal::gpio::{self, Edge, ExtiPin as _, GpioExt as _, Input, PinState};
@@ -193,7 +198,15 @@ fn init(dp: pac::Peripherals) -> Parts<Board> {
     let mut syscfg = dp.SYSCFG.constrain(&mut rcc);
     let mut exti = dp.EXTI;
     #[cfg(not(feature = "bus-i2c"))]
-    let sensor_bus = spi_bus(dp.SPI1, (gpioa.pa5, gpioa.pa6, gpioa.pa7), cs, &mut rcc);
+    let sensor_bus = {
+        let dma2 = StreamsTuple::new(dp.DMA2, &mut rcc);
+        let spi = spi1(dp.SPI1, (gpioa.pa5, gpioa.pa6, gpioa.pa7), &mut rcc);
+        let Ok(device) = embedded_hal_bus::spi::ExclusiveDevice::new_no_delay(
+            DmaSpi::new(spi, dma2.0, dma2.3),
+            cs,
+        );
+        device
+    };
     #[cfg(feature = "bus-i2c")]
     let sensor_bus = {
         // Only its level matters: the pin keeps driving high once dropped.
@@ -268,10 +281,11 @@ fn st_link_clock_present(rcc: &pac::RCC) -> bool {
     false
 }
 
-/// The IMU's bus: SPI1 as an embedded-hal `SpiDevice` with PB6 as its CS.
+/// The IMU's bus: SPI1, its bytes moved by DMA, as an embedded-hal
+/// `SpiDevice` with PB6 as its CS.
 #[cfg(not(feature = "bus-i2c"))]
 pub type SensorBus = embedded_hal_bus::spi::ExclusiveDevice<
-    stm32f4xx_hal::spi::Spi<pac::SPI1>,
+    DmaSpi,
     gpio::PB6<gpio::Output>,
     embedded_hal_bus::spi::NoDelay,
 >;
@@ -383,14 +397,13 @@ const SPI_HZ: u32 = PCLK2_HZ / SPI_DIVIDER;
 const _: () = assert!(SPI_DIVIDER <= 256, "SPI1 divides PCLK2 by 2, 4, ... 256");
 
 /// SPI1 (PA5 SCK, PA6 MISO, PA7 MOSI, AF5), mode 3 (both chips take 0 or 3)
-/// at [`SPI_HZ`], as an embedded-hal `SpiDevice` with PB6 as its CS.
+/// at [`SPI_HZ`], set up and enabled by the HAL.
 #[cfg(not(feature = "bus-i2c"))]
-fn spi_bus(
+fn spi1(
     spi: pac::SPI1,
     (sck, miso, mosi): (gpio::PA5, gpio::PA6, gpio::PA7),
-    cs: gpio::PB6<gpio::Output>,
     rcc: &mut Rcc,
-) -> SensorBus {
+) -> stm32f4xx_hal::spi::Spi<pac::SPI1> {
     use stm32f4xx_hal::spi::SpiExt as _;
     // Fast edges for MHz clocks (the HAL leaves new pins at low speed).
     let pins = (
@@ -398,16 +411,12 @@ fn spi_bus(
         Some(miso.into_alternate::<5>()),
         Some(mosi.into_alternate::<5>().speed(gpio::Speed::VeryHigh)),
     );
-    let bus = spi.spi(
+    spi.spi(
         pins,
         embedded_hal::spi::MODE_3,
         Hertz::from_raw(SPI_HZ),
         rcc,
-    );
-    // The HAL's transfers wait for each byte's reception, so the last clock
-    // edge is over before the device raises CS (its `flush` is a no-op).
-    let Ok(device) = embedded_hal_bus::spi::ExclusiveDevice::new_no_delay(bus, cs);
-    device
+    )
 }
 
 /// I²C1 (PB8 SCL, PB9 SDA, AF4 open drain) at 400 kHz (both chips' fast

@@ -4,6 +4,17 @@
 //! IDLE-line interrupt (IDLEIE) wakes the firmware at the end of each burst,
 //! and its handler calls [`LinkRx::read`] until it returns `None`.
 //!
+//! The stream is the HAL's `Transfer` (channel, addresses, sizes, priority;
+//! the HAL's table must map USART2_RX to it, or this does not compile),
+//! with one bit the HAL cannot be told: CIRC. Its `DmaConfig` has no
+//! circular mode, only double buffering, whose flags mark the end of each
+//! of two buffers rather than the half and the end of one ring, which is
+//! what the core's [`triad::device::dma_ring`] counts exactly. So CIRC is
+//! set on the stream before the HAL takes it (its set-up leaves CIRC as
+//! it finds it), and the transfer is started once and never restarted.
+//! The HAL's serial DMA (`read_dma`) fits less: it fills one caller's
+//! buffer once, then ends in a callback.
+//!
 //! Why a command cannot be lost to the ring: [`triad::device::dma_ring`] counts
 //! exactly any run of up to `RING_LEN / 2` = 256 bytes between two drains,
 //! and a command packet is at most [`triad::protocol::MAX_WIRE_LEN`] = 242 bytes
@@ -17,13 +28,13 @@
 
 use core::sync::atomic::{compiler_fence, AtomicU8, Ordering};
 
-use stm32f4xx_hal::dma::config::Priority;
-use stm32f4xx_hal::dma::traits::{DMASet, PeriAddress as _, Stream as _, StreamISR as _};
-use stm32f4xx_hal::dma::{DmaChannel, DmaDataSize, DmaDirection, PeripheralToMemory, Stream5};
+use stm32f4xx_hal::dma::config::{DmaConfig, Priority};
+use stm32f4xx_hal::dma::traits::{Stream as _, StreamISR as _};
+use stm32f4xx_hal::dma::{PeripheralToMemory, Stream5, Transfer};
 use stm32f4xx_hal::serial::{self, RxListen as _};
-use stm32f4xx_hal::ClearFlags as _;
 use triad::device::board::{LinkRx, RxError};
 
+use crate::dma_region::Region;
 use crate::pac;
 use triad::device::dma_ring::{Boundaries, RingReader};
 
@@ -37,54 +48,40 @@ const _: () = assert!(triad::protocol::MAX_WIRE_LEN <= RING_LEN / 2);
 /// once, in `init`, from the one DMA1 stream 5) points the DMA here.
 static RING: [AtomicU8; RING_LEN] = [const { AtomicU8::new(0) }; RING_LEN];
 
-/// The stream and channel RM0368 Table 28 gives USART2_RX; the HAL's table
-/// must agree, or this does not compile.
-fn usart2_rx_maps_to<S, const CHANNEL: u8>()
-where
-    serial::Rx<pac::USART2>: DMASet<S, CHANNEL, PeripheralToMemory>,
-{
-}
+/// USART2_RX's stream and channel (RM0368 Table 28), filling [`RING`].
+type RxTransfer =
+    Transfer<Stream5<pac::DMA1>, 4, serial::Rx<pac::USART2>, PeripheralToMemory, Region>;
 
 /// USART2's receive side with its DMA ring.
 pub struct SerialRx {
-    /// Owns PA3 and USART2's receive side (its registers are read through
-    /// `registers`).
-    _usart: serial::Rx<pac::USART2>,
-    stream: Stream5<pac::DMA1>,
+    /// The stream, and USART2's receive side and PA3 (its registers are
+    /// read through `registers`).
+    transfer: RxTransfer,
     ring: RingReader<RING_LEN>,
 }
 
 impl SerialRx {
     /// Starts the stream filling the ring and enables the IDLE interrupt.
     /// `usart` must have DMAR set (the HAL's `serial::Config::dma`); `stream`
-    /// comes from a DMA1 just reset by `StreamsTuple::new`, so it is off, with
-    /// no interrupt, its flags clear and in direct mode (no FIFO): each byte
-    /// is written to memory as it is read from DR.
+    /// comes from a DMA1 just reset by `StreamsTuple::new`, so it is off. The
+    /// HAL's set-up leaves it with no interrupt, its flags clear and in
+    /// direct mode (no FIFO): each byte is written to memory as it is read
+    /// from DR.
     pub(crate) fn new(mut usart: serial::Rx<pac::USART2>, mut stream: Stream5<pac::DMA1>) -> Self {
-        usart2_rx_maps_to::<Stream5<pac::DMA1>, 4>();
-        stream.set_channel(DmaChannel::Channel4);
-        stream.set_direction(DmaDirection::PeripheralToMemory);
-        stream.set_peripheral_address(usart.address());
-        stream.set_memory_address(RING.as_ptr() as u32);
-        stream.set_number_of_transfers(RING_LEN as u16);
-        stream.set_peripheral_increment(false);
-        stream.set_memory_increment(true);
+        // What the HAL's `DmaConfig` cannot say (see the module's comment).
         stream.set_circular_mode(true);
-        stream.set_priority(Priority::High);
-        stream.clear_all_flags();
-        // SAFETY: bytes on both sides: DR is read a byte at a time (8N1), the
-        // ring is bytes. Then the stream writes only RING: RING_LEN bytes from
-        // its start, NDTR = RING_LEN, memory increment, wrapping round
-        // (circular); RING is 'static and nothing else writes it.
-        unsafe {
-            stream.set_peripheral_size(DmaDataSize::Byte);
-            stream.set_memory_size(DmaDataSize::Byte);
-            stream.enable();
-        }
+        // The whole ring (RING_LEN bytes from its start, NDTR = RING_LEN),
+        // memory incrementing, round and round; the CPU only reads RING,
+        // and only bytes the stream has written (`RingReader`).
+        let ring = Region::cells(&RING, 0, RING_LEN);
+        let config = DmaConfig::default()
+            .memory_increment(true)
+            .priority(Priority::High);
         usart.listen_idle();
+        let mut transfer = Transfer::init_peripheral_to_memory(stream, usart, ring, None, config);
+        transfer.start(|_| {});
         Self {
-            _usart: usart,
-            stream,
+            transfer,
             ring: RingReader::new(),
         }
     }
@@ -125,21 +122,21 @@ impl SerialRx {
     /// The stream's position in the ring: NDTR counts down from RING_LEN
     /// and reloads on wrapping, so RING_LEN − NDTR bytes of this lap are in.
     fn stream_at(&self) -> usize {
-        (RING_LEN - usize::from(self.stream.number_of_transfers())) % RING_LEN
+        (RING_LEN - usize::from(self.transfer.number_of_transfers())) % RING_LEN
     }
 
     /// The boundaries whose flags are set, clearing those (and only those:
     /// one that rises after this read stays set for the next look).
     fn take_boundaries(&mut self) -> Boundaries {
         let reached = Boundaries {
-            half: self.stream.is_half_transfer(),
-            end: self.stream.is_transfer_complete(),
+            half: self.transfer.is_half_transfer(),
+            end: self.transfer.is_transfer_complete(),
         };
         if reached.half {
-            self.stream.clear_half_transfer();
+            self.transfer.clear_half_transfer();
         }
         if reached.end {
-            self.stream.clear_transfer_complete();
+            self.transfer.clear_transfer_complete();
         }
         reached
     }

@@ -1,8 +1,17 @@
 //! USART2's transmitter (PA2, to the ST-LINK's virtual COM port) by DMA:
 //! the firmware's transmitter copies bytes into [`BUFFER`], a ring ([`triad::device::tx_ring`]),
-//! and DMA1 stream 6, channel 4 (RM0368 Table 28: USART2_TX) sends them to
-//! DR, one run of consecutive bytes at a time, paced by the USART's TXE
-//! requests (CR3's DMAT).
+//! and DMA1 stream 6, channel 4 (RM0368 Table 28: USART2_TX; the HAL's
+//! table must agree, or this does not compile) sends them to DR, one run of
+//! consecutive bytes at a time, paced by the USART's TXE requests (CR3's
+//! DMAT). The stream is the HAL's `Transfer`, each run started by its
+//! `next_transfer`.
+//!
+//! Why not the HAL's serial DMA (`Serial::use_dma`, `write_dma`): it sends
+//! one caller's slice at a time and ends in a callback, a plain `fn` with
+//! no state, from the stream's interrupt; it takes the slice as `'static`
+//! by transmuting it; and it turns on USART2's error interrupt, which the
+//! firmware binds for the receiver's IDLE line. The ring needs runs of its
+//! own buffer chained from the stream's interrupt, which `Transfer` gives.
 //!
 //! Who does what, so that no one waits:
 //! - [`Serial::queue`] (the transmitter) copies the bytes in, advances
@@ -24,14 +33,14 @@ use core::sync::atomic::{AtomicU8, AtomicUsize, Ordering};
 
 use cortex_m::interrupt::Mutex;
 use cortex_m::peripheral::NVIC;
-use stm32f4xx_hal::dma::config::Priority;
-use stm32f4xx_hal::dma::traits::{DMASet, DmaFlagExt as _, PeriAddress as _, Stream as _};
-use stm32f4xx_hal::dma::Stream6;
-use stm32f4xx_hal::dma::{DmaChannel, DmaDataSize, DmaDirection, DmaEvent, MemoryToPeripheral};
+use stm32f4xx_hal::dma::config::{DmaConfig, Priority};
+use stm32f4xx_hal::dma::traits::DmaFlagExt as _;
+use stm32f4xx_hal::dma::{MemoryToPeripheral, Stream6, Transfer};
 use stm32f4xx_hal::serial;
-use stm32f4xx_hal::{ClearFlags as _, Listen as _, ReadFlags as _};
+use stm32f4xx_hal::{ClearFlags as _, ReadFlags as _};
 use triad::device::board::LinkTx;
 
+use crate::dma_region::Region;
 use crate::pac;
 use triad::device::tx_ring::TxRing;
 
@@ -62,53 +71,43 @@ static RELEASED: AtomicUsize = AtomicUsize::new(0);
 /// lends them to the handler, which nothing else borrows from.
 static SENDER: Mutex<RefCell<Option<Sender>>> = Mutex::new(RefCell::new(None));
 
-/// The stream and channel RM0368 Table 28 gives USART2_TX; the HAL's table
-/// must agree, or this does not compile.
-fn usart2_tx_maps_to<S, const CHANNEL: u8>()
-where
-    serial::Tx<pac::USART2>: DMASet<S, CHANNEL, MemoryToPeripheral>,
-{
-}
+/// USART2_TX's stream and channel (RM0368 Table 28), sending runs of
+/// [`BUFFER`].
+type TxTransfer =
+    Transfer<Stream6<pac::DMA1>, 4, serial::Tx<pac::USART2>, MemoryToPeripheral, Region>;
 
-/// The link task's side of USART2's transmitter.
+/// The link task's side of USART2's transmitter (the transmit side itself,
+/// PA2 and DR, is the handler's transfer's).
 pub struct Serial {
-    /// Owns PA2 and USART2's transmit side; the DMA writes its DR.
-    _usart: serial::Tx<pac::USART2>,
+    _made_by_new: (),
 }
 
 impl Serial {
     /// Sets up the stream (memory to DR, a byte at a time, interrupts on
     /// transfer complete and error); the firmware binds its interrupt,
     /// DMA1_STREAM6, to a task that calls [`transmit_dma_interrupt`] (RTIC
-    /// sets its priority and unmasks it). `usart` must have DMAT set (the HAL's `serial::Config::dma`);
-    /// `stream` comes from a DMA1 just reset by `StreamsTuple::new`, so it is
-    /// off, its flags clear and in direct mode (no FIFO).
-    pub(crate) fn new(usart: serial::Tx<pac::USART2>, mut stream: Stream6<pac::DMA1>) -> Self {
-        usart2_tx_maps_to::<Stream6<pac::DMA1>, 4>();
-        stream.set_channel(DmaChannel::Channel4);
-        stream.set_direction(DmaDirection::MemoryToPeripheral);
-        stream.set_peripheral_address(usart.address());
-        stream.set_peripheral_increment(false);
-        stream.set_memory_increment(true);
-        stream.set_circular_mode(false);
-        // The receiver's stream is High: a late received byte is lost, a
-        // late transmitted one only delayed.
-        stream.set_priority(Priority::Medium);
-        stream.listen(DmaEvent::TransferComplete | DmaEvent::TransferError);
-        stream.clear_all_flags();
-        // SAFETY: bytes on both sides: DR is written a byte at a time (8N1),
-        // the buffer is bytes. The stream is not enabled here; the handler
-        // enables it only over a run inside BUFFER (`TxRing::next_run`).
-        unsafe {
-            stream.set_peripheral_size(DmaDataSize::Byte);
-            stream.set_memory_size(DmaDataSize::Byte);
-        }
+    /// sets its priority and unmasks it). `usart` must have DMAT set (the
+    /// HAL's `serial::Config::dma`); `stream` comes from a DMA1 just reset
+    /// by `StreamsTuple::new`, so it is off; the HAL's set-up clears its
+    /// flags and puts it in direct mode (no FIFO).
+    pub(crate) fn new(usart: serial::Tx<pac::USART2>, stream: Stream6<pac::DMA1>) -> Self {
+        // Bytes to DR (the HAL's USART2 DMA word), memory incrementing, not
+        // started: the handler starts each run. The receiver's stream is
+        // High: a late received byte is lost, a late sent one only delayed.
+        let config = DmaConfig::default()
+            .memory_increment(true)
+            .priority(Priority::Medium)
+            .transfer_complete_interrupt(true)
+            .transfer_error_interrupt(true);
+        let transfer =
+            Transfer::init_memory_to_peripheral(stream, usart, Region::EMPTY, None, config);
         cortex_m::interrupt::free(|cs| {
-            SENDER
-                .borrow(cs)
-                .replace(Some(Sender { stream, sending: 0 }));
+            SENDER.borrow(cs).replace(Some(Sender {
+                transfer,
+                sending: 0,
+            }));
         });
-        Self { _usart: usart }
+        Self { _made_by_new: () }
     }
 }
 
@@ -143,7 +142,7 @@ impl LinkTx for Serial {
 
 /// The stream, and the length of the run it is sending (0: idle).
 struct Sender {
-    stream: Stream6<pac::DMA1>,
+    transfer: TxTransfer,
     sending: usize,
 }
 
@@ -153,7 +152,7 @@ impl Sender {
     fn serve(&mut self) -> bool {
         let mut freed = false;
         if self.sending > 0 {
-            let flags = self.stream.flags();
+            let flags = self.transfer.flags();
             if !flags.is_transfer_complete() && !flags.is_transfer_error() {
                 // Pended by `queue` while the run goes on.
                 return false;
@@ -164,8 +163,8 @@ impl Sender {
                 defmt::error!("USART2 TX DMA: transfer error, {} bytes lost", self.sending);
             }
             // The hardware clears EN at the end of a transfer or on an error
-            // (RM0368, DMA_SxCR); the registers can be written once it reads 0.
-            while self.stream.is_enabled() {}
+            // (RM0368, DMA_SxCR); `next_transfer` waits for it before
+            // writing the stream's registers.
             let released = RELEASED.load(Ordering::Relaxed);
             RELEASED.store(released.wrapping_add(self.sending), Ordering::Release);
             self.sending = 0;
@@ -174,22 +173,22 @@ impl Sender {
         }
         // RM0368 (DMA_SxCR, EN): the stream's flags are cleared before it is
         // enabled; this also ends the interrupt's request.
-        self.stream.clear_all_flags();
+        self.transfer.clear_all_flags();
         let written = WRITTEN.load(Ordering::Acquire);
         let Some(run) = Ring::next_run(written, RELEASED.load(Ordering::Relaxed)) else {
             return freed;
         };
-        // The buffer's address fits the 32-bit bus; a run is at most
+        // The run's bytes are pending: the link task writes only free bytes
+        // until RELEASED passes them, after this run ends. A run is at most
         // TX_BUFFER_LEN ≤ 65535 bytes (checked above).
-        let start = BUFFER[run.start].as_ptr() as u32;
-        self.stream.set_memory_address(start);
-        self.stream.set_number_of_transfers(run.len as u16);
+        let region = Region::cells(&BUFFER, run.start, run.len);
         // The link task's stores to BUFFER complete before the DMA can read.
         cortex_m::asm::dsb();
-        // SAFETY: the stream reads `run.len` bytes from `start`, all inside
-        // BUFFER ('static) and pending: the link task writes only free bytes
-        // until RELEASED passes them, after this run ends.
-        unsafe { self.stream.enable() };
+        // Without double buffering `next_transfer` cannot fail: it loads the
+        // run and enables the stream.
+        if self.transfer.next_transfer(region).is_err() {
+            return freed;
+        }
         self.sending = run.len;
         freed
     }

@@ -60,6 +60,7 @@ pub fn render(info: &DeviceInfo, place: &str) -> String {
     outln!(out, "rx overflows: {}", c.rx_overflows);
     outln!(out, "sensor stalls: {}", c.sensor_stalls);
     outln!(out, "sensor restarts: {}", c.sensor_restarts);
+    outln!(out, "flash stalls: {}", c.flash_stalls);
     let l = &info.load;
     // Each task's share, and its cycles per streamed frame (what a task
     // costs per sample with decimation 1).

@@ -180,6 +180,7 @@ mod over_a_pty {
             ("stored", "no storage".into()),
             ("command errors", "0".into()),
             ("rx overflows", "0".into()),
+            ("flash stalls", "0".into()),
         ];
         for (key, value) in expected {
             assert_eq!(f.get(key), Some(&value), "{key} in {f:?}");

@@ -53,6 +53,13 @@ impl DeviceUnderTest {
         })
     }
 
+    /// Whether a flash erase or write stalls the board's CPU: on the
+    /// NUCLEO-F401RE (the hardware board) one flash bank holds the program
+    /// and the calibration; the emulated board's flash is a host file.
+    pub fn flash_stalls_the_cpu(&self) -> bool {
+        matches!(self, DeviceUnderTest::Hardware { .. })
+    }
+
     /// What the report calls it.
     pub fn describe(&self) -> String {
         match self {

@@ -7,7 +7,8 @@
 //! them at build) it builds the firmware, loads it (probe-rs on hardware),
 //! identifies the device and streams a few seconds, checking that nothing
 //! was lost. With the first setting it also walks the calibration's life:
-//! upload, save, reset (the stored calibration in use), a bad upload
+//! upload, save (its flash stalls counted where the flash stalls the CPU,
+//! none on the emulated board), reset (the stored calibration in use), a bad upload
 //! refused with nothing changed, erase and reset (the built-in one back),
 //! and the self-test; a calibration the board had stored is put back at the
 //! end. It writes a Markdown report, and fails when a step failed.
@@ -310,16 +311,31 @@ fn calibration_life(
         true,
         |info| info.calibration().1 == "uploaded",
     ));
-    let uploaded_id = device
+    let (uploaded_id, stalls_before) = device
         .info()
-        .map(|(_, i)| i.calibration().0)
+        .map(|(_, i)| (i.calibration().0, i.number("flash stalls")))
         .unwrap_or_default();
+    // identify counts the flash operations that stalled the CPU: some for a
+    // save where the flash stalls it, none where it does not.
+    let stalls_cpu = dut.flash_stalls_the_cpu();
+    let stalled = |before: Option<u64>, info: &triad_device::Info| match (
+        before,
+        info.number("flash stalls"),
+    ) {
+        (Some(before), Some(after)) if stalls_cpu => after > before,
+        (Some(_), Some(after)) => after == 0,
+        _ => false,
+    };
     steps.push(expect_after(
-        "save it: stored",
+        if stalls_cpu {
+            "save it: stored, its flash stalls counted"
+        } else {
+            "save it: stored, no flash stall (the emulated flash is a file)"
+        },
         device,
         &["save"],
         true,
-        |info| info.get("stored") == "valid",
+        |info| info.get("stored") == "valid" && stalled(stalls_before, info),
     ));
     steps.push(reset_step(
         "reset: the stored calibration is in use",
@@ -343,12 +359,16 @@ fn calibration_life(
                 && info.number("command errors") == errors_before.map(|n| n + 1)
         },
     ));
+    let stalls_before = device
+        .info()
+        .ok()
+        .and_then(|(_, i)| i.number("flash stalls"));
     steps.push(expect_after(
         "erase: nothing stored (the active calibration runs until reset)",
         device,
         &["erase"],
         true,
-        |info| info.get("stored") == "empty",
+        |info| info.get("stored") == "empty" && stalled(stalls_before, info),
     ));
     steps.push(reset_step(
         "reset: the built-in calibration is back",
@@ -443,10 +463,11 @@ fn check_info(device: &TriadDevice, step: &mut Step, after: impl Fn(&triad_devic
         Ok((ran, info)) => {
             let holds = after(&info);
             step.detail.push(format!(
-                "then: calibration {}, stored {}, command errors {}{}",
+                "then: calibration {}, stored {}, command errors {}, flash stalls {}{}",
                 info.get("calibration"),
                 info.get("stored"),
                 info.get("command errors"),
+                info.get("flash stalls"),
                 if holds {
                     ""
                 } else {
