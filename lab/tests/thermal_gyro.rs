@@ -134,7 +134,7 @@ fn fit(soaks: &[Soak]) -> Result<(ThermalAccelFit, BiasPolynomial, ThermalGyroFi
     let accel_means: Vec<StaticMean> = soaks.iter().flat_map(|s| s.accel.clone()).collect();
     let gyro_means: Vec<StaticMean> = soaks.iter().flat_map(|s| s.gyro_means.clone()).collect();
     let temps: Vec<f64> = accel_means.iter().map(|m| m.temperature_c).collect();
-    let cov = coverage(&temps)?;
+    let cov = coverage(&temps).expect("the soaks support a term");
     let terms = Terms {
         reference_c: cov.reference_c,
         bias_order: cov.bias_order(),
