@@ -142,7 +142,8 @@ fn fit(soaks: &[Soak]) -> Result<(ThermalAccelFit, BiasPolynomial, ThermalGyroFi
     };
     let (mut scratch, mut weights) = (vec![[0.0; 3]; temps.len()], vec![0.0; temps.len()]);
     let accel = thermal_accel::fit(&accel_means, G, terms, &mut scratch, &mut weights)?;
-    let bias = bias_polynomial::fit(&gyro_means, cov.reference_c, cov.bias_order())?;
+    let bias = bias_polynomial::fit(&gyro_means, cov.reference_c, cov.bias_order())
+        .expect("the gyro's bias fits");
     let sets: Vec<Poses> = soaks
         .iter()
         .map(|s| Poses {

@@ -269,12 +269,7 @@ impl fmt::Display for FitError {
                 "the data do not determine the parameters: condition number {condition:.3e} of the \
                  scaled Jacobian exceeds {limit:.0e} (add orientations spread over the sphere)"
             ),
-            FitError::LeastSquares(LsError::TooFewRows { rows, unknowns }) => {
-                write!(f, "{rows} equations for {unknowns} unknowns")
-            }
-            FitError::LeastSquares(LsError::RankDeficient { unknown }) => {
-                write!(f, "parameter {unknown} is not determined by the data (rank deficient)")
-            }
+            FitError::LeastSquares(e) => write!(f, "{e}"),
             FitError::NoConvergence { iterations } => {
                 write!(f, "the fit did not converge in {iterations} iterations")
             }

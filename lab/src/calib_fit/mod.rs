@@ -17,8 +17,9 @@
 //! Every refusal says what was found and what is needed. The whole fits
 //! each have their own error ([`fits::imu::ImuFitError`],
 //! [`fits::thermal::ThermalFitError`]), as do static detection
-//! ([`static_segments::DetectError`]) and the temperatures' coverage
-//! ([`fits::thermal_coverage::CoverageError`]); the fits they call still
+//! ([`static_segments::DetectError`]), the temperatures' coverage
+//! ([`fits::thermal_coverage::CoverageError`]) and the bias polynomial
+//! ([`fits::bias_polynomial::BiasPolynomialError`]); the other fits still
 //! share [`FitError`].
 
 pub mod accel_frame;

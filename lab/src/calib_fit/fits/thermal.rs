@@ -19,7 +19,9 @@ use alloc::vec::Vec;
 use core::fmt;
 
 use crate::calib_fit::error::FitError;
-use crate::calib_fit::fits::bias_polynomial::{self, BiasPolynomial, StaticMean};
+use crate::calib_fit::fits::bias_polynomial::{
+    self, BiasPolynomial, BiasPolynomialError, StaticMean,
+};
 use crate::calib_fit::fits::rig_free::Record;
 use crate::calib_fit::fits::thermal_accel::{self, Terms, ThermalAccelFit};
 use crate::calib_fit::fits::thermal_coverage::{self, Coverage, CoverageError};
@@ -106,7 +108,7 @@ pub enum ThermalFitError {
         error: FitError,
     },
     /// The gyroscope's bias polynomial refused the segments.
-    GyroBias(FitError),
+    GyroBias(BiasPolynomialError),
     /// The gyroscope's (I+Σ) against temperature refused the turns (other
     /// than for too few of them, which leaves it unfitted).
     GyroScale(FitError),
