@@ -9,7 +9,7 @@ use triad_lab::calib_fit::fits::gyro_fit::{self, RateSegment};
 use triad_lab::calib_fit::fits::{accel_cube, accel_fit};
 use triad_lab::calib_fit::numerics::qr::{GivensLs, LsError};
 use triad_lab::calib_fit::numerics::small3::{cholesky_upper, gram, symmetric_eigenvalues};
-use triad_lab::calib_fit::static_segments::{Detector, Segment};
+use triad_lab::calib_fit::static_segments::{DetectError, Detector, Segment};
 
 const G: f64 = 9.80665;
 
@@ -369,7 +369,7 @@ fn static_segments_are_found_between_turns_and_trimmed() {
     let mut small = [Segment { start: 0, end: 0 }; 1];
     assert_eq!(
         detector.detect(&samples, &mut small),
-        Err(FitError::TooManySegments { capacity: 1 })
+        Err(DetectError::TooManySegments { capacity: 1 })
     );
 }
 

@@ -134,7 +134,7 @@ fn fit(soaks: &[Soak]) -> Result<(ThermalAccelFit, BiasPolynomial, ThermalGyroFi
     let accel_means: Vec<StaticMean> = soaks.iter().flat_map(|s| s.accel.clone()).collect();
     let gyro_means: Vec<StaticMean> = soaks.iter().flat_map(|s| s.gyro_means.clone()).collect();
     let temps: Vec<f64> = accel_means.iter().map(|m| m.temperature_c).collect();
-    let cov = coverage(&temps)?;
+    let cov = coverage(&temps).expect("the soaks support a term");
     let terms = Terms {
         reference_c: cov.reference_c,
         bias_order: cov.bias_order(),
@@ -142,7 +142,8 @@ fn fit(soaks: &[Soak]) -> Result<(ThermalAccelFit, BiasPolynomial, ThermalGyroFi
     };
     let (mut scratch, mut weights) = (vec![[0.0; 3]; temps.len()], vec![0.0; temps.len()]);
     let accel = thermal_accel::fit(&accel_means, G, terms, &mut scratch, &mut weights)?;
-    let bias = bias_polynomial::fit(&gyro_means, cov.reference_c, cov.bias_order())?;
+    let bias = bias_polynomial::fit(&gyro_means, cov.reference_c, cov.bias_order())
+        .expect("the gyro's bias fits");
     let sets: Vec<Poses> = soaks
         .iter()
         .map(|s| Poses {

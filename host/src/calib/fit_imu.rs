@@ -10,14 +10,15 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use anyhow::{anyhow, bail};
+use anyhow::anyhow;
 use triad::model::{Triad, TriadCalibration};
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
-use triad_lab::calib_fit::fits::accel_fit::AccelFit;
-use triad_lab::calib_fit::fits::gyro_fit::LinearFit;
-use triad_lab::calib_fit::fits::move_selection::{self, LeftOut};
-use triad_lab::calib_fit::fits::rig_free::{self, RigFreeGyroFit, MAX_RANGE_FRACTION};
-use triad_lab::calib_fit::fits::{accel_cube, accel_fit};
+use triad_lab::calib_fit::fits::imu::{
+    self, ImuFitError, ImuOptions, ImuRecord, LeftOutMove, PoseSource,
+};
+use triad_lab::calib_fit::fits::move_selection::LeftOut;
+use triad_lab::calib_fit::fits::rig_free::{RigFreeGyroFit, MAX_RANGE_FRACTION};
+use triad_lab::calib_fit::poses;
 use triad_lab::calib_fit::static_segments::Segment;
 use triad_lab::calib_fit::FitError;
 
@@ -26,7 +27,7 @@ use super::g_sensitivity_report;
 use super::fit::{file_list, inputs, write_calibration, Output};
 use super::fit_csv::{self, Reading, Record};
 use super::report::{method_table, FitReport, FRAME};
-use super::segments::{self, check_pose_options, stat};
+use super::segments::{self, check_pose_options};
 use crate::plumbing::stdio::outln;
 
 /// Arguments of `triad calib fit imu`.
@@ -142,19 +143,8 @@ pub struct ImuFit {
     pub header: String,
     /// The report printed for the user.
     pub report: String,
-    /// The static poses used (sample ranges of the record).
-    pub poses: Vec<Segment>,
-    /// The accelerometer fit.
-    pub accel_fit: AccelFit,
-    /// The gyroscope fit.
-    pub gyro_fit: RigFreeGyroFit,
-}
-
-/// A pose found in the record: its number in the report (1-based) and samples.
-#[derive(Clone, Copy, Debug)]
-struct Pose {
-    number: usize,
-    samples: Segment,
+    /// The lab's fit: the poses used, both fits, what was left out.
+    pub fit: imu::ImuFit,
 }
 
 /// Fits both triads to `accel` and `gyro`, the two triads of one record
@@ -192,198 +182,78 @@ fn span(record: &Record, s: &Segment) -> String {
 pub fn fit_record_with(accel: &Record, gyro: &Record, options: &Options) -> anyhow::Result<ImuFit> {
     let name = crate::plumbing::input::name(&accel.path);
     let paths = [accel.path.clone()];
-    let mut out = String::new();
-    // The poses: given, or the accelerometer's static stretches.
-    let found: Vec<Segment> = match &options.segments {
-        Some(text) => segments::given(accel, text)?
-            .iter()
-            .map(|s| {
-                let start = accel.t.partition_point(|&t| t < s.from);
-                Segment {
-                    start,
-                    end: start + s.count,
-                }
-            })
-            .collect(),
-        None => {
-            let detection = segments::detect(accel, options.min_static)?;
-            for line in detection.dropped_lines(accel, options.min_static) {
-                outln!(out, "  {line}");
-            }
-            detection.segments
-        }
-    };
-    if let Some(&n) = options.exclude.iter().find(|&&n| n == 0 || n > found.len()) {
-        bail!(
-            "{name}: --exclude-poses {n}: the record has {} pose(s), numbered from 1 in the report",
-            found.len()
-        );
-    }
-    let poses: Vec<Pose> = found
-        .iter()
-        .enumerate()
-        .map(|(i, &samples)| Pose {
-            number: i + 1,
-            samples,
-        })
-        .filter(|p| !options.exclude.contains(&p.number))
-        .collect();
-    let used: Vec<Segment> = poses.iter().map(|p| p.samples).collect();
-    let stats: Vec<_> = used
-        .iter()
-        .map(|p| stat(accel, 0, p.start..p.end))
-        .collect();
-    let means: Vec<[f64; 3]> = stats.iter().map(|s| s.mean).collect();
-    // The gravity direction of each pose comes from the accelerometer fit
-    // (unknown orientations) or, on a cube's faces, from the face itself.
-    let (accel_fit, directions) = if options.axis_aligned {
-        let fit = accel_cube::fit(&means, options.gravity)
-            .map_err(|e| anyhow!("{name}: accelerometer (--axis-aligned): {e}"))?;
-        let faces: Vec<[f64; 3]> = means
-            .iter()
-            .map(|m| accel_cube::reference(m, options.gravity).unwrap_or([0.0; 3]))
-            .collect();
-        (faces_frame(&fit, &faces), faces)
-    } else {
-        let fit = accel_fit::fit(&means, options.gravity).map_err(|e| match e {
-            FitError::TooFewOrientations { .. } | FitError::OrientationsInOnePlane { .. } => {
-                anyhow!(
-                    "{name}: accelerometer: {e}; turn the board to more orientations \
-                     (or give --axis-aligned for a cube tumble)"
-                )
-            }
-            _ => anyhow!("{name}: accelerometer, {} static poses: {e}", means.len()),
-        })?;
-        (fit, means.clone())
-    };
-
-    // The moves: between consecutive used poses in one part of the record,
-    // within the gyro's range.
-    let parts = gyro.parts();
-    let record = rig_free::Record {
-        t: &gyro.t,
-        gyro: &gyro.samples,
-    };
-    let selection = move_selection::select(&record, &used, &parts, options.full_scale);
-    let left_out: Vec<String> = selection
-        .left_out
-        .iter()
-        .map(|&(j, why)| {
-            let (a, b) = (poses[j], poses[j + 1]);
-            let label = format!(
-                "move from pose {} to pose {} ({})",
-                a.number,
-                b.number,
-                span(
-                    gyro,
-                    &Segment {
-                        start: a.samples.end - 1,
-                        end: b.samples.start + 1
+    let poses = match &options.segments {
+        Some(text) => PoseSource::Given(
+            segments::given(accel, text)?
+                .iter()
+                .map(|s| {
+                    let start = accel.t.partition_point(|&t| t < s.from);
+                    Segment {
+                        start,
+                        end: start + s.count,
                     }
-                )
-            );
-            match why {
-                LeftOut::CrossesGap => format!("{label} left out: it crosses a gap in the time stamps"),
-                LeftOut::Held { at, samples: n } => format!(
-                    "{label} left out: the gyro repeats one value for {n} samples from t = {:.2} s (sample {}): \
-                     held samples (a logger repeating over lost frames?) lose the turn",
-                    gyro.t[at],
-                    at + 1
-                ),
-                LeftOut::NearRange { sample, rate: peak } => format!(
-                    "{label} left out: the gyro reads {:.1} °/s at t = {:.2} s (sample {}), beyond {:.0} % of its \
-                     full scale {:.0} °/s, so the turn may have clipped",
-                    peak.to_degrees(),
-                    gyro.t[sample],
-                    sample + 1,
-                    100.0 * MAX_RANGE_FRACTION,
-                    options.full_scale.to_degrees()
-                ),
-            }
-        })
-        .collect();
-    let moves = selection.moves;
-    let outside = selection.outside;
-    let gyro_fit = rig_free::fit_moves(
-        record,
-        &used,
-        &moves,
-        &directions,
-        &accel_fit,
-        options.full_scale,
-    )
-    .map_err(|e| match e {
-        FitError::PoseNotStatic { pose, .. } => {
-            let p = poses[pose];
-            let text = e.to_string();
-            let rest = text.split_once(": ").map_or(text.as_str(), |(_, r)| r);
-            anyhow!(
-                "{name}: gyroscope: pose {} ({}): {rest}; or leave it out with --exclude-poses {}",
-                p.number,
-                span(gyro, &p.samples),
-                p.number
-            )
-        }
-        FitError::TooFewRotations { .. } if !left_out.is_empty() => anyhow!(
-            "{name}: gyroscope: {e} ({} move(s) were left out: {})",
-            left_out.len(),
-            left_out.join("; ")
+                })
+                .collect(),
         ),
-        FitError::TooFastForRate { sample, .. } => {
-            anyhow!("{name}: gyroscope: {e} (t = {:.2} s)", gyro.t[sample])
-        }
-        _ => anyhow!("{name}: gyroscope: {e}"),
-    })
-    .inspect_err(|e| {
-        // What was left out is said even when the gyro fit then refuses
-        // (a refusal for too few moves already lists it).
-        if !e.to_string().contains("were left out") {
-            for line in &left_out {
-                crate::plumbing::stdio::note!("{name}: {line}");
-            }
-        }
-    })?;
+        None => PoseSource::Detect(poses::detector(accel.rate_hz()?, options.min_static)),
+    };
+    let parts = gyro.parts();
+    let record = ImuRecord {
+        t: &gyro.t,
+        accel: &accel.samples,
+        gyro: &gyro.samples,
+        parts: &parts,
+    };
+    let lab_options = ImuOptions {
+        gravity: options.gravity,
+        full_scale: options.full_scale,
+        poses,
+        exclude: options.exclude.clone(),
+        axis_aligned: options.axis_aligned,
+    };
+    let fit =
+        imu::fit(&record, &lab_options).map_err(|e| refusal(&name, gyro, options.full_scale, e))?;
+    let (accel_fit, gyro_fit) = (&fit.accel, &fit.gyro);
 
-    let mut head = String::new();
+    let mut out = String::new();
     outln!(
-        head,
+        out,
         "rig-free fit of {name}: {} static poses ({} orientations), {} moves between them ({} turns of 10° or more)",
-        stats.len(),
+        fit.poses.len(),
         accel_fit.orientations,
         gyro_fit.rotations,
         gyro_fit.turns
     );
     outln!(
-        head,
+        out,
         "  pose  from..to (s)         samples          |f̂| (m/s²)"
     );
-    for (p, s) in poses.iter().zip(&stats) {
-        let m = s.mean;
+    for p in &fit.poses {
+        let m = p.accel.mean;
         outln!(
-            head,
+            out,
             "  {:>4}  {:>8.2}..{:<8.2}  {:>7}..{:<7}  {:.5}",
             p.number,
-            s.from,
-            s.to,
+            accel.t[p.samples.start],
+            accel.t[p.samples.end - 1],
             p.samples.start + 1,
             p.samples.end,
             (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt()
         );
     }
-    for n in &options.exclude {
-        let s = &found[n - 1];
+    for (n, s) in &fit.excluded {
         outln!(
-            head,
+            out,
             "  pose {n} ({}) left out by --exclude-poses",
             span(accel, s)
         );
     }
-    for line in &left_out {
-        outln!(head, "  {line}");
+    for line in left_out_lines(gyro, options.full_scale, &fit.left_out) {
+        outln!(out, "  {line}");
     }
-    if let (Some(&first), n) = (outside.first(), outside.len()) {
+    if let (Some(&first), n) = (fit.outside.first(), fit.outside.len()) {
         outln!(
-            head,
+            out,
             "  {n} sample(s) beyond {:.0} % of the gyro's full scale lie outside the poses and moves the fit uses \
              (the first at t = {:.2} s, sample {}): ignored",
             100.0 * MAX_RANGE_FRACTION,
@@ -391,8 +261,9 @@ pub fn fit_record_with(accel: &Record, gyro: &Record, options: &Options) -> anyh
             first + 1
         );
     }
-    let out = head + &out;
-    let mut out = out;
+    for line in segments::dropped_lines(&fit.dropped, accel, options.min_static) {
+        outln!(out, "  {line}");
+    }
     let (method, matrix_title, frame) = if options.axis_aligned {
         (
             "accelerometer (a cube's faces: f̂ = (I+Σ)·(±g e_k) + b, full I+Σ):",
@@ -429,14 +300,14 @@ pub fn fit_record_with(accel: &Record, gyro: &Record, options: &Options) -> anyh
         out,
         "gyroscope (integrated between poses, gravity direction matched):"
     );
-    let gyro_report = gyro_report(&gyro_fit);
+    let gyro_report = gyro_report(gyro_fit);
     gyro_report.print(
         &mut out,
         "I+Σ (in the accelerometer's corrected axes)",
         "rad/s",
         "too few moves for the 9 unknowns",
     );
-    print_gyro_extras(&mut out, &gyro_fit);
+    print_gyro_extras(&mut out, gyro_fit);
     g_sensitivity_report::print(
         &mut out,
         &gyro_fit.g_sensitivity,
@@ -486,7 +357,7 @@ pub fn fit_record_with(accel: &Record, gyro: &Record, options: &Options) -> anyh
     let header = format!(
         "Both triads fitted by `triad calib fit imu` from {} hand-turned poses of {name}\n\
          (no rig): accelerometer residual RMS {:.3e} m/s², gyroscope direction residual RMS {:.3e} rad.",
-        stats.len(),
+        fit.poses.len(),
         accel_fit.residual_rms,
         gyro_fit.residual_rms
     );
@@ -502,40 +373,106 @@ pub fn fit_record_with(accel: &Record, gyro: &Record, options: &Options) -> anyh
         gyro_table,
         header,
         report: out,
-        poses: used,
-        accel_fit,
-        gyro_fit,
+        fit,
     })
 }
 
-/// The cube fit `fit` as the rig-free gyro fit takes an accelerometer fit:
-/// its (I+Σ), b and statistics for the report, and the faces' frame for
-/// the gravity directions (T = I, b = 0 applied to the `faces`' ±g e_k,
-/// taken as exact: no variance carried into the gyro's σ's).
-fn faces_frame(fit: &LinearFit, faces: &[[f64; 3]]) -> AccelFit {
-    let mut distinct: Vec<[f64; 3]> = Vec::new();
-    for f in faces {
-        if !distinct.contains(f) {
-            distinct.push(*f);
+/// One line per move left out: the poses it joins, when, and why.
+fn left_out_lines(gyro: &Record, full_scale: f64, left_out: &[LeftOutMove]) -> Vec<String> {
+    left_out
+        .iter()
+        .map(|m| {
+            let label = format!(
+                "move from pose {} to pose {} ({})",
+                m.poses[0],
+                m.poses[1],
+                span(gyro, &m.samples)
+            );
+            match m.why {
+                LeftOut::CrossesGap => format!("{label} left out: it crosses a gap in the time stamps"),
+                LeftOut::Held { at, samples: n } => format!(
+                    "{label} left out: the gyro repeats one value for {n} samples from t = {:.2} s (sample {}): \
+                     held samples (a logger repeating over lost frames?) lose the turn",
+                    gyro.t[at],
+                    at + 1
+                ),
+                LeftOut::NearRange { sample, rate: peak } => format!(
+                    "{label} left out: the gyro reads {:.1} °/s at t = {:.2} s (sample {}), beyond {:.0} % of its \
+                     full scale {:.0} °/s, so the turn may have clipped",
+                    peak.to_degrees(),
+                    gyro.t[sample],
+                    sample + 1,
+                    100.0 * MAX_RANGE_FRACTION,
+                    full_scale.to_degrees()
+                ),
+            }
+        })
+        .collect()
+}
+
+/// The lab's refusal as the user reads it: the record's name, the triad,
+/// and the option that helps (with the times of a pose or sample it names).
+fn refusal(name: &str, gyro: &Record, full_scale: f64, e: ImuFitError) -> anyhow::Error {
+    let (error, pose, left_out) = match e {
+        ImuFitError::Detection(e) => return anyhow!("{name}: {e}"),
+        ImuFitError::NoSuchPose { pose, poses } => {
+            return anyhow!(
+                "{name}: --exclude-poses {pose}: the record has {poses} pose(s), numbered from 1 in the report"
+            )
         }
+        ImuFitError::Accel {
+            error,
+            axis_aligned: true,
+            ..
+        } => return anyhow!("{name}: accelerometer (--axis-aligned): {error}"),
+        ImuFitError::Accel {
+            error:
+                e @ (FitError::TooFewOrientations { .. } | FitError::OrientationsInOnePlane { .. }),
+            ..
+        } => {
+            return anyhow!(
+                "{name}: accelerometer: {e}; turn the board to more orientations \
+                 (or give --axis-aligned for a cube tumble)"
+            )
+        }
+        ImuFitError::Accel { error, poses, .. } => {
+            return anyhow!("{name}: accelerometer, {poses} static poses: {error}")
+        }
+        ImuFitError::Gyro(refusal) => (
+            refusal.error,
+            refusal.pose,
+            left_out_lines(gyro, full_scale, &refusal.left_out),
+        ),
+    };
+    let refused = match (error, pose) {
+        (e @ FitError::PoseNotStatic { .. }, Some(p)) => {
+            let text = e.to_string();
+            let rest = text.split_once(": ").map_or(text.as_str(), |(_, r)| r);
+            anyhow!(
+                "{name}: gyroscope: pose {} ({}): {rest}; or leave it out with --exclude-poses {}",
+                p.number,
+                span(gyro, &p.samples),
+                p.number
+            )
+        }
+        // This refusal lists what was left out itself.
+        (e @ FitError::TooFewRotations { .. }, _) if !left_out.is_empty() => {
+            return anyhow!(
+                "{name}: gyroscope: {e} ({} move(s) were left out: {})",
+                left_out.len(),
+                left_out.join("; ")
+            )
+        }
+        (e @ FitError::TooFastForRate { sample, .. }, _) => {
+            anyhow!("{name}: gyroscope: {e} (t = {:.2} s)", gyro.t[sample])
+        }
+        (e, _) => anyhow!("{name}: gyroscope: {e}"),
+    };
+    // What was left out is said even when the gyro fit then refuses.
+    for line in &left_out {
+        crate::plumbing::stdio::note!("{name}: {line}");
     }
-    AccelFit {
-        inverse: triad::model::matrix::inverse(&fit.scale_misalignment)
-            .unwrap_or(triad::model::matrix::IDENTITY),
-        scale_misalignment: fit.scale_misalignment,
-        bias: fit.bias,
-        params: [1.0, 0.0, 0.0, 1.0, 0.0, 1.0, 0.0, 0.0, 0.0],
-        covariance: Some([[0.0; 9]; 9]),
-        sigma_scale_misalignment: fit.sigma_scale_misalignment,
-        sigma_bias: fit.sigma_bias,
-        residual_rms: fit.residual_rms,
-        residual_max: fit.residual_max,
-        segments: fit.segments,
-        dof: fit.dof.max(1),
-        orientations: distinct.len(),
-        condition: fit.condition,
-        iterations: 0,
-    }
+    refused
 }
 
 /// The common report of the gyro's fit. Its σ's have the smallest of the

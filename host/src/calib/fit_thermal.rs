@@ -1,20 +1,22 @@
 //! `triad calib fit thermal`: the temperature terms of both triads from
 //! records over a temperature range (soaks or ramps), written into the
 //! calibration file's `[accel.temperature]` and `[gyro.temperature]`, so
-//! `triad correct` and the firmware (through the blob) apply them.
+//! `triad correct` and the firmware (through the blob) apply them. The fit
+//! is the lab's ([`thermal`]); this module reads the records, renders the
+//! report and writes the file.
 //!
 //! - The static segments of every record (the accelerometer's), cut where
-//!   their temperature has moved by [`CHUNK_C`], each with its mean
+//!   their temperature has moved by [`thermal::CHUNK_C`], each with its mean
 //!   temperature: a soak's pose is one segment, a ramp's rest many.
 //! - Accelerometer: (I+Σ)₀ + ΔT·D and b cubic in ΔT in one magnitude fit
-//!   over every segment in unknown orientations ([`thermal_accel`]);
-//!   upper triangular by convention, as `calib fit accel`.
+//!   over every segment in unknown orientations; upper triangular by
+//!   convention, as `calib fit accel`.
 //! - Gyroscope: its bias against temperature from the segments' means
-//!   ([`bias_polynomial`]; the Earth's rate is not removed), then its
-//!   (I+Σ)₀ + ΔT·D from the turns between consecutive poses of each record
-//!   ([`thermal_gyro`], the rig-free method at each move's temperature),
-//!   when ≥ 5 turns lie both colder and warmer than the reference; else
-//!   its (I+Σ) is `--base`'s (identity without) and D zero, said so.
+//!   (the Earth's rate is not removed), then its (I+Σ)₀ + ΔT·D from the
+//!   turns between consecutive poses of each record (the rig-free method at
+//!   each move's temperature), when ≥ 5 turns lie both colder and warmer
+//!   than the reference; else its (I+Σ) is `--base`'s (identity without)
+//!   and D zero, said so.
 //! - Which terms are fitted is decided by the temperatures alone
 //!   ([`thermal_coverage`]): swing ≥ 10 °C per order and order + 1 distinct
 //!   levels for the bias; for the accelerometer's D ≥ 9 orientations both
@@ -29,28 +31,24 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use anyhow::{anyhow, bail};
+use anyhow::anyhow;
 use triad::model::{TemperatureTerms, Triad, TriadCalibration};
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
-use triad_lab::calib_fit::fits::bias_polynomial::{self, BiasPolynomial, StaticMean};
-use triad_lab::calib_fit::fits::rig_free::Record;
-use triad_lab::calib_fit::fits::thermal_accel::{self, Terms, ThermalAccelFit};
+use triad_lab::calib_fit::fits::bias_polynomial::BiasPolynomial;
+use triad_lab::calib_fit::fits::thermal::{
+    self, ScaleNotFitted, ThermalFitError, ThermalOptions, ThermalRecord,
+};
+use triad_lab::calib_fit::fits::thermal_accel::ThermalAccelFit;
 use triad_lab::calib_fit::fits::thermal_coverage::{self, Coverage, LEVEL_C, MIN_SWING_C};
-use triad_lab::calib_fit::fits::thermal_gyro::{self, Poses, ThermalGyroFit};
-use triad_lab::calib_fit::static_segments::Segment;
-use triad_lab::calib_fit::FitError;
+use triad_lab::calib_fit::fits::thermal_gyro::ThermalGyroFit;
+use triad_lab::calib_fit::poses::detector;
 
 use super::fit::{file_list, inputs, write_calibration, Output};
 use super::fit_csv;
 use super::report::{matrix_rows, method_table, print_vector};
-use super::segments::{check_pose_options, detector, stat};
+use super::segments::check_pose_options;
 use crate::calib::file::vector;
 use crate::plumbing::stdio::outln;
-
-/// A static segment is cut where its temperature has moved by this (°C)
-/// from the cut's start: within a cut the terms change by at most
-/// 0.5 °C × the coefficient, and its mean temperature is its temperature.
-pub const CHUNK_C: f64 = 0.5;
 
 /// Arguments of `triad calib fit thermal`.
 #[derive(clap::Args)]
@@ -80,7 +78,7 @@ pub struct ThermalArgs {
 struct Channels {
     accel: fit_csv::Record,
     gyro: fit_csv::Record,
-    temp: fit_csv::Record,
+    temp: Vec<f64>,
 }
 
 fn read(path: &std::path::Path) -> anyhow::Result<Channels> {
@@ -94,82 +92,8 @@ fn read(path: &std::path::Path) -> anyhow::Result<Channels> {
     Ok(Channels {
         accel: fit_csv::parse(&text, path, fit_csv::ACCEL)?,
         gyro: fit_csv::parse(&text, path, fit_csv::GYRO)?,
-        temp,
+        temp: temp.samples.iter().map(|s| s[0]).collect(),
     })
-}
-
-/// `segment` cut where the temperature has moved by [`CHUNK_C`]; pieces
-/// shorter than `min_len` join the previous piece.
-fn cut(temp: &[[f64; 3]], segment: Segment, min_len: usize, out: &mut Vec<Segment>) {
-    let first = out.len();
-    let mut start = segment.start;
-    for i in segment.start..segment.end {
-        if (temp[i][0] - temp[start][0]).abs() >= CHUNK_C && i - start >= min_len {
-            out.push(Segment { start, end: i });
-            start = i;
-        }
-    }
-    if segment.end - start >= min_len || out.len() == first {
-        out.push(Segment {
-            start,
-            end: segment.end,
-        });
-    } else if let Some(last) = out.last_mut() {
-        last.end = segment.end;
-    }
-}
-
-/// Both triads' static means at every segment of every record.
-/// A record's static poses (uncut), their accelerometer means and temperatures.
-struct RecordPoses {
-    segments: Vec<Segment>,
-    accel_means: Vec<[f64; 3]>,
-    temperatures: Vec<f64>,
-}
-
-/// Both triads' static means at every (cut) segment of every record, and
-/// each record's whole poses for the gyro's turns.
-fn static_means(
-    records: &[Channels],
-    min_static: f64,
-) -> anyhow::Result<(Vec<StaticMean>, Vec<StaticMean>, Vec<RecordPoses>)> {
-    let (mut accel, mut gyro, mut poses) = (Vec::new(), Vec::new(), Vec::new());
-    for (file, r) in records.iter().enumerate() {
-        let name = crate::plumbing::input::name(&r.accel.path);
-        let d = detector(r.accel.rate_hz()?, min_static);
-        let mut buffer = vec![Segment { start: 0, end: 0 }; r.accel.samples.len() / d.block + 1];
-        let n = d
-            .detect(&r.accel.samples, &mut buffer)
-            .map_err(|e| anyhow!("{name}: {e}"))?;
-        let segments = buffer[..n].to_vec();
-        poses.push(RecordPoses {
-            accel_means: segments
-                .iter()
-                .map(|p| stat(&r.accel, file, p.start..p.end).mean)
-                .collect(),
-            temperatures: segments
-                .iter()
-                .map(|p| stat(&r.temp, file, p.start..p.end).mean[0])
-                .collect(),
-            segments,
-        });
-        let mut pieces = Vec::new();
-        for s in &buffer[..n] {
-            cut(&r.temp.samples, *s, d.block * d.min_blocks, &mut pieces);
-        }
-        for p in pieces {
-            let temperature_c = stat(&r.temp, file, p.start..p.end).mean[0];
-            for (out, record) in [(&mut accel, &r.accel), (&mut gyro, &r.gyro)] {
-                let s = stat(record, file, p.start..p.end);
-                out.push(StaticMean {
-                    temperature_c,
-                    mean: s.mean,
-                    standard_error: s.standard_error,
-                });
-            }
-        }
-    }
-    Ok((accel, gyro, poses))
 }
 
 /// The terms not fitted and why, for the report and `not_fitted`.
@@ -198,100 +122,64 @@ fn not_fitted(coverage: &Coverage, order: usize, scale: Option<&str>) -> Vec<Str
     out
 }
 
-/// The accelerometer's thermal fit and the terms it leaves out, unless `--gyro-only`.
-fn fit_accel(
-    args: &ThermalArgs,
-    names: &str,
-    means: &[StaticMean],
-    coverage: &Coverage,
-) -> anyhow::Result<Option<(ThermalAccelFit, Vec<String>)>> {
-    if args.gyro_only {
-        return Ok(None);
-    }
-    let directions: Vec<[f64; 3]> = means.iter().map(|m| m.mean).collect();
-    let temps: Vec<f64> = means.iter().map(|m| m.temperature_c).collect();
-    let mut scratch = vec![[0.0; 3]; means.len()];
-    let sides = thermal_coverage::orientations_either_side(
-        &directions,
-        &temps,
-        coverage.reference_c,
-        &mut scratch,
-    );
-    thermal_coverage::check_scale_support(sides, coverage)
-        .map_err(|e| anyhow!("{names}: accelerometer: {e}"))?;
-    let terms = Terms {
-        reference_c: coverage.reference_c,
-        bias_order: coverage.bias_order(),
-        scale: true,
-    };
-    let mut weights = vec![0.0; means.len()];
-    let fit = thermal_accel::fit(means, args.gravity, terms, &mut scratch, &mut weights).map_err(
-        |e| {
-            anyhow!(
-                "{names}: accelerometer, {} static segments: {e}",
-                means.len()
-            )
-        },
-    )?;
-    Ok(Some((fit, not_fitted(coverage, terms.bias_order, None))))
-}
-
 /// Runs `triad calib fit thermal`.
 pub fn run(args: ThermalArgs) -> anyhow::Result<ExitCode> {
     check_pose_options(args.gravity, args.min_static)?;
     let base = args.output.prepare(&inputs("record", &args.records))?;
     let names = super::fit::names(&args.records);
-    let records: Vec<Channels> = args
+    let channels: Vec<Channels> = args
         .records
         .iter()
         .map(|p| read(p))
         .collect::<anyhow::Result<_>>()?;
-    let (accel_means, gyro_means, poses) = static_means(&records, args.min_static)?;
-    let temps: Vec<f64> = accel_means.iter().map(|m| m.temperature_c).collect();
-    let coverage = thermal_coverage::coverage(&temps).map_err(|e| anyhow!("{names}: {e}"))?;
-    let order = coverage.bias_order();
-    let accel = fit_accel(&args, &names, &accel_means, &coverage)?;
-    let gyro = bias_polynomial::fit(&gyro_means, coverage.reference_c, order)
-        .map_err(|e| anyhow!("{names}: gyroscope bias: {e}"))?;
-    let (gyro_scale, scale_why) = match &accel {
-        None => (
-            None,
-            Some(
-                "needs the accelerometer's fit (--gyro-only): (I+Σ) from --base, D left zero"
-                    .to_string(),
-            ),
+    let records: Vec<ThermalRecord> = channels
+        .iter()
+        .map(|c| {
+            Ok(ThermalRecord {
+                t: &c.gyro.t,
+                accel: &c.accel.samples,
+                gyro: &c.gyro.samples,
+                temperature: &c.temp,
+                detector: detector(c.accel.rate_hz()?, args.min_static),
+            })
+        })
+        .collect::<anyhow::Result<_>>()?;
+    let options = ThermalOptions {
+        gravity: args.gravity,
+        full_scale: deg_to_rad(args.output.ranges.gyro_range_dps),
+        gyro_only: args.gyro_only,
+    };
+    let fit = thermal::fit(&records, &options).map_err(|e| match e {
+        ThermalFitError::Detection { record, error } => anyhow!(
+            "{}: {error}",
+            crate::plumbing::input::name(&args.records[record])
         ),
-        Some((accel_fit, _)) => {
-            let sets: Vec<Poses> = records
-                .iter()
-                .zip(&poses)
-                .map(|(r, p)| Poses {
-                    record: Record {
-                        t: &r.gyro.t,
-                        gyro: &r.gyro.samples,
-                    },
-                    segments: &p.segments,
-                    accel_means: &p.accel_means,
-                    temperatures: &p.temperatures,
-                })
-                .collect();
-            let full_scale = deg_to_rad(args.output.ranges.gyro_range_dps);
-            match thermal_gyro::fit(&sets, accel_fit, &gyro, full_scale) {
-                Ok(fit) => (Some(fit), None),
-                Err(e @ FitError::TooFewTurnsForScale { .. }) => {
-                    (None, Some(format!("{e}; (I+Σ) from --base, D left zero")))
-                }
-                Err(e) => bail!("{names}: gyroscope (I+Σ) against temperature: {e}"),
-            }
-        }
+        ThermalFitError::Coverage(e) => anyhow!("{names}: {e}"),
+        e => anyhow!("{names}: {e}"),
+    })?;
+    let coverage = fit.coverage;
+    let order = coverage.bias_order();
+    let gyro = &fit.gyro_bias;
+    let accel = fit
+        .accel
+        .as_ref()
+        .map(|a| (a, not_fitted(&coverage, a.terms.bias_order, None)));
+    let gyro_scale = fit.gyro_scale.as_ref().ok();
+    let scale_why = match fit.gyro_scale {
+        Ok(_) => None,
+        Err(ScaleNotFitted::GyroOnly) => Some(
+            "needs the accelerometer's fit (--gyro-only): (I+Σ) from --base, D left zero"
+                .to_string(),
+        ),
+        Err(ScaleNotFitted::TooFewTurns(e)) => Some(format!("{e}; (I+Σ) from --base, D left zero")),
     };
     let gyro_not = not_fitted(&coverage, order, scale_why.as_deref());
     let report = report(
         &names,
         &coverage,
         accel.as_ref(),
-        &gyro,
-        gyro_scale.as_ref(),
+        gyro,
+        gyro_scale,
         &gyro_not,
     );
 
@@ -331,6 +219,7 @@ pub fn run(args: ThermalArgs) -> anyhow::Result<ExitCode> {
     };
     let mut base = base;
     if let Some((fit, not)) = &accel {
+        let fit = *fit;
         let mut table = method_table(
             "thermal: |((I+Σ)₀ + ΔT·D)⁻¹(f̂ − b(ΔT))| = g over static segments in unknown orientations at their own temperatures, b cubic in ΔT",
             Some("(I+Σ) and D upper triangular: corrected z = the z sensing axis at every temperature"),
@@ -359,7 +248,7 @@ pub fn run(args: ThermalArgs) -> anyhow::Result<ExitCode> {
         ),
     };
     common(&mut gyro_table, &gyro_not);
-    insert_gyro_statistics(&mut gyro_table, &gyro, gyro_scale.as_ref());
+    insert_gyro_statistics(&mut gyro_table, gyro, gyro_scale);
     let (gyro_matrix, gyro_d) = match &gyro_scale {
         Some(fit) => (fit.scale_misalignment, fit.scale_misalignment_per_c),
         None => (base.calibration.gyro.scale_misalignment, [[0.0; 3]; 3]),
@@ -373,7 +262,7 @@ pub fn run(args: ThermalArgs) -> anyhow::Result<ExitCode> {
         "Temperature terms fitted by `triad calib fit thermal` from {names}{}:\n\
          {} static segments over {:.1}..{:.1} °C (reference {:.1} °C); outside that range the terms extrapolate.",
         if accel.is_none() { " (gyroscope only)" } else { "" },
-        accel_means.len(),
+        fit.segments,
         coverage.min_c,
         coverage.max_c,
         coverage.reference_c
@@ -475,7 +364,7 @@ fn insert_gyro_statistics(
 fn report(
     names: &str,
     coverage: &Coverage,
-    accel: Option<&(ThermalAccelFit, Vec<String>)>,
+    accel: Option<&(&ThermalAccelFit, Vec<String>)>,
     gyro: &BiasPolynomial,
     gyro_scale: Option<&ThermalGyroFit>,
     gyro_not: &[String],
@@ -643,33 +532,5 @@ fn print_bias(
                 weak.join(", ")
             );
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A temperature series as the record's `temp` column.
-    fn temps(values: &[f64]) -> Vec<[f64; 3]> {
-        values.iter().map(|&t| [t; 3]).collect()
-    }
-
-    #[test]
-    fn a_ramp_is_cut_every_half_degree_and_a_soak_is_not() {
-        // 0.1 °C a sample: a cut every 5 samples; the last 2 join the previous.
-        let ramp = temps(&(0..22).map(|i| 0.1 * i as f64).collect::<Vec<_>>());
-        let mut out = Vec::new();
-        cut(&ramp, Segment { start: 0, end: 22 }, 3, &mut out);
-        let bounds: Vec<(usize, usize)> = out.iter().map(|s| (s.start, s.end)).collect();
-        assert_eq!(bounds, [(0, 5), (5, 10), (10, 15), (15, 22)]);
-        let soak = temps(&[25.0; 40]);
-        let mut out = Vec::new();
-        cut(&soak, Segment { start: 3, end: 40 }, 3, &mut out);
-        assert_eq!(out, [Segment { start: 3, end: 40 }]);
-        // Shorter than the shortest piece: kept whole (the detector's own minimum).
-        let mut out = Vec::new();
-        cut(&ramp, Segment { start: 0, end: 2 }, 3, &mut out);
-        assert_eq!(out, [Segment { start: 0, end: 2 }]);
     }
 }

@@ -3,7 +3,8 @@
 //! standard error of that mean.
 
 use anyhow::{anyhow, bail};
-use triad_lab::calib_fit::static_segments::{self, Detector, DropReason, Dropped, Segment};
+use triad_lab::calib_fit::poses::{self, Detection};
+use triad_lab::calib_fit::static_segments::{DropReason, Dropped};
 
 use super::fit_csv::{self, Record};
 
@@ -38,15 +39,14 @@ pub fn check_pose_options(gravity: f64, min_static: f64) -> anyhow::Result<()> {
 
 /// The statistics of `record`'s samples `range` (file number `file`).
 pub fn stat(record: &Record, file: usize, range: std::ops::Range<usize>) -> Stat {
-    let s = &record.samples[range.clone()];
-    let sd = static_segments::standard_deviation(s);
+    let s = poses::statistics(&record.samples[range.clone()]);
     Stat {
         file,
         from: record.t[range.start],
         to: record.t[range.end - 1],
-        mean: static_segments::mean(s),
-        standard_error: sd.map(|x| x / (s.len() as f64).sqrt()),
-        count: s.len(),
+        mean: s.mean,
+        standard_error: s.standard_error,
+        count: s.count,
     }
 }
 
@@ -90,78 +90,36 @@ pub fn given_or(
     }
 }
 
-/// The static detector for a record at `rate` Hz: blocks of 0.5 s (≥ 25
-/// samples so the block deviation is within ~15 % of σ, see
-/// `static_segments::THRESHOLD_FACTOR`), segments of at least `min_static` s.
-pub fn detector(rate: f64, min_static: f64) -> Detector {
-    let block = ((0.5 * rate).round() as usize).max(25);
-    let block_s = block as f64 / rate;
-    Detector {
-        block,
-        min_blocks: (min_static / block_s).ceil() as usize,
-    }
-}
-
-/// What detection found in one record: the static segments (sample
-/// ranges of the whole record) and the candidates it dropped.
-#[derive(Debug, Default)]
-pub struct Detection {
-    /// The static segments, in order.
-    pub segments: Vec<Segment>,
-    /// The candidates not kept, in order.
-    pub dropped: Vec<Dropped>,
-}
-
-impl Detection {
-    /// One line per dropped candidate, naming its times and samples.
-    pub fn dropped_lines(&self, record: &Record, min_static: f64) -> Vec<String> {
-        self.dropped
-            .iter()
-            .map(|d| {
-                let why = match d.reason {
-                    DropReason::TooShort => format!("shorter than --min-static {min_static} s"),
-                    DropReason::Held => {
-                        "its samples repeat one value while the record's noise shows elsewhere \
-                         (held samples, e.g. a logger repeating over lost frames): not a pose"
-                            .to_string()
-                    }
-                };
-                format!(
-                    "candidate t = {:.2}..{:.2} s (samples {}..{}) dropped: {why}",
-                    record.t[d.start],
-                    record.t[d.end.max(d.start + 1) - 1],
-                    d.start + 1,
-                    d.end
-                )
-            })
-            .collect()
-    }
+/// One line per candidate detection dropped in `record`, naming its times and samples.
+pub fn dropped_lines(dropped: &[Dropped], record: &Record, min_static: f64) -> Vec<String> {
+    dropped
+        .iter()
+        .map(|d| {
+            let why = match d.reason {
+                DropReason::TooShort => format!("shorter than --min-static {min_static} s"),
+                DropReason::Held => {
+                    "its samples repeat one value while the record's noise shows elsewhere \
+                     (held samples, e.g. a logger repeating over lost frames): not a pose"
+                        .to_string()
+                }
+            };
+            format!(
+                "candidate t = {:.2}..{:.2} s (samples {}..{}) dropped: {why}",
+                record.t[d.start],
+                record.t[d.end.max(d.start + 1) - 1],
+                d.start + 1,
+                d.end
+            )
+        })
+        .collect()
 }
 
 /// The static segments of `record` (at least `min_static` s each), found in
 /// each of its parts ([`Record::parts`]: no segment spans a gap).
 pub fn detect(record: &Record, min_static: f64) -> anyhow::Result<Detection> {
-    let name = crate::plumbing::input::name(&record.path);
-    let detector = detector(record.rate_hz()?, min_static);
-    let mut found = Detection::default();
-    for part in record.parts() {
-        let samples = &record.samples[part.clone()];
-        let mut buffer = vec![Segment { start: 0, end: 0 }; samples.len() / detector.block + 1];
-        let mut dropped = Vec::new();
-        let n = detector
-            .detect_reporting(samples, &mut buffer, |d| dropped.push(d))
-            .map_err(|e| anyhow!("{name}: {e}"))?;
-        let shift = |start: usize, end: usize| (part.start + start, part.start + end);
-        found.segments.extend(buffer[..n].iter().map(|s| {
-            let (start, end) = shift(s.start, s.end);
-            Segment { start, end }
-        }));
-        found.dropped.extend(dropped.into_iter().map(|d| {
-            let (start, end) = shift(d.start, d.end);
-            Dropped { start, end, ..d }
-        }));
-    }
-    Ok(found)
+    let detector = poses::detector(record.rate_hz()?, min_static);
+    poses::detect(&detector, &record.samples, &record.parts())
+        .map_err(|e| anyhow!("{}: {e}", crate::plumbing::input::name(&record.path)))
 }
 
 /// The static segments of every record, in order.
@@ -179,7 +137,7 @@ pub fn detected_saying(
     for (file, record) in records.iter().enumerate() {
         let found = detect(record, min_static)?;
         let name = crate::plumbing::input::name(&record.path);
-        for line in found.dropped_lines(record, min_static) {
+        for line in dropped_lines(&found.dropped, record, min_static) {
             say(format!("{name}: {line}"));
         }
         stats.extend(
@@ -218,7 +176,7 @@ mod tests {
         assert_eq!((s.file, s.from, s.to, s.count), (2, 0.0, 0.3, 4));
         assert_eq!(s.mean[0], 1.0);
         assert_eq!(s.mean[2], 0.0);
-        let sd = static_segments::standard_deviation(&record().samples[0..4]);
+        let sd = triad_lab::calib_fit::static_segments::standard_deviation(&record().samples[0..4]);
         assert_eq!(s.standard_error[0], sd[0] / 2.0);
     }
 
@@ -242,13 +200,5 @@ mod tests {
         assert!(given_or(&two, None, "--positions", || Ok(Vec::new()))
             .unwrap()
             .is_empty());
-    }
-
-    #[test]
-    fn the_detector_uses_half_second_blocks_of_at_least_25_samples() {
-        let d = detector(100.0, 2.0);
-        assert_eq!((d.block, d.min_blocks), (50, 4));
-        let d = detector(10.0, 2.0);
-        assert_eq!((d.block, d.min_blocks), (25, 1));
     }
 }

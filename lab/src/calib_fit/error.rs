@@ -182,28 +182,6 @@ pub enum FitError {
         /// The smallest accepted eigenvalue.
         needed: f64,
     },
-    /// The records' temperatures span too little for any temperature term
-    /// ([`MIN_SWING_C`](crate::calib_fit::fits::thermal_coverage::MIN_SWING_C)).
-    TemperatureSwingTooSmall {
-        /// Coldest segment, °C.
-        min_c: f64,
-        /// Warmest segment, °C.
-        max_c: f64,
-        /// The smallest accepted swing, °C.
-        needed_c: f64,
-    },
-    /// (I+Σ) against temperature needs the full orientation set both colder
-    /// and warmer than the reference temperature.
-    TooFewTemperaturesForScale {
-        /// Distinct gravity directions among the colder segments.
-        colder: usize,
-        /// Among the warmer ones.
-        warmer: usize,
-        /// The reference temperature, °C.
-        reference_c: f64,
-        /// The minimum on each side.
-        needed: usize,
-    },
     /// The gyro's (I+Σ) against temperature needs turns both colder and
     /// warmer than the reference temperature.
     TooFewTurnsForScale {
@@ -215,11 +193,6 @@ pub enum FitError {
         reference_c: f64,
         /// The minimum on each side.
         needed: usize,
-    },
-    /// A static-segment buffer is too small for the segments found.
-    TooManySegments {
-        /// The buffer's capacity.
-        capacity: usize,
     },
 }
 
@@ -296,12 +269,7 @@ impl fmt::Display for FitError {
                 "the data do not determine the parameters: condition number {condition:.3e} of the \
                  scaled Jacobian exceeds {limit:.0e} (add orientations spread over the sphere)"
             ),
-            FitError::LeastSquares(LsError::TooFewRows { rows, unknowns }) => {
-                write!(f, "{rows} equations for {unknowns} unknowns")
-            }
-            FitError::LeastSquares(LsError::RankDeficient { unknown }) => {
-                write!(f, "parameter {unknown} is not determined by the data (rank deficient)")
-            }
+            FitError::LeastSquares(e) => write!(f, "{e}"),
             FitError::NoConvergence { iterations } => {
                 write!(f, "the fit did not converge in {iterations} iterations")
             }
@@ -362,22 +330,6 @@ impl fmt::Display for FitError {
                     spread[0], spread[1]
                 )
             }
-            FitError::TemperatureSwingTooSmall { min_c, max_c, needed_c } => write!(
-                f,
-                "the static segments' temperatures span {min_c:.1} to {max_c:.1} °C, a swing of {:.1} °C: \
-                 a temperature term needs at least {needed_c} °C (the die lags the chip's own reading by \
-                 ~0.5 °C, which would bias a coefficient by ≥ 10 %); record over a wider range, or fit at \
-                 one temperature with `calib fit accel`/`imu`",
-                max_c - min_c
-            ),
-            FitError::TooFewTemperaturesForScale { colder, warmer, reference_c, needed } => write!(
-                f,
-                "(I+Σ) against temperature needs (I+Σ) at two temperatures: ≥ {needed} distinct static \
-                 orientations colder than the reference {reference_c:.1} °C and ≥ {needed} warmer; found \
-                 {colder} colder and {warmer} warmer (a static record sees one direction, where the bias \
-                 and (I+Σ)·g cannot be told apart): add a multi-position record at each end of the range \
-                 (e.g. the hand-soak script), or fit only the gyroscope's bias (--gyro-only)"
-            ),
             FitError::TooFewTurnsForScale { colder, warmer, reference_c, needed } => write!(
                 f,
                 "the gyro's (I+Σ) against temperature needs ≥ {needed} turns of ≥ {} degrees between static \
@@ -385,9 +337,6 @@ impl fmt::Display for FitError {
                  {warmer} warmer: turn the unit by hand between poses at each end of the range (the hand-soak script)",
                 crate::calib_fit::fits::rig_free::MIN_TURN_DEG
             ),
-            FitError::TooManySegments { capacity } => {
-                write!(f, "more than {capacity} static segments")
-            }
         }
     }
 }

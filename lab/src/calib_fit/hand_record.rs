@@ -6,11 +6,16 @@
 //! f̂ = (I+Σ)_a·f + b_a + noise and ω̂ = (I+Σ)_g·ω + b_g + G·f + noise
 //! (G the gyro's g-sensitivity, when the unit has one), with f
 //! the exact specific force in body axes and ω the exact body rate (no
-//! Earth rate). No allocation: samples go to a callback, randomness comes
-//! from the caller's uniform generator.
+//! Earth rate). [`generate`] allocates nothing: samples go to a callback,
+//! randomness comes from the caller's uniform generator; [`recorded`]
+//! keeps them, with the poses detection finds.
+
+use alloc::vec::Vec;
 
 use crate::calib_fit::numerics::quaternion::{self, Quat};
 use crate::calib_fit::numerics::small3::Mat3;
+use crate::calib_fit::poses;
+use crate::calib_fit::static_segments::Segment;
 use triad::model::matrix::mul_vec;
 
 /// One triad of the simulated unit.
@@ -221,5 +226,39 @@ pub fn generate(
             &start,
             &quaternion::from_rotation_vector(&axis.map(|x| x * angle)),
         );
+    }
+}
+
+/// A generated record held in memory, with its static poses.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Recorded {
+    /// Times, s.
+    pub t: Vec<f64>,
+    /// The accelerometer's samples, m/s².
+    pub accel: Vec<[f64; 3]>,
+    /// The gyroscope's samples, rad/s.
+    pub gyro: Vec<[f64; 3]>,
+    /// The poses detection finds (0.5 s blocks, poses of at least 2 s).
+    pub poses: Vec<Segment>,
+}
+
+/// [`generate`]'s record kept, with its poses found as `fit imu` finds
+/// them; panics if detection fails (too many segments: not a hand script).
+pub fn recorded(script: &Script, unit: &Unit, uniform: &mut impl FnMut() -> f64) -> Recorded {
+    let (mut t, mut accel, mut gyro) = (Vec::new(), Vec::new(), Vec::new());
+    generate(script, unit, uniform, |s| {
+        t.push(s.t);
+        accel.push(s.accel);
+        gyro.push(s.gyro);
+    });
+    let detector = poses::detector(script.rate_hz, 2.0);
+    let whole = 0..accel.len();
+    let found = poses::detect(&detector, &accel, core::slice::from_ref(&whole))
+        .expect("a hand script's poses are found");
+    Recorded {
+        t,
+        accel,
+        gyro,
+        poses: found.segments,
     }
 }

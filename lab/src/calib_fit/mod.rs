@@ -1,7 +1,9 @@
 //! Laboratory calibration fits: (I+Σ) and b from recorded data, in f64
 //! (the caller owns the sample buffers).
 //!
-//! - [`static_segments`]: where a record is at rest.
+//! - [`static_segments`]: where a record is at rest; [`poses`]: a whole
+//!   record's poses (the detector for its rate, each part searched alone,
+//!   each pose's statistics).
 //! - [`fits`]: the fits themselves (accelerometer in unknown orientations
 //!   or on a cube's faces, gyroscope on a rate table or rig-free, its
 //!   g-sensitivity, and across temperature).
@@ -12,13 +14,20 @@
 //! - [`hand_record`]: hand-turned records with known truth, for tests and
 //!   benchmarks.
 //!
-//! Every refusal is a [`FitError`] that says what was found and what is needed.
+//! Every refusal says what was found and what is needed. The whole fits
+//! each have their own error ([`fits::imu::ImuFitError`],
+//! [`fits::thermal::ThermalFitError`]), as do static detection
+//! ([`static_segments::DetectError`]), the temperatures' coverage
+//! ([`fits::thermal_coverage::CoverageError`]) and the bias polynomial
+//! ([`fits::bias_polynomial::BiasPolynomialError`]); the other fits still
+//! share [`FitError`].
 
 pub mod accel_frame;
 pub mod error;
 pub mod fits;
 pub mod hand_record;
 pub mod numerics;
+pub mod poses;
 pub mod static_segments;
 
 pub use error::FitError;

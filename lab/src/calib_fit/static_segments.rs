@@ -24,7 +24,7 @@
 //! dropped are reported with the reason. No allocation: the caller gives
 //! the output buffer.
 
-use crate::calib_fit::error::FitError;
+use core::fmt;
 
 /// Threshold = this × the 10th percentile of the block deviations. The
 /// sample deviation of a block of n ≥ 25 white-noise samples scatters by
@@ -36,6 +36,26 @@ pub const THRESHOLD_FACTOR: f64 = 4.0;
 /// The smallest threshold, m/s² (10 µg): noiseless or coarsely quantised
 /// records would otherwise get a zero threshold.
 pub const THRESHOLD_FLOOR: f64 = 1.0e-4;
+
+/// Why detection failed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DetectError {
+    /// The output buffer is too small for the segments found.
+    TooManySegments {
+        /// The buffer's capacity.
+        capacity: usize,
+    },
+}
+
+impl fmt::Display for DetectError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            DetectError::TooManySegments { capacity } => {
+                write!(f, "more than {capacity} static segments")
+            }
+        }
+    }
+}
 
 /// Why a run of static blocks made no segment.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -178,7 +198,7 @@ impl Detector {
     /// from the previous block's by more than the threshold also ends a
     /// segment (an orientation change that fell exactly between two blocks;
     /// block means scatter by only σ/√block, far below the threshold).
-    pub fn detect(&self, samples: &[[f64; 3]], out: &mut [Segment]) -> Result<usize, FitError> {
+    pub fn detect(&self, samples: &[[f64; 3]], out: &mut [Segment]) -> Result<usize, DetectError> {
         self.detect_reporting(samples, out, |_| {})
     }
 
@@ -188,7 +208,7 @@ impl Detector {
         samples: &[[f64; 3]],
         out: &mut [Segment],
         mut dropped: impl FnMut(Dropped),
-    ) -> Result<usize, FitError> {
+    ) -> Result<usize, DetectError> {
         let block = self.block.max(2);
         let Some(threshold) = self.threshold_of(samples) else {
             return Ok(0);
@@ -205,7 +225,7 @@ impl Detector {
                         end: usize,
                         clean_end: bool,
                         dropped: &mut dyn FnMut(Dropped)|
-         -> Result<(), FitError> {
+         -> Result<(), DetectError> {
             // Trim one block at each end that borders motion.
             let lo = if first == 0 || after_jump {
                 first
@@ -216,7 +236,7 @@ impl Detector {
             if hi >= lo + self.min_blocks.max(1) {
                 let slot = out
                     .get_mut(found)
-                    .ok_or(FitError::TooManySegments { capacity: found })?;
+                    .ok_or(DetectError::TooManySegments { capacity: found })?;
                 *slot = Segment {
                     start: lo * block,
                     end: hi * block,

@@ -16,6 +16,15 @@ pub fn fit_imu_seconds() -> Result<f64> {
     Ok(mean_ns(&path)? * 1e-9)
 }
 
+/// Seconds of `triad calib fit thermal`'s whole fit on three hand-turned
+/// soaks (host/benches/fit_thermal.rs; criterion's mean).
+pub fn fit_thermal_seconds() -> Result<f64> {
+    run_criterion("fit_thermal", "5", "the fit thermal benchmark (criterion)")?;
+    let path =
+        host_target_dir().join("criterion/fit_thermal/whole_3_soaks_100hz/new/estimates.json");
+    Ok(mean_ns(&path)? * 1e-9)
+}
+
 /// Runs host/benches/`bench`.rs (1 s warm-up, `seconds` measuring);
 /// `what` names it in an error.
 fn run_criterion(bench: &str, seconds: &str, what: &str) -> Result<()> {

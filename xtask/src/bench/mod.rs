@@ -113,6 +113,7 @@ pub fn run(json: bool) -> Result<()> {
     let host = host::measure()?;
     run_fuzz()?;
     let fit_imu_s = host::fit_imu_seconds()?;
+    let fit_thermal_s = host::fit_thermal_seconds()?;
     let triad = crate::cmd::build_host_tool()?;
     let calibration = crate::cmd::pack_calibration(&triad, None)?;
     let firmware_rows = whole_firmware::measure(&triad, &calibration)?;
@@ -139,7 +140,12 @@ pub fn run(json: bool) -> Result<()> {
     markdown += &format!(
         "\n## The lab on the host\n\n`triad calib fit imu`'s whole fit (detection, accelerometer, moves, gyro) on a \
          10-minute 400 Hz hand-pose record (109 poses, 240 000 samples; `cargo bench -p triad-host --bench \
-         fit_imu`, criterion's mean): {fit_imu_s:.2} s (goal ≤ 1 s).\n"
+         fit_imu`, criterion's mean): {fit_imu_s:.2} s (goal ≤ 1 s).\n\n\
+         `triad calib fit thermal`'s whole fit (detection, segments cut by temperature, the accelerometer's \
+         thermal fit, the gyro's bias polynomial and its (I+Σ) against temperature) on three hand-turned soaks \
+         at −10, 25 and 60 °C (14 poses each at 100 Hz; `cargo bench -p triad-host --bench fit_thermal`, \
+         criterion's mean): {:.1} ms.\n",
+        fit_thermal_s * 1e3
     );
     markdown += &allan::section(true)?;
     std::fs::write(docs.join("BENCHMARKS.md"), markdown)?;

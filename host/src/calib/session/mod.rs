@@ -286,12 +286,12 @@ pub fn run(args: SessionArgs) -> anyhow::Result<ExitCode> {
     device.link.command(&Command::SetMode(Mode::Calibrated))?;
     // Fresh poses as long as the fit's on average: their means then scatter
     // as the fit's did, which the verdict's scale assumes.
-    let hold_s = fit
-        .poses
+    let poses = &fit.fit.poses;
+    let hold_s = poses
         .iter()
-        .map(|p| accel.t[p.end - 1] - accel.t[p.start])
+        .map(|p| accel.t[p.samples.end - 1] - accel.t[p.samples.start])
         .sum::<f64>()
-        / fit.poses.len().max(1) as f64;
+        / poses.len().max(1) as f64;
     let hold_s = hold_s.max(args.min_static);
     stdio::print(format!(
         "uploaded calibration {uploaded:#010x}, saved it to the device's flash; verifying on {} fresh poses \

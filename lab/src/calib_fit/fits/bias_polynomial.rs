@@ -12,9 +12,45 @@
 //! Earth's rate, ≤ 7.3e-5 rad/s, is not removed: in one orientation it
 //! goes into b₀, in many into the scatter).
 
-use crate::calib_fit::error::FitError;
+use core::fmt;
+
 use crate::calib_fit::fits::thermal_coverage::MAX_BIAS_ORDER;
 use crate::calib_fit::numerics::qr::{GivensLs, LsError};
+
+/// Why the bias polynomial was refused.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum BiasPolynomialError {
+    /// A mean or its standard error is NaN or infinite.
+    NonFinite {
+        /// The segment (0-based).
+        segment: usize,
+        /// The value.
+        value: f64,
+    },
+    /// The least-squares problem is rank deficient or short of rows.
+    LeastSquares(LsError),
+}
+
+impl From<LsError> for BiasPolynomialError {
+    fn from(e: LsError) -> Self {
+        BiasPolynomialError::LeastSquares(e)
+    }
+}
+
+impl fmt::Display for BiasPolynomialError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            BiasPolynomialError::NonFinite { segment, value } => {
+                write!(
+                    f,
+                    "segment {}: value {value} is not a finite number",
+                    segment + 1
+                )
+            }
+            BiasPolynomialError::LeastSquares(e) => write!(f, "{e}"),
+        }
+    }
+}
 
 /// One static mean: its temperature, the mean and its standard errors.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -64,7 +100,7 @@ pub fn fit(
     means: &[StaticMean],
     reference_c: f64,
     order: usize,
-) -> Result<BiasPolynomial, FitError> {
+) -> Result<BiasPolynomial, BiasPolynomialError> {
     let order = order.clamp(1, MAX_BIAS_ORDER);
     let unknowns = order + 1;
     for (segment, m) in means.iter().enumerate() {
@@ -74,12 +110,12 @@ pub fn fit(
             .chain(&m.standard_error)
             .chain([&m.temperature_c]);
         if let Some(&value) = values.into_iter().find(|x| !x.is_finite()) {
-            return Err(FitError::NonFinite { segment, value });
+            return Err(BiasPolynomialError::NonFinite { segment, value });
         }
     }
     // One degree of freedom at least: no σ without one.
     if means.len() <= unknowns {
-        return Err(FitError::LeastSquares(LsError::TooFewRows {
+        return Err(BiasPolynomialError::LeastSquares(LsError::TooFewRows {
             rows: means.len(),
             unknowns: unknowns + 1,
         }));

@@ -17,22 +17,27 @@
 //!   several orientations, and the poses' consistency test that accounts for
 //!   it; [`static_gyro`]: the gyroscope's bias and G from a record of
 //!   static poses alone.
+//! - [`imu`]: `fit imu` whole, from one hand-turned record (or a cube
+//!   tumble) and its options to both triads with what the report says.
 //! - Across temperature: [`thermal_coverage`] (the range, the reference
 //!   and which terms the temperatures support), [`thermal_accel`] (the
 //!   accelerometer's (I+Σ) linear and b cubic in ΔT from poses in unknown
 //!   orientations at several temperatures), [`bias_polynomial`] (a bias
 //!   against temperature from static means, for the gyroscope),
 //!   [`thermal_gyro`] (the gyroscope's (I+Σ) linear in ΔT from hand turns
-//!   at several temperatures).
+//!   at several temperatures); [`thermal`]: `fit thermal` whole, from the
+//!   records and options to both triads' terms with what the report says.
 
 pub mod accel_cube;
 pub mod accel_fit;
 pub mod bias_polynomial;
 pub mod g_sensitivity;
 pub mod gyro_fit;
+pub mod imu;
 pub mod move_selection;
 pub mod rig_free;
 pub mod static_gyro;
+pub mod thermal;
 pub mod thermal_accel;
 pub mod thermal_coverage;
 pub mod thermal_gyro;

@@ -24,7 +24,9 @@
 //!   temperatures sees one direction only, where D·f and the bias cannot
 //!   be told apart.
 
-use crate::calib_fit::error::{FitError, MIN_ACCEL_ORIENTATIONS};
+use core::fmt;
+
+use crate::calib_fit::error::MIN_ACCEL_ORIENTATIONS;
 use crate::calib_fit::fits::accel_fit::distinct_orientations;
 
 /// The smallest swing (°C) per polynomial order of the bias; also the
@@ -67,15 +69,75 @@ impl Coverage {
     }
 }
 
+/// Why the temperatures do not support a term.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CoverageError {
+    /// A segment's temperature is NaN or infinite.
+    NonFinite {
+        /// The segment (0-based).
+        segment: usize,
+        /// The value, °C.
+        value: f64,
+    },
+    /// The records' temperatures span too little for any temperature term
+    /// ([`MIN_SWING_C`]).
+    TemperatureSwingTooSmall {
+        /// Coldest segment, °C.
+        min_c: f64,
+        /// Warmest segment, °C.
+        max_c: f64,
+        /// The smallest accepted swing, °C.
+        needed_c: f64,
+    },
+    /// (I+Σ) against temperature needs the full orientation set both colder
+    /// and warmer than the reference temperature.
+    TooFewTemperaturesForScale {
+        /// Distinct gravity directions among the colder segments.
+        colder: usize,
+        /// Among the warmer ones.
+        warmer: usize,
+        /// The reference temperature, °C.
+        reference_c: f64,
+        /// The minimum on each side.
+        needed: usize,
+    },
+}
+
+impl fmt::Display for CoverageError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            CoverageError::NonFinite { segment, value } => {
+                write!(f, "segment {}: value {value} is not a finite number", segment + 1)
+            }
+            CoverageError::TemperatureSwingTooSmall { min_c, max_c, needed_c } => write!(
+                f,
+                "the static segments' temperatures span {min_c:.1} to {max_c:.1} °C, a swing of {:.1} °C: \
+                 a temperature term needs at least {needed_c} °C (the die lags the chip's own reading by \
+                 ~0.5 °C, which would bias a coefficient by ≥ 10 %); record over a wider range, or fit at \
+                 one temperature with `calib fit accel`/`imu`",
+                max_c - min_c
+            ),
+            CoverageError::TooFewTemperaturesForScale { colder, warmer, reference_c, needed } => write!(
+                f,
+                "(I+Σ) against temperature needs (I+Σ) at two temperatures: ≥ {needed} distinct static \
+                 orientations colder than the reference {reference_c:.1} °C and ≥ {needed} warmer; found \
+                 {colder} colder and {warmer} warmer (a static record sees one direction, where the bias \
+                 and (I+Σ)·g cannot be told apart): add a multi-position record at each end of the range \
+                 (e.g. the hand-soak script), or fit only the gyroscope's bias (--gyro-only)"
+            ),
+        }
+    }
+}
+
 /// The coverage of `temperatures` (°C): refused when one is not finite or
 /// the swing is below [`MIN_SWING_C`] (no term is supported).
-pub fn coverage(temperatures: &[f64]) -> Result<Coverage, FitError> {
+pub fn coverage(temperatures: &[f64]) -> Result<Coverage, CoverageError> {
     if let Some((segment, &value)) = temperatures
         .iter()
         .enumerate()
         .find(|(_, t)| !t.is_finite())
     {
-        return Err(FitError::NonFinite { segment, value });
+        return Err(CoverageError::NonFinite { segment, value });
     }
     let min_c = temperatures.iter().copied().fold(f64::INFINITY, f64::min);
     let max_c = temperatures
@@ -84,7 +146,7 @@ pub fn coverage(temperatures: &[f64]) -> Result<Coverage, FitError> {
         .fold(f64::NEG_INFINITY, f64::max);
     let swing = max_c - min_c;
     if temperatures.is_empty() || swing < MIN_SWING_C {
-        return Err(FitError::TemperatureSwingTooSmall {
+        return Err(CoverageError::TemperatureSwingTooSmall {
             min_c,
             max_c,
             needed_c: MIN_SWING_C,
@@ -135,9 +197,9 @@ pub fn orientations_either_side(
 }
 
 /// Checks the orientations either side ([`orientations_either_side`]).
-pub fn check_scale_support(found: [usize; 2], coverage: &Coverage) -> Result<(), FitError> {
+pub fn check_scale_support(found: [usize; 2], coverage: &Coverage) -> Result<(), CoverageError> {
     if found[0] < MIN_ACCEL_ORIENTATIONS || found[1] < MIN_ACCEL_ORIENTATIONS {
-        return Err(FitError::TooFewTemperaturesForScale {
+        return Err(CoverageError::TooFewTemperaturesForScale {
             colder: found[0],
             warmer: found[1],
             reference_c: coverage.reference_c,
@@ -162,7 +224,7 @@ mod tests {
         assert_eq!(narrow.bias_order(), 1, "15 °C: linear only");
         assert_eq!(
             coverage(&[20.0, 29.0]),
-            Err(FitError::TemperatureSwingTooSmall {
+            Err(CoverageError::TemperatureSwingTooSmall {
                 min_c: 20.0,
                 max_c: 29.0,
                 needed_c: 10.0
@@ -170,7 +232,7 @@ mod tests {
         );
         assert!(matches!(
             coverage(&[20.0, f64::NAN]),
-            Err(FitError::NonFinite { segment: 1, .. })
+            Err(CoverageError::NonFinite { segment: 1, .. })
         ));
     }
 }

@@ -14,7 +14,9 @@
 //! frame at each temperature, as in `calib fit imu`.
 //!
 //! A move's residuals depend on (I+Σ)(ΔT_move) alone, so ∂r/∂D = ΔT·∂r/∂(I+Σ)₀:
-//! nine central differences per move give all eighteen columns. The σ's are
+//! the nine derivatives in (I+Σ) from one pass over the move
+//! ([`crate::calib_fit::fits::turn_sensitivity`], as the rig-free fit)
+//! give all eighteen columns. The σ's are
 //! s²·(JᵀJ)⁻¹ with 2·moves − 18 degrees of freedom plus the variance carried
 //! from the accelerometer fit's covariance (its error moves every gravity
 //! direction), combined per entry by Welch–Satterthwaite; the bias
@@ -23,9 +25,12 @@
 
 use crate::calib_fit::error::FitError;
 use crate::calib_fit::fits::bias_polynomial::BiasPolynomial;
-use crate::calib_fit::fits::rig_free::{self, across, dot, Record, MIN_ROTATIONS, MIN_TURN_DEG};
+use crate::calib_fit::fits::rig_free::{
+    self, across, dot, MoveBias, Record, MIN_ROTATIONS, MIN_TURN_DEG,
+};
 use crate::calib_fit::fits::thermal_accel::{self, ThermalAccelFit, MAX_CONDITION, PARAMETERS};
 use crate::calib_fit::fits::thermal_coverage::LEVEL_C;
+use crate::calib_fit::fits::turn_sensitivity::{self, TurnSensitivity};
 use crate::calib_fit::numerics::levenberg_marquardt::{self, Problem};
 use crate::calib_fit::numerics::qr::GivensLs;
 use crate::calib_fit::numerics::quaternion;
@@ -35,10 +40,6 @@ use triad::model::matrix;
 
 /// Parameters: (I+Σ)₀ row by row, then D row by row.
 pub const GYRO_PARAMETERS: usize = 18;
-
-/// Step of the central differences on the entries of (I+Σ) (see
-/// [`crate::calib_fit::fits::rig_free`]'s).
-const DERIVATIVE_STEP: f64 = 1.0e-6;
 
 /// Step on the accelerometer's parameters, relative to each one's σ.
 const ACCEL_STEP_SIGMAS: f64 = 1.0e-2;
@@ -118,23 +119,46 @@ impl Moves<'_> {
         }
     }
 
+    fn move_bias(&self, m: Move) -> MoveBias {
+        MoveBias::constant(self.bias.at(self.reference_c + m.delta))
+    }
+
     fn turn(&self, m: Move, k: &Mat3) -> quaternion::Quat {
         let s = &self.sets[m.set];
-        let bias = self.bias.at(self.reference_c + m.delta);
         rig_free::integrate(
             &s.record,
             &s.segments[m.pose],
             &s.segments[m.pose + 1],
             k,
-            &rig_free::MoveBias::constant(bias),
+            &self.move_bias(m),
         )
     }
 
-    fn residuals_of_turn(&self, m: Move, q: &quaternion::Quat, a: &[f64; PARAMETERS]) -> [f64; 2] {
+    /// Move `m` integrated once at `k` = (I+Σ)⁻¹, with its sensitivity to (I+Σ).
+    fn turn_with_sensitivity(&self, m: Move, k: &Mat3) -> (quaternion::Quat, TurnSensitivity) {
+        let s = &self.sets[m.set];
+        let mut gather = turn_sensitivity::Accumulator::new(None);
+        let q = rig_free::integrate_observed(
+            &s.record,
+            &s.segments[m.pose],
+            &s.segments[m.pose + 1],
+            k,
+            &self.move_bias(m),
+            |x| gather.add(x),
+        );
+        (q, gather.finish())
+    }
+
+    /// Move `m`'s gravity directions before and after, for accelerometer parameters `a`.
+    fn ends(&self, m: Move, a: &[f64; PARAMETERS]) -> [[f64; 3]; 2] {
         let s = &self.sets[m.set];
         let up =
             |i: usize| thermal_accel::up(a, self.reference_c, &s.accel_means[i], s.temperatures[i]);
-        let (before, after) = (up(m.pose), up(m.pose + 1));
+        [up(m.pose), up(m.pose + 1)]
+    }
+
+    fn residuals_of_turn(&self, m: Move, q: &quaternion::Quat, a: &[f64; PARAMETERS]) -> [f64; 2] {
+        let [before, after] = self.ends(m, a);
         let predicted = quaternion::rotate_inverse(q, &before);
         let d = [0, 1, 2].map(|i| predicted[i] - after[i]);
         across(&after).map(|e| dot(&d, &e))
@@ -147,36 +171,36 @@ impl Moves<'_> {
         self.residuals_of_turn(m, &self.turn(m, &k), &self.accel.params)
     }
 
-    /// (residuals, ∂/∂ the 18 parameters) of move `m` at `p`.
+    /// (residuals, ∂/∂ the 18 parameters, the end attitude) of move `m` at
+    /// `p`, from one integration ([`turn_sensitivity::scale_gradient`]);
+    /// NaN when (I+Σ)(ΔT) is singular.
     fn rows_of(
         &self,
         m: Move,
         p: &[f64; GYRO_PARAMETERS],
-    ) -> ([f64; 2], [[f64; GYRO_PARAMETERS]; 2]) {
-        let at = matrix_at(p, m.delta);
-        let r = self.residuals(m, &at);
-        let mut grad = [[0.0; GYRO_PARAMETERS]; 2];
-        for e in 0..9 {
-            let shifted = |h: f64| {
-                let mut x = at;
-                x[e / 3][e % 3] += h;
-                self.residuals(m, &x)
-            };
-            let (rp, rm) = (shifted(DERIVATIVE_STEP), shifted(-DERIVATIVE_STEP));
-            for c in 0..2 {
-                let g = (rp[c] - rm[c]) / (2.0 * DERIVATIVE_STEP);
-                grad[c][e] = g;
-                grad[c][9 + e] = m.delta * g;
-            }
-        }
-        (r, grad)
+    ) -> ([f64; 2], [[f64; GYRO_PARAMETERS]; 2], quaternion::Quat) {
+        let Some(k) = matrix::inverse(&matrix_at(p, m.delta)) else {
+            return (
+                [f64::NAN; 2],
+                [[f64::NAN; GYRO_PARAMETERS]; 2],
+                quaternion::IDENTITY,
+            );
+        };
+        let (q, sensitivity) = self.turn_with_sensitivity(m, &k);
+        let a = &self.accel.params;
+        let [before, after] = self.ends(m, a);
+        let predicted = quaternion::rotate_inverse(&q, &before);
+        let at =
+            turn_sensitivity::scale_gradient(&sensitivity, &q, &k, &predicted, &across(&after));
+        let grad = at
+            .map(|row| core::array::from_fn(|e| if e < 9 { row[e] } else { m.delta * row[e - 9] }));
+        (self.residuals_of_turn(m, &q, a), grad, q)
     }
 
     /// ∂(residuals of move m)/∂(the accelerometer's parameters), by central
-    /// differences of the gravity directions (the turn does not depend on them).
-    fn accel_rows(&self, m: Move, p: &[f64; GYRO_PARAMETERS]) -> [[f64; PARAMETERS]; 2] {
-        let k = matrix::inverse(&matrix_at(p, m.delta)).unwrap_or(matrix::IDENTITY);
-        let q = self.turn(m, &k);
+    /// differences of the gravity directions at the integrated turn `q`
+    /// (the turn does not depend on them).
+    fn accel_rows(&self, m: Move, q: &quaternion::Quat) -> [[f64; PARAMETERS]; 2] {
         let mut out = [[0.0; PARAMETERS]; 2];
         for j in 0..PARAMETERS {
             let h = ACCEL_STEP_SIGMAS * libm::sqrt(self.accel.covariance[j][j]);
@@ -186,7 +210,7 @@ impl Moves<'_> {
             let shifted = |h: f64| {
                 let mut a = self.accel.params;
                 a[j] += h;
-                self.residuals_of_turn(m, &q, &a)
+                self.residuals_of_turn(m, q, &a)
             };
             let (rp, rm) = (shifted(h), shifted(-h));
             for c in 0..2 {
@@ -218,7 +242,7 @@ impl Problem<GYRO_PARAMETERS> for Moves<'_> {
 
     fn rows(&self, p: &[f64; GYRO_PARAMETERS], row: &mut dyn FnMut([f64; GYRO_PARAMETERS], f64)) {
         self.each(|m| {
-            let (r, grad) = self.rows_of(m, p);
+            let (r, grad, _) = self.rows_of(m, p);
             row(grad[0], r[0]);
             row(grad[1], r[1]);
         });
@@ -283,8 +307,8 @@ pub fn fit(
     let (mut sum_sq, mut worst) = (0.0, 0.0f64);
     let mut cross = [[0.0; PARAMETERS]; GYRO_PARAMETERS];
     problem.each(|m| {
-        let (r, grad) = problem.rows_of(m, &p);
-        let ja = problem.accel_rows(m, &p);
+        let (r, grad, q) = problem.rows_of(m, &p);
+        let ja = problem.accel_rows(m, &q);
         for c in 0..2 {
             ls.add_row(grad[c], -r[c]);
             sum_sq += r[c] * r[c];
@@ -357,4 +381,116 @@ pub fn fit(
         condition,
         iterations,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+    use super::*;
+    use crate::calib_fit::fits::bias_polynomial::{self, StaticMean};
+    use crate::calib_fit::fits::thermal_accel::Terms;
+    use crate::calib_fit::hand_record;
+    use crate::calib_fit::poses as found;
+    use std::vec;
+    use std::vec::Vec;
+    use triad_sim::effects::rng::Rng;
+
+    /// The one-pass Jacobian against central differences of the
+    /// re-integrated residuals (the method it replaced), on a hand session
+    /// whose poses step through 20..33 °C (1 °C apart: every move counts,
+    /// at ΔT from −5 to +8 °C about the reference, so D's columns are
+    /// ΔT times (I+Σ)₀'s and not zero). As in the rig-free fit's test, the
+    /// one pass differentiates the continuous turn, the differences the
+    /// RK4 steps: 1e-4 of the row's size bounds their difference (a wrong
+    /// sign or index gives an error of the row's own size).
+    #[test]
+    fn the_one_pass_jacobian_matches_central_differences() {
+        let unit = hand_record::MEMS_UNIT;
+        let mut rng = Rng::from_seed(8);
+        let hand_record::Recorded {
+            t,
+            accel,
+            gyro,
+            poses,
+        } = hand_record::recorded(&hand_record::SESSION, &unit, &mut || rng.uniform());
+        let n = poses.len();
+        let temperatures: Vec<f64> = (0..n).map(|j| 20.0 + j as f64).collect();
+        let mean_of = |x: &[[f64; 3]], j: usize| {
+            let s = found::statistics(&x[poses[j].start..poses[j].end]);
+            StaticMean {
+                temperature_c: temperatures[j],
+                mean: s.mean,
+                standard_error: s.standard_error,
+            }
+        };
+        let accel_stats: Vec<StaticMean> = (0..n).map(|j| mean_of(&accel, j)).collect();
+        let gyro_stats: Vec<StaticMean> = (0..n).map(|j| mean_of(&gyro, j)).collect();
+        let terms = Terms {
+            reference_c: 25.0,
+            bias_order: 0,
+            scale: false,
+        };
+        let (mut scratch, mut weights) = (vec![[0.0; 3]; n], vec![0.0; n]);
+        let accel_fit = thermal_accel::fit(
+            &accel_stats,
+            unit.gravity,
+            terms,
+            &mut scratch,
+            &mut weights,
+        )
+        .unwrap();
+        let bias = bias_polynomial::fit(&gyro_stats, 25.0, 0).unwrap();
+        let accel_means: Vec<[f64; 3]> = accel_stats.iter().map(|m| m.mean).collect();
+        let sets = [Poses {
+            record: Record { t: &t, gyro: &gyro },
+            segments: &poses,
+            accel_means: &accel_means,
+            temperatures: &temperatures,
+        }];
+        let problem = Moves {
+            sets: &sets,
+            accel: &accel_fit,
+            bias: &bias,
+            reference_c: 25.0,
+        };
+        let mut p = [0.0; GYRO_PARAMETERS];
+        for (i, row) in unit.gyro.scale_misalignment.iter().enumerate() {
+            p[3 * i..3 * i + 3].copy_from_slice(row);
+            p[9 + 4 * i] = [1e-4, -8e-5, 6e-5][i];
+        }
+        p[10] = 2e-5;
+        let h = 1e-6;
+        let mut moves = 0;
+        problem.each(|m| {
+            moves += 1;
+            let (r, analytic, _) = problem.rows_of(m, &p);
+            assert_eq!(r, problem.residuals(m, &matrix_at(&p, m.delta)));
+            let mut numeric = [[0.0; GYRO_PARAMETERS]; 2];
+            for k in 0..GYRO_PARAMETERS {
+                let shifted = |x: f64| {
+                    let mut q = p;
+                    q[k] += x;
+                    problem.residuals(m, &matrix_at(&q, m.delta))
+                };
+                let (rp, rm) = (shifted(h), shifted(-h));
+                for c in 0..2 {
+                    numeric[c][k] = (rp[c] - rm[c]) / (2.0 * h);
+                }
+            }
+            for c in 0..2 {
+                let size = numeric[c].iter().fold(0.0f64, |a, x| a.max(x.abs()));
+                assert!(size > 0.0);
+                for k in 0..GYRO_PARAMETERS {
+                    assert!(
+                        (analytic[c][k] - numeric[c][k]).abs() <= 1e-4 * size,
+                        "move from pose {} row {c} entry {k}: {} vs {} (row size {size})",
+                        m.pose,
+                        analytic[c][k],
+                        numeric[c][k]
+                    );
+                }
+            }
+        });
+        assert_eq!(moves, n - 1);
+    }
 }

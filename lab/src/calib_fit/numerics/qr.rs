@@ -28,6 +28,22 @@ pub enum LsError {
     },
 }
 
+impl core::fmt::Display for LsError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match *self {
+            LsError::TooFewRows { rows, unknowns } => {
+                write!(f, "{rows} equations for {unknowns} unknowns")
+            }
+            LsError::RankDeficient { unknown } => {
+                write!(
+                    f,
+                    "parameter {unknown} is not determined by the data (rank deficient)"
+                )
+            }
+        }
+    }
+}
+
 /// Incremental QR least squares with N unknowns.
 #[derive(Clone, Copy, Debug)]
 pub struct GivensLs<const N: usize> {
