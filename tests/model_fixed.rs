@@ -9,7 +9,7 @@ mod model_support;
 
 use model_support::*;
 use triad::model::{Calibration, Corrector, FixedCorrector, Orientation, Triad, TriadCalibration};
-use triad::sensor::{ImuScale, RawSample, TriadScale};
+use triad::sensor::{CodeRange, ImuScale, RawSample, TriadScale};
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
 
 /// Checks one sample; returns the worst error in LSB.
@@ -113,8 +113,8 @@ fn corner_raws() -> Vec<RawSample> {
         for &y in &v {
             for &z in &v {
                 out.push(RawSample {
-                    accel: [x, y, z],
-                    gyro: [z, x, y],
+                    accel: [x, y, z].map(i32::from),
+                    gyro: [z, x, y].map(i32::from),
                     temperature: x,
                 });
             }
@@ -132,10 +132,12 @@ fn full_scale_inputs_with_extreme_valid_coefficients_do_not_overflow() {
         accel: TriadScale {
             si_per_lsb: 200.0 * STANDARD_GRAVITY / 32768.0,
             full_scale: 200.0 * STANDARD_GRAVITY,
+            codes: CodeRange::I16,
         },
         gyro: TriadScale {
             si_per_lsb: deg_to_rad(4000.0) / 32768.0,
             full_scale: deg_to_rad(4000.0),
+            codes: CodeRange::I16,
         },
         temperature_per_lsb: 1.0 / 8.0,
         temperature_offset: 23.0,
@@ -178,10 +180,11 @@ fn limit_codes_flag_their_whole_triad() {
         gyro,
         temperature: 0,
     };
+    let (min, max) = (i32::from(i16::MIN), i32::from(i16::MAX));
     for (r, accel, gyro) in [
-        (raw([0, i16::MAX, 0], [0; 3]), true, false),
-        (raw([0; 3], [0, 0, i16::MIN]), false, true),
-        (raw([i16::MIN, 0, 0], [i16::MAX, 0, 0]), true, true),
+        (raw([0, max, 0], [0; 3]), true, false),
+        (raw([0; 3], [0, 0, min]), false, true),
+        (raw([min, 0, 0], [max, 0, 0]), true, true),
         (raw([32766, -32767, 0], [-32767, 32766, 5]), false, false),
     ] {
         assert_eq!(
@@ -201,6 +204,7 @@ fn limit_codes_flag_their_whole_triad() {
 #[test]
 fn clip_detection_is_exact_for_every_i16_on_every_axis() {
     use triad::model::ClipFlags;
+    let scale = widest_scale();
     for x in i16::MIN..=i16::MAX {
         let limit = x == i16::MIN || x == i16::MAX;
         for axis in 0..3 {
@@ -209,10 +213,10 @@ fn clip_detection_is_exact_for_every_i16_on_every_axis() {
                 gyro: [32766, -32767, 0],
                 temperature: 0,
             };
-            raw.accel[axis] = x;
-            raw.gyro[2 - axis] = x;
+            raw.accel[axis] = i32::from(x);
+            raw.gyro[2 - axis] = i32::from(x);
             assert_eq!(
-                ClipFlags::of(&raw),
+                ClipFlags::of(&raw, &scale),
                 ClipFlags {
                     accel: limit,
                     gyro: limit
@@ -231,10 +235,12 @@ fn fixed_output_is_q16_16_accel_q12_20_gyro_si() {
         accel: TriadScale {
             si_per_lsb: 1.0 / 1024.0,
             full_scale: 32.0,
+            codes: CodeRange::I16,
         },
         gyro: TriadScale {
             si_per_lsb: 1.0 / 4096.0,
             full_scale: 8.0,
+            codes: CodeRange::I16,
         },
         temperature_per_lsb: 0.5,
         temperature_offset: 20.0,
@@ -264,10 +270,12 @@ fn usual_ranges_use_the_32_bit_form_and_very_wide_ones_the_i64_form() {
         accel: TriadScale {
             si_per_lsb: g * STANDARD_GRAVITY / 32768.0,
             full_scale: g * STANDARD_GRAVITY,
+            codes: CodeRange::I16,
         },
         gyro: TriadScale {
             si_per_lsb: deg_to_rad(dps) / 32768.0,
             full_scale: deg_to_rad(dps),
+            codes: CodeRange::I16,
         },
         temperature_per_lsb: 1.0 / 132.48,
         temperature_offset: 25.0,

@@ -153,7 +153,10 @@ fn the_slower_sensor_is_held_between_its_own_samples() {
         Triad::Gyro => r.gyro,
     };
     // Until its first sample the slower triad reads -32768 on every axis.
-    let first = raws.iter().take_while(|r| slow(r) == [i16::MIN; 3]).count();
+    let first = raws
+        .iter()
+        .take_while(|r| slow(r) == [i32::from(i16::MIN); 3])
+        .count();
     assert!(
         first < ratio,
         "{first} samples before the slower sensor's first"

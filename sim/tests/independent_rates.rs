@@ -38,7 +38,7 @@ fn assert_held_every(samples: &[RawSample], slower: Triad, ratio: usize) {
     };
     let before = samples
         .iter()
-        .take_while(|s| slow_triad(s) == [i16::MIN; 3])
+        .take_while(|s| slow_triad(s) == [i32::from(i16::MIN); 3])
         .count();
     assert!(
         before < ratio,
@@ -48,7 +48,8 @@ fn assert_held_every(samples: &[RawSample], slower: Triad, ratio: usize) {
     assert!(
         samples
             .iter()
-            .all(|s| !s.accel.contains(&i16::MIN) && !s.gyro.contains(&i16::MIN)),
+            .all(|s| !s.accel.contains(&i32::from(i16::MIN))
+                && !s.gyro.contains(&i32::from(i16::MIN))),
         "no invalid marker after both sensors' first samples"
     );
     let (accel, gyro) = changes(samples);

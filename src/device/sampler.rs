@@ -6,10 +6,11 @@
 use super::counters::SamplerTotals;
 use super::framer::{Events, Outgoing};
 use super::{Control, Decimator, Framer, StepMonitor};
+use crate::model::corrector::counts_f32;
 use crate::model::{BatchKernel, ClipFlags, Corrector, Sample};
 use crate::protocol::TimestampUnwrapper;
 use crate::protocol::{Mode, RawScale, MAX_BATCH};
-use crate::sensor::{FifoImu, Imu, RawSample};
+use crate::sensor::{FifoImu, Imu, ImuScale, RawSample};
 
 /// Temperature terms change slower than this: re-folding ten times a second
 /// keeps the fold within 0.1 s of the die temperature.
@@ -153,7 +154,7 @@ impl Sampler {
     fn process(&mut self, raw: &RawSample, timestamp_us: u32) -> Option<Outgoing> {
         let sample = match self.mode {
             Mode::Calibrated => self.corrector.correct(raw),
-            Mode::Raw => counts(raw),
+            Mode::Raw => counts(raw, self.corrector.scale()),
         };
         if self.refold_due(1) {
             let temperature_c = match self.mode {
@@ -424,12 +425,12 @@ impl Sampler {
 
 /// A raw reading as `f32` counts, chip axes, with its clip flags: what raw
 /// mode averages and streams.
-fn counts(raw: &RawSample) -> Sample {
+fn counts(raw: &RawSample, scale: &ImuScale) -> Sample {
     Sample {
-        accel: raw.accel.map(f32::from),
-        gyro: raw.gyro.map(f32::from),
+        accel: counts_f32(&raw.accel),
+        gyro: counts_f32(&raw.gyro),
         temperature: f32::from(raw.temperature),
-        clip: ClipFlags::of(raw),
+        clip: ClipFlags::of(raw, scale),
     }
 }
 

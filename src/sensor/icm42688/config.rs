@@ -6,7 +6,7 @@
 use crate::sensor::chip::{DataRate, FullScale};
 pub use crate::sensor::fifo::{FifoConfig, FifoMode};
 pub use crate::sensor::interrupt::InterruptPin;
-use crate::sensor::TriadScale;
+use crate::sensor::{CodeRange, TriadScale};
 use crate::units::{deg_to_rad, STANDARD_GRAVITY};
 
 /// Accelerometer full-scale range (ACCEL_CONFIG0 ACCEL_FS_SEL).
@@ -69,6 +69,7 @@ impl FullScale for AccelRange {
         TriadScale {
             si_per_lsb: STANDARD_GRAVITY / self.lsb_per_g(),
             full_scale: self.g() * STANDARD_GRAVITY,
+            codes: CodeRange::I16,
         }
     }
 }
@@ -163,6 +164,7 @@ impl FullScale for GyroRange {
         TriadScale {
             si_per_lsb: deg_to_rad(1.0 / self.lsb_per_dps()),
             full_scale: deg_to_rad(self.dps()),
+            codes: CodeRange::I16,
         }
     }
 }

@@ -225,10 +225,11 @@ impl<I: RegisterInterface> Icm42688<I> {
 /// Decodes the 14-byte TEMP_DATA1..GYRO_DATA_Z0 block (big-endian words).
 fn decode_sample_block(b: &[u8; 14]) -> RawSample {
     let w = |i: usize| i16::from_be_bytes([b[2 * i], b[2 * i + 1]]);
+    let c = |i: usize| i32::from(w(i));
     RawSample {
         temperature: w(0),
-        accel: [w(1), w(2), w(3)],
-        gyro: [w(4), w(5), w(6)],
+        accel: [c(1), c(2), c(3)],
+        gyro: [c(4), c(5), c(6)],
     }
 }
 
@@ -244,7 +245,7 @@ fn decode_fifo_packet(p: &[u8; reg::FIFO_PACKET_LEN]) -> Result<RawSample, u8> {
     if header & mask != expected {
         return Err(header);
     }
-    let w = |i: usize| i16::from_be_bytes([p[1 + 2 * i], p[2 + 2 * i]]);
+    let w = |i: usize| i32::from(i16::from_be_bytes([p[1 + 2 * i], p[2 + 2 * i]]));
     // 132.48 / 2.07 = 64: the FIFO's 8-bit temperature on the 16-bit scale.
     let temperature = i16::from(p[13] as i8) * 64;
     Ok(RawSample {

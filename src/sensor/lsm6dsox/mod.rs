@@ -259,9 +259,14 @@ fn fifo_mode_bits(mode: FifoMode) -> u8 {
 }
 
 /// Three little-endian words.
-fn triad_le(b: &[u8]) -> [i16; 3] {
+fn words_le(b: &[u8]) -> [i16; 3] {
     let w = |i: usize| i16::from_le_bytes([b[2 * i], b[2 * i + 1]]);
     [w(0), w(1), w(2)]
+}
+
+/// Three little-endian words as a triad's counts.
+fn triad_le(b: &[u8]) -> [i32; 3] {
+    words_le(b).map(i32::from)
 }
 
 /// Decodes one gyro + accel pair of FIFO words (either order).
