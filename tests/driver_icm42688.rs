@@ -50,6 +50,7 @@ fn fifo_config(watermark: u16) -> Config {
         fifo: Some(FifoConfig {
             watermark,
             mode: FifoMode::StopOnFull,
+            high_resolution: false,
         }),
         ..Config::default()
     }

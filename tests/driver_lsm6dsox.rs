@@ -97,6 +97,7 @@ fn init_with_fifo_sets_watermark_in_words_batch_rate_and_mode() {
         fifo: Some(FifoConfig {
             watermark: 200,
             mode: FifoMode::Stream,
+            high_resolution: false,
         }),
         ..Config::default()
     };
@@ -111,6 +112,7 @@ fn init_with_fifo_sets_watermark_in_words_batch_rate_and_mode() {
         fifo: Some(FifoConfig {
             watermark: 256,
             mode: FifoMode::StopOnFull,
+            high_resolution: false,
         }),
         ..Config::default()
     };
@@ -287,6 +289,7 @@ fn read_fifo_on_overrun_resets_and_reports_a_lower_bound() {
         fifo: Some(FifoConfig {
             watermark: 16,
             mode: FifoMode::StopOnFull,
+            high_resolution: false,
         }),
         ..Config::default()
     };

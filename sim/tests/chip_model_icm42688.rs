@@ -244,7 +244,11 @@ fn soft_reset_restores_reset_values_and_init_leaves_bank_zero() {
 
 fn fifo_cfg(watermark: u16, mode: FifoMode) -> Config {
     Config {
-        fifo: Some(FifoConfig { watermark, mode }),
+        fifo: Some(FifoConfig {
+            watermark,
+            mode,
+            high_resolution: false,
+        }),
         ..Config::default()
     }
 }

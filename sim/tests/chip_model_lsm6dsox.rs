@@ -231,7 +231,11 @@ fn fifo_cfg(watermark: u16, mode: FifoMode, odr: Odr) -> Config {
     Config {
         accel_odr: odr,
         gyro_odr: odr,
-        fifo: Some(FifoConfig { watermark, mode }),
+        fifo: Some(FifoConfig {
+            watermark,
+            mode,
+            high_resolution: false,
+        }),
         ..Config::default()
     }
 }

@@ -110,6 +110,7 @@ fn icm42688_fifo_holds_the_slower_sensor_in_packets_without_its_data() {
         let fifo = FifoConfig {
             watermark: 8,
             mode: FifoMode::StopOnFull,
+            high_resolution: false,
         };
         let mut imu = Icm42688::new_spi(Icm42688Model::new(RampSource::default()));
         imu.init(&mut NoopDelay::new(), &icm_config(accel, gyro, Some(fifo)))
@@ -160,6 +161,7 @@ fn lsm6dsox_fifo_at_two_rates_is_refused_before_any_write() {
         fifo: Some(FifoConfig {
             watermark: 8,
             mode: FifoMode::StopOnFull,
+            high_resolution: false,
         }),
         ..Config::default()
     };
@@ -181,6 +183,7 @@ fn settings_name_the_slower_sensor_and_refuse_what_makes_no_sense() {
         rate_hz: Some(1000),
         slower,
         watermark: 1,
+        high_resolution: false,
     };
     let config = settings(Some((Triad::Accel, 500)))
         .config::<Icm42688Chip, ()>()

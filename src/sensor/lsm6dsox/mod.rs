@@ -76,6 +76,12 @@ impl Chip for Lsm6dsoxChip {
         delay: &mut impl DelayNs,
         config: &Config,
     ) -> Result<(), Error<I::BusError>> {
+        if config.fifo.is_some_and(|f| f.high_resolution) {
+            return Err(Error::InvalidConfig {
+                what: "high-resolution FIFO (the LSM6DSOX's FIFO words are 16-bit): FIFO watermark",
+                value: config.fifo.map_or(0, |f| u32::from(f.watermark)),
+            });
+        }
         if config.fifo.is_some() && config.accel_odr != config.gyro_odr {
             // The tagged FIFO then holds one sensor's words more often than
             // the other's; this driver drains gyro + accel pairs only.
