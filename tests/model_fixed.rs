@@ -166,6 +166,69 @@ fn full_scale_inputs_with_extreme_valid_coefficients_do_not_overflow() {
     assert_eq!(cases, 2 * 8 * 8 * 2 * 343);
 }
 
+/// The ICM-42688-P's 20-bit FIFO values (src/model/fixed.rs: the i64 form
+/// with inputs up to 2¹⁹, the 32-bit form refused): the extreme valid
+/// calibrations on the 20-bit corner values, and random calibrations on
+/// random 20-bit values, within the proven bound, which is within half the
+/// 20-bit value's LSB. Overflow checks are on in test builds.
+#[test]
+fn twenty_bit_inputs_stay_within_the_bound_without_overflow() {
+    let scale = triad::sensor::icm42688::config::high_resolution_scale();
+    let corners = [-524_288, -524_284, -1, 0, 1, 524_280, 524_284];
+    let mut corner_raws = Vec::new();
+    for x in corners {
+        for y in corners {
+            for z in corners {
+                corner_raws.push(RawSample {
+                    accel: [x, y, z],
+                    gyro: [z, x, y],
+                    temperature: 0,
+                });
+            }
+        }
+    }
+    let mut cases = 0;
+    for accel in extreme_triads(scale.accel.full_scale) {
+        for gyro in extreme_triads(scale.gyro.full_scale) {
+            let cal = Calibration {
+                id: 1,
+                accel,
+                gyro,
+                g_sensitivity: None,
+            };
+            let c = Corrector::new(&cal, &scale, Orientation::Roll90Pitch180Yaw90).unwrap();
+            let fixed = c.to_fixed().unwrap();
+            assert_eq!(fixed.uses_32_bit_products(), [false, false, true]);
+            for raw in &corner_raws {
+                check(&c, &fixed, raw);
+                cases += 1;
+            }
+        }
+    }
+    assert_eq!(cases, 8 * 8 * 343);
+    let mut rng = rng(0x20B1);
+    let mut worst_lsb: f64 = 0.0;
+    for _ in 0..100 {
+        let cal = random_calibration(&mut rng, &scale);
+        let c = Corrector::new(&cal, &scale, random_orientation(&mut rng)).unwrap();
+        let fixed = c.to_fixed().unwrap();
+        let bound = fixed.error_bound();
+        assert!(bound[0] <= 0.5 * scale.accel.si_per_lsb, "{bound:?}");
+        assert!(bound[1] <= 0.5 * scale.gyro.si_per_lsb, "{bound:?}");
+        for _ in 0..200 {
+            let mut axis = || rand::Rng::random_range(&mut rng, -524_288..=524_284);
+            let raw = RawSample {
+                accel: [axis(), axis(), axis()],
+                gyro: [axis(), axis(), axis()],
+                temperature: 0,
+            };
+            worst_lsb = worst_lsb.max(check(&c, &fixed, &raw));
+        }
+    }
+    println!("fixed vs f64 on 20-bit inputs: worst error {worst_lsb:.4} LSB");
+    assert!(worst_lsb <= 0.5);
+}
+
 #[test]
 fn limit_codes_flag_their_whole_triad() {
     let c = Corrector::new(
