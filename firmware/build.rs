@@ -3,9 +3,11 @@
 //! the calibration blob chosen at build time
 //! (TRIAD_CALIBRATION, default calibrations/default.bin), and writes the
 //! sampling settings chosen at build time: TRIAD_SAMPLE_RATE_HZ (the chip's
-//! output data rate, default the driver's) and TRIAD_FIFO_WATERMARK (samples
-//! per interrupt, 1..=32, default 1: no FIFO). The board crate puts its
-//! memory map on the linker path.
+//! output data rate, default the driver's), TRIAD_FIFO_WATERMARK (samples
+//! per interrupt, 1..=32, default 1: no FIFO) and TRIAD_FIFO_HIGH_RESOLUTION
+//! (1: the chip's high-resolution FIFO format, the ICM-42688-P's 20-bit
+//! packets; 0 or unset: off). The board crate puts its memory map on the
+//! linker path.
 
 use std::{env, fs, path::PathBuf};
 
@@ -43,6 +45,13 @@ fn main() {
 
     let rate = number("TRIAD_SAMPLE_RATE_HZ", 1..=32_000);
     let watermark = number("TRIAD_FIFO_WATERMARK", 1..=32).unwrap_or(1);
+    let high_resolution = number("TRIAD_FIFO_HIGH_RESOLUTION", 0..=1) == Some(1);
+    if high_resolution && watermark == 1 {
+        panic!(
+            "TRIAD_FIFO_HIGH_RESOLUTION=1 needs the FIFO: set TRIAD_FIFO_WATERMARK to 2..=32 \
+             (it is {watermark})"
+        );
+    }
     let rate = rate.map_or("None".to_string(), |hz| format!("Some({hz})"));
     let slower = match (
         number("TRIAD_ACCEL_RATE_HZ", 1..=32_000),
@@ -59,8 +68,8 @@ fn main() {
     fs::write(
         out.join("settings.rs"),
         format!(
-            "/// From TRIAD_SAMPLE_RATE_HZ, TRIAD_ACCEL_RATE_HZ / TRIAD_GYRO_RATE_HZ and TRIAD_FIFO_WATERMARK at build.\n\
-             pub const SETTINGS: triad::sensor::Settings = triad::sensor::Settings {{ rate_hz: {rate}, slower: {slower}, watermark: {watermark} }};\n"
+            "/// From TRIAD_SAMPLE_RATE_HZ, TRIAD_ACCEL_RATE_HZ / TRIAD_GYRO_RATE_HZ, TRIAD_FIFO_WATERMARK and TRIAD_FIFO_HIGH_RESOLUTION at build.\n\
+             pub const SETTINGS: triad::sensor::Settings = triad::sensor::Settings {{ rate_hz: {rate}, slower: {slower}, watermark: {watermark}, high_resolution: {high_resolution} }};\n"
         ),
     )
     .expect("write settings.rs");

@@ -229,7 +229,7 @@ fn raw_mode_and_averaging_frame_each_sample_through_the_per_sample_path() {
         let Outgoing::Raw(r) = f else {
             panic!("{f:?}");
         };
-        assert_eq!(r.accel, raw.accel.map(f32::from));
+        assert_eq!(r.accel, raw.accel.map(|x| x as f32));
     }
     sampler.apply(triad::device::Control::SetMode(Mode::Calibrated));
     sampler.apply(triad::device::Control::SetDecimation(4));

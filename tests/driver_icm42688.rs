@@ -50,6 +50,7 @@ fn fifo_config(watermark: u16) -> Config {
         fifo: Some(FifoConfig {
             watermark,
             mode: FifoMode::StopOnFull,
+            high_resolution: false,
         }),
         ..Config::default()
     }
@@ -185,7 +186,7 @@ fn i2c_nack_is_a_bus_error_carrying_the_kind() {
 fn block(s: &RawSample) -> Vec<u8> {
     let mut b = s.temperature.to_be_bytes().to_vec();
     for v in s.accel.iter().chain(s.gyro.iter()) {
-        b.extend(v.to_be_bytes());
+        b.extend((*v as i16).to_be_bytes());
     }
     b
 }
@@ -223,7 +224,7 @@ fn read_new_sample_checks_data_ready_first() {
 fn packet(s: &RawSample, temp8: i8, timestamp: u16) -> Vec<u8> {
     let mut p = vec![0x68];
     for v in s.accel.iter().chain(s.gyro.iter()) {
-        p.extend(v.to_be_bytes());
+        p.extend((*v as i16).to_be_bytes());
     }
     p.push(temp8 as u8);
     p.extend(timestamp.to_be_bytes());
@@ -232,8 +233,8 @@ fn packet(s: &RawSample, temp8: i8, timestamp: u16) -> Vec<u8> {
 
 fn numbered(k: i16) -> RawSample {
     RawSample {
-        accel: [k, -k, 100 + k],
-        gyro: [2 * k, -3 * k, 7],
+        accel: [k, -k, 100 + k].map(i32::from),
+        gyro: [2 * k, -3 * k, 7].map(i32::from),
         temperature: (k % 100) * 64,
     }
 }

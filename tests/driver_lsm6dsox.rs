@@ -97,6 +97,7 @@ fn init_with_fifo_sets_watermark_in_words_batch_rate_and_mode() {
         fifo: Some(FifoConfig {
             watermark: 200,
             mode: FifoMode::Stream,
+            high_resolution: false,
         }),
         ..Config::default()
     };
@@ -111,6 +112,7 @@ fn init_with_fifo_sets_watermark_in_words_batch_rate_and_mode() {
         fifo: Some(FifoConfig {
             watermark: 256,
             mode: FifoMode::StopOnFull,
+            high_resolution: false,
         }),
         ..Config::default()
     };
@@ -170,7 +172,7 @@ const SAMPLE: RawSample = RawSample {
 fn block(s: &RawSample) -> Vec<u8> {
     let mut b = s.temperature.to_le_bytes().to_vec();
     for v in s.gyro.iter().chain(s.accel.iter()) {
-        b.extend(v.to_le_bytes());
+        b.extend((*v as i16).to_le_bytes());
     }
     b
 }
@@ -201,20 +203,20 @@ fn read_new_sample_needs_both_data_ready_bits() {
 }
 
 /// A FIFO word: tag (sensor << 3 | counter << 1 | parity) and three LE words.
-fn word(sensor: u8, counter: u8, v: [i16; 3]) -> Vec<u8> {
+fn word(sensor: u8, counter: u8, v: [i32; 3]) -> Vec<u8> {
     let mut tag = (sensor << 3) | (counter << 1);
     tag |= (tag.count_ones() & 1) as u8;
     let mut b = vec![tag];
     for x in v {
-        b.extend(x.to_le_bytes());
+        b.extend((x as i16).to_le_bytes());
     }
     b
 }
 
 fn numbered(k: i16) -> RawSample {
     RawSample {
-        accel: [k, -k, 100 + k],
-        gyro: [2 * k, -3 * k, 7],
+        accel: [k, -k, 100 + k].map(i32::from),
+        gyro: [2 * k, -3 * k, 7].map(i32::from),
         temperature: 512,
     }
 }
@@ -287,6 +289,7 @@ fn read_fifo_on_overrun_resets_and_reports_a_lower_bound() {
         fifo: Some(FifoConfig {
             watermark: 16,
             mode: FifoMode::StopOnFull,
+            high_resolution: false,
         }),
         ..Config::default()
     };

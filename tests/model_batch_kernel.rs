@@ -89,7 +89,7 @@ fn counts_are_the_f32_correction_rounded_and_within_half_a_count_of_the_referenc
                     }
                 }
             }
-            let at_limit = triad::model::ClipFlags::of(r);
+            let at_limit = triad::model::ClipFlags::of(r, corrector.scale());
             any.0 |= at_limit.accel;
             any.1 |= at_limit.gyro;
         }
@@ -119,7 +119,7 @@ fn a_raw_axis_at_its_limit_or_a_value_beyond_the_range_flags_its_triad() {
     let clip = kernel.correct(&[still, still], &mut out);
     assert_eq!((clip.accel, clip.gyro), (false, false));
     let at_limit = RawSample {
-        gyro: [1, i16::MIN, 3],
+        gyro: [1, i32::from(i16::MIN), 3],
         ..still
     };
     let clip = kernel.correct(&[still, at_limit], &mut out);

@@ -283,7 +283,7 @@ fn host_si_path_and_device_raw_path_agree_within_11u() {
         .unwrap();
         for _ in 0..200 {
             let raw = random_raw(&mut rng);
-            let si = |v: [i16; 3], s: f64| v.map(|x| (f64::from(x) * s) as f32);
+            let si = |v: [i32; 3], s: f64| v.map(|x| (f64::from(x) * s) as f32);
             let d = device.correct(&raw);
             let h = host.correct_si(
                 si(raw.accel, scale.accel.si_per_lsb),

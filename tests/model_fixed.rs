@@ -9,7 +9,7 @@ mod model_support;
 
 use model_support::*;
 use triad::model::{Calibration, Corrector, FixedCorrector, Orientation, Triad, TriadCalibration};
-use triad::sensor::{ImuScale, RawSample, TriadScale};
+use triad::sensor::{CodeRange, ImuScale, RawSample, TriadScale};
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
 
 /// Checks one sample; returns the worst error in LSB.
@@ -113,8 +113,8 @@ fn corner_raws() -> Vec<RawSample> {
         for &y in &v {
             for &z in &v {
                 out.push(RawSample {
-                    accel: [x, y, z],
-                    gyro: [z, x, y],
+                    accel: [x, y, z].map(i32::from),
+                    gyro: [z, x, y].map(i32::from),
                     temperature: x,
                 });
             }
@@ -132,10 +132,12 @@ fn full_scale_inputs_with_extreme_valid_coefficients_do_not_overflow() {
         accel: TriadScale {
             si_per_lsb: 200.0 * STANDARD_GRAVITY / 32768.0,
             full_scale: 200.0 * STANDARD_GRAVITY,
+            codes: CodeRange::I16,
         },
         gyro: TriadScale {
             si_per_lsb: deg_to_rad(4000.0) / 32768.0,
             full_scale: deg_to_rad(4000.0),
+            codes: CodeRange::I16,
         },
         temperature_per_lsb: 1.0 / 8.0,
         temperature_offset: 23.0,
@@ -164,6 +166,69 @@ fn full_scale_inputs_with_extreme_valid_coefficients_do_not_overflow() {
     assert_eq!(cases, 2 * 8 * 8 * 2 * 343);
 }
 
+/// The ICM-42688-P's 20-bit FIFO values (src/model/fixed.rs: the i64 form
+/// with inputs up to 2¹⁹, the 32-bit form refused): the extreme valid
+/// calibrations on the 20-bit corner values, and random calibrations on
+/// random 20-bit values, within the proven bound, which is within half the
+/// 20-bit value's LSB. Overflow checks are on in test builds.
+#[test]
+fn twenty_bit_inputs_stay_within_the_bound_without_overflow() {
+    let scale = triad::sensor::icm42688::config::high_resolution_scale();
+    let corners = [-524_288, -524_284, -1, 0, 1, 524_280, 524_284];
+    let mut corner_raws = Vec::new();
+    for x in corners {
+        for y in corners {
+            for z in corners {
+                corner_raws.push(RawSample {
+                    accel: [x, y, z],
+                    gyro: [z, x, y],
+                    temperature: 0,
+                });
+            }
+        }
+    }
+    let mut cases = 0;
+    for accel in extreme_triads(scale.accel.full_scale) {
+        for gyro in extreme_triads(scale.gyro.full_scale) {
+            let cal = Calibration {
+                id: 1,
+                accel,
+                gyro,
+                g_sensitivity: None,
+            };
+            let c = Corrector::new(&cal, &scale, Orientation::Roll90Pitch180Yaw90).unwrap();
+            let fixed = c.to_fixed().unwrap();
+            assert_eq!(fixed.uses_32_bit_products(), [false, false, true]);
+            for raw in &corner_raws {
+                check(&c, &fixed, raw);
+                cases += 1;
+            }
+        }
+    }
+    assert_eq!(cases, 8 * 8 * 343);
+    let mut rng = rng(0x20B1);
+    let mut worst_lsb: f64 = 0.0;
+    for _ in 0..100 {
+        let cal = random_calibration(&mut rng, &scale);
+        let c = Corrector::new(&cal, &scale, random_orientation(&mut rng)).unwrap();
+        let fixed = c.to_fixed().unwrap();
+        let bound = fixed.error_bound();
+        assert!(bound[0] <= 0.5 * scale.accel.si_per_lsb, "{bound:?}");
+        assert!(bound[1] <= 0.5 * scale.gyro.si_per_lsb, "{bound:?}");
+        for _ in 0..200 {
+            let mut axis = || rand::Rng::random_range(&mut rng, -524_288..=524_284);
+            let raw = RawSample {
+                accel: [axis(), axis(), axis()],
+                gyro: [axis(), axis(), axis()],
+                temperature: 0,
+            };
+            worst_lsb = worst_lsb.max(check(&c, &fixed, &raw));
+        }
+    }
+    println!("fixed vs f64 on 20-bit inputs: worst error {worst_lsb:.4} LSB");
+    assert!(worst_lsb <= 0.5);
+}
+
 #[test]
 fn limit_codes_flag_their_whole_triad() {
     let c = Corrector::new(
@@ -178,10 +243,11 @@ fn limit_codes_flag_their_whole_triad() {
         gyro,
         temperature: 0,
     };
+    let (min, max) = (i32::from(i16::MIN), i32::from(i16::MAX));
     for (r, accel, gyro) in [
-        (raw([0, i16::MAX, 0], [0; 3]), true, false),
-        (raw([0; 3], [0, 0, i16::MIN]), false, true),
-        (raw([i16::MIN, 0, 0], [i16::MAX, 0, 0]), true, true),
+        (raw([0, max, 0], [0; 3]), true, false),
+        (raw([0; 3], [0, 0, min]), false, true),
+        (raw([min, 0, 0], [max, 0, 0]), true, true),
         (raw([32766, -32767, 0], [-32767, 32766, 5]), false, false),
     ] {
         assert_eq!(
@@ -201,6 +267,7 @@ fn limit_codes_flag_their_whole_triad() {
 #[test]
 fn clip_detection_is_exact_for_every_i16_on_every_axis() {
     use triad::model::ClipFlags;
+    let scale = widest_scale();
     for x in i16::MIN..=i16::MAX {
         let limit = x == i16::MIN || x == i16::MAX;
         for axis in 0..3 {
@@ -209,10 +276,10 @@ fn clip_detection_is_exact_for_every_i16_on_every_axis() {
                 gyro: [32766, -32767, 0],
                 temperature: 0,
             };
-            raw.accel[axis] = x;
-            raw.gyro[2 - axis] = x;
+            raw.accel[axis] = i32::from(x);
+            raw.gyro[2 - axis] = i32::from(x);
             assert_eq!(
-                ClipFlags::of(&raw),
+                ClipFlags::of(&raw, &scale),
                 ClipFlags {
                     accel: limit,
                     gyro: limit
@@ -231,10 +298,12 @@ fn fixed_output_is_q16_16_accel_q12_20_gyro_si() {
         accel: TriadScale {
             si_per_lsb: 1.0 / 1024.0,
             full_scale: 32.0,
+            codes: CodeRange::I16,
         },
         gyro: TriadScale {
             si_per_lsb: 1.0 / 4096.0,
             full_scale: 8.0,
+            codes: CodeRange::I16,
         },
         temperature_per_lsb: 0.5,
         temperature_offset: 20.0,
@@ -264,10 +333,12 @@ fn usual_ranges_use_the_32_bit_form_and_very_wide_ones_the_i64_form() {
         accel: TriadScale {
             si_per_lsb: g * STANDARD_GRAVITY / 32768.0,
             full_scale: g * STANDARD_GRAVITY,
+            codes: CodeRange::I16,
         },
         gyro: TriadScale {
             si_per_lsb: deg_to_rad(dps) / 32768.0,
             full_scale: deg_to_rad(dps),
+            codes: CodeRange::I16,
         },
         temperature_per_lsb: 1.0 / 132.48,
         temperature_offset: 25.0,

@@ -40,13 +40,13 @@ pub fn raw_batch(index: usize, out: &mut [RawSample; BATCH]) {
     let start = (rng.next() % 16_540) as i16 - 8_611;
     for (n, s) in out.iter_mut().enumerate() {
         *s = RawSample {
-            accel: [rng.i16(), rng.i16(), rng.i16()],
-            gyro: [rng.i16(), rng.i16(), rng.i16()],
+            accel: [rng.i16(), rng.i16(), rng.i16()].map(i32::from),
+            gyro: [rng.i16(), rng.i16(), rng.i16()].map(i32::from),
             temperature: start + (n / 10) as i16,
         };
     }
-    out[7].accel[0] = i16::MAX;
-    out[13].gyro[2] = i16::MIN;
+    out[7].accel[0] = i32::from(i16::MAX);
+    out[13].gyro[2] = i32::from(i16::MIN);
 }
 
 /// The chip scale of the benchmark: the ICM-42688-P at ±16 g and ±2000 °/s

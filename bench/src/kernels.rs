@@ -613,19 +613,21 @@ impl Output<'_> {
                 s.triads.iter().flatten().for_each(|&x| digest.f64(x));
                 digest.word(clip(&s.clip));
             }
+            // The low 16 bits of each count: a 16-bit chip's code, as before counts were i32.
             Output::Raw(r) => r
                 .accel
                 .iter()
                 .chain(&r.gyro)
-                .chain([&r.temperature])
-                .for_each(|&x| digest.word(x as u16 as u32)),
+                .copied()
+                .chain([i32::from(r.temperature)])
+                .for_each(|x| digest.word(x as u16 as u32)),
             Output::Frame(bytes) => bytes.0.iter().for_each(|&b| digest.word(u32::from(b))),
         }
     }
 }
 
-fn to_f32(v: &[i16; 3]) -> [f32; 3] {
-    [f32::from(v[0]), f32::from(v[1]), f32::from(v[2])]
+fn to_f32(v: &[i32; 3]) -> [f32; 3] {
+    triad::model::corrector::counts_f32(v)
 }
 
 /// m = s·raw·g + o per axis.
@@ -720,7 +722,7 @@ pub fn full_f64(c: &Corrector, input: &[RawSample; BATCH], out: &mut [F64Sample;
             let x = [f64::from(v[0]), f64::from(v[1]), f64::from(v[2])];
             o.triads[t] = folded[t].apply(&x);
         }
-        o.clip = ClipFlags::of(raw);
+        o.clip = ClipFlags::of(raw, c.scale());
     }
 }
 

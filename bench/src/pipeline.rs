@@ -27,15 +27,16 @@ impl Default for EncodedFrame {
 
 /// A sample as the ICM-42688-P's 14-byte data block: TEMP_DATA1 …
 /// GYRO_DATA_Z0, each register pair big-endian (DS-000347 §14.1 order).
+/// The counts are a 16-bit chip's: each is taken as its i16 code.
 pub fn sample_block(raw: &RawSample) -> [u8; 14] {
     let words = [
         raw.temperature,
-        raw.accel[0],
-        raw.accel[1],
-        raw.accel[2],
-        raw.gyro[0],
-        raw.gyro[1],
-        raw.gyro[2],
+        raw.accel[0] as i16,
+        raw.accel[1] as i16,
+        raw.accel[2] as i16,
+        raw.gyro[0] as i16,
+        raw.gyro[1] as i16,
+        raw.gyro[2] as i16,
     ];
     let mut block = [0u8; 14];
     for (pair, w) in block.chunks_exact_mut(2).zip(words) {

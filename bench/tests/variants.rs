@@ -25,11 +25,11 @@ fn inputs_span_the_raw_range_with_limit_codes_and_a_slow_temperature_ramp() {
     assert_eq!(raws.len(), BATCH * BATCHES);
     let axes = || raws.iter().flat_map(|r| r.accel.iter().chain(&r.gyro));
     let (lo, hi) = (axes().min().unwrap(), axes().max().unwrap());
-    assert_eq!((*lo, *hi), (i16::MIN, i16::MAX));
+    assert_eq!((*lo, *hi), (i32::from(i16::MIN), i32::from(i16::MAX)));
     // Every batch holds an accel and a gyro limit code (samples 7 and 13).
     for batch in raws.chunks(BATCH) {
-        assert_eq!(batch[7].accel[0], i16::MAX);
-        assert_eq!(batch[13].gyro[2], i16::MIN);
+        assert_eq!(batch[7].accel[0], i32::from(i16::MAX));
+        assert_eq!(batch[13].gyro[2], i32::from(i16::MIN));
         // One temperature LSB per ten samples: 10 LSB across a batch.
         let rise = batch[BATCH - 1].temperature - batch[0].temperature;
         assert_eq!(rise, (BATCH as i16 - 1) / 10);

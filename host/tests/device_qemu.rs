@@ -377,10 +377,14 @@ fn raw_frames_carry_the_chips_counts_which_scaled_are_the_uncalibrated_values() 
         // Counts: the chip's registers, exactly.
         assert_eq!(
             frame.accel,
-            sample.accel.map(f32::from),
+            sample.accel.map(|x| x as f32),
             "accel of frame {n}"
         );
-        assert_eq!(frame.gyro, sample.gyro.map(f32::from), "gyro of frame {n}");
+        assert_eq!(
+            frame.gyro,
+            sample.gyro.map(|x| x as f32),
+            "gyro of frame {n}"
+        );
         assert_eq!(frame.temperature, f32::from(sample.temperature));
         assert_eq!(frame.scale, info.scale, "frame {n}");
         assert!(frame.flags.contains(Flags::RAW.union(Flags::UNCALIBRATED)));

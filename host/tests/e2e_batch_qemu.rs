@@ -21,12 +21,11 @@ mod emulated_board;
 
 use std::path::PathBuf;
 
-use emulated_board::{settings_from_env, triad_correct, HostSensor};
-use triad::device::{start_calibration, Outgoing, Sampler};
+use emulated_board::{capture, host_sampler, settings_from_env, triad_correct, HostSensor};
+use triad::device::Outgoing;
+use triad::protocol::Flags;
 use triad::protocol::{BatchFrame, Packet};
-use triad::protocol::{Decoder, Flags};
 use triad::sensor::{FifoImu, Imu, RawSample};
-use triad_sim::chips::emulated_board::DESCRIPTION;
 
 fn env_path(name: &str) -> PathBuf {
     PathBuf::from(
@@ -41,22 +40,13 @@ fn expected_samples() -> usize {
 
 /// The batch frames in the captured stream, with the decoder's counters checked.
 fn captured_batches() -> Vec<BatchFrame> {
-    let bytes = std::fs::read(env_path("TRIAD_E2E_STREAM")).expect("stream capture");
-    let mut decoder = Decoder::new();
     let mut batches = Vec::new();
-    for packet in decoder.feed_packets(&bytes) {
-        match packet.expect("no packet of the capture fails to decode") {
+    for packet in capture::packets() {
+        match packet {
             Packet::Batch(batch) => batches.push(batch),
             other => panic!("a batch-streaming firmware sent {other:?}"),
         }
     }
-    let stats = decoder.stats();
-    assert_eq!(stats.crc_errors, 0, "{stats:?}");
-    assert_eq!(stats.malformed, 0, "{stats:?}");
-    assert_eq!(stats.sequence_gaps, 0, "{stats:?}");
-    assert_eq!(stats.bytes_skipped, 0, "{stats:?}");
-    assert_eq!(stats.device_overruns, 0, "no sample lost: {stats:?}");
-    assert_eq!(stats.device_dropped, 0, "the link kept up: {stats:?}");
     let samples: usize = batches.iter().map(|b| usize::from(b.count)).sum();
     assert!(samples >= expected_samples(), "{samples} samples");
     batches
@@ -70,21 +60,6 @@ fn watermark_and_period_ns(sensor: &HostSensor) -> (u16, u32) {
         "this test checks a FIFO build (TRIAD_FIFO_WATERMARK > 1)"
     );
     (w, (1e9 / sensor.sample_rate_hz()).round() as u32)
-}
-
-/// The host's sampler as the firmware starts it (firmware/src/start.rs).
-fn host_sampler(sensor: &HostSensor) -> Sampler {
-    let blob = std::fs::read(env_path("TRIAD_E2E_BLOB")).expect("calibration blob");
-    let startup = start_calibration(None, &blob, &sensor.scale(), DESCRIPTION.orientation)
-        .expect("the chip's scale is valid");
-    assert!(startup.rejected.is_none(), "{:?}", startup.rejected);
-    let calibrated = startup.calibrated();
-    Sampler::at_rate(
-        startup.corrector,
-        calibrated,
-        DESCRIPTION.decimation,
-        sensor.sample_rate_hz(),
-    )
 }
 
 #[test]

@@ -23,7 +23,7 @@ mod emulated_board;
 
 use std::path::PathBuf;
 
-use emulated_board::{decoded_csv, triad_correct, HostSensor};
+use emulated_board::{capture, decoded_csv, triad_correct, HostSensor};
 use triad::device::{sample_period_us, start_calibration, Outgoing, Sampler, StepOutcome};
 use triad::model::{Corrector, Triad};
 use triad::protocol::{Decoder, Frame};
@@ -153,7 +153,10 @@ fn the_slower_sensor_is_held_between_its_own_samples() {
         Triad::Gyro => r.gyro,
     };
     // Until its first sample the slower triad reads -32768 on every axis.
-    let first = raws.iter().take_while(|r| slow(r) == [i16::MIN; 3]).count();
+    let first = raws
+        .iter()
+        .take_while(|r| slow(r) == [i32::from(i16::MIN); 3])
+        .count();
     assert!(
         first < ratio,
         "{first} samples before the slower sensor's first"
@@ -229,14 +232,7 @@ fn triad_correct_on_the_same_samples_agrees_within_f32_rounding() {
     let (_, raws, _) = host_frames(device.len(), &timestamps);
     let (sensor, _) = host_board();
     let times_s: Vec<f64> = timestamps.iter().map(|&t| f64::from(t) * 1e-6).collect();
-    let streamed: Vec<[f32; 6]> = device
-        .iter()
-        .map(|f| {
-            [
-                f.accel[0], f.accel[1], f.accel[2], f.gyro[0], f.gyro[1], f.gyro[2],
-            ]
-        })
-        .collect();
+    let streamed: Vec<[f32; 6]> = device.iter().map(capture::six_axes).collect();
     // The default calibration's (I+Σ)⁻¹ has absolute row sums below 1.004
     // and |b| below 0.1 SI units: the bound's premise holds.
     let worst = triad_correct::agrees_with_firmware(

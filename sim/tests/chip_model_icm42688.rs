@@ -41,8 +41,16 @@ fn i2c_imu<S: SampleSource>(source: S, config: &Config) -> I2cImu<S> {
 fn expected(scale: &triad::sensor::ImuScale, t: &TrueSample) -> RawSample {
     let mut s = RawSample::default();
     for axis in 0..3 {
-        s.accel[axis] = expected_code(t.specific_force[axis], scale.accel.si_per_lsb, LIMIT);
-        s.gyro[axis] = expected_code(t.angular_rate[axis], scale.gyro.si_per_lsb, LIMIT);
+        s.accel[axis] = i32::from(expected_code(
+            t.specific_force[axis],
+            scale.accel.si_per_lsb,
+            LIMIT,
+        ));
+        s.gyro[axis] = i32::from(expected_code(
+            t.angular_rate[axis],
+            scale.gyro.si_per_lsb,
+            LIMIT,
+        ));
     }
     s.temperature = expected_code(t.temperature - 25.0, 1.0 / 132.48, LIMIT);
     s
@@ -131,11 +139,11 @@ fn beyond_full_scale_reads_the_limit_codes_and_sets_the_clip_flag() {
     let mut imu = spi_imu(ConstantSource(over), &Config::default()); // ±16 g, ±2000 °/s
     imu.bus_mut().advance(1_000_000);
     let s = imu.read_sample().unwrap();
-    assert_eq!(s.accel[..2], [LIMIT, -LIMIT]);
-    assert_eq!(s.gyro[..2], [LIMIT, -LIMIT]);
+    assert_eq!(s.accel[..2], [LIMIT, -LIMIT].map(i32::from));
+    assert_eq!(s.gyro[..2], [LIMIT, -LIMIT].map(i32::from));
     assert_eq!(
         s.accel[2],
-        expected_code(1.0, imu.scale().accel.si_per_lsb, LIMIT)
+        i32::from(expected_code(1.0, imu.scale().accel.si_per_lsb, LIMIT))
     );
     assert!(imu.bus().clipped());
 
@@ -147,7 +155,11 @@ fn beyond_full_scale_reads_the_limit_codes_and_sets_the_clip_flag() {
     let mut imu = spi_imu(ConstantSource(inside), &Config::default());
     imu.bus_mut().advance(1_000_000);
     let s = imu.read_sample().unwrap();
-    assert!(s.accel.iter().chain(s.gyro.iter()).all(|v| v.abs() < LIMIT));
+    assert!(s
+        .accel
+        .iter()
+        .chain(s.gyro.iter())
+        .all(|v| v.abs() < i32::from(LIMIT)));
     assert!(!imu.bus().clipped());
 }
 
@@ -177,8 +189,8 @@ fn powered_off_chip_produces_nothing_and_reads_the_invalid_marker() {
     assert_eq!(
         imu.read_sample().unwrap(),
         RawSample {
-            accel: [i16::MIN; 3],
-            gyro: [i16::MIN; 3],
+            accel: [i32::from(i16::MIN); 3],
+            gyro: [i32::from(i16::MIN); 3],
             temperature: i16::MIN
         }
     );
@@ -232,7 +244,11 @@ fn soft_reset_restores_reset_values_and_init_leaves_bank_zero() {
 
 fn fifo_cfg(watermark: u16, mode: FifoMode) -> Config {
     Config {
-        fifo: Some(FifoConfig { watermark, mode }),
+        fifo: Some(FifoConfig {
+            watermark,
+            mode,
+            high_resolution: false,
+        }),
         ..Config::default()
     }
 }

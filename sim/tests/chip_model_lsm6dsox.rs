@@ -42,8 +42,8 @@ fn code(value: f64, si_per_lsb: f64) -> i16 {
 fn expected(scale: &ImuScale, t: &TrueSample) -> RawSample {
     let mut s = RawSample::default();
     for axis in 0..3 {
-        s.accel[axis] = code(t.specific_force[axis], scale.accel.si_per_lsb);
-        s.gyro[axis] = code(t.angular_rate[axis], scale.gyro.si_per_lsb);
+        s.accel[axis] = i32::from(code(t.specific_force[axis], scale.accel.si_per_lsb));
+        s.gyro[axis] = i32::from(code(t.angular_rate[axis], scale.gyro.si_per_lsb));
     }
     s.temperature = code(t.temperature - 25.0, 1.0 / 256.0);
     s
@@ -224,14 +224,18 @@ fn without_if_inc_a_burst_rereads_one_register() {
     let bad = imu.read_sample().unwrap();
     // Every byte is OUT_TEMP_L: the words are [L, L] repeated.
     let l = good.temperature.to_le_bytes()[0];
-    assert_eq!(bad.accel, [i16::from_le_bytes([l, l]); 3]);
+    assert_eq!(bad.accel, [i32::from(i16::from_le_bytes([l, l])); 3]);
 }
 
 fn fifo_cfg(watermark: u16, mode: FifoMode, odr: Odr) -> Config {
     Config {
         accel_odr: odr,
         gyro_odr: odr,
-        fifo: Some(FifoConfig { watermark, mode }),
+        fifo: Some(FifoConfig {
+            watermark,
+            mode,
+            high_resolution: false,
+        }),
         ..Config::default()
     }
 }

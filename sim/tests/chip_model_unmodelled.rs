@@ -73,6 +73,7 @@ fn triads_own_drivers_touch_nothing_unmodelled() {
         fifo: Some(IcmFifo {
             watermark: 8,
             mode: IcmFifoMode::Stream,
+            high_resolution: false,
         }),
         ..IcmConfig::default()
     };
@@ -89,6 +90,7 @@ fn triads_own_drivers_touch_nothing_unmodelled() {
         fifo: Some(LsmFifo {
             watermark: 8,
             mode: LsmFifoMode::Stream,
+            high_resolution: false,
         }),
         ..LsmConfig::default()
     };

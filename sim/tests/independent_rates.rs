@@ -38,7 +38,7 @@ fn assert_held_every(samples: &[RawSample], slower: Triad, ratio: usize) {
     };
     let before = samples
         .iter()
-        .take_while(|s| slow_triad(s) == [i16::MIN; 3])
+        .take_while(|s| slow_triad(s) == [i32::from(i16::MIN); 3])
         .count();
     assert!(
         before < ratio,
@@ -48,7 +48,8 @@ fn assert_held_every(samples: &[RawSample], slower: Triad, ratio: usize) {
     assert!(
         samples
             .iter()
-            .all(|s| !s.accel.contains(&i16::MIN) && !s.gyro.contains(&i16::MIN)),
+            .all(|s| !s.accel.contains(&i32::from(i16::MIN))
+                && !s.gyro.contains(&i32::from(i16::MIN))),
         "no invalid marker after both sensors' first samples"
     );
     let (accel, gyro) = changes(samples);
@@ -109,6 +110,7 @@ fn icm42688_fifo_holds_the_slower_sensor_in_packets_without_its_data() {
         let fifo = FifoConfig {
             watermark: 8,
             mode: FifoMode::StopOnFull,
+            high_resolution: false,
         };
         let mut imu = Icm42688::new_spi(Icm42688Model::new(RampSource::default()));
         imu.init(&mut NoopDelay::new(), &icm_config(accel, gyro, Some(fifo)))
@@ -169,6 +171,7 @@ fn lsm6dsox_fifo_at_two_rates_gives_one_sample_per_slot_the_slower_held() {
                 fifo: Some(FifoConfig {
                     watermark: 8,
                     mode: FifoMode::StopOnFull,
+                    high_resolution: false,
                 }),
                 ..Config::default()
             };
@@ -218,6 +221,7 @@ fn settings_name_the_slower_sensor_and_refuse_what_makes_no_sense() {
         rate_hz: Some(1000),
         slower,
         watermark: 1,
+        high_resolution: false,
     };
     let config = settings(Some((Triad::Accel, 500)))
         .config::<Icm42688Chip, ()>()

@@ -196,6 +196,7 @@ fn unusual_config() -> Config {
         fifo: Some(FifoConfig {
             watermark: 50,
             mode: FifoMode::Stream,
+            high_resolution: false,
         }),
     }
 }

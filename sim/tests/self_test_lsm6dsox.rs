@@ -111,6 +111,7 @@ fn unusual_config() -> Config {
         fifo: Some(FifoConfig {
             watermark: 100,
             mode: FifoMode::Stream,
+            high_resolution: false,
         }),
     }
 }

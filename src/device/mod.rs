@@ -30,7 +30,9 @@ pub use data_ready::{on_data_ready, on_fifo_ready, Stepped};
 pub use decimator::Decimator;
 pub use framer::{Events, Framer, Outgoing};
 pub use load::{Load, LoadCounters, LoadWindow, Task};
-pub use sampler::{sample_period_us, FifoStepped, Sampler, StepOutcome, FIFO_READ_MAX};
+pub use sampler::{
+    batch_frames_fit, sample_period_us, FifoStepped, Sampler, StepOutcome, FIFO_READ_MAX,
+};
 pub use sensor_health::{HealthTotals, SensorHealth, StallWatch};
 pub use startup::{start_calibration, CalibrationSource, StartUp};
 pub use step_monitor::StepMonitor;

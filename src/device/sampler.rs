@@ -6,10 +6,11 @@
 use super::counters::SamplerTotals;
 use super::framer::{Events, Outgoing};
 use super::{Control, Decimator, Framer, StepMonitor};
+use crate::model::corrector::counts_f32;
 use crate::model::{BatchKernel, ClipFlags, Corrector, Sample};
 use crate::protocol::TimestampUnwrapper;
 use crate::protocol::{Mode, RawScale, MAX_BATCH};
-use crate::sensor::{FifoImu, Imu, RawSample};
+use crate::sensor::{FifoImu, Imu, ImuScale, RawSample};
 
 /// Temperature terms change slower than this: re-folding ten times a second
 /// keeps the fold within 0.1 s of the die temperature.
@@ -76,6 +77,18 @@ pub struct Sampler {
     period_ns: u32,
     /// When the chip was handed to its self-test (µs), while it is away.
     self_test_from: Option<u32>,
+    /// Whether batch frames carry the chip's resolution ([`batch_frames_fit`]).
+    batch_frames: bool,
+}
+
+/// Whether a batch frame's 16-bit counts (1.5 chip LSBs, docs/PROTOCOL.md
+/// §20) carry the resolution of a chip of `scale`: a 16-bit chip's, yes;
+/// the ICM-42688-P's 20-bit FIFO values (4 and 8 times finer) go out in
+/// data frames, whose f32 values hold them, so the extra bits reach the
+/// host (one frame per sample: the link's rate limits apply).
+pub fn batch_frames_fit(scale: &ImuScale) -> bool {
+    let sixteen_bit = crate::sensor::CodeRange::I16.magnitude;
+    scale.accel.codes.magnitude <= sixteen_bit && scale.gyro.codes.magnitude <= sixteen_bit
 }
 
 impl Sampler {
@@ -93,7 +106,9 @@ impl Sampler {
         let framer = Framer::new(corrector.calibration_id(), calibrated);
         let raw_scale = RawScale::of(corrector.scale());
         let kernel = BatchKernel::new(&corrector);
+        let batch_frames = batch_frames_fit(corrector.scale());
         Self {
+            batch_frames,
             kernel,
             period_ns: period_us.saturating_mul(1000),
             corrector,
@@ -153,7 +168,7 @@ impl Sampler {
     fn process(&mut self, raw: &RawSample, timestamp_us: u32) -> Option<Outgoing> {
         let sample = match self.mode {
             Mode::Calibrated => self.corrector.correct(raw),
-            Mode::Raw => counts(raw),
+            Mode::Raw => counts(raw, self.corrector.scale()),
         };
         if self.refold_due(1) {
             let temperature_c = match self.mode {
@@ -203,8 +218,9 @@ impl Sampler {
     /// every sample, offering each frame to `enqueue` (false when the link's
     /// queue is full: the frame is then counted dropped). In
     /// calibrated mode without averaging the samples go out in batch frames
-    /// of up to [`MAX_BATCH`]; otherwise each goes through the per-sample
-    /// pipeline (raw frames, or averages in data frames).
+    /// of up to [`MAX_BATCH`] where those carry the chip's resolution
+    /// ([`batch_frames_fit`]); otherwise each goes through the per-sample
+    /// pipeline (raw frames, or data frames: averages, or each sample).
     ///
     /// Timestamps: the newest sample in the FIFO is taken to have arrived at
     /// `now_us` and the others one chip period apart before it (the
@@ -267,7 +283,7 @@ impl Sampler {
                     stepped.dropped = stepped.dropped.saturating_add(1);
                 }
             };
-            if self.mode == Mode::Calibrated && self.decimator.factor() == 1 {
+            if self.mode == Mode::Calibrated && self.decimator.factor() == 1 && self.batch_frames {
                 for (i, chunk) in samples.chunks(MAX_BATCH).enumerate() {
                     let timestamp = first_us.wrapping_add(self.span_us(i * MAX_BATCH));
                     let frame = self.batch(chunk, timestamp);
@@ -424,12 +440,12 @@ impl Sampler {
 
 /// A raw reading as `f32` counts, chip axes, with its clip flags: what raw
 /// mode averages and streams.
-fn counts(raw: &RawSample) -> Sample {
+fn counts(raw: &RawSample, scale: &ImuScale) -> Sample {
     Sample {
-        accel: raw.accel.map(f32::from),
-        gyro: raw.gyro.map(f32::from),
+        accel: counts_f32(&raw.accel),
+        gyro: counts_f32(&raw.gyro),
         temperature: f32::from(raw.temperature),
-        clip: ClipFlags::of(raw),
+        clip: ClipFlags::of(raw, scale),
     }
 }
 

@@ -13,9 +13,9 @@
 //! sample, in the f32 kernel's order (the gyro's three products, then the
 //! accelerometer's three), so the same holds.
 
-use super::corrector::{ClipFlags, Corrector};
+use super::corrector::{counts_f32, ClipFlags, Corrector};
 use super::Triad;
-use crate::sensor::RawSample;
+use crate::sensor::{CodeRange, RawSample, TriadScale};
 
 /// Most counts a corrected value takes: ±32767 (−32768 is left unused so the
 /// range is symmetric, as the clip flag's meaning is).
@@ -33,6 +33,17 @@ const ROUND_MAGIC: f32 = 12_582_912.0;
 pub fn fixed_point_lsb(si_per_lsb: f64) -> f32 {
     let exponent = libm::ceil(libm::log2(1.5 * si_per_lsb));
     libm::ldexp(1.0, exponent as i32) as f32
+}
+
+/// The batch frame's LSB for a triad of `scale`: [`fixed_point_lsb`] of a
+/// 16-bit code's worth of its range, so that the frame's ±32767 counts span
+/// 1.5 × the range whatever the chip's code width. For a 16-bit chip that is
+/// `fixed_point_lsb(si_per_lsb)`; for the ICM-42688-P's 20-bit FIFO values
+/// the frame's counts are coarser than the chip's (the batch frame keeps
+/// its 16-bit layout: data frames, f32, carry the finer resolution).
+pub fn triad_lsb(scale: &TriadScale) -> f32 {
+    let per_16_bit_code = f64::from(scale.codes.magnitude) / f64::from(CodeRange::I16.magnitude);
+    fixed_point_lsb(scale.si_per_lsb * per_16_bit_code.max(1.0))
 }
 
 /// `value / lsb` rounded to the nearest count, ties to even, within
@@ -104,11 +115,11 @@ impl ScaledTriad {
         }
     }
 
-    /// The largest |value| any i16 input can give, times
-    /// [`EVALUATION_MARGIN`]: |k_i| + 32768·Σ_j |K_ij| bounds row i exactly
+    /// The largest |value| any input within `max_input` can give, times
+    /// [`EVALUATION_MARGIN`]: |k_i| + M·Σ_j |K_ij| bounds row i exactly
     /// (in f64, exact for these f32 terms up to one rounding), and the margin
     /// covers the f32 evaluation. NaN or infinite for non-finite coefficients.
-    fn max_counts(&self) -> f64 {
+    fn max_counts(&self, max_input: f64) -> f64 {
         let cross = self.cross.unwrap_or([[0.0; 3]; 3]);
         let rows = self
             .k
@@ -118,7 +129,7 @@ impl ScaledTriad {
             .map(|((row, c), o)| {
                 let k = row.map(|c| f64::from(c).abs());
                 let c = c.map(|c| f64::from(c).abs());
-                f64::from(o).abs() + 32768.0 * (k[0] + k[1] + k[2] + c[0] + c[1] + c[2])
+                f64::from(o).abs() + max_input * (k[0] + k[1] + k[2] + c[0] + c[1] + c[2])
             });
         rows.fold(0.0, |m: f64, b| if b > m || b.is_nan() { b } else { m }) * EVALUATION_MARGIN
     }
@@ -126,13 +137,13 @@ impl ScaledTriad {
     /// Whether every corrected value of any i16 input is below
     /// [`FAST_RANGE`] in magnitude (false for non-finite coefficients).
     fn fits_fast_path(&self) -> bool {
-        self.max_counts() < FAST_RANGE
+        self.max_counts(32768.0) < FAST_RANGE
     }
 
     /// Whether no i16 input can give a value beyond ±[`MAX_COUNTS`]: the
     /// usual case, as the frame's LSB leaves room beyond the chip's range.
     fn never_clips(&self) -> bool {
-        self.max_counts() <= f64::from(MAX_COUNTS)
+        self.max_counts(32768.0) <= f64::from(MAX_COUNTS)
     }
 
     /// One raw triad to counts, in the f32 kernel's order (offset first,
@@ -140,9 +151,9 @@ impl ScaledTriad {
     /// the three of the raw accelerometer sample `accel`); true when a value
     /// clipped. Exact for every finite input (the reference form of [`Self::pass`]).
     #[inline(always)]
-    fn apply(&self, raw: &[i16; 3], accel: &[i16; 3], out: &mut [i16]) -> bool {
-        let x = raw.map(f32::from);
-        let a = accel.map(f32::from);
+    fn apply(&self, raw: &[i32; 3], accel: &[i32; 3], out: &mut [i16]) -> bool {
+        let x = counts_f32(raw);
+        let a = counts_f32(accel);
         let cross = self.cross.unwrap_or([[0.0; 3]; 3]);
         let mut clipped = false;
         for (((row, c), offset), slot) in self
@@ -200,7 +211,7 @@ impl ScaledTriad {
         let (mut limit, mut over) = (0u32, 0u32);
         for (r, o) in raw.iter().zip(out.iter_mut()) {
             let a = if AT == 0 { &r.accel } else { &r.gyro };
-            let (a0, a1, a2) = (i32::from(a[0]), i32::from(a[1]), i32::from(a[2]));
+            let [a0, a1, a2] = *a;
             let m = |x: i32| ((x ^ (x >> 15)) + 1) as u32;
             limit |= m(a0) | m(a1) | m(a2);
             let (x0, x1, x2) = (a0 as f32, a1 as f32, a2 as f32);
@@ -210,7 +221,7 @@ impl ScaledTriad {
                 o2 + k20 * x0 + k21 * x1 + k22 * x2,
             ];
             if CROSS {
-                let y = r.accel.map(f32::from);
+                let y = counts_f32(&r.accel);
                 v = [
                     v[0] + c00 * y[0] + c01 * y[1] + c02 * y[2],
                     v[1] + c10 * y[0] + c11 * y[1] + c12 * y[2],
@@ -257,6 +268,8 @@ pub struct BatchKernel {
     gyro_lsb: f32,
     /// Which loop [`BatchKernel::correct`] runs.
     path: Path,
+    /// The accelerometer's and the gyroscope's codes, for the clip flags.
+    codes: [CodeRange; 2],
 }
 
 impl BatchKernel {
@@ -264,16 +277,22 @@ impl BatchKernel {
     /// batch frame's LSBs for the corrector's chip scale.
     pub fn new(corrector: &Corrector) -> Self {
         let scale = corrector.scale();
-        let accel_lsb = fixed_point_lsb(scale.accel.si_per_lsb);
-        let gyro_lsb = fixed_point_lsb(scale.gyro.si_per_lsb);
+        let accel_lsb = triad_lsb(&scale.accel);
+        let gyro_lsb = triad_lsb(&scale.gyro);
         let accel = ScaledTriad::new(corrector, Triad::Accel, accel_lsb);
         let gyro = ScaledTriad::new(corrector, Triad::Gyro, gyro_lsb);
+        let codes = [scale.accel.codes, scale.gyro.codes];
         BatchKernel {
             accel,
             gyro,
             accel_lsb,
             gyro_lsb,
-            path: if accel.never_clips() && gyro.never_clips() {
+            codes,
+            // The passes' range proofs and limit-code test are a 16-bit
+            // chip's: wider codes (the 20-bit FIFO) go sample by sample.
+            path: if codes != [CodeRange::I16; 2] {
+                Path::Exact
+            } else if accel.never_clips() && gyro.never_clips() {
                 Path::NeverClips
             } else if accel.fits_fast_path() && gyro.fits_fast_path() {
                 Path::Fast
@@ -326,7 +345,10 @@ impl BatchKernel {
         let mut clip = ClipFlags::default();
         for (r, o) in raw.iter().zip(out.iter_mut()) {
             let (accel_out, gyro_out) = o.split_at_mut(3);
-            let at_limit = ClipFlags::of(r);
+            let at_limit = ClipFlags {
+                accel: self.codes[0].at_limit(&r.accel),
+                gyro: self.codes[1].at_limit(&r.gyro),
+            };
             clip.accel |= self.accel.apply(&r.accel, &r.accel, accel_out) | at_limit.accel;
             clip.gyro |= self.gyro.apply(&r.gyro, &r.accel, gyro_out) | at_limit.gyro;
         }
@@ -353,6 +375,7 @@ mod tests {
             accel_lsb: 1.0,
             gyro_lsb: 1.0,
             path: Path::Exact,
+            codes: [CodeRange::I16; 2],
         }
     }
 
@@ -363,9 +386,9 @@ mod tests {
     fn every_path_computes_what_apply_computes() {
         let raw: [RawSample; 40] = core::array::from_fn(|n| {
             let n = n as i32;
-            let x = |m: i32| ((n * 7919 + m * 104_729) % 65_536 - 32_768) as i16;
+            let x = |m: i32| (n * 7919 + m * 104_729) % 65_536 - 32_768;
             RawSample {
-                accel: [x(1), x(2), if n == 9 { i16::MIN } else { x(3) }],
+                accel: [x(1), x(2), if n == 9 { -32768 } else { x(3) }],
                 gyro: [x(4), x(5), x(6)],
                 temperature: 0,
             }

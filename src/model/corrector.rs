@@ -12,11 +12,12 @@ use super::orientation::Orientation;
 use super::validate::{
     positive_finite, validate_g_sensitivity, validate_triad, CalibrationError, TEMPERATURE_RANGE_C,
 };
-use crate::sensor::{ImuScale, RawSample, TriadScale};
+use crate::sensor::{CodeRange, ImuScale, RawSample, TriadScale};
 
-/// Which triads had a raw axis at the chip's limit code (i16::MIN or
-/// i16::MAX). The off-diagonal terms spread a clipped axis into the others,
-/// so the whole corrected triad is suspect.
+/// Which triads had a raw axis at the chip's limit code (for a 16-bit
+/// chip i16::MIN or i16::MAX; each triad's [`CodeRange`]). The off-diagonal
+/// terms spread a clipped axis into the others, so the whole corrected
+/// triad is suspect.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct ClipFlags {
@@ -27,25 +28,21 @@ pub struct ClipFlags {
 }
 
 impl ClipFlags {
-    /// Flags of a raw sample.
+    /// Flags of a raw sample from a chip of `scale`.
     #[inline(always)]
-    pub fn of(raw: &RawSample) -> ClipFlags {
+    pub fn of(raw: &RawSample, scale: &ImuScale) -> ClipFlags {
         ClipFlags {
-            accel: at_limit(&raw.accel),
-            gyro: at_limit(&raw.gyro),
+            accel: scale.accel.codes.at_limit(&raw.accel),
+            gyro: scale.gyro.codes.at_limit(&raw.gyro),
         }
     }
 }
 
-/// Any axis at i16::MIN or i16::MAX, branch-free in a few instructions:
-/// m = x ^ (x >> 15) is x for x ≥ 0 and −x − 1 for x < 0, so m ≤ 32767 with
-/// equality exactly at the two limit codes, and m + 1 sets bit 15 only there
-/// (no m + 1 reaches bit 16). Testing that one bit, rather than the shifted
-/// value against zero, lets the compiler store it as the bool directly.
+/// Raw counts as f32: exact, as every chip's counts are below 2²⁴ in
+/// magnitude (20 bits at most, [`crate::sensor::CodeRange`]).
 #[inline(always)]
-fn at_limit(v: &[i16; 3]) -> bool {
-    let m = |x: i16| (i32::from(x) ^ (i32::from(x) >> 15)) + 1;
-    ((m(v[0]) | m(v[1]) | m(v[2])) >> 15) & 1 != 0
+pub fn counts_f32(v: &[i32; 3]) -> [f32; 3] {
+    [v[0] as f32, v[1] as f32, v[2] as f32]
 }
 
 /// One corrected sample, f32, in the board's axes.
@@ -289,10 +286,12 @@ impl Corrector {
             accel: TriadScale {
                 si_per_lsb: 1.0,
                 full_scale: accel_full_scale,
+                codes: CodeRange::I16,
             },
             gyro: TriadScale {
                 si_per_lsb: 1.0,
                 full_scale: gyro_full_scale,
+                codes: CodeRange::I16,
             },
             temperature_per_lsb: 1.0,
             temperature_offset: 0.0,
@@ -344,24 +343,24 @@ impl Corrector {
 
     #[inline(always)]
     fn correct_without_g(&self, raw: &RawSample) -> Sample {
-        let f = |v: &[i16; 3]| [f32::from(v[0]), f32::from(v[1]), f32::from(v[2])];
+        let f = counts_f32;
         Sample {
             accel: self.accel.kernel.apply(f(&raw.accel)),
             gyro: self.gyro.kernel.apply(f(&raw.gyro)),
             temperature: self.temperature_c(f32::from(raw.temperature)),
-            clip: ClipFlags::of(raw),
+            clip: ClipFlags::of(raw, &self.scale),
         }
     }
 
     #[inline(always)]
     fn correct_with_g(&self, s: &GSensitivityState, raw: &RawSample) -> Sample {
-        let f = |v: &[i16; 3]| [f32::from(v[0]), f32::from(v[1]), f32::from(v[2])];
+        let f = counts_f32;
         let accel = f(&raw.accel);
         Sample {
             accel: self.accel.kernel.apply(accel),
             gyro: s.apply(&self.gyro.kernel.k, f(&raw.gyro), accel),
             temperature: self.temperature_c(f32::from(raw.temperature)),
-            clip: ClipFlags::of(raw),
+            clip: ClipFlags::of(raw, &self.scale),
         }
     }
 
@@ -399,7 +398,7 @@ impl Corrector {
     /// the gyro R·(I+Σ_g)⁻¹·(s·raw − b_g − G·f), f the accelerometer's
     /// solution in the sensor's axes).
     pub fn reference(&self, raw: &RawSample) -> ReferenceSample {
-        let si = |v: &[i16; 3], s: f64| {
+        let si = |v: &[i32; 3], s: f64| {
             [
                 f64::from(v[0]) * s,
                 f64::from(v[1]) * s,
@@ -414,7 +413,7 @@ impl Corrector {
             accel,
             gyro,
             temperature: self.scale.temperature_c(raw.temperature),
-            clip: ClipFlags::of(raw),
+            clip: ClipFlags::of(raw, &self.scale),
         }
     }
 

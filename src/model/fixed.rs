@@ -27,23 +27,36 @@
 //!
 //! S is the largest value in F+1..=F+31 with max|K_q| ≤ 2³⁰, so the
 //! coefficients keep 29..30 significant bits and the shift is 1..=31 (a
-//! 32-bit funnel shift of the two halves). No overflow for any i16 input:
-//! each product is ≤ 2³⁰·2¹⁵ = 2⁴⁵, three of them ≤ 1.5·2⁴⁶, and |k_q| is
-//! checked ≤ 2⁶¹ at construction, so the sum stays below 2⁶²; construction
-//! also checks that the largest possible result fits i32 after the shift.
+//! 32-bit funnel shift of the two halves). The input is a chip's count,
+//! |raw_j| ≤ M, its [`CodeRange::magnitude`]: M = 2¹⁵ for a 16-bit chip,
+//! 2¹⁹ for the ICM-42688-P's 20-bit FIFO values. No overflow for any input
+//! up to M ≤ 2¹⁹ (construction refuses a larger M): each product is ≤
+//! 2³⁰·2¹⁹ = 2⁴⁹, three of them ≤ 1.5·2⁵⁰, and |k_q| is checked ≤ 2⁶¹ at
+//! construction, so the sum stays below 2⁶²; construction also checks that
+//! the largest possible result (with M) fits i32 after the shift.
 //!
 //! Error against the exact K·raw + k, in SI units (proof):
 //! - coefficient rounding: |K_q − K·2^S| ≤ ½ and |k_q − k·2^S − 2^(S−F−1)| ≤ ½,
-//!   so the sum is off by ≤ ½·(Σ|raw_j| + 1) ≤ ½·(3·32768 + 1) quanta 2⁻ˢ;
+//!   so the sum is off by ≤ ½·(Σ|raw_j| + 1) ≤ ½·(3·M + 1) quanta 2⁻ˢ;
 //! - the final rounding: ≤ ½ output quantum = 2^−(F+1).
 //!
-//! So |error| ≤ 2^−(F+1) + (3·32768 + 1)·2^−(S+1)
+//! So |error| ≤ 2^−(F+1) + (3·M + 1)·2^−(S+1)
 //! ([`FixedCorrector::error_bound`]). As max|K|·2^S > 2²⁹ (unless S is at its
-//! cap), the second term is below 9.2e−5·max|K|, and max|K| ≤ 3.4 LSB-worth
-//! for a valid calibration (‖(I+Σ)⁻¹‖ ≤ 1/0.3), so it is below 3.2e−4 LSB.
+//! cap), the second term is below 1.5·M·2⁻²⁹·max|K| (9.2e−5·max|K| for
+//! M = 2¹⁵, 1.5e−3·max|K| for M = 2¹⁹), and max|K| ≤ 3.4 LSB-worth for a
+//! valid calibration (‖(I+Σ)⁻¹‖ ≤ 1/0.3), so it is below 3.2e−4 LSB (16-bit)
+//! or 5.1e−3 LSB (20-bit).
 //! The bound is therefore ≤ 0.5 LSB whenever the LSB is ≥ 2^−F·1.001: down to
-//! 1.5e−5 m/s² for accelerometers (a 16-bit ±2 g one has 6e−4) and 9.5e−7
-//! rad/s for gyroscopes. tests/model_fixed.rs asserts it for every range.
+//! 1.5e−5 m/s² for accelerometers (a 16-bit ±2 g one has 6e−4, the
+//! ICM-42688-P's 20-bit FIFO value 3.0e−4) and 9.5e−7 rad/s for gyroscopes
+//! (the 20-bit value: 6.7e−5). tests/model_fixed.rs asserts it for every
+//! range and for the 20-bit FIFO's scale.
+//!
+//! The 32-bit form of [`super::fixed_narrow`] holds only 16-bit inputs
+//! (M ≤ 2¹⁵: its products would overflow i32 beyond); the 20-bit FIFO's
+//! values always take this i64 form. On a Cortex-M4F that is one SMLAL per
+//! product; the firmware's hot path is the f32 corrector anyway, whose f32
+//! conversion of a 20-bit count is exact.
 //!
 //! A g-sensitivity adds the accelerometer's contribution C·raw_a + c to the
 //! gyro's rate ([`super::g_sensitivity`]). It is a second set of rows on the
@@ -57,7 +70,7 @@ use super::corrector::{ClipFlags, Corrector, ReferenceSample};
 use super::fixed_narrow::NarrowRows;
 use super::fold::FoldedTriad;
 use super::validate::CalibrationError;
-use crate::sensor::RawSample;
+use crate::sensor::{CodeRange, RawSample};
 
 /// Fraction bits of the accelerometer output: Q16.16 m/s².
 pub const ACCEL_FRACTION_BITS: u32 = 16;
@@ -113,6 +126,9 @@ pub(super) fn pow2(e: i32) -> f64 {
     libm::ldexp(1.0, e)
 }
 
+/// Largest input magnitude the i64 form proves its bounds for (module doc).
+const MAX_INPUT_MAGNITUDE: u32 = 1 << 19;
+
 /// One triad (or the temperature row) in fixed point.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 struct FixedRows<const N: usize> {
@@ -122,19 +138,23 @@ struct FixedRows<const N: usize> {
     shift: u32,
     /// F, the output's fraction bits.
     fraction_bits: u32,
+    /// M, the largest |input| (module doc).
+    max_input: u32,
 }
 
 impl<const N: usize> FixedRows<N> {
-    /// Scales and rounds `k` (N×N) and `offset` as the module doc says.
+    /// Scales and rounds `k` (N×N) and `offset` as the module doc says, for
+    /// inputs up to `max_input` in magnitude.
     fn new(
         quantity: &'static str,
         fraction_bits: u32,
         k: &[[f64; N]; N],
         offset: &[f64; N],
+        max_input: u32,
     ) -> Result<Self, CalibrationError> {
         let f = fraction_bits as i32;
         let max_k = k.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
-        let max_raw = 32768.0;
+        let max_raw = f64::from(max_input);
         let range_error = |max_output: f64| CalibrationError::FixedPointRange {
             quantity,
             max_output,
@@ -145,7 +165,7 @@ impl<const N: usize> FixedRows<N> {
             s -= 1;
         }
         let scale = pow2(s);
-        if !at_most(max_k * scale, pow2(30)) {
+        if max_input > MAX_INPUT_MAGNITUDE || !at_most(max_k * scale, pow2(30)) {
             return Err(range_error(max_k * max_raw * N as f64));
         }
         let mut k_q = [[0i32; N]; N];
@@ -176,6 +196,7 @@ impl<const N: usize> FixedRows<N> {
             offset: offset_q,
             shift: (s - f) as u32,
             fraction_bits,
+            max_input,
         })
     }
 
@@ -183,7 +204,7 @@ impl<const N: usize> FixedRows<N> {
     fn error_bound(&self) -> f64 {
         let f = self.fraction_bits as i32;
         let s = self.shift as i32 + f;
-        pow2(-f - 1) + (N as f64 * 32768.0 + 1.0) * pow2(-s - 1)
+        pow2(-f - 1) + (N as f64 * f64::from(self.max_input) + 1.0) * pow2(-s - 1)
     }
 }
 
@@ -198,10 +219,11 @@ fn shift_to_i32(acc: i64, shift: u32) -> i32 {
 
 impl FixedRows<3> {
     #[inline(always)]
-    fn apply(&self, x: &[i16; 3]) -> [i32; 3] {
+    fn apply(&self, x: &[i32; 3]) -> [i32; 3] {
         let (x0, x1, x2) = (i64::from(x[0]), i64::from(x[1]), i64::from(x[2]));
         let row = |k: &[i32; 3], o: i64| {
-            // The module doc proves |sum| < 2⁶² and that the shifted value fits i32.
+            // The module doc proves |sum| < 2⁶² and that the shifted value
+            // fits i32, for inputs within the triad's magnitude.
             let acc = o + i64::from(k[0]) * x0 + i64::from(k[1]) * x1 + i64::from(k[2]) * x2;
             shift_to_i32(acc, self.shift)
         };
@@ -222,6 +244,8 @@ pub struct FixedCorrector {
     /// C·raw_a + c in Q12.20, with a g-sensitivity.
     g_sensitivity: Option<Form<3>>,
     temperature: Form<1>,
+    /// The accelerometer's and the gyroscope's codes, for the clip flags.
+    codes: [CodeRange; 2],
 }
 
 /// One triad (or the temperature row) in the 32-bit form where it fits
@@ -238,14 +262,16 @@ impl<const N: usize> Form<N> {
         fraction_bits: u32,
         k: &[[f64; N]; N],
         offset: &[f64; N],
+        max_input: u32,
     ) -> Result<Self, CalibrationError> {
-        match NarrowRows::new(fraction_bits, k, offset) {
+        match NarrowRows::new(fraction_bits, k, offset, max_input) {
             Some(narrow) => Ok(Form::Narrow(narrow)),
             None => Ok(Form::Wide(FixedRows::new(
                 quantity,
                 fraction_bits,
                 k,
                 offset,
+                max_input,
             )?)),
         }
     }
@@ -264,7 +290,7 @@ impl<const N: usize> Form<N> {
 
 impl Form<3> {
     #[inline(always)]
-    fn apply(&self, x: &[i16; 3]) -> [i32; 3] {
+    fn apply(&self, x: &[i32; 3]) -> [i32; 3] {
         match self {
             Form::Narrow(n) => n.apply(x),
             Form::Wide(w) => w.apply(x),
@@ -288,23 +314,34 @@ impl FixedCorrector {
     /// Quantises the corrector's current K, k and temperature scale.
     pub fn new(corrector: &Corrector) -> Result<FixedCorrector, CalibrationError> {
         use super::calibration::Triad;
-        let rows = |quantity, bits, f: &FoldedTriad| Form::new(quantity, bits, &f.k, &f.offset);
         let scale = corrector.scale();
+        let (accel_max, gyro_max) = (scale.accel.codes.magnitude, scale.gyro.codes.magnitude);
+        let rows = |quantity, bits, f: &FoldedTriad, max_input| {
+            Form::new(quantity, bits, &f.k, &f.offset, max_input)
+        };
         let gyro = corrector.folded(Triad::Gyro);
         let g_sensitivity = match corrector.folded_g_sensitivity() {
             None => None,
-            Some(cross) => Some(g_sensitivity_rows(gyro, &cross)?),
+            Some(cross) => Some(g_sensitivity_rows(gyro, &cross, gyro_max, accel_max)?),
         };
         Ok(FixedCorrector {
-            accel: rows("accel", ACCEL_FRACTION_BITS, corrector.folded(Triad::Accel))?,
-            gyro: rows("gyro", GYRO_FRACTION_BITS, gyro)?,
+            accel: rows(
+                "accel",
+                ACCEL_FRACTION_BITS,
+                corrector.folded(Triad::Accel),
+                accel_max,
+            )?,
+            gyro: rows("gyro", GYRO_FRACTION_BITS, gyro, gyro_max)?,
             g_sensitivity,
+            // The temperature is an i16 register reading on every chip.
             temperature: Form::new(
                 "temperature",
                 TEMPERATURE_FRACTION_BITS,
                 &[[scale.temperature_per_lsb]],
                 &[scale.temperature_offset],
+                CodeRange::I16.magnitude,
             )?,
+            codes: [scale.accel.codes, scale.gyro.codes],
         })
     }
 
@@ -334,7 +371,16 @@ impl FixedCorrector {
             accel: self.accel.apply(&raw.accel),
             gyro: self.gyro_rate(raw),
             temperature: self.temperature.apply_one(raw.temperature),
-            clip: ClipFlags::of(raw),
+            clip: self.clip_flags(raw),
+        }
+    }
+
+    /// The clip flags of `raw` ([`ClipFlags::of`] with the triads' codes).
+    #[inline(always)]
+    fn clip_flags(&self, raw: &RawSample) -> ClipFlags {
+        ClipFlags {
+            accel: self.codes[0].at_limit(&raw.accel),
+            gyro: self.codes[1].at_limit(&raw.gyro),
         }
     }
 
@@ -354,7 +400,7 @@ impl FixedCorrector {
                         accel: accel.apply(&r.accel),
                         gyro: gyro.apply(&r.gyro),
                         temperature: temperature.apply_one(r.temperature),
-                        clip: ClipFlags::of(r),
+                        clip: self.clip_flags(r),
                     };
                 }
             }
@@ -379,7 +425,7 @@ impl FixedCorrector {
 
     /// The proven bound on |fixed − exact| in SI units for every input, per
     /// output `[accel, gyro, temperature]`: for the i64 form
-    /// 2^−(F+1) + (N·32768 + 1)·2^−(S+1), for the 32-bit form the sum in
+    /// 2^−(F+1) + (N·M + 1)·2^−(S+1), for the 32-bit form the sum in
     /// [`super::fixed_narrow`]; with a g-sensitivity the gyro's adds the
     /// bound of its accelerometer rows.
     pub fn error_bound(&self) -> [f64; 3] {
@@ -399,12 +445,18 @@ impl FixedCorrector {
 fn g_sensitivity_rows(
     gyro: &FoldedTriad,
     cross: &FoldedTriad,
+    gyro_max: u32,
+    accel_max: u32,
 ) -> Result<Form<3>, CalibrationError> {
-    let largest = |f: &FoldedTriad, i: usize| {
-        f.k[i].iter().map(|x| x.abs() * 32768.0).sum::<f64>() + f.offset[i].abs()
+    let largest = |f: &FoldedTriad, i: usize, max_input: u32| {
+        f.k[i]
+            .iter()
+            .map(|x| x.abs() * f64::from(max_input))
+            .sum::<f64>()
+            + f.offset[i].abs()
     };
     let max_output = (0..3)
-        .map(|i| largest(gyro, i) + largest(cross, i))
+        .map(|i| largest(gyro, i, gyro_max) + largest(cross, i, accel_max))
         .fold(0.0f64, f64::max);
     // Each row's output is within one quantum of its exact value.
     if !at_most(
@@ -421,6 +473,7 @@ fn g_sensitivity_rows(
         GYRO_FRACTION_BITS,
         &cross.k,
         &cross.offset,
+        accel_max,
     )
 }
 

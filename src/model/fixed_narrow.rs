@@ -13,8 +13,10 @@
 //! ```
 //!
 //! K_q·x = K_hi·x·2¹⁴ + K_lo·x exactly, so the sum is K_q·x/2¹⁴ up to the
-//! one floor of the low products' sum >> 14. Ranges, for any i16 x (|x| ≤
-//! 2¹⁵): |K_hi·x| ≤ 2²⁹; 0 ≤ K_lo < 2¹⁴ so |Σ_j K_lo_j·x_j| < N·2²⁹ ≤ 3·2²⁹
+//! one floor of the low products' sum >> 14. Ranges, for any 16-bit x (|x| ≤
+//! 2¹⁵; wider inputs, the ICM-42688-P's 20-bit FIFO values, would overflow
+//! the products, so construction refuses them and [`super::fixed`] keeps
+//! the i64 form): |K_hi·x| ≤ 2²⁹; 0 ≤ K_lo < 2¹⁴ so |Σ_j K_lo_j·x_j| < N·2²⁹ ≤ 3·2²⁹
 //! < 2³¹; construction checks that the largest possible |sum| is below 2³¹.
 //! One shift of the low sum per row rather than one per product, and one
 //! MULS per half: a Cortex-M0 has no shifted operands.
@@ -50,11 +52,22 @@ pub struct NarrowRows<const N: usize> {
 const SPLIT: i32 = 14;
 /// |K_q| ≤ 2^COEFFICIENT_BITS.
 const COEFFICIENT_BITS: i32 = 28;
+/// The largest |input| the ranges hold for: a 16-bit chip's codes.
+const MAX_INPUT_MAGNITUDE: u32 = 1 << 15;
 
 impl<const N: usize> NarrowRows<N> {
-    /// The rows for `k` (N×N) and `offset` with F = `fraction_bits`, or
-    /// `None` where the 32-bit form cannot hold them (see the module doc).
-    pub fn new(fraction_bits: u32, k: &[[f64; N]; N], offset: &[f64; N]) -> Option<Self> {
+    /// The rows for `k` (N×N) and `offset` with F = `fraction_bits` on
+    /// inputs up to `max_input` in magnitude, or `None` where the 32-bit
+    /// form cannot hold them (see the module doc).
+    pub fn new(
+        fraction_bits: u32,
+        k: &[[f64; N]; N],
+        offset: &[f64; N],
+        max_input: u32,
+    ) -> Option<Self> {
+        if max_input > MAX_INPUT_MAGNITUDE {
+            return None;
+        }
         let f = fraction_bits as i32;
         let max_k = k.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
         if !max_k.is_finite() || offset.iter().any(|o| !o.is_finite()) {
@@ -120,18 +133,17 @@ impl<const N: usize> NarrowRows<N> {
 impl NarrowRows<3> {
     /// The three corrected axes of `x`.
     #[inline(always)]
-    pub fn apply(&self, x: &[i16; 3]) -> [i32; 3] {
-        let x = [i32::from(x[0]), i32::from(x[1]), i32::from(x[2])];
+    pub fn apply(&self, x: &[i32; 3]) -> [i32; 3] {
         // ARMv6-M (Cortex-M0) is the Arm target without 32-bit atomics
         // (no LDREX/STREX): Arm's target features are not visible to cfg.
         #[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
         return [
-            row_armv6m::<0>(self, &x),
-            row_armv6m::<1>(self, &x),
-            row_armv6m::<2>(self, &x),
+            row_armv6m::<0>(self, x),
+            row_armv6m::<1>(self, x),
+            row_armv6m::<2>(self, x),
         ];
         #[cfg(not(all(target_arch = "arm", not(target_has_atomic = "32"))))]
-        [self.row(0, &x), self.row(1, &x), self.row(2, &x)]
+        [self.row(0, x), self.row(1, x), self.row(2, x)]
     }
 }
 

@@ -16,7 +16,7 @@ use super::driver::Driver;
 use super::error::Error;
 use super::fifo::FifoRead;
 use super::interface::RegisterInterface;
-use super::{RawSample, TriadScale};
+use super::{ImuScale, RawSample, TriadScale};
 
 /// `defmt::Format` when the crate logs with defmt, nothing otherwise: lets a
 /// chip's configuration types be logged without a bound that only exists
@@ -87,6 +87,13 @@ pub trait Chip: Copy + Debug + PartialEq + Eq + Loggable + Sized + 'static {
     /// The ranges and rate the chip holds after a reset (the FIFO off):
     /// what the driver reports before `init`.
     const RESET_CONFIG: Config<Self>;
+
+    /// The counts → SI sensitivities and code ranges of `config`: by
+    /// default its ranges' ([`Config::range_scale`]); a chip whose FIFO
+    /// format changes them (the ICM-42688-P's 20-bit packets) says so here.
+    fn scale(config: &Config<Self>) -> ImuScale {
+        config.range_scale()
+    }
 
     /// Reads the identity register without changing anything a listed chip
     /// holds (detection probes every listed chip this way).

@@ -45,9 +45,16 @@ impl<C: Chip> Config<C> {
         }
     }
 
-    /// The counts → SI sensitivities of this configuration's ranges and the
-    /// chip's temperature sensor (what [`super::Imu::scale`] reports).
+    /// The counts → SI sensitivities and code ranges of the samples the
+    /// driver delivers in this configuration (what [`super::Imu::scale`]
+    /// reports): the chip's [`Chip::scale`].
     pub fn scale(&self) -> ImuScale {
+        C::scale(self)
+    }
+
+    /// The sensitivities of this configuration's ranges and the chip's
+    /// temperature sensor: 16-bit codes at the configured full scales.
+    pub fn range_scale(&self) -> ImuScale {
         ImuScale {
             accel: self.accel_range.scale(),
             gyro: self.gyro_range.scale(),

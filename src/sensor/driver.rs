@@ -14,18 +14,20 @@ use super::fifo::{FifoImu, FifoRead};
 use super::interface::{I2cInterface, RegisterInterface, SpiInterface};
 use super::{Imu, ImuScale, RawSample};
 
+/// What a sensor reads before its first sample: the "no data" code
+/// ([`super::CodeRange::no_data`]) on every axis, the marker both chips use
+/// (ICM-42688-P §6.1, §14; the corrector flags a triad at this code as
+/// clipped, so no frame passes it off as a measurement).
+fn not_yet_sampled(scale: &ImuScale) -> RawSample {
+    RawSample {
+        accel: [scale.accel.codes.no_data(); 3],
+        gyro: [scale.gyro.codes.no_data(); 3],
+        temperature: 0,
+    }
+}
+
 /// FIFO records read per bus transaction (at most 32 × 16 B = 512 B of stack).
 const FIFO_CHUNK_RECORDS: usize = 32;
-
-/// What a sensor reads before its first sample: -32768 on every axis, the
-/// marker both chips use for "no data" (ICM-42688-P §6.1, §14; the
-/// corrector flags a triad at this full-scale value as clipped, so no
-/// frame passes it off as a measurement).
-const NOT_YET_SAMPLED: RawSample = RawSample {
-    accel: [i16::MIN; 3],
-    gyro: [i16::MIN; 3],
-    temperature: 0,
-};
 
 /// Chip `C` behind a register interface `I` (e.g.
 /// [`super::icm42688::Icm42688`]`<I>` is `Driver<Icm42688Chip, I>`).
@@ -36,8 +38,10 @@ pub struct Driver<C: Chip, I> {
     /// The last sample delivered from the FIFO (or, for a chip whose data
     /// registers cannot say which sensor is new, from them): a sensor with
     /// no new sample (it runs at the lower rate) keeps its value from here;
-    /// [`NOT_YET_SAMPLED`] until it has one.
+    /// [`Self::no_data`] until it has one.
     pub(super) held: RawSample,
+    /// The configuration's "no data" sample ([`not_yet_sampled`]).
+    no_data: RawSample,
     /// The chip's own FIFO bookkeeping between drains ([`Chip::FifoState`]).
     pub(super) fifo_state: C::FifoState,
 }
@@ -60,10 +64,12 @@ impl<C: Chip, I: RegisterInterface> Driver<C, I> {
     /// A driver over any register interface. The chip is untouched until
     /// [`Self::init`].
     pub fn new(interface: I) -> Self {
+        let no_data = not_yet_sampled(&C::RESET_CONFIG.scale());
         Self {
             interface,
             config: C::RESET_CONFIG,
-            held: NOT_YET_SAMPLED,
+            held: no_data,
+            no_data,
             fifo_state: C::FifoState::default(),
         }
     }
@@ -117,7 +123,8 @@ impl<C: Chip, I: RegisterInterface> Driver<C, I> {
         }
         C::start(self, delay, config)?;
         self.config = *config;
-        self.held = NOT_YET_SAMPLED;
+        self.no_data = not_yet_sampled(&config.scale());
+        self.held = self.no_data;
         self.fifo_state = C::FifoState::default();
         Ok(())
     }
@@ -153,7 +160,7 @@ impl<C: Chip, I: RegisterInterface> Driver<C, I> {
     /// `RECORD` bytes, 32 per transaction, each decoded by `decode` (whose
     /// error is the header or tag byte of a record it does not take). With
     /// the sensors at different rates, a triad the record has no new sample
-    /// of (-32768 on every axis) then takes its previous value
+    /// of (the "no data" code on every axis) then takes its previous value
     /// ([`Self::hold_slower`]); at one rate the records go out as decoded.
     pub(super) fn read_fifo_records<const RECORD: usize>(
         &mut self,
@@ -175,16 +182,16 @@ impl<C: Chip, I: RegisterInterface> Driver<C, I> {
         Ok(())
     }
 
-    /// Each triad of `samples` at -32768 on every axis (no new sample: the
+    /// Each triad of `samples` at the "no data" code on every axis (no new sample: the
     /// sensor runs at the lower rate) takes the previous sample's value,
     /// the first one [`Self::held`]'s; the last sample is held next.
     fn hold_slower(&mut self, samples: &mut [RawSample]) {
         let mut previous = self.held;
         for sample in samples {
-            if sample.accel == NOT_YET_SAMPLED.accel {
+            if sample.accel == self.no_data.accel {
                 sample.accel = previous.accel;
             }
-            if sample.gyro == NOT_YET_SAMPLED.gyro {
+            if sample.gyro == self.no_data.gyro {
                 sample.gyro = previous.gyro;
             }
             previous = *sample;

@@ -79,4 +79,9 @@ pub struct FifoConfig {
     pub watermark: u16,
     /// What happens when the FIFO is full.
     pub mode: FifoMode,
+    /// The chip's high-resolution FIFO format where it has one (the
+    /// ICM-42688-P's 20-bit packets, DS-000347 §6.1: fixed ±16 g and
+    /// ±2000 °/s, 18 and 19 meaningful bits); a chip without one refuses it
+    /// ([`super::Error::InvalidConfig`]).
+    pub high_resolution: bool,
 }

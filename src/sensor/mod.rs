@@ -25,16 +25,64 @@ pub use interrupt::InterruptPin;
 pub use self_test::{Axis, ChipLeft, ChipSelfTest, SelfTestError, SelfTestReport};
 pub use settings::Settings;
 
-/// One raw reading of both triads, in the chip's own counts (LSB).
+/// One raw reading of both triads, in the chip's own counts (LSB). i32, as
+/// the ICM-42688-P's high-resolution FIFO gives 20-bit values; a 16-bit
+/// chip's counts are its i16 codes (the range each triad's codes take, and
+/// at which they clip, is its [`TriadScale::codes`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct RawSample {
     /// Accelerometer x, y, z in LSB.
-    pub accel: [i16; 3],
+    pub accel: [i32; 3],
     /// Gyroscope x, y, z in LSB.
-    pub gyro: [i16; 3],
+    pub gyro: [i32; 3],
     /// Die temperature in LSB (see [`ImuScale::temperature_c`]).
     pub temperature: i16,
+}
+
+/// The codes one triad's axes take: a code at or beyond `low` or `high` is
+/// at the chip's limit (saturated, or the chip's "no data" marker), and no
+/// code exceeds `magnitude` in absolute value. The corrector flags a triad
+/// with an axis at its limit as clipped; the fixed-point corrector proves
+/// its overflow bounds for inputs within `magnitude`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct CodeRange {
+    /// At or below this code an axis is at its limit.
+    pub low: i32,
+    /// At or above this code an axis is at its limit.
+    pub high: i32,
+    /// The largest |code| the chip gives, markers included.
+    pub magnitude: u32,
+}
+
+impl CodeRange {
+    /// A 16-bit chip's: -32768 (the saturated or "no data" code) and 32767.
+    pub const I16: CodeRange = CodeRange {
+        low: i16::MIN as i32,
+        high: i16::MAX as i32,
+        magnitude: 1 << 15,
+    };
+
+    /// The code of an axis with no sample, the most negative: -32768 on
+    /// both chips' 16-bit outputs, -524288 in the ICM-42688-P's 20-bit FIFO
+    /// packets (DS-000347 §6.1). It is at the limit, so a triad that never
+    /// had a sample is flagged clipped rather than passed off as a measurement.
+    pub fn no_data(&self) -> i32 {
+        // magnitude ≤ 2¹⁹ for every chip: the negation fits.
+        -(self.magnitude as i32)
+    }
+
+    /// Whether any of the axes `v` is at the limit, branch-free: with
+    /// base = low + 1, v is strictly inside exactly when v − base, as u32,
+    /// is below high − low − 1 (a code below base wraps to a large u32).
+    #[inline(always)]
+    pub fn at_limit(&self, v: &[i32; 3]) -> bool {
+        let base = self.low.wrapping_add(1);
+        let span = self.high.wrapping_sub(self.low).wrapping_sub(1) as u32;
+        let out = |x: i32| (x.wrapping_sub(base) as u32 >= span) as u32;
+        out(v[0]) | out(v[1]) | out(v[2]) != 0
+    }
 }
 
 /// How one triad's counts map to SI units, for the configured range.
@@ -44,6 +92,8 @@ pub struct TriadScale {
     pub si_per_lsb: f64,
     /// The configured measurement range, ± this many SI units.
     pub full_scale: f64,
+    /// The codes the triad's axes take ([`CodeRange::I16`] for a 16-bit chip).
+    pub codes: CodeRange,
 }
 
 /// The sensitivities of a configured chip: what the model folds into K.

@@ -25,6 +25,9 @@ pub struct Settings {
     /// Samples per interrupt: 1 reads each sample on data ready (FIFO off);
     /// W > 1 turns the FIFO on and interrupts on W samples waiting.
     pub watermark: u16,
+    /// The chip's high-resolution FIFO format (W > 1 only; the
+    /// ICM-42688-P's 20-bit packets, [`FifoConfig::high_resolution`]).
+    pub high_resolution: bool,
 }
 
 impl Settings {
@@ -33,6 +36,7 @@ impl Settings {
         rate_hz: None,
         slower: None,
         watermark: 1,
+        high_resolution: false,
     };
 
     /// The FIFO configuration these settings ask for: none for W = 1; else
@@ -42,6 +46,7 @@ impl Settings {
         (self.watermark > 1).then_some(FifoConfig {
             watermark: self.watermark,
             mode: FifoMode::StopOnFull,
+            high_resolution: self.high_resolution,
         })
     }
 }
@@ -71,6 +76,12 @@ impl Settings {
                 Triad::Accel => config.accel_odr = odr,
                 Triad::Gyro => config.gyro_odr = odr,
             }
+        }
+        if self.high_resolution && self.watermark <= 1 {
+            return Err(Error::InvalidConfig {
+                what: "FIFO watermark with the high-resolution FIFO (it needs the FIFO: 2 or more)",
+                value: u32::from(self.watermark),
+            });
         }
         config.fifo = self.fifo();
         Ok(config)

@@ -7,7 +7,7 @@ use rand::{Rng, SeedableRng};
 use triad::model::{
     Calibration, Corrector, Orientation, TemperatureTerms, Triad, TriadCalibration,
 };
-use triad::sensor::{ImuScale, RawSample, TriadScale};
+use triad::sensor::{CodeRange, ImuScale, RawSample, TriadScale};
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
 
 /// A seeded generator, so a failure is reproducible.
@@ -26,10 +26,12 @@ pub fn random_scale(rng: &mut SmallRng) -> ImuScale {
         accel: TriadScale {
             si_per_lsb: g / 32768.0,
             full_scale: g,
+            codes: CodeRange::I16,
         },
         gyro: TriadScale {
             si_per_lsb: dps / 32768.0,
             full_scale: dps,
+            codes: CodeRange::I16,
         },
         temperature_per_lsb: 1.0 / 132.48,
         temperature_offset: 25.0,
@@ -44,10 +46,12 @@ pub fn widest_scale() -> ImuScale {
         accel: TriadScale {
             si_per_lsb: g / 32768.0,
             full_scale: g,
+            codes: CodeRange::I16,
         },
         gyro: TriadScale {
             si_per_lsb: dps / 32768.0,
             full_scale: dps,
+            codes: CodeRange::I16,
         },
         temperature_per_lsb: 1.0 / 132.48,
         temperature_offset: 25.0,
@@ -120,10 +124,12 @@ pub fn random_orientation(rng: &mut SmallRng) -> Orientation {
 
 /// Raw samples over the full i16 range; one in eight axes at a limit code.
 pub fn random_raw(rng: &mut SmallRng) -> RawSample {
-    let mut axis = || match rng.random_range(0..16) {
-        0 => i16::MIN,
-        1 => i16::MAX,
-        _ => rng.random(),
+    let mut axis = || {
+        i32::from(match rng.random_range(0..16) {
+            0 => i16::MIN,
+            1 => i16::MAX,
+            _ => rng.random::<i16>(),
+        })
     };
     RawSample {
         accel: [axis(), axis(), axis()],
@@ -134,7 +140,7 @@ pub fn random_raw(rng: &mut SmallRng) -> RawSample {
 
 /// S_i = Σ_j |K_ij|·|x_j| + |k_i| for raw counts x: the scale of the
 /// kernels' rounding errors.
-pub fn magnitude(c: &Corrector, triad: Triad, x: [i16; 3]) -> [f64; 3] {
+pub fn magnitude(c: &Corrector, triad: Triad, x: [i32; 3]) -> [f64; 3] {
     let f = c.folded(triad);
     [0, 1, 2].map(|i| {
         (0..3)

@@ -199,7 +199,7 @@ pub struct Firmware {
 
 /// The firmware's sampling settings at build (firmware/build.rs):
 /// `TRIAD_SAMPLE_RATE_HZ`, `TRIAD_ACCEL_RATE_HZ` or `TRIAD_GYRO_RATE_HZ`,
-/// and `TRIAD_FIFO_WATERMARK`.
+/// `TRIAD_FIFO_WATERMARK` and `TRIAD_FIFO_HIGH_RESOLUTION`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct Sampling {
     /// The chip's output data rate, Hz (the faster sensor's when `slower`
@@ -209,6 +209,9 @@ pub struct Sampling {
     pub slower: Option<(Triad, u32)>,
     /// Samples per interrupt; `None` (or 1): one, FIFO off.
     pub watermark: Option<u16>,
+    /// The chip's high-resolution FIFO format (the ICM-42688-P's 20-bit
+    /// packets; needs a watermark above 1).
+    pub high_resolution: bool,
 }
 
 impl Firmware {
@@ -264,6 +267,9 @@ impl Firmware {
         if let Some(w) = self.sampling.watermark {
             env.push(("TRIAD_FIFO_WATERMARK", w.to_string()));
         }
+        if self.sampling.high_resolution {
+            env.push(("TRIAD_FIFO_HIGH_RESOLUTION", "1".to_string()));
+        }
         env
     }
 
@@ -283,6 +289,9 @@ impl Firmware {
         if let Some(w) = self.sampling.watermark {
             label += &format!(", W = {w}");
         }
+        if self.sampling.high_resolution {
+            label += ", high-resolution FIFO";
+        }
         label
     }
 
@@ -301,6 +310,9 @@ impl Firmware {
         }
         if let Some(w) = self.sampling.watermark {
             stem += &format!("-w{w}");
+        }
+        if self.sampling.high_resolution {
+            stem += "-hires";
         }
         stem
     }

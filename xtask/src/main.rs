@@ -64,6 +64,10 @@ enum Command {
         /// accelerometer and gyroscope at different rates.
         #[arg(long, conflicts_with_all = ["e2e_only", "first_run_only"])]
         rates_only: bool,
+        /// Only the end-to-end test on QEMU of the ICM-42688-P's
+        /// high-resolution FIFO.
+        #[arg(long, conflicts_with_all = ["e2e_only", "first_run_only", "rates_only"])]
+        high_resolution_only: bool,
     },
     /// Benchmark every variant on the emulated cores; write docs/BENCHMARKS.md.
     Bench {
@@ -81,6 +85,10 @@ enum Command {
         /// With --whole-firmware and --rate: the FIFO watermark W.
         #[arg(long, requires = "rate")]
         watermark: Option<u16>,
+        /// With --whole-firmware, --rate and --watermark: the ICM-42688-P's
+        /// high-resolution FIFO; prints the noise floors of both FIFO formats too.
+        #[arg(long, requires = "watermark")]
+        high_resolution: bool,
         /// Only the long mutation run of the parsers that take outside
         /// bytes (10⁷ inputs each; host/examples/bench_fuzz.rs), then the
         /// coverage-guided targets of fuzz/ under AFL++ (10 minutes each).
@@ -185,6 +193,11 @@ pub struct FirmwareArgs {
     /// frames; default 1 (FIFO off, one data frame per sample).
     #[arg(long, value_name = "W", value_parser = clap::value_parser!(u16).range(1..=32))]
     watermark: Option<u16>,
+    /// The chip's high-resolution FIFO format (the ICM-42688-P's 20-bit
+    /// packets: ±16 g and ±2000 °/s at 4 and 8 times the 16-bit resolution,
+    /// DS-000347 §6.1); needs --watermark 2 or more.
+    #[arg(long)]
+    high_resolution: bool,
 }
 
 /// Arguments of `cargo xtask run`.
@@ -242,10 +255,12 @@ fn main() -> std::process::ExitCode {
             e2e_only,
             first_run_only,
             rates_only,
+            high_resolution_only,
         } => test::run(match (e2e_only, first_run_only, rates_only) {
             (true, _, _) => test::Scope::EndToEnd,
             (_, true, _) => test::Scope::FirstRun,
             (_, _, true) => test::Scope::DifferentRates,
+            _ if high_resolution_only => test::Scope::HighResolution,
             _ => test::Scope::All,
         }),
         Command::Bench {
@@ -263,13 +278,14 @@ fn main() -> std::process::ExitCode {
             fuzz,
             rate,
             watermark,
+            high_resolution,
             ..
         } => match fuzz {
             true => bench::run_fuzz(),
             false => {
                 setup::ensure_all().and_then(|()| match (whole_firmware, rate.zip(watermark)) {
                     (true, Some((rate, watermark))) => {
-                        bench::run_whole_firmware_one(rate, watermark)
+                        bench::run_whole_firmware_one(rate, watermark, high_resolution)
                     }
                     (true, None) => bench::run_whole_firmware(),
                     (false, _) => bench::run(json),
@@ -349,6 +365,13 @@ fn serve_command(args: ServeArgs) -> anyhow::Result<()> {
 /// Sets up and builds the firmware `args` describe; returns the ELF and the
 /// host tool built with it.
 fn build(args: &FirmwareArgs) -> anyhow::Result<(std::path::PathBuf, std::path::PathBuf)> {
+    if args.high_resolution && args.watermark.unwrap_or(1) < 2 {
+        anyhow::bail!(
+            "--high-resolution: the high-resolution format is the FIFO's; \
+             give --watermark 2..=32 (it is {})",
+            args.watermark.unwrap_or(1)
+        );
+    }
     setup::ensure_for(args.board)?;
     let triad = cmd::build_host_tool()?;
     let calibration = cmd::pack_calibration(&triad, args.calib.as_deref())?;
@@ -379,6 +402,7 @@ fn build(args: &FirmwareArgs) -> anyhow::Result<(std::path::PathBuf, std::path::
                 (None, None) => None,
             },
             watermark: args.watermark,
+            high_resolution: args.high_resolution,
         },
     };
     let blob = match (&args.scene, &args.unit, &args.script) {

@@ -33,6 +33,11 @@ const E2E_BATCH_SAMPLES: u64 = 16_000;
 const BATCH_RATE_HZ: u32 = 8000;
 /// The FIFO build's watermark: the largest the firmware offers.
 const BATCH_WATERMARK: u16 = 32;
+/// The high-resolution FIFO build (the ICM-42688-P's 20-bit packets): its
+/// rate and watermark. It streams a data frame per sample, so a rate the
+/// link carries frame by frame.
+const HIRES_RATE_HZ: u32 = 1000;
+const HIRES_WATERMARK: u16 = 8;
 /// Seconds of stream per sampling setting in the hardware-in-the-loop run.
 const HIL_SECONDS: f64 = 2.0;
 /// Each chip at two rates, on the emulated board: (chip, the stream's rate,
@@ -64,6 +69,8 @@ pub enum Scope {
     FirstRun,
     /// The end-to-end tests of each chip at two rates alone ([`DIFFERENT_RATES`]).
     DifferentRates,
+    /// The end-to-end test of the high-resolution FIFO alone ([`high_resolution`]).
+    HighResolution,
 }
 
 /// Runs the tests of `scope`; fails on the first failing step.
@@ -76,6 +83,10 @@ pub fn run(scope: Scope) -> Result<()> {
     if scope == Scope::DifferentRates {
         let triad = cmd::build_host_tool()?;
         return different_rates(&triad, &cmd::pack_calibration(&triad, None)?);
+    }
+    if scope == Scope::HighResolution {
+        let triad = cmd::build_host_tool()?;
+        return high_resolution(&triad, &cmd::pack_calibration(&triad, None)?);
     }
     let e2e_only = scope == Scope::EndToEnd;
     if !e2e_only {
@@ -181,6 +192,7 @@ pub fn run(scope: Scope) -> Result<()> {
     let batched_elf = elf;
 
     different_rates(&triad, &calibration)?;
+    high_resolution(&triad, &calibration)?;
 
     // The chip model fed by the simulator: a scene with noise, biases,
     // scale errors and a temperature ramp, on the default chip and bus.
@@ -246,7 +258,7 @@ fn different_rates(triad: &Path, calibration: &Path) -> Result<()> {
             sampling: Sampling {
                 rate_hz: Some(rate_hz),
                 slower: Some(slower),
-                watermark: None,
+                ..Sampling::default()
             },
             ..Firmware::default_emulated()
         };
@@ -255,6 +267,26 @@ fn different_rates(triad: &Path, calibration: &Path) -> Result<()> {
         end_to_end(firmware, &elf, triad, calibration, None)?;
     }
     Ok(())
+}
+
+/// The ICM-42688-P's high-resolution FIFO (20-bit packets 4, DS-000347
+/// §6.1), streamed as data frames: built, captured and checked by
+/// host/tests/e2e_hires_qemu.rs.
+fn high_resolution(triad: &Path, calibration: &Path) -> Result<()> {
+    let firmware = Firmware {
+        emulated_chip: Some("icm42688"),
+        sampling: Sampling {
+            rate_hz: Some(HIRES_RATE_HZ),
+            watermark: Some(HIRES_WATERMARK),
+            high_resolution: true,
+            ..Sampling::default()
+        },
+        ..Firmware::default_emulated()
+    };
+    note!("xtask: building the firmware for {}", firmware.label());
+    embedded_checks::clippy_firmware(firmware, calibration, None)?;
+    let elf = cmd::build_firmware(firmware, calibration)?;
+    end_to_end(firmware, &elf, triad, calibration, None)
 }
 
 /// Captures `E2E_FRAMES` frames of `elf` on QEMU and runs host/tests/e2e_qemu.rs
@@ -283,11 +315,13 @@ fn end_to_end(
         csv: csv.clone(),
     };
     // A FIFO build streams batch frames (E2E_BATCH_SAMPLES samples, rows of
-    // the CSV), checked by their own test file.
+    // the CSV), checked by their own test file; a high-resolution one data
+    // frames, checked by its own.
     let batched = firmware.sampling.watermark.unwrap_or(1) > 1;
-    let (rows, test) = match batched {
-        true => (E2E_BATCH_SAMPLES, "e2e_batch_qemu"),
-        false => (E2E_FRAMES, "e2e_qemu"),
+    let (rows, test) = match (firmware.sampling.high_resolution, batched) {
+        (true, _) => (E2E_FRAMES, "e2e_hires_qemu"),
+        (false, true) => (E2E_BATCH_SAMPLES, "e2e_batch_qemu"),
+        (false, false) => (E2E_FRAMES, "e2e_qemu"),
     };
     let status = qemu::stream_to_decoder(elf, triad, qemu::Stop::Frames(rows), sink)?;
     if !status.success() {

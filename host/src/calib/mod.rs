@@ -24,7 +24,7 @@ use std::process::ExitCode;
 
 use anyhow::anyhow;
 use triad::model::{blob, Corrector};
-use triad::sensor::{ImuScale, TriadScale};
+use triad::sensor::{CodeRange, ImuScale, TriadScale};
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
 
 use crate::calib::file::{self as calib_file, CalibFile};
@@ -110,10 +110,12 @@ impl Ranges {
             accel: TriadScale {
                 si_per_lsb: a / 32768.0,
                 full_scale: a,
+                codes: CodeRange::I16,
             },
             gyro: TriadScale {
                 si_per_lsb: g / 32768.0,
                 full_scale: g,
+                codes: CodeRange::I16,
             },
             temperature_per_lsb: 1.0 / 132.48,
             temperature_offset: 25.0,

@@ -320,8 +320,8 @@ mod over_a_pty {
             let want: Vec<f32> = raw
                 .accel
                 .iter()
-                .map(|&c| f32::from(c) * a)
-                .chain(raw.gyro.iter().map(|&c| f32::from(c) * g))
+                .map(|&c| (c as f32) * a)
+                .chain(raw.gyro.iter().map(|&c| (c as f32) * g))
                 .chain([f32::from(raw.temperature) * t_lsb + t0])
                 .collect();
             assert_eq!(bits(&values), bits(&want), "frame {seq}");

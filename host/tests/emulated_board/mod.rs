@@ -5,11 +5,15 @@
 //! on QEMU (`e2e_qemu.rs`, `device_qemu.rs`); each uses a part of it.
 #![allow(dead_code)]
 
+pub mod capture;
 pub mod decoded_csv;
 pub mod triad_correct;
 
 use triad::sensor::interface::{I2cInterface, SpiInterface};
 use triad::sensor::{AnyChip, FifoImu, FifoRead, Imu, ImuScale, RawSample, Settings, CHIP_NAMES};
+
+use triad::device::{start_calibration, Sampler};
+use triad_sim::chips::emulated_board::DESCRIPTION;
 
 /// The emulated board's chip models: the very code the firmware builds.
 use triad_sim::chips::emulated_board::{source, EmulatedChip};
@@ -122,6 +126,7 @@ pub fn settings_from_env() -> Settings {
         rate_hz: number("TRIAD_SAMPLE_RATE_HZ"),
         slower,
         watermark: number("TRIAD_FIFO_WATERMARK").map_or(1, |w| w as u16),
+        high_resolution: number("TRIAD_FIFO_HIGH_RESOLUTION") == Some(1),
     }
 }
 
@@ -183,4 +188,21 @@ impl Replay {
         }
         self.samples[n]
     }
+}
+
+/// The host's sampler for `sensor` as the firmware starts it
+/// (firmware/src/start.rs): the embedded calibration (TRIAD_E2E_BLOB), the
+/// board's orientation and decimation, the chip's rate.
+pub fn host_sampler(sensor: &HostSensor) -> Sampler {
+    let blob = std::fs::read(capture::env_path("TRIAD_E2E_BLOB")).expect("calibration blob");
+    let startup = start_calibration(None, &blob, &sensor.scale(), DESCRIPTION.orientation)
+        .expect("the chip's scale is valid");
+    assert!(startup.rejected.is_none(), "{:?}", startup.rejected);
+    let calibrated = startup.calibrated();
+    Sampler::at_rate(
+        startup.corrector,
+        calibrated,
+        DESCRIPTION.decimation,
+        sensor.sample_rate_hz(),
+    )
 }

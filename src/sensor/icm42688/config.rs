@@ -6,7 +6,7 @@
 use crate::sensor::chip::{DataRate, FullScale};
 pub use crate::sensor::fifo::{FifoConfig, FifoMode};
 pub use crate::sensor::interrupt::InterruptPin;
-use crate::sensor::TriadScale;
+use crate::sensor::{CodeRange, ImuScale, TriadScale};
 use crate::units::{deg_to_rad, STANDARD_GRAVITY};
 
 /// Accelerometer full-scale range (ACCEL_CONFIG0 ACCEL_FS_SEL).
@@ -69,6 +69,7 @@ impl FullScale for AccelRange {
         TriadScale {
             si_per_lsb: STANDARD_GRAVITY / self.lsb_per_g(),
             full_scale: self.g() * STANDARD_GRAVITY,
+            codes: CodeRange::I16,
         }
     }
 }
@@ -163,6 +164,7 @@ impl FullScale for GyroRange {
         TriadScale {
             si_per_lsb: deg_to_rad(1.0 / self.lsb_per_dps()),
             full_scale: deg_to_rad(self.dps()),
+            codes: CodeRange::I16,
         }
     }
 }
@@ -264,6 +266,33 @@ impl DataRate for Odr {
     /// The rate in Hz.
     fn hz(self) -> f64 {
         1e9 / f64::from(self.period_ns())
+    }
+}
+
+/// The samples of the high-resolution FIFO (§6.1 packet 4: 20-bit values,
+/// 18 meaningful bits of accelerometer at ±16 g and 19 of gyroscope at
+/// ±2000 °/s whatever the configured ranges), on the temperature register's
+/// scale: what the driver delivers with [`FifoConfig::high_resolution`].
+pub fn high_resolution_scale() -> ImuScale {
+    use super::registers as reg;
+    let codes = |limit: i32| CodeRange {
+        low: -limit,
+        high: limit,
+        magnitude: reg::HIRES_MAGNITUDE,
+    };
+    ImuScale {
+        accel: TriadScale {
+            si_per_lsb: STANDARD_GRAVITY / reg::HIRES_ACCEL_LSB_PER_G,
+            full_scale: AccelRange::G16.g() * STANDARD_GRAVITY,
+            codes: codes(reg::HIRES_ACCEL_LIMIT),
+        },
+        gyro: TriadScale {
+            si_per_lsb: deg_to_rad(1.0 / reg::HIRES_GYRO_LSB_PER_DPS),
+            full_scale: deg_to_rad(GyroRange::Dps2000.dps()),
+            codes: codes(reg::HIRES_GYRO_LIMIT),
+        },
+        temperature_per_lsb: 1.0 / reg::TEMP_LSB_PER_C,
+        temperature_offset: reg::TEMP_OFFSET_C,
     }
 }
 

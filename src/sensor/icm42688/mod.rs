@@ -1,8 +1,12 @@
 //! TDK InvenSense ICM-42688-P 6-axis IMU driver, over SPI or I²C.
 //!
 //! Datasheet DS-000347. The driver keeps the chip in user bank 0, runs both
-//! sensors in low-noise mode at one output data rate, and either reads the
-//! data registers on data ready or drains the FIFO on its watermark.
+//! sensors in low-noise mode, and either reads the data registers on data
+//! ready or drains the FIFO on its watermark: 16-byte packets 3 (16-bit
+//! data), or with [`FifoConfig::high_resolution`] 20-byte packets 4 (§6.1:
+//! 20-bit values, 18 meaningful bits of accelerometer at ±16 g and 19 of
+//! gyroscope at ±2000 °/s, whatever ACCEL_FS_SEL and GYRO_FS_SEL say; the
+//! driver therefore takes that mode only with those ranges).
 
 pub mod config;
 mod registers;
@@ -16,7 +20,7 @@ use super::driver::Driver;
 use super::error::Error;
 use super::fifo::FifoRead;
 use super::interface::RegisterInterface;
-use super::{Imu, RawSample};
+use super::{CodeRange, Imu, ImuScale, RawSample};
 
 pub use self::config::{AccelRange, Config, FifoConfig, FifoMode, GyroRange, InterruptPin, Odr};
 pub use self::registers::{I2C_ADDRESS_AD0_HIGH, I2C_ADDRESS_AD0_LOW};
@@ -59,6 +63,14 @@ impl Chip for Icm42688Chip {
     };
     const RESET_CONFIG: Config = Self::DEFAULT_CONFIG;
 
+    /// The ranges' scales, or with the high-resolution FIFO its fixed 20-bit one.
+    fn scale(config: &Config) -> ImuScale {
+        match high_resolution(config) {
+            true => config::high_resolution_scale(),
+            false => config.range_scale(),
+        }
+    }
+
     /// Reads WHO_AM_I (bank 0) without changing anything, unless
     /// REG_BANK_SEL (0x76, readable in every bank) names a user bank other
     /// than 0 — as after a warm restart of the microcontroller — when it
@@ -86,6 +98,7 @@ impl Chip for Icm42688Chip {
         delay: &mut impl DelayNs,
         config: &Config,
     ) -> Result<(), Error<I::BusError>> {
+        check_high_resolution(config)?;
         // WHO_AM_I lives in bank 0; after a warm restart the chip may be in another.
         driver.write(reg::REG_BANK_SEL, 0)?;
         driver.expect_identity(reg::WHO_AM_I)?;
@@ -113,9 +126,13 @@ impl Chip for Icm42688Chip {
         )?;
         match config.fifo {
             Some(fifo) => {
+                let format = match fifo.high_resolution {
+                    true => reg::FIFO_HIRES_EN,
+                    false => 0,
+                };
                 driver.write(
                     reg::FIFO_CONFIG1,
-                    reg::FIFO_ACCEL_EN | reg::FIFO_GYRO_EN | reg::FIFO_TEMP_EN,
+                    reg::FIFO_ACCEL_EN | reg::FIFO_GYRO_EN | reg::FIFO_TEMP_EN | format,
                 )?;
                 let [high, low] = fifo.watermark.to_be_bytes();
                 driver.write(reg::FIFO_CONFIG2, low)?;
@@ -137,13 +154,19 @@ impl Chip for Icm42688Chip {
         Ok(())
     }
 
-    /// One burst of 14 bytes from TEMP_DATA1 to GYRO_DATA_Z0.
+    /// One burst of 14 bytes from TEMP_DATA1 to GYRO_DATA_Z0. With the
+    /// high-resolution FIFO configured, brought to its 20-bit scale (the
+    /// registers stay 16-bit: [`widen`]).
     fn read_sample<I: RegisterInterface>(
         driver: &mut Icm42688<I>,
     ) -> Result<RawSample, Error<I::BusError>> {
         let mut b = [0u8; 14];
         driver.read_registers(reg::TEMP_DATA1, &mut b)?;
-        Ok(decode_sample_block(&b))
+        let sample = decode_sample_block(&b);
+        Ok(match high_resolution(driver.config()) {
+            true => widen(&sample, &config::high_resolution_scale()),
+            false => sample,
+        })
     }
 
     /// Reads INT_STATUS and FIFO_COUNT in one burst, then the whole packets
@@ -157,7 +180,12 @@ impl Chip for Icm42688Chip {
         driver.read_registers(reg::INT_STATUS, &mut head)?;
         let [status, count_high, count_low] = head;
         let count = u16::from_be_bytes([count_high, count_low]);
-        if count > reg::FIFO_CAPACITY_PACKETS {
+        let high_resolution = high_resolution(driver.config());
+        let capacity = match high_resolution {
+            true => reg::FIFO_CAPACITY_HIRES_PACKETS,
+            false => reg::FIFO_CAPACITY_PACKETS,
+        };
+        if count > capacity {
             // More than the FIFO holds: the count cannot be trusted, nor
             // what reading that many would bring. Start the FIFO afresh;
             // what it held is lost, at least the watermark that raised this.
@@ -172,7 +200,14 @@ impl Chip for Icm42688Chip {
             return Ok(FifoRead::overflowed(lost, false));
         }
         let wanted = usize::from(count).min(out.len());
-        driver.read_fifo_records(reg::FIFO_DATA, &mut out[..wanted], decode_fifo_packet)?;
+        match high_resolution {
+            true => {
+                driver.read_fifo_records(reg::FIFO_DATA, &mut out[..wanted], decode_hires_packet)?
+            }
+            false => {
+                driver.read_fifo_records(reg::FIFO_DATA, &mut out[..wanted], decode_fifo_packet)?
+            }
+        }
         // `wanted` ≤ `count`, so this fits.
         Ok(FifoRead::drained(wanted, count - wanted as u16))
     }
@@ -223,13 +258,69 @@ impl<I: RegisterInterface> Icm42688<I> {
     }
 }
 
+/// Whether `config` reads the high-resolution FIFO.
+fn high_resolution(config: &Config) -> bool {
+    config.fifo.is_some_and(|f| f.high_resolution)
+}
+
+/// Refuses a high-resolution FIFO the chip cannot give as configured: its
+/// data are at ±16 g and ±2000 °/s whatever the ranges say (§6.1), so other
+/// ranges would be reported and not applied; and 20-byte packets fill the
+/// 2 KiB FIFO at 102, not 128.
+fn check_high_resolution<E>(config: &Config) -> Result<(), Error<E>> {
+    let Some(fifo) = config.fifo.filter(|f| f.high_resolution) else {
+        return Ok(());
+    };
+    if config.accel_range != AccelRange::G16 {
+        return Err(Error::InvalidConfig {
+            what: "accelerometer range with the high-resolution FIFO (fixed at ±16 g, \
+                   DS-000347 §6.1): ACCEL_FS_SEL code",
+            value: u32::from(config.accel_range.code()),
+        });
+    }
+    if config.gyro_range != GyroRange::Dps2000 {
+        return Err(Error::InvalidConfig {
+            what: "gyroscope range with the high-resolution FIFO (fixed at ±2000 °/s, \
+                   DS-000347 §6.1): GYRO_FS_SEL code",
+            value: u32::from(config.gyro_range.code()),
+        });
+    }
+    if fifo.watermark > reg::FIFO_CAPACITY_HIRES_PACKETS {
+        return Err(Error::InvalidConfig {
+            what: "FIFO watermark with the high-resolution FIFO (packets, 1..=102)",
+            value: u32::from(fifo.watermark),
+        });
+    }
+    Ok(())
+}
+
+/// A 16-bit register sample at ±16 g and ±2000 °/s on the 20-bit FIFO's
+/// scale (`hires`): each code × 16 (2¹⁵ and 2¹⁹ codes span the same full
+/// scale), the limit codes to the 20-bit ones (-32768, "no data" or
+/// saturated, to the 20-bit marker; 32767 to the saturated code).
+fn widen(sample: &RawSample, hires: &ImuScale) -> RawSample {
+    let triad = |v: &[i32; 3], codes: &CodeRange| {
+        v.map(|x| match x {
+            x if x <= i32::from(i16::MIN) => codes.no_data(),
+            x if x >= i32::from(i16::MAX) => codes.high,
+            x => x << 4,
+        })
+    };
+    RawSample {
+        accel: triad(&sample.accel, &hires.accel.codes),
+        gyro: triad(&sample.gyro, &hires.gyro.codes),
+        temperature: sample.temperature,
+    }
+}
+
 /// Decodes the 14-byte TEMP_DATA1..GYRO_DATA_Z0 block (big-endian words).
 fn decode_sample_block(b: &[u8; 14]) -> RawSample {
     let w = |i: usize| i16::from_be_bytes([b[2 * i], b[2 * i + 1]]);
+    let c = |i: usize| i32::from(w(i));
     RawSample {
         temperature: w(0),
-        accel: [w(1), w(2), w(3)],
-        gyro: [w(4), w(5), w(6)],
+        accel: [c(1), c(2), c(3)],
+        gyro: [c(4), c(5), c(6)],
     }
 }
 
@@ -245,12 +336,38 @@ fn decode_fifo_packet(p: &[u8; reg::FIFO_PACKET_LEN]) -> Result<RawSample, u8> {
     if header & mask != expected {
         return Err(header);
     }
-    let w = |i: usize| i16::from_be_bytes([p[1 + 2 * i], p[2 + 2 * i]]);
+    let w = |i: usize| i32::from(i16::from_be_bytes([p[1 + 2 * i], p[2 + 2 * i]]));
     // 132.48 / 2.07 = 64: the FIFO's 8-bit temperature on the 16-bit scale.
     let temperature = i16::from(p[13] as i8) * 64;
     Ok(RawSample {
         accel: [w(0), w(1), w(2)],
         gyro: [w(3), w(4), w(5)],
         temperature,
+    })
+}
+
+/// Decodes one 20-byte FIFO packet 4 (§6.1): header, bits 19:4 of accel
+/// x y z and gyro x y z (big-endian words), 16-bit temperature (the
+/// register's scale), timestamp, then bits 3:0 of each axis (accel in the
+/// high nibble, gyro in the low). Each axis is its 20-bit value, sign from
+/// the word; a sensor with no new sample reads -524288 on every axis (the
+/// driver then holds its previous value). `Err`: the header, when the
+/// packet is not a packet 4.
+fn decode_hires_packet(p: &[u8; reg::FIFO_PACKET_HIRES_LEN]) -> Result<RawSample, u8> {
+    let header = p[0];
+    let expected = reg::HEADER_ACCEL | reg::HEADER_GYRO | reg::HEADER_20;
+    let mask = reg::HEADER_MSG | expected;
+    if header & mask != expected {
+        return Err(header);
+    }
+    let value = |word_at: usize, low: u8| {
+        (i32::from(i16::from_be_bytes([p[word_at], p[word_at + 1]])) << 4) | i32::from(low & 0x0F)
+    };
+    let accel = |i: usize| value(1 + 2 * i, p[17 + i] >> 4);
+    let gyro = |i: usize| value(7 + 2 * i, p[17 + i]);
+    Ok(RawSample {
+        accel: [accel(0), accel(1), accel(2)],
+        gyro: [gyro(0), gyro(1), gyro(2)],
+        temperature: i16::from_be_bytes([p[13], p[14]]),
     })
 }

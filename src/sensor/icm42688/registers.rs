@@ -142,6 +142,8 @@ pub const FS_SEL_SHIFT: u8 = 5;
 /// GYRO_CONFIG0 / ACCEL_CONFIG0 ODR field (bits 3:0).
 pub const ODR_MASK: u8 = 0x0F;
 
+/// FIFO_CONFIG1 bit 4: FIFO_HIRES_EN, 20-byte packets 4 with 20-bit data (§6.1).
+pub const FIFO_HIRES_EN: u8 = 1 << 4;
 /// FIFO_CONFIG1 bit 2: temperature in FIFO packets.
 pub const FIFO_TEMP_EN: u8 = 1 << 2;
 /// FIFO_CONFIG1 bit 1: gyro in FIFO packets.
@@ -158,6 +160,27 @@ pub const FIFO_THS_INT1_EN: u8 = 1 << 2;
 pub const FIFO_PACKET_LEN: usize = 16;
 /// §6: the FIFO holds 2 KiB, i.e. this many 16-byte packets.
 pub const FIFO_CAPACITY_PACKETS: u16 = 2048 / FIFO_PACKET_LEN as u16;
+/// §6.1 FIFO packet 4 (header, accel and gyro bits 19:4, 16-bit
+/// temperature, timestamp, then bits 3:0 of each axis): 20 bytes.
+pub const FIFO_PACKET_HIRES_LEN: usize = 20;
+/// §6: the 2 KiB FIFO holds this many 20-byte packets 4.
+pub const FIFO_CAPACITY_HIRES_PACKETS: u16 = 2048 / FIFO_PACKET_HIRES_LEN as u16;
+/// §6.1 packet 4: the accelerometer's 20-bit value has 18 meaningful bits
+/// (bits 1:0 read 0) at ±16 g whatever ACCEL_FS_SEL says, 8192 LSB/g of the
+/// 18-bit value: 32768 per unit of the 20-bit value the driver delivers.
+pub const HIRES_ACCEL_LSB_PER_G: f64 = 8192.0 * 4.0;
+/// §6.1 packet 4: the gyroscope's 20-bit value has 19 meaningful bits (bit 0
+/// reads 0) at ±2000 °/s whatever GYRO_FS_SEL says, 131 LSB/(°/s) of the
+/// 19-bit value: 262 per unit of the 20-bit value.
+pub const HIRES_GYRO_LSB_PER_DPS: f64 = 131.0 * 2.0;
+/// The largest 20-bit accelerometer code (18 bits, shifted left by 2; the
+/// most negative 18-bit code reads as the "no data" marker, so a saturated
+/// axis reads ± this).
+pub const HIRES_ACCEL_LIMIT: i32 = ((1 << 17) - 1) << 2;
+/// The largest 20-bit gyroscope code (19 bits, shifted left by 1).
+pub const HIRES_GYRO_LIMIT: i32 = ((1 << 18) - 1) << 1;
+/// §6.1: the 20-bit "no valid data" value, -524288; its magnitude bounds every 20-bit code.
+pub const HIRES_MAGNITUDE: u32 = 1 << 19;
 /// §6.2 FIFO header bit 7: FIFO empty / invalid packet.
 pub const HEADER_MSG: u8 = 1 << 7;
 /// §6.2 FIFO header bit 6: packet holds accel data.

@@ -4,7 +4,7 @@
 use crate::sensor::chip::{DataRate, FullScale};
 pub use crate::sensor::fifo::{FifoConfig, FifoMode};
 pub use crate::sensor::interrupt::InterruptPin;
-use crate::sensor::TriadScale;
+use crate::sensor::{CodeRange, TriadScale};
 use crate::units::{deg_to_rad, STANDARD_GRAVITY};
 
 /// Accelerometer full-scale range (CTRL1_XL FS_XL, with XL_FS_MODE = 0).
@@ -67,6 +67,7 @@ impl FullScale for AccelRange {
         TriadScale {
             si_per_lsb: self.mg_per_lsb() * 1e-3 * STANDARD_GRAVITY,
             full_scale: self.g() * STANDARD_GRAVITY,
+            codes: CodeRange::I16,
         }
     }
 }
@@ -150,6 +151,7 @@ impl FullScale for GyroRange {
         TriadScale {
             si_per_lsb: deg_to_rad(self.mdps_per_lsb() * 1e-3),
             full_scale: deg_to_rad(self.dps()),
+            codes: CodeRange::I16,
         }
     }
 }

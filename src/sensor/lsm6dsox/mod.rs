@@ -79,6 +79,12 @@ impl Chip for Lsm6dsoxChip {
         delay: &mut impl DelayNs,
         config: &Config,
     ) -> Result<(), Error<I::BusError>> {
+        if config.fifo.is_some_and(|f| f.high_resolution) {
+            return Err(Error::InvalidConfig {
+                what: "high-resolution FIFO (the LSM6DSOX's FIFO words are 16-bit): FIFO watermark",
+                value: config.fifo.map_or(0, |f| u32::from(f.watermark)),
+            });
+        }
         driver.expect_identity(reg::WHO_AM_I)?;
         driver.write(reg::CTRL3_C, reg::IF_INC | reg::SW_RESET)?;
         delay.delay_us(reg::SW_RESET_WAIT_US);
@@ -347,9 +353,14 @@ fn fifo_mode_bits(mode: FifoMode) -> u8 {
 }
 
 /// Three little-endian words.
-fn triad_le(b: &[u8]) -> [i16; 3] {
+fn words_le(b: &[u8]) -> [i16; 3] {
     let w = |i: usize| i16::from_le_bytes([b[2 * i], b[2 * i + 1]]);
     [w(0), w(1), w(2)]
+}
+
+/// Three little-endian words as a triad's counts.
+fn triad_le(b: &[u8]) -> [i32; 3] {
+    words_le(b).map(i32::from)
 }
 
 /// Decodes one gyro + accel pair of FIFO words (either order).

@@ -223,7 +223,7 @@ impl<I: RegisterInterface> Lsm6dsox<I> {
             self.interface
                 .read_registers(procedure.output, &mut b)
                 .map_err(Error::Bus)?;
-            Ok(Poll::Sample(super::triad_le(&b)))
+            Ok(Poll::Sample(super::words_le(&b)))
         })
     }
 

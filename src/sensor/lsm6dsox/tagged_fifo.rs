@@ -149,7 +149,7 @@ impl TaggedFifo {
 }
 
 /// Puts `data` in the gyroscope or the accelerometer triad of `sample`.
-fn set(sample: &mut RawSample, gyro: bool, data: [i16; 3]) {
+fn set(sample: &mut RawSample, gyro: bool, data: [i32; 3]) {
     if gyro {
         sample.gyro = data;
     } else {
@@ -187,7 +187,7 @@ mod tests {
             word(true, 0, 13),
             word(false, 0, 101),
         ];
-        let mut pairs = [(0i16, 0i16); 4];
+        let mut pairs = [(0i32, 0i32); 4];
         let mut n = 0;
         for w in &words {
             if let Some(s) = fifo.push(w, RATES, &mut held).unwrap() {

@@ -9,6 +9,7 @@ mod command_report;
 mod commands;
 mod cores;
 mod fuzz_afl;
+mod high_resolution;
 mod host;
 mod plot;
 mod report;
@@ -34,13 +35,21 @@ pub fn run_whole_firmware() -> Result<()> {
     Ok(())
 }
 
-/// One build of the whole firmware (`--rate R --watermark W`): its row and
-/// where the rate and watermark sit against the target, on stdout.
-pub fn run_whole_firmware_one(rate_hz: u32, watermark: u16) -> Result<()> {
+/// One build of the whole firmware (`--rate R --watermark W`, with
+/// `--high-resolution` the ICM-42688-P's 20-bit FIFO): its row on stdout;
+/// with the 20-bit FIFO the noise floors of both formats too.
+pub fn run_whole_firmware_one(rate_hz: u32, watermark: u16, high_resolution: bool) -> Result<()> {
     let triad = crate::cmd::build_host_tool()?;
     let calibration = crate::cmd::pack_calibration(&triad, None)?;
-    let row = whole_firmware::measure_single(&triad, &calibration, rate_hz, watermark)?;
+    let row =
+        whole_firmware::measure_single(&triad, &calibration, rate_hz, watermark, high_resolution)?;
     print!("{}", whole_firmware_report::rows_only(&[row]));
+    if high_resolution {
+        print!(
+            "\n{}",
+            high_resolution::markdown(&high_resolution::measure_both()?)
+        );
+    }
     Ok(())
 }
 
@@ -135,6 +144,8 @@ pub fn run(json: bool) -> Result<()> {
     let mut markdown = report::markdown(&rows, &command_rows, &host)?;
     markdown += "\n";
     markdown += &whole_firmware_report::markdown(&firmware_rows, &long_run, fusion);
+    markdown += "\n";
+    markdown += &high_resolution::markdown(&high_resolution::measure_both()?);
     markdown += "\n";
     markdown += "\n## Flash and RAM\n\nEach board with each bus: docs/FIRMWARE_SIZE.md, rewritten by this run (`cargo xtask size` alone).\n";
     markdown += &format!(

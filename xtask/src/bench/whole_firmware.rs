@@ -19,6 +19,9 @@ use crate::{cmd, qemu};
 pub const RATES_HZ: [u32; 4] = [1000, 2000, 4000, 8000];
 /// The watermarks measured (1: FIFO off, one data frame per sample).
 pub const WATERMARKS: [u16; 3] = [1, 8, 32];
+/// The builds with the ICM-42688-P's high-resolution FIFO measured, (rate,
+/// W): beside the 16-bit FIFO's rows at the same rate and W.
+pub const HIGH_RESOLUTION: [(u32, u16); 3] = [(1000, 8), (1000, 32), (8000, 32)];
 /// Stream time per run, s: the load line of the second window comes at 2 s.
 const SECONDS: f64 = 2.5;
 /// Samples of the long run.
@@ -31,6 +34,8 @@ pub struct FirmwareRow {
     pub rate_hz: u32,
     /// Samples per interrupt.
     pub watermark: u16,
+    /// Built with the high-resolution FIFO (20-bit packets, data frames).
+    pub high_resolution: bool,
     /// Instructions per sample: data-ready task, link tasks (commands,
     /// framing, CRC, stuffing, queueing), receive interrupt (on this board
     /// also the transmitter's drain), chip model, and what no task measured
@@ -61,38 +66,44 @@ pub struct LongRun {
     pub host_seconds: f64,
 }
 
-/// The firmware built for `rate_hz` and `watermark` on the default emulated chip.
-fn firmware(rate_hz: u32, watermark: u16) -> Firmware {
+/// The firmware built for `rate_hz` and `watermark` (with the
+/// high-resolution FIFO when `high_resolution`) on the default emulated chip.
+fn firmware(rate_hz: u32, watermark: u16, high_resolution: bool) -> Firmware {
     Firmware {
         sampling: Sampling {
             rate_hz: Some(rate_hz),
             watermark: (watermark > 1).then_some(watermark),
+            high_resolution,
             ..Sampling::default()
         },
         ..Firmware::default_emulated()
     }
 }
 
-/// Builds and runs every rate and watermark.
+/// Builds and runs every rate and watermark, then the high-resolution builds.
 pub fn measure(triad: &Path, calibration: &Path) -> Result<Vec<FirmwareRow>> {
     let mut rows = Vec::new();
     for rate_hz in RATES_HZ {
         for watermark in WATERMARKS {
-            rows.push(measure_one(triad, calibration, rate_hz, watermark)?);
+            rows.push(measure_one(triad, calibration, rate_hz, watermark, false)?);
         }
+    }
+    for (rate_hz, watermark) in HIGH_RESOLUTION {
+        rows.push(measure_one(triad, calibration, rate_hz, watermark, true)?);
     }
     Ok(rows)
 }
 
 /// One build's figures alone (`cargo xtask bench --whole-firmware --rate R
-/// --watermark W`): the quick look while working on the hot path.
+/// --watermark W [--high-resolution]`): the quick look while working on the hot path.
 pub fn measure_single(
     triad: &Path,
     calibration: &Path,
     rate_hz: u32,
     watermark: u16,
+    high_resolution: bool,
 ) -> Result<FirmwareRow> {
-    measure_one(triad, calibration, rate_hz, watermark)
+    measure_one(triad, calibration, rate_hz, watermark, high_resolution)
 }
 
 fn run_dir(firmware: Firmware) -> Result<PathBuf> {
@@ -108,8 +119,9 @@ fn measure_one(
     calibration: &Path,
     rate_hz: u32,
     watermark: u16,
+    high_resolution: bool,
 ) -> Result<FirmwareRow> {
-    let firmware = firmware(rate_hz, watermark);
+    let firmware = firmware(rate_hz, watermark, high_resolution);
     note!("xtask: whole firmware, {}", firmware.label());
     let elf = cmd::build_firmware(firmware, calibration)?;
     let dir = run_dir(firmware)?;
@@ -135,6 +147,7 @@ fn measure_one(
     Ok(FirmwareRow {
         rate_hz,
         watermark,
+        high_resolution,
         per_sample: load.per_sample(samples),
         wire_bytes_per_sample: bytes / rows.max(1.0),
     })
@@ -179,7 +192,7 @@ impl LoadLine {
 
 /// 10⁶ samples at 8 kHz, W = 32, decoded: every loss counted.
 pub fn long_run(triad: &Path, calibration: &Path) -> Result<LongRun> {
-    let firmware = firmware(8000, 32);
+    let firmware = firmware(8000, 32, false);
     let elf = cmd::build_firmware(firmware, calibration)?;
     let dir = run_dir(firmware)?;
     // The CSV of 10⁶ rows is not kept: the raw bytes are decoded below.
