@@ -82,10 +82,16 @@ enum Command {
         #[arg(long, requires = "rate")]
         watermark: Option<u16>,
         /// Only the long mutation run of the parsers that take outside
-        /// bytes (10⁷ inputs each; host/examples/bench_fuzz.rs), then the
-        /// coverage-guided targets of fuzz/ under AFL++ (10 minutes each).
+        /// bytes (10⁷ inputs each; fuzz/examples/bench_fuzz.rs), then the
+        /// coverage-guided targets of fuzz/ under AFL++ (`--afl-seconds` each).
         #[arg(long, conflicts_with_all = ["json", "whole_firmware"])]
         fuzz: bool,
+        /// With --fuzz: seconds AFL++ fuzzes each target.
+        #[arg(long, requires = "fuzz", default_value_t = bench::AFL_SECONDS)]
+        afl_seconds: u64,
+        /// With --fuzz: inputs per parser of the mutation run.
+        #[arg(long, requires = "fuzz", default_value_t = bench::MUTATIONS)]
+        mutations: u64,
         /// Only Allan at scale: an 8-hour 400 Hz six-axis record through
         /// `triad allan` beside allantools (installed in a venv under target/).
         #[arg(long, conflicts_with_all = ["json", "whole_firmware", "fuzz"])]
@@ -261,11 +267,13 @@ fn main() -> std::process::ExitCode {
             json,
             whole_firmware,
             fuzz,
+            afl_seconds,
+            mutations,
             rate,
             watermark,
             ..
         } => match fuzz {
-            true => bench::run_fuzz(),
+            true => bench::run_fuzz(mutations, afl_seconds),
             false => {
                 setup::ensure_all().and_then(|()| match (whole_firmware, rate.zip(watermark)) {
                     (true, Some((rate, watermark))) => {
