@@ -110,6 +110,10 @@ enum Command {
         /// With --soak: seconds of device time between two sensor faults.
         #[arg(long, requires = "soak", default_value_t = 3_600.0)]
         fault_every: f64,
+        /// With --soak: stop at this much wall time if the device time is
+        /// not reached first (the figures are then of the time reached).
+        #[arg(long, requires = "soak")]
+        soak_wall_seconds: Option<f64>,
     },
     /// Serve the emulated board like hardware: QEMU in real time, its link on
     /// a pseudo-terminal whose path is the first line on stdout; runs until killed.
@@ -261,8 +265,9 @@ fn main() -> std::process::ExitCode {
             soak: true,
             soak_seconds,
             fault_every,
+            soak_wall_seconds,
             ..
-        } => bench::soak::run(soak_seconds, fault_every),
+        } => bench::soak::run(soak_seconds, fault_every, soak_wall_seconds),
         Command::Bench {
             json,
             whole_firmware,
