@@ -136,7 +136,9 @@ pub fn serve(
     // QEMU then waits on its socket and the board's virtual time with it,
     // so a slow host loses nothing, as the instruction clock promises.
     std::thread::spawn(move || -> Result<()> {
-        let mut buffer = vec![0u8; 1 << 16];
+        // No more than the pty takes: in real time a chunk that does not
+        // fit is written again whole after the unread bytes are dropped.
+        let mut buffer = [0u8; 4096];
         loop {
             let n = from_device.read(&mut buffer)?;
             if n == 0 {
