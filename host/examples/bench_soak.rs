@@ -14,6 +14,17 @@
 //! failures = the NACK storms' transactions; nothing dropped, no received
 //! byte lost; and the queues' high-water marks from the firmware's log.
 //!
+//! What bounds its speed (measured on the shared 2-core machine, load
+//! 11–16): not the host. The firmware sleeps 97 % of device time, which
+//! QEMU's `-icount shift=0,sleep=off` skips; what is left per device second
+//! is QEMU's own work: the chip model's ~29 M instructions and the stream's
+//! 53 kB, which QEMU 7.2's STM32 USART writes to its socket a byte per
+//! system call. QEMU alone with that USART on `null` ran ~3.1× real time,
+//! on a file ~1.2–2.5×, through `xtask serve` and a reader ~1.0–1.9×; the
+//! serve pump gathering 2 ms of bytes cut its CPU and the reader's sixfold
+//! without changing the board's speed. So a soak goes faster with fewer
+//! link bytes or a cheaper chip model, or on a machine with a free core.
+//!
 //! Environment (set by xtask): TRIAD_SOAK_XTASK (an xtask to serve with),
 //! TRIAD_SOAK_ELF, TRIAD_SOAK_BLOB (the calibration blob to upload),
 //! TRIAD_SOAK_SECONDS (device time), TRIAD_SOAK_FAULT_EVERY (s, default 3600),
