@@ -771,6 +771,77 @@ fn a_self_test_is_handed_to_the_firmware_and_its_outcome_replied() {
     assert_eq!(device.info(10).counters.commands, 2);
 }
 
+/// A device whose chip has not answered yet: identify says chip "none"
+/// and what the handler was given; what needs the chip is refused with
+/// SENSOR_ERROR saying so, changing nothing (no control queued, nothing
+/// stored); once the chip is found the same commands are carried out.
+#[test]
+fn without_a_chip_identify_answers_and_what_needs_one_is_refused_until_it_answers() {
+    let mut device = Device::new(Some(RamFlash::new()));
+    let mut none = facts();
+    none.chip = triad::device::NO_SENSOR;
+    none.sample_rate_hz = 0.0;
+    let nothing = ActiveCalibration {
+        blob: None,
+        id: 0,
+        source: CalibrationSource::None,
+    };
+    let store = device.handler.into_store();
+    device.handler =
+        CommandHandler::new(none, nothing, 1, store, StoredState::Empty).awaiting_sensor();
+    let info = device.info(1);
+    assert_eq!(info.chip.as_str(), "none");
+    assert_eq!(info.calibration_source, CalibrationSource::None);
+    let blob = blob::encode(&valid_calibration(3, 0x0000_0A11));
+    let refused = [
+        Command::SetMode(Mode::Raw),
+        Command::SetDecimation(2),
+        Command::UploadChunk {
+            offset: 0,
+            data: Payload::new(&blob[..CHUNK_LEN]).unwrap(),
+        },
+        Command::Save,
+        Command::Erase,
+        Command::SelfTest,
+    ];
+    for (i, command) in refused.iter().enumerate() {
+        let reply = device.send(*command, 10 + i as u16);
+        assert_eq!(reply.status, Status::SensorError, "{}", command.name());
+        assert!(reply.reason().contains("no sensor"), "{}", reply.reason());
+    }
+    assert!(device.take_controls().is_empty());
+    device.ok(Command::ReadCalibration { offset: 0 }, 20);
+    let flash = device.handler.store_mut().unwrap().flash_mut();
+    assert!(
+        flash.memory.iter().all(|&b| b == 0xFF),
+        "the flash was written"
+    );
+    let c = device.info(21).counters;
+    assert_eq!((c.commands, c.command_errors), (9, 6));
+
+    let built_in = blob::encode(&valid_calibration(7, BUILT_IN_ID));
+    let found = ActiveCalibration {
+        blob: Some(built_in),
+        id: BUILT_IN_ID,
+        source: CalibrationSource::BuiltIn,
+    };
+    device.handler.sensor_found(
+        facts(),
+        found,
+        StoredState::Empty,
+        triad::protocol::StoredReason::None,
+    );
+    let info = device.info(30);
+    assert_eq!(info.chip.as_str(), "icm42688");
+    assert_eq!(
+        (info.calibration_id, info.calibration_source),
+        (BUILT_IN_ID, CalibrationSource::BuiltIn)
+    );
+    device.ok(Command::SetDecimation(2), 31);
+    assert_eq!(device.upload(&blob, 32).status, Status::Ok);
+    device.ok(Command::Save, 40);
+}
+
 /// docs/PROTOCOL.md's answers to the cases a client written from it alone
 /// asks about (sections 12, 13, 15 and 17), as the handler gives them.
 #[test]

@@ -4,7 +4,8 @@
 //! invariants hold after each input (the decoder's byte accounting
 //! balances; what decodes re-encodes to itself). Sized for `cargo xtask
 //! test` (a few hundred cases each, well under a second); the long run of
-//! 10⁷ inputs per parser is the benchmark's (bench/src/bin/fuzz_parsers.rs).
+//! 10⁷ inputs per parser is the benchmark's (fuzz/examples/bench_fuzz.rs, with AFL++ on
+//! fuzz/'s targets).
 
 use proptest::collection::vec;
 use proptest::prelude::*;

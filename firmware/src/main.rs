@@ -99,8 +99,8 @@ mod app {
     use rtic_sync::make_channel;
     use triad::device::board::{Board, DataReadyLine, LinkRx, LinkTx};
     use triad::device::{
-        on_data_ready, on_fifo_ready, sample_period_us, CommandHandler, Control, Handled,
-        LoadWindow, Outgoing, Sampler, SensorHealth, StallWatch, Stepped, Task,
+        on_data_ready, on_fifo_ready, CommandHandler, Control, Handled, LoadWindow, Outgoing,
+        Sampler, SensorHealth, StallWatch, Stepped, Task,
     };
     use triad::protocol::Decoder;
     use triad::protocol::{Reply, MAX_WIRE_LEN};
@@ -110,6 +110,8 @@ mod app {
     type B = crate::B;
     /// The chip's driver.
     type Sensor = crate::start::Sensor;
+    /// data_ready → commands: the chip answered late (once).
+    type ChipFacts = crate::start::ChipFacts;
 
     /// A self-test's outcome, with the sequence number of its command.
     type SelfTestDone = (
@@ -128,9 +130,14 @@ mod app {
         sample_line: <B as Board>::SampleLine,
         clock: <B as Board>::Clock,
         /// The chip: the data-ready task's, but the idle task's while it
-        /// runs the chip's self-test.
+        /// runs the chip's self-test (and none until one answers).
         sensor: Option<Sensor>,
-        sampler: Sampler,
+        /// The pipeline, from when the chip answered.
+        sampler: Option<Sampler>,
+        /// No chip has answered yet: the bus to look on, the store as it was.
+        waiting: Option<crate::start::Waiting>,
+        /// data_ready → commands: the chip answered.
+        found_in: Sender<'static, ChipFacts, 1>,
         /// Stalls and restarts of the sensor (the data-ready task's).
         health: SensorHealth,
         /// data_ready → transmit: frames (woken by [`OUTGOING`]).
@@ -156,6 +163,7 @@ mod app {
         rx_in: Producer<'static, u8>,
         // The command task's.
         handler: CommandHandler<<B as Board>::Flash>,
+        found_out: Receiver<'static, ChipFacts, 1>,
         decoder: Decoder,
         rx_out: Consumer<'static, u8>,
         /// commands → transmit: replies.
@@ -178,10 +186,17 @@ mod app {
         let started = crate::start::start(b.sensor_bus, b.flash);
         // One data-ready step per period of the chip's rate over the
         // watermark: what the stall watch and the health count in.
-        let step_us = sample_period_us(
-            started.sensor.sample_rate_hz() / f64::from(SETTINGS.watermark.max(1)),
+        let (sensor, sampler, waiting) = match started.sensor {
+            Ok((sensor, sampler)) => (Some(sensor), Some(sampler), None),
+            Err(waiting) => (None, None, Some(waiting)),
+        };
+        let step_us = crate::start::step_us(
+            sensor
+                .as_ref()
+                .map_or_else(crate::start::look_rate_hz, |s| s.sample_rate_hz()),
         );
         crate::stall::set_tick_us(step_us);
+        let (found_in, found_out) = make_channel!(ChipFacts, 1);
         let (frames_in, frames_out) = cx.local.frames.split();
         let (replies, replies_out) = make_channel!(Reply, 1);
         let (rx_in, rx_out) = cx.local.rx.split();
@@ -202,8 +217,10 @@ mod app {
             Local {
                 sample_line,
                 clock: b.clock,
-                sensor: Some(started.sensor),
-                sampler: started.sampler,
+                sensor,
+                sampler,
+                waiting,
+                found_in,
                 health: SensorHealth::new(step_us),
                 frames_in,
                 controls_out,
@@ -217,6 +234,7 @@ mod app {
                 serial_rx: b.serial_rx,
                 rx_in,
                 handler: started.handler,
+                found_out,
                 decoder: Decoder::new(),
                 rx_out,
                 replies,
@@ -297,7 +315,7 @@ mod app {
     /// keeps the stall watch: a sensor silent for 50 ms gets the data-ready
     /// task pended to check it (the NUCLEO's independent watchdog resets a
     /// board whose data-ready task read no sample for 10 s instead).
-    #[task(binds = BOARD_OWN, priority = 4, local = [watch: Option<StallWatch> = None])]
+    #[task(binds = BOARD_OWN, priority = 4, local = [watch: Option<(u32, StallWatch)> = None])]
     fn board_own(cx: board_own::Context) {
         let run = crate::run_time::begin();
         let done = B::own_interrupt();
@@ -318,7 +336,7 @@ mod app {
 
     /// The data-ready step, on the IMU's data-ready line (on the emulated
     /// board its sample timer pends it).
-    #[task(binds = DATA_READY, priority = 3, local = [sample_line, clock, sensor, sampler, health, frames_in, controls_out, self_tests_out, to_self_test, sensor_back, flash_stalls: u32 = 0, load_window: LoadWindow = LoadWindow::new(), windows: u32 = 0, slept_then: u32 = 0])]
+    #[task(binds = DATA_READY, priority = 3, local = [sample_line, clock, sensor, sampler, waiting, found_in, health, frames_in, controls_out, self_tests_out, to_self_test, sensor_back, flash_stalls: u32 = 0, load_window: LoadWindow = LoadWindow::new(), windows: u32 = 0, slept_then: u32 = 0])]
     fn data_ready(cx: data_ready::Context) {
         let _step = crate::stall::Step::begin();
         let run = crate::run_time::begin();
@@ -377,16 +395,24 @@ mod app {
     // dropped and carries its events on): the large `Err` is that frame.
     #[allow(clippy::result_large_err)]
     fn step(l: data_ready::LocalResources<'_>) {
+        if l.waiting.is_some() {
+            look_for_sensor(l);
+            return;
+        }
+        // Never absent once the chip answered (built together).
+        let Some(sampler) = l.sampler.as_mut() else {
+            return;
+        };
         // The handler's changes take effect here, between two samples.
         while let Ok(control) = l.controls_out.try_recv() {
-            l.sampler.apply(control);
+            sampler.apply(control);
         }
         // The flash stalled the CPU since the last step (a save or an erase
         // on a single-bank board): this step's frame carries what was missed.
         let stalls = B::flash_stalls();
         if stalls != *l.flash_stalls {
             *l.flash_stalls = stalls;
-            l.sampler.flash_stalled();
+            sampler.flash_stalled();
             COUNTERS.publish_flash_stalls(stalls);
         }
         // The chip is away in its self-test (the idle task's): nothing to
@@ -419,7 +445,7 @@ mod app {
                 l.sample_line,
                 l.clock,
                 sensor,
-                l.sampler,
+                sampler,
                 |sensor| B::data_ready(sensor, SETTINGS.watermark),
                 |frame| frames_in.enqueue(frame).is_ok(),
             );
@@ -432,7 +458,7 @@ mod app {
                 l.sample_line,
                 l.clock,
                 sensor,
-                l.sampler,
+                sampler,
                 |sensor| B::data_ready(sensor, 1),
                 |frame| frames_in.enqueue(frame),
             );
@@ -450,7 +476,7 @@ mod app {
         if l.health.read(read) {
             restart(sensor, l.health);
         }
-        COUNTERS.publish(l.sampler.totals(), l.sampler.uptime_ms());
+        COUNTERS.publish(sampler.totals(), sampler.uptime_ms());
         COUNTERS.publish_health(l.health.totals());
         crate::queue_marks::frames(frames_in.len());
         if queued {
@@ -460,9 +486,48 @@ mod app {
         // step's samples were read, and comes back at a later step.
         if let Ok(sequence) = l.self_tests_out.try_recv() {
             if let Some(sensor) = l.sensor.take() {
-                l.sampler.self_test_began();
+                sampler.self_test_began();
                 // Empty: the chip is here, so no self-test is under way.
                 let _ = l.to_self_test.try_send((sequence, sensor));
+            }
+        }
+    }
+
+    /// No chip has answered yet: at each of the stall watch's checks (about
+    /// every 50 ms) look for one on the bus. When one answers it is
+    /// started, counted as a restart (found by its identity and
+    /// configured), the calibration chosen for it and the sampler built;
+    /// the command task learns its facts; its data-ready line then starts
+    /// the stream.
+    fn look_for_sensor(l: data_ready::LocalResources<'_>) {
+        l.sample_line.acknowledge();
+        if !crate::stall::take_check() {
+            return;
+        }
+        let Some(waiting) = l.waiting.take() else {
+            return;
+        };
+        let looks = waiting.looks.saturating_add(1);
+        match crate::start::find(waiting.bus, looks) {
+            Err(bus) => {
+                *l.waiting = Some(crate::start::Waiting {
+                    bus,
+                    store: waiting.store,
+                    looks,
+                })
+            }
+            Ok(sensor) => {
+                let (sampler, chip) = crate::start::for_sensor(&sensor, &waiting.store);
+                let step_us = crate::start::step_us(sensor.sample_rate_hz());
+                crate::stall::set_tick_us(step_us);
+                *l.health = SensorHealth::new(step_us);
+                l.health.restarted(true);
+                COUNTERS.publish_health(l.health.totals());
+                *l.sampler = Some(sampler);
+                *l.sensor = Some(sensor);
+                // Sent once: the channel has room.
+                let _ = l.found_in.try_send(chip);
+                defmt::warn!("sensor found after start-up: streaming");
             }
         }
     }
@@ -509,12 +574,18 @@ mod app {
     /// (awaiting room: a reply is never dropped). While a self-test runs,
     /// the next commands wait in the channel: the host waits for its reply
     /// anyway.
-    #[task(priority = 1, local = [handler, decoder, rx_out, replies, controls_in, self_tests_in, self_tests_done_out])]
+    #[task(priority = 1, local = [handler, found_out, decoder, rx_out, replies, controls_in, self_tests_in, self_tests_done_out])]
     async fn commands(cx: commands::Context) {
         let l = cx.local;
         loop {
             let byte = received::next_byte(l.rx_out).await;
             let run = crate::run_time::begin();
+            // A chip that answered after start-up: its facts and calibration
+            // before the next command is handled.
+            if let Ok(chip) = l.found_out.try_recv() {
+                l.handler
+                    .sensor_found(chip.facts, chip.active, chip.stored, chip.stored_reason);
+            }
             let Some(decoded) = l.decoder.push(byte) else {
                 crate::run_time::end(run, Task::Link);
                 continue;

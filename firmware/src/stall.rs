@@ -41,14 +41,18 @@ pub fn set_tick_us(tick_us: u32) {
     TICK_US.store(tick_us, Ordering::Relaxed);
 }
 
-/// One tick of the watch (its task only); true when it asked for a check,
-/// which the caller then pends the data-ready task for.
-pub fn tick(watch: &mut Option<StallWatch>) -> bool {
+/// One tick of the watch (its task only, which keeps the watch with the
+/// tick it counts in: a chip found late sets its own); true when it asked
+/// for a check, which the caller then pends the data-ready task for.
+pub fn tick(watch: &mut Option<(u32, StallWatch)>) -> bool {
     let tick_us = TICK_US.load(Ordering::Relaxed);
     if tick_us == 0 {
         return false;
     }
-    let watch = watch.get_or_insert_with(|| StallWatch::new(tick_us));
+    let watch = match watch {
+        Some((counted_in, watch)) if *counted_in == tick_us => watch,
+        _ => &mut watch.insert((tick_us, StallWatch::new(tick_us))).1,
+    };
     let stepped = STEPPED.load(Ordering::Relaxed) || IN_STEP.load(Ordering::Relaxed);
     STEPPED.store(false, Ordering::Relaxed);
     let check = watch.tick(stepped);

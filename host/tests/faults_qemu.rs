@@ -22,9 +22,10 @@ mod served_board;
 use std::time::{Duration, Instant};
 
 use served_board::{test_dir, Clock, ServedBoard};
-use triad::protocol::{BatchFrame, Counters, Packet};
+use triad::protocol::{BatchFrame, CalibrationSource, Command, Counters, Packet, Status};
 use triad::protocol::{Flags, Frame};
 use triad_host::device::identify;
+use triad_host::device::link::LinkError;
 
 /// The first window: from 0.3 s for 0.4 s of device time.
 const WINDOW_START_S: f64 = 0.3;
@@ -377,22 +378,103 @@ fn an_impossible_fifo_count_flushes_the_fifo_and_counts_its_watermark_lost() {
 
 #[test]
 #[ignore = "needs the emulated board: run by cargo xtask test"]
-fn a_chip_absent_at_start_stops_the_board_saying_what_the_bus_answered() {
-    // Nothing to stream and no chip to know the driver of: the firmware
-    // stops with the identities it read (SPI: 0xFF, nothing drives MISO);
-    // on the NUCLEO the watchdog then restarts it, trying again.
+fn a_chip_absent_at_start_leaves_the_board_answering_and_looking() {
+    // No chip ever: the board comes up all the same, says chip "none" in
+    // identify, refuses what needs the chip saying so, streams nothing and
+    // keeps looking (its log counts the looks: 1, 2, 4, ... logged), with
+    // what the bus answered (SPI: 0xFF, nothing drives MISO).
     let d = test_dir("absent");
     let faults = ["vanish@0".to_string()];
-    let mut board =
+    let board =
         ServedBoard::start_with_faults(&d.join("storage.bin"), Clock::Deterministic, &faults);
-    let status = board.wait_exit(Duration::from_secs(30));
+    let mut link = board.link();
+    let info = identify(&mut link)
+        .unwrap_or_else(|e| panic!("identify without a chip: {e}; log:\n{}", board.log()));
+    assert_eq!(info.chip.as_str(), "none", "{info:?}");
+    assert_eq!(info.sample_rate_hz, 0.0, "{info:?}");
+    assert_eq!(info.calibration_source, CalibrationSource::None, "{info:?}");
+    match link.command(&Command::SetDecimation(2)) {
+        Err(LinkError::Refused { status, reason, .. }) => {
+            assert_eq!(status, Status::SensorError);
+            assert!(reason.contains("no sensor"), "{reason}");
+        }
+        other => panic!("decimation without a chip: {other:?}"),
+    }
+    let started = Instant::now();
+    let c = loop {
+        let c = identify(&mut link)
+            .expect("identify without a chip")
+            .counters;
+        if board.log().contains("(look 8)") {
+            break c;
+        }
+        assert!(
+            started.elapsed() < RUN_TIMEOUT,
+            "{c:?}; log:\n{}",
+            board.log()
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    println!("absent: counters {c:?}");
+    assert_eq!(c.frames_sent, 0, "{c:?}");
+    assert_eq!(
+        (
+            c.sensor_stalls,
+            c.sensor_restarts,
+            c.read_failures,
+            c.overruns
+        ),
+        (0, 0, 0, 0),
+        "{c:?}"
+    );
+    // identify, decimation (refused), and the identifies since.
+    assert_eq!(c.command_errors, 1, "{c:?}");
     let log = board.log();
     assert!(
-        status.is_some_and(|s| !s.success()),
-        "{status:?}; log:\n{log}"
+        log.contains("no known IMU on the bus (look 1)") && log.contains("Some(255)"),
+        "{log}"
+    );
+}
+
+#[test]
+#[ignore = "needs the emulated board: run by cargo xtask test"]
+fn a_chip_that_comes_after_start_up_is_found_and_streams() {
+    // The chip is off the bus for the first 0.5 s of device time: the
+    // firmware finds it at its next look (within 50 ms), starts it, and the
+    // stream begins then, from sequence 0, every period a frame.
+    let absent_s = 0.5;
+    let faults = [format!("vanish@0+{absent_s}")];
+    let until = absent_s + 0.4;
+    let run = serve_and_read("late", &faults, until, |_| true);
+    let first = &run.frames[0];
+    let first_s = f64::from(first.timestamp_us) * 1e-6;
+    assert_eq!(first.sequence, 0, "{first:?}");
+    assert!(
+        (absent_s..absent_s + CHECK_S + 0.01).contains(&first_s),
+        "the first frame at {first_s} s; log:\n{}",
+        run.log
+    );
+    let lost = run.accounted("late");
+    let c = run.counters;
+    println!(
+        "late: {} frames from {first_s} s; counters {c:?}",
+        run.frames.len()
+    );
+    assert_eq!(lost, 0, "{c:?}");
+    // Found by its identity and configured once; it never stalled.
+    assert_eq!(
+        (
+            c.sensor_restarts,
+            c.sensor_stalls,
+            c.read_failures,
+            c.overruns
+        ),
+        (1, 0, 0, 0),
+        "{c:?}"
     );
     assert!(
-        log.contains("no known IMU on the bus") && log.contains("Some(255)"),
-        "{log}"
+        run.log.contains("sensor found after start-up"),
+        "{}",
+        run.log
     );
 }

@@ -6,7 +6,7 @@
 
 use crate::model::Orientation;
 use crate::sensor::interface::RegisterInterface;
-use crate::sensor::{AnyChip, DetectError, Settings};
+use crate::sensor::{AnyChip, Settings, Undetected};
 use embedded_hal::delay::DelayNs;
 use embedded_storage::nor_flash::NorFlash;
 
@@ -163,11 +163,13 @@ pub trait Board: Sized + 'static {
     /// Brings up clocks and peripherals for the firmware's sampling `settings`.
     fn init(peripherals: Self::Peripherals, settings: &Settings) -> Parts<Self>;
 
-    /// Finds the chip on the bus by its identity.
+    /// Finds the chip on the bus by its identity; when none answers, why,
+    /// and the bus given back (the firmware keeps looking: a chip absent
+    /// at start, its cable loose, may come later).
     #[allow(clippy::type_complexity)]
     fn find_sensor(
         bus: Self::SensorBus,
-    ) -> Result<AnyChip<Self::SensorInterface>, DetectError<Self::SensorBusError>>;
+    ) -> Result<AnyChip<Self::SensorInterface>, Undetected<Self::SensorBus, Self::SensorBusError>>;
 
     /// Called at each data-ready step before the sample is read, with the
     /// samples the step reads (the FIFO watermark, or 1): the emulated board

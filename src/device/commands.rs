@@ -111,7 +111,13 @@ pub struct CommandHandler<F> {
     commands: u32,
     errors: u32,
     baseline: crate::protocol::Counters,
+    /// No chip has answered on the bus yet (the firmware keeps looking):
+    /// the commands that need one are refused until [`CommandHandler::sensor_found`].
+    awaiting_sensor: bool,
 }
+
+/// What `identify` says for the chip while none has answered on the bus.
+pub const NO_SENSOR: &str = "none";
 
 /// Where the step is in handling one command.
 type Outcome = Result<Payload, (Status, Payload)>;
@@ -121,6 +127,17 @@ fn fail(status: Status, reason: core::fmt::Arguments<'_>) -> (Status, Payload) {
     let mut text = Payload::EMPTY;
     let _ = text.write_fmt(reason);
     (status, text)
+}
+
+/// Whether `command` needs the chip: its mode and decimation are the
+/// sampler's, an upload is checked against the chip's ranges, and a save
+/// or an erase changes the store the calibration is chosen from when the
+/// chip answers.
+fn needs_sensor(command: &Command) -> bool {
+    !matches!(
+        command,
+        Command::Identify | Command::ReadCalibration { .. } | Command::ResetCounters
+    )
 }
 
 /// The reply status for a blob the device cannot read.
@@ -157,7 +174,35 @@ impl<F: NorFlash> CommandHandler<F> {
             commands: 0,
             errors: 0,
             baseline: crate::protocol::Counters::default(),
+            awaiting_sensor: false,
         }
+    }
+
+    /// The handler of a device whose chip has not answered on the bus yet
+    /// (`facts` say chip [`NO_SENSOR`]): it answers identify, read-back and
+    /// reset-counters, and refuses what needs the chip (mode, decimation,
+    /// an upload, save, erase, the self-test) until
+    /// [`CommandHandler::sensor_found`].
+    pub fn awaiting_sensor(mut self) -> Self {
+        self.awaiting_sensor = true;
+        self
+    }
+
+    /// The chip answered (late): the device's facts for it, the calibration
+    /// chosen for it, and what the store's record is for it and why (the
+    /// store is as at start-up: nothing that changes it ran meanwhile).
+    pub fn sensor_found(
+        &mut self,
+        facts: DeviceFacts,
+        active: ActiveCalibration,
+        stored: StoredState,
+        stored_reason: StoredReason,
+    ) {
+        self.facts = facts;
+        self.active = active;
+        self.stored = stored;
+        self.stored_reason = stored_reason;
+        self.awaiting_sensor = false;
     }
 
     /// The handler, with why the flash's record was rejected at start-up
@@ -223,6 +268,14 @@ impl<F: NorFlash> CommandHandler<F> {
             }
         }
         let outcome = match packet.command() {
+            Ok(command) if self.awaiting_sensor && needs_sensor(&command) => Err(fail(
+                Status::SensorError,
+                format_args!(
+                    "no sensor: no known chip has answered on the {} bus yet (the firmware \
+                     keeps looking)",
+                    self.facts.bus
+                ),
+            )),
             Ok(Command::SelfTest) => {
                 // Counted when its reply is made (`self_test_reply`).
                 self.last = None;

@@ -30,7 +30,8 @@ const STALL_MIN_PERIODS: u32 = 4;
 pub struct HealthTotals {
     /// Times the data-ready line went silent for [`STALL_US`] or more.
     pub stalls: u32,
-    /// Times the chip was found again by its identity and configured.
+    /// Times the chip was found again by its identity and configured (or
+    /// found after start-up, when none answered at start).
     pub restarts: u32,
 }
 

@@ -90,10 +90,16 @@ enum Command {
         #[arg(long, requires = "watermark")]
         high_resolution: bool,
         /// Only the long mutation run of the parsers that take outside
-        /// bytes (10⁷ inputs each; host/examples/bench_fuzz.rs), then the
-        /// coverage-guided targets of fuzz/ under AFL++ (10 minutes each).
+        /// bytes (10⁷ inputs each; fuzz/examples/bench_fuzz.rs), then the
+        /// coverage-guided targets of fuzz/ under AFL++ (`--afl-seconds` each).
         #[arg(long, conflicts_with_all = ["json", "whole_firmware"])]
         fuzz: bool,
+        /// With --fuzz: seconds AFL++ fuzzes each target.
+        #[arg(long, requires = "fuzz", default_value_t = bench::AFL_SECONDS)]
+        afl_seconds: u64,
+        /// With --fuzz: inputs per parser of the mutation run.
+        #[arg(long, requires = "fuzz", default_value_t = bench::MUTATIONS)]
+        mutations: u64,
         /// Only Allan at scale: an 8-hour 400 Hz six-axis record through
         /// `triad allan` beside allantools (installed in a venv under target/).
         #[arg(long, conflicts_with_all = ["json", "whole_firmware", "fuzz"])]
@@ -112,6 +118,10 @@ enum Command {
         /// With --soak: seconds of device time between two sensor faults.
         #[arg(long, requires = "soak", default_value_t = 3_600.0)]
         fault_every: f64,
+        /// With --soak: stop at this much wall time if the device time is
+        /// not reached first (the figures are then of the time reached).
+        #[arg(long, requires = "soak")]
+        soak_wall_seconds: Option<f64>,
     },
     /// Serve the emulated board like hardware: QEMU in real time, its link on
     /// a pseudo-terminal whose path is the first line on stdout; runs until killed.
@@ -270,18 +280,21 @@ fn main() -> std::process::ExitCode {
             soak: true,
             soak_seconds,
             fault_every,
+            soak_wall_seconds,
             ..
-        } => bench::soak::run(soak_seconds, fault_every),
+        } => bench::soak::run(soak_seconds, fault_every, soak_wall_seconds),
         Command::Bench {
             json,
             whole_firmware,
             fuzz,
+            afl_seconds,
+            mutations,
             rate,
             watermark,
             high_resolution,
             ..
         } => match fuzz {
-            true => bench::run_fuzz(),
+            true => bench::run_fuzz(mutations, afl_seconds),
             false => {
                 setup::ensure_all().and_then(|()| match (whole_firmware, rate.zip(watermark)) {
                     (true, Some((rate, watermark))) => {

@@ -89,6 +89,10 @@ pub fn fault_entry(spec: &str) -> Result<String, String> {
     Ok(spec.to_string())
 }
 
+/// How long the deterministic board's bytes gather before the pump passes
+/// them on (wall time; see [`serve`]).
+const GATHER: std::time::Duration = std::time::Duration::from_millis(2);
+
 /// Serves `elf` with `clock` (real time, or deterministic for the tests)
 /// until QEMU stops (the firmware ended the run, or it was killed); an
 /// early stop is an error.
@@ -132,6 +136,8 @@ pub fn serve(
     // QEMU then waits on its socket and the board's virtual time with it,
     // so a slow host loses nothing, as the instruction clock promises.
     std::thread::spawn(move || -> Result<()> {
+        // No more than the pty takes: in real time a chunk that does not
+        // fit is written again whole after the unread bytes are dropped.
         let mut buffer = [0u8; 4096];
         loop {
             let n = from_device.read(&mut buffer)?;
@@ -140,7 +146,19 @@ pub fn serve(
             }
             match clock {
                 qemu::Clock::RealTime => to_client(&mut master_out, &unread, &buffer[..n])?,
-                qemu::Clock::Deterministic => to_client_waiting(&mut master_out, &buffer[..n])?,
+                qemu::Clock::Deterministic => {
+                    to_client_waiting(&mut master_out, &buffer[..n])?;
+                    // QEMU's USART writes the socket a byte at a time:
+                    // woken for each few bytes, this thread and the
+                    // client cost two context switches apiece, which
+                    // bound the board's speed on a busy machine. Letting
+                    // the bytes gather first costs the board nothing (its
+                    // socket holds far more than it sends meanwhile) and
+                    // a reply at most this much wall time.
+                    if n < buffer.len() {
+                        std::thread::sleep(GATHER);
+                    }
+                }
             }
         }
     });

@@ -388,7 +388,8 @@ fn served_board(firmware: Firmware, elf: &Path, calibration: &Path) -> Result<()
 fn sensor_faults(firmware: Firmware, elf: &Path, fifo_elf: &Path) -> Result<()> {
     note!(
         "xtask: end-to-end on QEMU, sensor faults on {}: a chip that vanishes, browns out or \
-         stops, a data-ready line held high or silent, NACK storms, an impossible FIFO count",
+         stops, a data-ready line held high or silent, NACK storms, an impossible FIFO count, \
+         a chip absent at start or coming late",
         firmware.label()
     );
     let mut command = ignored_host_tests("faults_qemu", &["--test-threads=1", "--nocapture"]);

@@ -48,8 +48,8 @@ use triad::model::Orientation;
 #[cfg(feature = "bus-i2c")]
 use triad::sensor::interface::I2cInterface;
 #[cfg(not(feature = "bus-i2c"))]
-use triad::sensor::interface::SpiInterface;
-use triad::sensor::{AnyChip, DetectError};
+use triad::sensor::interface::{RegisterInterface as _, SpiInterface};
+use triad::sensor::{AnyChip, Undetected};
 
 /// This board's facts that the stream depends on. The link's baud rate is
 /// 921600 unless the build sets `TRIAD_LINK_BAUD` (e.g. 2000000, the
@@ -310,20 +310,18 @@ pub type SensorBusError = <SensorBus as embedded_hal::spi::ErrorType>::Error;
 #[cfg(feature = "bus-i2c")]
 pub type SensorBusError = <SensorBus as embedded_hal::i2c::ErrorType>::Error;
 
-/// Why no chip was found on SPI1.
-#[cfg(not(feature = "bus-i2c"))]
-pub type FindError = DetectError<<SensorBus as embedded_hal::spi::ErrorType>::Error>;
-
-/// Why no chip was found on I²C1.
-#[cfg(feature = "bus-i2c")]
-pub type FindError = DetectError<<SensorBus as embedded_hal::i2c::ErrorType>::Error>;
+/// Why no chip was found, and the bus given back.
+pub type FindError = Undetected<SensorBus, SensorBusError>;
 
 /// Finds the chip on SPI1 by its identity (at [`SPI_HZ`], which every
 /// listed chip takes), then runs SPI1 at the fastest clock the chip found
 /// takes.
 #[cfg(not(feature = "bus-i2c"))]
 fn find_sensor(bus: SensorBus) -> Result<Sensor, FindError> {
-    let sensor = AnyChip::detect(SpiInterface::new(bus)).map_err(|undetected| undetected.reason)?;
+    let sensor = AnyChip::detect(SpiInterface::new(bus)).map_err(|undetected| Undetected {
+        reason: undetected.reason,
+        bus: undetected.bus.release(),
+    })?;
     let divider = spi_divider(sensor.spi_max_hz());
     set_spi_divider(divider);
     defmt::info!(
@@ -377,7 +375,7 @@ const _: () = {
 /// address-pin levels: the breakout's strap does not matter).
 #[cfg(feature = "bus-i2c")]
 fn find_sensor(bus: SensorBus) -> Result<Sensor, FindError> {
-    AnyChip::detect_i2c(bus).map_err(|undetected| undetected.reason)
+    AnyChip::detect_i2c(bus)
 }
 
 /// SPI1's clock divider of PCLK2 while the chip is looked for: within every

@@ -86,7 +86,7 @@ impl triad::device::board::Board for Board {
         }
     }
 
-    fn find_sensor(bus: SensorBus) -> Result<Sensor, DetectError<SensorBusError>> {
+    fn find_sensor(bus: SensorBus) -> Result<Sensor, Undetected<SensorBus, SensorBusError>> {
         find_sensor(bus)
     }
 
@@ -356,14 +356,17 @@ pub type SensorBusError = i2c::ErrorKind;
 
 /// Finds the chip on the SPI bus by its identity.
 #[cfg(not(feature = "bus-i2c"))]
-fn find_sensor(bus: SensorBus) -> Result<Sensor, DetectError<spi::ErrorKind>> {
-    AnyChip::detect(SpiInterface::new(bus)).map_err(|undetected| undetected.reason)
+fn find_sensor(bus: SensorBus) -> Result<Sensor, Undetected<SensorBus, spi::ErrorKind>> {
+    AnyChip::detect(SpiInterface::new(bus)).map_err(|undetected| Undetected {
+        reason: undetected.reason,
+        bus: undetected.bus.release(),
+    })
 }
 
 /// Finds the chip on the I²C bus by its identity at each chip's addresses.
 #[cfg(feature = "bus-i2c")]
-fn find_sensor(bus: SensorBus) -> Result<Sensor, DetectError<i2c::ErrorKind>> {
-    AnyChip::detect_i2c(bus).map_err(|undetected| undetected.reason)
+fn find_sensor(bus: SensorBus) -> Result<Sensor, Undetected<SensorBus, i2c::ErrorKind>> {
+    AnyChip::detect_i2c(bus)
 }
 
 /// The chip model serving `model_source()` at `rate_hz` (the driver's
@@ -439,5 +442,5 @@ use triad::device::board::{BoardDescription, DataReadyLine, OwnInterrupt, Parts}
 #[cfg(feature = "bus-i2c")]
 use triad::sensor::interface::I2cInterface;
 #[cfg(not(feature = "bus-i2c"))]
-use triad::sensor::interface::SpiInterface;
-use triad::sensor::{AnyChip, DetectError, Settings};
+use triad::sensor::interface::{RegisterInterface as _, SpiInterface};
+use triad::sensor::{AnyChip, Settings, Undetected};

@@ -18,7 +18,16 @@ use crate::cmd::{cargo, check, root};
 const CARGO_AFL: &str = "0.18.2";
 
 /// The targets: (binary, seed directory under fuzz/seeds).
-const TARGETS: [(&str, &str); 2] = [("fuzz_record", "record"), ("fuzz_triad_csv", "record")];
+const TARGETS: [(&str, &str); 8] = [
+    ("fuzz_record", "record"),
+    ("fuzz_triad_csv", "record"),
+    ("fuzz_command_path", "commands"),
+    ("fuzz_stream_decoder", "stream"),
+    ("fuzz_cobs", "cobs"),
+    ("fuzz_calibration_blob", "calibration_blob"),
+    ("fuzz_scene_blob", "scene_blob"),
+    ("fuzz_calibration_toml", "calibration_toml"),
+];
 
 /// Where cargo-afl and AFL++ are installed.
 fn tools() -> PathBuf {

@@ -54,25 +54,30 @@ pub fn run_whole_firmware_one(rate_hz: u32, watermark: u16, high_resolution: boo
 }
 
 /// The long mutation run of every parser that takes outside bytes
-/// (host/examples/bench_fuzz.rs, release): its figures on stderr; then the
+/// (fuzz/examples/bench_fuzz.rs, release): its figures on stderr; then the
 /// coverage-guided runs of fuzz/'s targets under AFL++ ([`fuzz_afl`]).
-pub fn run_fuzz() -> Result<()> {
+pub fn run_fuzz(mutations: u64, afl_seconds: u64) -> Result<()> {
     let mut command = crate::cmd::cargo();
-    command.args([
-        "run",
-        "--quiet",
-        "--release",
-        "-p",
-        "triad-host",
-        "--example",
-        "bench_fuzz",
-    ]);
+    command
+        .args([
+            "run",
+            "--quiet",
+            "--release",
+            "-p",
+            "triad-fuzz",
+            "--example",
+            "bench_fuzz",
+            "--",
+        ])
+        .arg(mutations.to_string());
     crate::cmd::check(command, "the parsers' mutation run (bench_fuzz)")?;
-    fuzz_afl::run(AFL_SECONDS)
+    fuzz_afl::run(afl_seconds)
 }
 
 /// How long AFL++ fuzzes each target of fuzz/ in the benchmark.
-const AFL_SECONDS: u64 = 600;
+pub const AFL_SECONDS: u64 = 600;
+/// Inputs per parser of the mutation run in the benchmark (issue 26: ≥ 10⁷).
+pub const MUTATIONS: u64 = 10_000_000;
 
 /// One row of the report: a variant on a core.
 #[derive(Clone, Debug)]
@@ -120,7 +125,7 @@ pub fn run(json: bool) -> Result<()> {
         }
     }
     let host = host::measure()?;
-    run_fuzz()?;
+    run_fuzz(MUTATIONS, AFL_SECONDS)?;
     let fit_imu_s = host::fit_imu_seconds()?;
     let fit_thermal_s = host::fit_thermal_seconds()?;
     let triad = crate::cmd::build_host_tool()?;

@@ -6,9 +6,10 @@ use crate::board::{Board, Firmware};
 use crate::{cmd, setup};
 use anyhow::Result;
 
-/// Runs the soak for `seconds` of device time, a fault every `fault_every`
-/// seconds (3600 in the soak).
-pub fn run(seconds: f64, fault_every: f64) -> Result<()> {
+/// Runs the soak for `seconds` of device time (or until `wall_seconds` of
+/// wall time, when given), a fault every `fault_every` seconds (3600 in
+/// the soak).
+pub fn run(seconds: f64, fault_every: f64, wall_seconds: Option<f64>) -> Result<()> {
     setup::ensure_for(Board::emulated())?;
     let triad = cmd::build_host_tool()?;
     let calibration = cmd::pack_calibration(&triad, None)?;
@@ -28,5 +29,8 @@ pub fn run(seconds: f64, fault_every: f64) -> Result<()> {
         .env("TRIAD_SOAK_SECONDS", seconds.to_string())
         .env("TRIAD_SOAK_FAULT_EVERY", fault_every.to_string())
         .env("TRIAD_SOAK_DIR", cmd::root().join("target/soak"));
+    if let Some(wall) = wall_seconds {
+        command.env("TRIAD_SOAK_WALL_SECONDS", wall.to_string());
+    }
     cmd::check(command, "the soak (bench_soak)")
 }

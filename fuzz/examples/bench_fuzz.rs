@@ -1,0 +1,274 @@
+//! The long mutation run of every parser that takes outside bytes (issue
+//! 26): figures, not pass/fail. `cargo xtask bench --fuzz` runs it (then
+//! AFL++ on the same targets); alone:
+//!
+//!     cargo run --release -p triad-fuzz --example bench_fuzz [-- INPUTS]
+//!
+//! INPUTS per parser (default 10⁷), each a valid example (a seed under
+//! fuzz/seeds) mutated at random (bits flipped, bytes set, inserted,
+//! deleted, a run duplicated, the input cut, two seeds spliced, a 0x00 put
+//! in) with its CRC fixed up half the time for the formats that end in one,
+//! so the mutation reaches past the checksum. After each input the
+//! target's invariants are checked: the same functions AFL++'s binaries
+//! call (fuzz/src/targets, fuzz/src/invariants.rs).
+//!
+//! Printed per parser: inputs, time, inputs/s, the slowest input (the
+//! shorter of two timings when it passed 100 ms: the machine may be
+//! shared), the inputs accepted, panics (a panic prints the input and ends
+//! the run: a finished run had none), hangs (inputs slower than 100 ms
+//! twice) and broken invariants (with the first). Mutation is not
+//! coverage-guided: AFL++ (the same benchmark) is.
+
+use std::time::{Duration, Instant};
+
+use triad::protocol::cobs::Unstuffer;
+use triad::protocol::{crc32c, Packet};
+use triad_fuzz::{seeds, Broken};
+
+/// An input slower than this is counted as a hang.
+const HANG: Duration = Duration::from_millis(100);
+
+/// xorshift64*: the mutations' randomness, seeded per parser.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
+    }
+    fn below(&mut self, n: usize) -> usize {
+        (self.next() % n.max(1) as u64) as usize
+    }
+}
+
+/// `seed` mutated 1 to 4 times (`other`: a second seed to splice in).
+fn mutate(rng: &mut Rng, seed: &[u8], other: &[u8], out: &mut Vec<u8>) {
+    out.clear();
+    out.extend_from_slice(seed);
+    for _ in 0..1 + rng.below(4) {
+        let len = out.len();
+        match rng.below(8) {
+            0 if len > 0 => {
+                let i = rng.below(len);
+                out[i] ^= 1 << rng.below(8);
+            }
+            1 if len > 0 => {
+                let i = rng.below(len);
+                out[i] = rng.next() as u8;
+            }
+            2 => {
+                let i = rng.below(len + 1);
+                out.insert(i, rng.next() as u8);
+            }
+            3 if len > 0 => {
+                out.remove(rng.below(len));
+            }
+            4 if len > 0 => {
+                let from = rng.below(len);
+                let to = (from + 1 + rng.below(16)).min(len);
+                let run = out[from..to].to_vec();
+                let at = rng.below(len + 1);
+                out.splice(at..at, run);
+            }
+            5 => out.truncate(rng.below(len + 1)),
+            6 if !other.is_empty() => {
+                let cut = rng.below(len + 1);
+                let from = rng.below(other.len());
+                out.truncate(cut);
+                out.extend_from_slice(&other[from..]);
+            }
+            _ if len > 0 => {
+                let i = rng.below(len);
+                out[i] = 0;
+            }
+            _ => out.push(rng.next() as u8),
+        }
+    }
+}
+
+/// One parser's run.
+#[derive(Default)]
+struct Tally {
+    inputs: u64,
+    slowest: Duration,
+    hangs: u64,
+    broken: u64,
+    accepted: u64,
+    first_broken: Option<String>,
+}
+
+impl Tally {
+    fn count(&mut self, verdict: Result<u64, Broken>) {
+        match verdict {
+            Ok(accepted) => self.accepted += accepted,
+            Err(broken) => {
+                self.broken += 1;
+                if self.first_broken.is_none() {
+                    self.first_broken = Some(broken.0);
+                }
+            }
+        }
+    }
+}
+
+/// Runs `check` on `inputs` mutations of `seeds` (CRC fixed up half the
+/// time by `reseal`); prints the figures.
+fn run(
+    name: &str,
+    inputs: u64,
+    seeds: &[Vec<u8>],
+    reseal: fn(&mut [u8]),
+    mut check: impl FnMut(&[u8], &mut Tally),
+) {
+    let mut rng = Rng(0x9E37_79B9_7F4A_7C15 ^ crc32c(name.as_bytes()) as u64);
+    let mut tally = Tally::default();
+    let mut input = Vec::new();
+    let start = Instant::now();
+    for _ in 0..inputs {
+        let seed = &seeds[rng.below(seeds.len())];
+        let other = &seeds[rng.below(seeds.len())];
+        mutate(&mut rng, seed, other, &mut input);
+        if rng.next() & 1 == 0 {
+            reseal(&mut input);
+        }
+        CURRENT.with(|c| c.replace(input.clone()));
+        let t = Instant::now();
+        check(&input, &mut tally);
+        let mut took = t.elapsed();
+        if took > HANG {
+            // The machine is shared: an input is slow when it is slow twice
+            // (the parsers are deterministic), not when the process was
+            // preempted once.
+            let again = Instant::now();
+            check(&input, &mut Tally::default());
+            took = took.min(again.elapsed());
+            if took > HANG {
+                tally.hangs += 1;
+            }
+        }
+        tally.slowest = tally.slowest.max(took);
+        tally.inputs += 1;
+    }
+    let secs = start.elapsed().as_secs_f64();
+    println!(
+        "{name:<22} {:>9} inputs  {secs:>7.1} s  {:>9.0} /s  slowest {:>8.1} µs  accepted {:>9}  panics 0  hangs {}  broken invariants {}{}",
+        tally.inputs,
+        tally.inputs as f64 / secs,
+        tally.slowest.as_secs_f64() * 1e6,
+        tally.accepted,
+        tally.hangs,
+        tally.broken,
+        tally
+            .first_broken
+            .map(|w| format!(" (first: {w})"))
+            .unwrap_or_default()
+    );
+}
+
+thread_local! {
+    /// The input being checked, for the panic hook.
+    static CURRENT: std::cell::RefCell<Vec<u8>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// Fixes up a packet's trailing CRC-32C (what a version-2 packet or the
+/// calibration blob ends with) over everything before it.
+fn reseal_tail(bytes: &mut [u8]) {
+    if bytes.len() >= 5 {
+        let n = bytes.len() - 4;
+        let crc = crc32c(&bytes[..n]);
+        bytes[n..].copy_from_slice(&crc.to_le_bytes());
+    }
+}
+
+fn leave(_: &mut [u8]) {}
+
+/// The seeds of `dir` under fuzz/seeds.
+fn seeds_of(dir: &str) -> Vec<Vec<u8>> {
+    seeds::read(dir)
+        .into_iter()
+        .map(|(_, bytes)| bytes)
+        .collect()
+}
+
+/// The unstuffed packets of the COBS seeds (packets on the wire): the
+/// packet parser's input.
+fn packets() -> Vec<Vec<u8>> {
+    seeds_of("cobs")
+        .iter()
+        .map(|wire| {
+            let mut unstuffer = Unstuffer::new();
+            wire.iter()
+                .take_while(|&&b| b != 0)
+                .filter_map(|&b| unstuffer.push(b))
+                .collect()
+        })
+        .collect()
+}
+
+fn main() {
+    let inputs: u64 = std::env::args()
+        .nth(1)
+        .map(|a| a.parse().expect("INPUTS: a whole number"))
+        .unwrap_or(10_000_000);
+    std::panic::set_hook(Box::new(|info| {
+        let input = CURRENT.with(|c| c.borrow().clone());
+        eprintln!("bench_fuzz: PANIC {info} on input {input:02x?}");
+    }));
+    println!("mutation run, {inputs} inputs per parser (seeded from fuzz/seeds):");
+    let target = |f: fn(&[u8]) -> Result<u64, Broken>| {
+        move |bytes: &[u8], tally: &mut Tally| tally.count(f(bytes))
+    };
+    run(
+        "stream decoder",
+        inputs,
+        &seeds_of("stream"),
+        leave,
+        target(triad_fuzz::stream_decoder),
+    );
+    run(
+        "packet parser",
+        inputs,
+        &packets(),
+        reseal_tail,
+        |bytes, tally| {
+            tally.accepted += u64::from(Packet::parse(bytes).is_ok());
+        },
+    );
+    run(
+        "device command path",
+        inputs,
+        &seeds_of("commands"),
+        leave,
+        target(triad_fuzz::command_path),
+    );
+    run(
+        "COBS",
+        inputs,
+        &seeds_of("cobs"),
+        leave,
+        target(triad_fuzz::cobs),
+    );
+    run(
+        "calibration blob",
+        inputs,
+        &seeds_of("calibration_blob"),
+        reseal_tail,
+        target(triad_fuzz::calibration_blob),
+    );
+    run(
+        "scene blob",
+        inputs,
+        &seeds_of("scene_blob"),
+        reseal_tail,
+        target(triad_fuzz::scene_blob),
+    );
+    run(
+        "calibration TOML",
+        inputs,
+        &seeds_of("calibration_toml"),
+        leave,
+        target(triad_fuzz::calibration_toml),
+    );
+}

@@ -1,0 +1,7 @@
+//! AFL++ target: [`triad_fuzz::calibration_blob`] (`cargo xtask bench --fuzz` runs it).
+
+fn main() {
+    afl::fuzz!(|data: &[u8]| {
+        triad_fuzz::crash_on_broken(triad_fuzz::calibration_blob(data));
+    });
+}
