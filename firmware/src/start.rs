@@ -230,6 +230,7 @@ pub fn start(
             let none = triad::sensor::TriadScale {
                 si_per_lsb: 0.0,
                 full_scale: 0.0,
+                codes: triad::sensor::CodeRange::I16,
             };
             let scale = ImuScale {
                 accel: none,
