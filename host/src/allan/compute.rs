@@ -254,18 +254,8 @@ fn parse_blocks<R: RowSource>(
     let mut values = vec![0.0; width];
     loop {
         let mut block = Vec::with_capacity(BLOCK_ROWS * width);
-        let mut result = Ok(());
-        while block.len() < BLOCK_ROWS * width {
-            match rows.next_row(&mut values) {
-                Ok(true) => block.extend_from_slice(&values),
-                Ok(false) => break,
-                Err(e) => {
-                    result = Err(e);
-                    break;
-                }
-            }
-        }
-        let done = block.len() < BLOCK_ROWS * width || result.is_err();
+        let result = rows.next_rows(&mut block, &mut values, BLOCK_ROWS);
+        let more = matches!(result, Ok(true));
         if !block.is_empty() && tx.send(Ok(block)).is_err() {
             break;
         }
@@ -273,7 +263,7 @@ fn parse_blocks<R: RowSource>(
             let _ = tx.send(Err(e));
             break;
         }
-        if done {
+        if !more {
             break;
         }
     }
