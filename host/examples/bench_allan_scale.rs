@@ -405,6 +405,17 @@ fn main() {
         );
         return;
     }
+    // Other work on the machine stretches the wall times (not the CPU times much).
+    if let Ok(load) = std::fs::read_to_string("/proc/loadavg") {
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        println!(
+            "this machine: {cores} cores, load average {} (1, 5, 15 min) at the start",
+            load.split_whitespace()
+                .take(3)
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/allan-bench");
     std::fs::create_dir_all(&dir).expect("target/allan-bench");
     record_case(&dir, 8.0, 400.0);

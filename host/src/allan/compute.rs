@@ -3,11 +3,12 @@
 //! shared among the cores ([`parallel`](super::parallel)), each column into
 //! its [`ColumnState`]: [`OctaveBlocks`] (fully overlapping octaves up to
 //! m = [`BASE`], a block at a time, over a buffer of at most 4·BASE sums)
-//! and, above, [`StridedOctave`]s (terms every m/BASE samples, 2·BASE sums
-//! each); then each column's curve and fit. Memory per column is therefore
-//! 32·BASE bytes for the octaves up to BASE (4 MiB) and 16·BASE bytes per
-//! octave above it up to the τ grid's end (2 MiB each, 18 MiB in all at the
-//! default m = 2^24), whatever the record's length.
+//! and, above, [`StridedBlocks`] (terms every m/BASE samples, over the sums
+//! taken every m/BASE samples, at most 4·BASE of them each); then each
+//! column's curve and fit. Memory per column is therefore at most 32·BASE
+//! bytes (4 MiB) for the octaves up to BASE and as much per octave above it
+//! up to the τ grid's end (32 MiB in all at the default m = 2^24), whatever
+//! the record's length.
 
 use std::sync::mpsc::SyncSender;
 

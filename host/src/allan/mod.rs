@@ -10,11 +10,12 @@
 //! each octave one vectorised loop over the block, over a buffer that keeps
 //! the last 2^18 cumulative sums and grows to at most 2^19) and, above, up
 //! to m_max (2^24 by default, or from `--max-tau`), one
-//! [`StridedOctave`](triad_lab::allan::strided::StridedOctave) each: the
-//! overlapping estimator with its terms every m/2^17 samples (τ ≥ 2^18·τ₀,
-//! 655 s at 400 Hz), in a ring of 2^18 sums. Memory is therefore at most
-//! 4 MiB for the octaves up to 2^17 and 2 MiB per octave above, per column
-//! (18 MiB at the default m_max) whatever the record's length, and time is
+//! [`StridedBlocks`](octave_blocks::StridedBlocks) each: the overlapping
+//! estimator of [`StridedOctave`](triad_lab::allan::strided::StridedOctave)
+//! with its terms every m/2^17 samples (τ ≥ 2^18·τ₀, 655 s at 400 Hz), over
+//! the sums taken every m/2^17 samples, the same buffer of at most 2^19.
+//! Memory is therefore at most 4 MiB per octave from 2^17 up, per column
+//! (32 MiB at the default m_max) whatever the record's length, and time is
 //! linear in N. `--all-tau` holds the whole
 //! record in memory (8·N bytes per column) and
 //! costs O(N) per τ, O(N·m_max) in all, so its largest m defaults to 2^14
@@ -90,7 +91,7 @@ pub struct AllanArgs {
     #[arg(long)]
     pub all_tau: bool,
     /// Longest averaging time, seconds (default 2^24 samples; octaves above
-    /// 2^17 samples take their terms every m/2^17 samples: 2 MiB per octave per column).
+    /// 2^17 samples take their terms every m/2^17 samples: at most 4 MiB per octave per column).
     #[arg(long, allow_hyphen_values = true)]
     pub max_tau: Option<f64>,
     /// Confidence level of the intervals (default 0.6827, one sigma).
