@@ -17,7 +17,9 @@
 //!
 //! and prints both, their ratio and the largest relative difference of the
 //! deviations over the common τ (fully overlapping octaves, where the
-//! estimator is allantools', and strided ones apart). With `--long` also the
+//! estimator is allantools', and strided ones apart). Then what bounds
+//! triad's time from below: the bag's chunks read and zstd-decompressed
+//! alone, on one core, by this program (`unzstd`), under the same timer. With `--long` also the
 //! 24-hour, 2 kHz case (172.8 M samples), streamed as CSV from a generator
 //! (this program, `gen`) through a pipe into `triad allan -`: time and peak
 //! memory of triad alone (allantools is not run: its six columns alone
@@ -282,9 +284,69 @@ fn record_case(dir: &Path, hours: f64, rate: f64) {
         }
         Err(why) => println!("allantools not run: {why}"),
     }
+    if input == &mcap {
+        reader_floor(&mcap, cpu);
+    }
     for p in [&csv, &raw, &mcap] {
         let _ = std::fs::remove_file(p);
     }
+}
+
+/// Reads the MCAP at `path` and decompresses every chunk (zstd or none),
+/// on this thread: the bytes decompressed, and the chunks.
+fn unzstd(path: &Path) -> (u64, u64) {
+    use mcap::records::Record;
+    use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
+    use std::io::Read;
+    let mut file = File::open(path).expect("open the MCAP");
+    let options = LinearReaderOptions::default()
+        .with_emit_chunks(true)
+        .with_record_length_limit(1 << 30);
+    let mut reader = LinearReader::new_with_options(options);
+    let mut zstd = zstd::bulk::Decompressor::new().expect("zstd");
+    let mut buffer = Vec::new();
+    let (mut bytes, mut chunks) = (0u64, 0u64);
+    while let Some(event) = reader.next_event() {
+        match event.expect("a readable MCAP") {
+            LinearReadEvent::ReadRequest(need) => {
+                let n = file.read(reader.insert(need)).expect("read");
+                reader.notify_read(n);
+            }
+            LinearReadEvent::Record { opcode, data } => {
+                if let Ok(Record::Chunk { header, data }) = mcap::parse_record(opcode, data) {
+                    buffer.clear();
+                    buffer.reserve(header.uncompressed_size as usize);
+                    if header.compression == "zstd" {
+                        zstd.decompress_to_buffer(&data, &mut buffer).expect("zstd");
+                    } else {
+                        buffer.extend_from_slice(&data);
+                    }
+                    bytes += buffer.len() as u64;
+                    chunks += 1;
+                }
+            }
+        }
+    }
+    (bytes, chunks)
+}
+
+/// The floor under triad's time: `unzstd` of the bag under /usr/bin/time.
+fn reader_floor(mcap: &Path, triad_cpu: f64) {
+    let exe = std::env::current_exe().expect("own path");
+    let out = Command::new("/usr/bin/time")
+        .args(["-f", "%e %U %S %M"])
+        .arg(exe)
+        .arg("unzstd")
+        .arg(mcap)
+        .output()
+        .expect("run /usr/bin/time unzstd");
+    let (wall, cpu, _) = timed(&out.stderr);
+    let said = String::from_utf8_lossy(&out.stdout);
+    println!(
+        "the bag read and its chunks zstd-decompressed alone (one core, no CDR, no Allan): {wall:.2} s wall, {cpu:.2} s CPU, {}: {:.0} % of triad allan's CPU",
+        said.trim(),
+        100.0 * cpu / triad_cpu
+    );
 }
 
 /// The 24-hour, 2 kHz case: CSV from `gen` piped into `triad allan -`.
@@ -334,6 +396,25 @@ fn main() {
             None,
         );
         return;
+    }
+    if args.first().map(String::as_str) == Some("unzstd") {
+        let (bytes, chunks) = unzstd(Path::new(&args[1]));
+        println!(
+            "{:.2} GB decompressed from {chunks} chunks",
+            bytes as f64 / 1e9
+        );
+        return;
+    }
+    // Other work on the machine stretches the wall times (not the CPU times much).
+    if let Ok(load) = std::fs::read_to_string("/proc/loadavg") {
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        println!(
+            "this machine: {cores} cores, load average {} (1, 5, 15 min) at the start",
+            load.split_whitespace()
+                .take(3)
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
     }
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/allan-bench");
     std::fs::create_dir_all(&dir).expect("target/allan-bench");

@@ -1,24 +1,26 @@
 //! Streaming the Allan deviation: the file read once, one thread splitting
 //! and parsing rows in blocks while the others integrate them, the columns
 //! shared among the cores ([`parallel`](super::parallel)), each column into
-//! its [`ColumnState`]: an [`OctaveAccumulator`] (fully overlapping octaves
-//! up to m = [`BASE`], in a ring grown before it wraps up to 2·BASE sums)
-//! and, above, [`StridedOctave`]s (terms every m/BASE samples, 2·BASE sums
-//! each); then each column's curve and fit. Memory per column is therefore
-//! at most 16·BASE bytes per octave up to the τ grid's end (2 MiB each, 16
-//! MiB at the default m = 2^24), whatever the record's length.
+//! its [`ColumnState`]: [`OctaveBlocks`] (fully overlapping octaves up to
+//! m = [`BASE`], a block at a time, over a buffer of at most 4·BASE sums)
+//! and, above, [`StridedBlocks`] (terms every m/BASE samples, over the sums
+//! taken every m/BASE samples, at most 4·BASE of them each); then each
+//! column's curve and fit. Memory per column is therefore at most 32·BASE
+//! bytes (4 MiB) for the octaves up to BASE and as much per octave above it
+//! up to the τ grid's end (32 MiB in all at the default m = 2^24), whatever
+//! the record's length.
 
 use std::sync::mpsc::SyncSender;
 
 use anyhow::anyhow;
 use triad::model::Triad;
-use triad_lab::allan::accumulate::OctaveAccumulator;
 use triad_lab::allan::noise_terms::NoiseFit;
-use triad_lab::allan::strided::{StridedOctave, BASE};
+use triad_lab::allan::strided::BASE;
 
 use super::columns::{Layout, Selected};
 use super::curve::{self, Point};
 use super::fit::{fit_octaves, CovarianceCache, NoFit};
+use super::octave_blocks::{OctaveBlocks, StridedBlocks};
 use super::parallel;
 use super::record_rows::{self, RecordRows};
 use super::rows::{self, RowSource, Rows};
@@ -38,11 +40,9 @@ const DEFAULT_MAX_M: u64 = 1 << 24;
 /// Default largest averaging factor of the every-τ mode.
 const DEFAULT_MAX_M_ALL_TAU: u64 = 1 << 14;
 
-/// First ring length.
-const FIRST_RING: usize = 4096;
-
-/// Rows per block handed from the parsing thread to the accumulating ones.
-pub(super) const BLOCK_ROWS: usize = 8192;
+/// Rows per block handed from the parsing thread to the accumulating ones
+/// (as many as [`OctaveBlocks`] sums plainly before a compensated flush).
+pub(super) const BLOCK_ROWS: usize = super::octave_blocks::MAX_BLOCK;
 
 /// One analysed column.
 pub struct ColumnResult {
@@ -70,58 +70,45 @@ pub struct Analysis {
 
 /// Per-column streaming state.
 pub(super) struct ColumnState {
-    pub(super) acc: OctaveAccumulator<Vec<f64>>,
+    pub(super) acc: OctaveBlocks,
     /// The octaves above BASE, shortest first (empty when the grid stops below).
-    pub(super) above: Vec<StridedOctave<Vec<f64>>>,
+    pub(super) above: Vec<StridedBlocks>,
     all: Option<Vec<f64>>,
-    ring_cap: usize,
 }
 
 impl ColumnState {
     /// A column whose samples have mean ≈ `offset`, for octaves up to
     /// `max_m` (`all_tau`: the record kept for every τ as well).
     fn new(offset: f64, max_m: u64, all_tau: bool) -> anyhow::Result<Self> {
-        let ring_cap = ring_cap(max_m);
-        let acc = OctaveAccumulator::new(vec![0.0; FIRST_RING.min(ring_cap)], offset)
-            .map_err(|e| anyhow!("{e}"))?;
+        let acc = OctaveBlocks::new(history(max_m), offset).map_err(|e| anyhow!("{e}"))?;
         // Every τ holds the record: no octave strided there.
         let top = if all_tau { BASE } else { max_m.max(1) };
-        // Zeroed rings: pages untouched by a short record cost no memory.
         let above = (BASE.ilog2() + 1..=top.ilog2())
-            .map(|o| StridedOctave::new(1 << o, BASE, vec![0.0; 2 * BASE as usize]))
+            .map(|o| StridedBlocks::new(1 << o, BASE))
             .collect::<Result<_, _>>()
             .map_err(|e| anyhow!("{e}"))?;
         Ok(ColumnState {
             acc,
             above,
             all: all_tau.then(Vec::new),
-            ring_cap,
         })
-    }
-
-    /// Pushes one sample, growing the ring (before it wraps) up to its cap.
-    #[inline]
-    fn push(&mut self, v: f64) {
-        // Cannot fail: the ring is of the length asked for.
-        let _ = self.acc.grow_before_wrap(self.ring_cap, |n| vec![0.0; n]);
-        self.acc.push(v);
-        let k = self.acc.samples();
-        // Every strided stride is a multiple of 2: the others see nothing.
-        if k & 1 == 0 {
-            for o in self.above.iter_mut() {
-                o.push(k, self.acc.cumulative());
-            }
-        }
-        if let Some(all) = self.all.as_mut() {
-            all.push(v);
-        }
     }
 }
 
-/// Pushes column `c` of a block of rows of `width` values into `state`.
+/// Pushes column `c` of a block of rows of `width` values into `state`:
+/// the octaves up to BASE a block at a time, then the strided ones at the
+/// multiples of their strides within the block.
 pub(super) fn push_column(state: &mut ColumnState, block: &[f64], width: usize, c: usize) {
-    for row in block.chunks_exact(width) {
-        state.push(row[c]);
+    let column = || block.chunks_exact(width).map(|row| row[c]);
+    let start = state.acc.samples();
+    state.acc.push(column());
+    let n = state.acc.samples() - start;
+    let sums = state.acc.last_block(n as usize);
+    for o in state.above.iter_mut() {
+        o.push(start, sums);
+    }
+    if let Some(all) = state.all.as_mut() {
+        all.extend(column());
     }
 }
 
@@ -268,18 +255,8 @@ fn parse_blocks<R: RowSource>(
     let mut values = vec![0.0; width];
     loop {
         let mut block = Vec::with_capacity(BLOCK_ROWS * width);
-        let mut result = Ok(());
-        while block.len() < BLOCK_ROWS * width {
-            match rows.next_row(&mut values) {
-                Ok(true) => block.extend_from_slice(&values),
-                Ok(false) => break,
-                Err(e) => {
-                    result = Err(e);
-                    break;
-                }
-            }
-        }
-        let done = block.len() < BLOCK_ROWS * width || result.is_err();
+        let result = rows.next_rows(&mut block, &mut values, BLOCK_ROWS);
+        let more = matches!(result, Ok(true));
         if !block.is_empty() && tx.send(Ok(block)).is_err() {
             break;
         }
@@ -287,7 +264,7 @@ fn parse_blocks<R: RowSource>(
             let _ = tx.send(Err(e));
             break;
         }
-        if done {
+        if !more {
             break;
         }
     }
@@ -334,11 +311,11 @@ fn results(
         .collect()
 }
 
-/// The ring length cap: twice the largest m (from --max-tau or the mode's
-/// default), and no more than the fully overlapping octaves need (2·BASE:
-/// the octaves above are strided). The ring grows only as the record
-/// reaches its length, so a short record keeps a short ring.
-fn ring_cap(max_m: u64) -> usize {
+/// The sums kept before a block: twice the largest m (from --max-tau or
+/// the mode's default), and no more than the fully overlapping octaves need
+/// (2·BASE: the octaves above are strided). The buffer grows only as the
+/// record reaches its length, so a short record keeps a short one.
+fn history(max_m: u64) -> usize {
     (2 * max_m).next_power_of_two().clamp(2, 2 * BASE) as usize
 }
 
@@ -373,12 +350,12 @@ mod tests {
     }
 
     #[test]
-    fn the_ring_is_no_longer_than_the_grid_or_the_base_needs() {
+    fn the_history_is_no_longer_than_the_grid_or_the_base_needs() {
         // The default grid: the base's 2^18 sums, the octaves above strided.
-        assert_eq!(ring_cap(1 << 24), 2 * BASE as usize);
+        assert_eq!(history(1 << 24), 2 * BASE as usize);
         // A short --max-tau bounds it by the grid: 2·500 → 1024.
-        assert_eq!(ring_cap(500), 1024);
-        assert_eq!(ring_cap(0), 2);
+        assert_eq!(history(500), 1024);
+        assert_eq!(history(0), 2);
         let st = ColumnState::new(0.0, 1 << 20, false).unwrap();
         let m: Vec<u64> = st.above.iter().map(|o| o.m()).collect();
         assert_eq!(m, [1 << 18, 1 << 19, 1 << 20]);
@@ -389,18 +366,60 @@ mod tests {
         assert!(ColumnState::new(0.0, BASE, false).unwrap().above.is_empty());
     }
 
+    /// A column pushed a block at a time (blocks of rows of two columns)
+    /// gives what the lab's one-sample accumulator and strided octave fed
+    /// at every even k give, the strided octaves' terms included (a record
+    /// past 4·BASE samples, so that m = 2·BASE has some).
     #[test]
-    fn a_pushed_column_grows_its_ring_up_to_the_cap() {
-        let mut st = ColumnState {
-            acc: OctaveAccumulator::new(vec![0.0; 4], 0.0).unwrap(),
-            above: Vec::new(),
-            all: Some(Vec::new()),
-            ring_cap: 16,
-        };
+    fn a_pushed_column_gives_the_one_sample_results_strided_octaves_included() {
+        use triad_lab::allan::accumulate::OctaveAccumulator;
+        use triad_lab::allan::strided::StridedOctave;
+        let n = 4 * BASE as usize + 12_345;
+        let y = |i: usize| ((i as u32).wrapping_mul(2_654_435_761) % 1000) as f64 * 1e-3;
+        let mut st = ColumnState::new(0.5, 2 * BASE, false).unwrap();
+        let mut one = OctaveAccumulator::new(vec![0.0; 2 * BASE as usize], 0.5).unwrap();
+        let mut above: Vec<StridedOctave<Vec<f64>>> = [2 * BASE]
+            .iter()
+            .map(|&m| StridedOctave::new(m, BASE, vec![0.0; 2 * BASE as usize]).unwrap())
+            .collect();
+        let rows: Vec<f64> = (0..n).flat_map(|i| [-1.0, y(i)]).collect();
+        for block in rows.chunks(2 * 5000) {
+            push_column(&mut st, block, 2, 1);
+        }
+        for i in 0..n {
+            one.push(y(i));
+            let k = one.samples();
+            if k % 2 == 0 {
+                for o in above.iter_mut() {
+                    o.push(k, one.cumulative());
+                }
+            }
+        }
+        let got = curve::octaves(&st.acc, &st.above, 1.0, 2 * BASE);
+        let want_full = one.results().map(|r| (r, 1));
+        let want_strided = above.iter().map(|o| (o.result().unwrap(), o.stride()));
+        let want: Vec<_> = want_full.chain(want_strided).collect();
+        assert_eq!(got.len(), 19, "m = 1 … 2^18");
+        assert_eq!(got.len(), want.len());
+        for (g, (w, stride)) in got.iter().zip(want) {
+            assert_eq!((g.m, g.terms, g.stride), (w.m, w.overlapping_terms, stride));
+            assert!(
+                (g.avar - w.overlapping).abs() <= 1e-12 * w.overlapping,
+                "m = {}",
+                g.m
+            );
+            let (a, b) = (g.avar_non_overlapping, w.non_overlapping);
+            assert!((a - b).abs() <= 1e-12 * b, "m = {}", g.m);
+        }
+        assert_eq!(st.acc.samples(), n as u64);
+    }
+
+    #[test]
+    fn every_tau_keeps_the_column() {
+        let mut st = ColumnState::new(0.0, 16, true).unwrap();
         let rows: Vec<f64> = (0..40).map(|i| i as f64).collect();
         push_block(std::slice::from_mut(&mut st), &rows, 1);
-        assert_eq!(st.acc.ring_len(), 16);
         assert_eq!(st.acc.samples(), 40);
-        assert_eq!(st.all.as_ref().map(Vec::len), Some(40));
+        assert_eq!(st.all.as_deref(), Some(&rows[..]));
     }
 }

@@ -3,11 +3,10 @@
 //! point with the noise type its local slope names, its equivalent degrees
 //! of freedom and its confidence interval.
 
-use triad_lab::allan::accumulate::OctaveAccumulator;
 use triad_lab::allan::direct;
 use triad_lab::allan::edf::{self, NoiseType};
-use triad_lab::allan::strided::StridedOctave;
 
+use super::octave_blocks::{OctaveBlocks, StridedBlocks};
 use crate::plumbing::progress::{Progress, Unit};
 
 /// One point of a column's curve.
@@ -53,8 +52,8 @@ pub struct RawPoint {
 /// The octave points of a streamed column, m ≤ `max_m`: the fully
 /// overlapping ones of `acc`, then the strided ones of `above`.
 pub fn octaves(
-    acc: &OctaveAccumulator<Vec<f64>>,
-    above: &[StridedOctave<Vec<f64>>],
+    acc: &OctaveBlocks,
+    above: &[StridedBlocks],
     rate: f64,
     max_m: u64,
 ) -> Vec<RawPoint> {

@@ -4,16 +4,19 @@
 //!
 //! Octave τ (the default) streams: the file is read once (one thread splits
 //! and parses, the others integrate, the columns shared among the cores),
-//! each column feeds an
-//! [`OctaveAccumulator`](triad_lab::allan::accumulate::OctaveAccumulator)
-//! for the fully overlapping octaves up to m = 2^17 (its ring of cumulative
-//! sums starts at 4096 slots and doubles, before it wraps, up to 2^18) and,
-//! above, up to m_max (2^24 by default, or from `--max-tau`), one
-//! [`StridedOctave`](triad_lab::allan::strided::StridedOctave) each: the
-//! overlapping estimator with its terms every m/2^17 samples (τ ≥ 2^18·τ₀,
-//! 655 s at 400 Hz), in a ring of 2^18 sums. Memory is therefore at most
-//! 2 MiB per octave per column (16 MiB at the default m_max) whatever the
-//! record's length, and time is linear in N. `--all-tau` holds the whole
+//! each column feeds, a block of rows at a time, [`octave_blocks`] for the
+//! fully overlapping octaves up to m = 2^17 (the estimator of
+//! [`OctaveAccumulator`](triad_lab::allan::accumulate::OctaveAccumulator),
+//! each octave one vectorised loop over the block, over a buffer that keeps
+//! the last 2^18 cumulative sums and grows to at most 2^19) and, above, up
+//! to m_max (2^24 by default, or from `--max-tau`), one
+//! [`StridedBlocks`](octave_blocks::StridedBlocks) each: the overlapping
+//! estimator of [`StridedOctave`](triad_lab::allan::strided::StridedOctave)
+//! with its terms every m/2^17 samples (τ ≥ 2^18·τ₀, 655 s at 400 Hz), over
+//! the sums taken every m/2^17 samples, the same buffer of at most 2^19.
+//! Memory is therefore at most 4 MiB per octave from 2^17 up, per column
+//! (32 MiB at the default m_max) whatever the record's length, and time is
+//! linear in N. `--all-tau` holds the whole
 //! record in memory (8·N bytes per column) and
 //! costs O(N) per τ, O(N·m_max) in all, so its largest m defaults to 2^14
 //! (change it with `--max-tau`).
@@ -35,6 +38,7 @@ pub mod fit;
 pub mod grade;
 pub mod json;
 pub mod kalibr;
+pub mod octave_blocks;
 mod parallel;
 pub mod plot;
 mod record_rows;
@@ -87,7 +91,7 @@ pub struct AllanArgs {
     #[arg(long)]
     pub all_tau: bool,
     /// Longest averaging time, seconds (default 2^24 samples; octaves above
-    /// 2^17 samples take their terms every m/2^17 samples: 2 MiB per octave per column).
+    /// 2^17 samples take their terms every m/2^17 samples: at most 4 MiB per octave per column).
     #[arg(long, allow_hyphen_values = true)]
     pub max_tau: Option<f64>,
     /// Confidence level of the intervals (default 0.6827, one sigma).

@@ -88,16 +88,22 @@ impl RecordRows {
         row[n] = s.temp;
         row
     }
-}
 
-impl RowSource for RecordRows {
-    fn next_row(&mut self, values: &mut [f64]) -> anyhow::Result<bool> {
-        if self.next == self.chunk.len() {
+    /// True when a sample is at hand (a new chunk taken if need be).
+    fn at_hand(&mut self) -> anyhow::Result<bool> {
+        while self.next == self.chunk.len() {
             match self.reader.next_chunk()? {
                 Some(chunk) => (self.chunk, self.next) = (chunk, 0),
                 None => return Ok(false),
             }
         }
+        Ok(true)
+    }
+
+    /// The next sample of the chunk at hand into `values` (by slot), its
+    /// values and t checked.
+    #[inline]
+    fn take(&mut self, values: &mut [f64]) -> anyhow::Result<()> {
         let s = self.chunk[self.next];
         self.next += 1;
         let row = self.row(&s);
@@ -116,6 +122,38 @@ impl RowSource for RecordRows {
                 None => self.time = Some(TimeCheck::new(t)),
                 Some(tc) => tc.next_at(t, || self.source.where_is(&s))?,
             }
+        }
+        Ok(())
+    }
+}
+
+impl RowSource for RecordRows {
+    fn next_row(&mut self, values: &mut [f64]) -> anyhow::Result<bool> {
+        if !self.at_hand()? {
+            return Ok(false);
+        }
+        self.take(values)?;
+        Ok(true)
+    }
+
+    /// The samples of each chunk taken in one loop.
+    fn next_rows(
+        &mut self,
+        block: &mut Vec<f64>,
+        values: &mut [f64],
+        rows: usize,
+    ) -> anyhow::Result<bool> {
+        let mut left = rows;
+        while left > 0 {
+            if !self.at_hand()? {
+                return Ok(false);
+            }
+            let here = left.min(self.chunk.len() - self.next);
+            for _ in 0..here {
+                self.take(values)?;
+                block.extend_from_slice(values);
+            }
+            left -= here;
         }
         Ok(true)
     }

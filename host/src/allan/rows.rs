@@ -85,6 +85,23 @@ pub(crate) fn in_range(v: f64) -> Result<f64, String> {
 pub(crate) trait RowSource: Send {
     /// Reads the next row into `values` (by slot); false at the end.
     fn next_row(&mut self, values: &mut [f64]) -> anyhow::Result<bool>;
+    /// Appends up to `rows` rows to `block`, `values` (a row's length) the
+    /// scratch row; false when the rows ended first. On an error the rows
+    /// before it are in `block`.
+    fn next_rows(
+        &mut self,
+        block: &mut Vec<f64>,
+        values: &mut [f64],
+        rows: usize,
+    ) -> anyhow::Result<bool> {
+        for _ in 0..rows {
+            if !self.next_row(values)? {
+                return Ok(false);
+            }
+            block.extend_from_slice(values);
+        }
+        Ok(true)
+    }
     /// The t column's check, from its first row on.
     fn time(&self) -> Option<&TimeCheck>;
     /// Bytes read so far (0: not counted).

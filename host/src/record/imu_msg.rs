@@ -93,17 +93,19 @@ const IMU_FLOATS: usize = 37;
 /// Decodes a ROS 2 CDR sensor_msgs/msg/Imu (with its encapsulation header).
 ///
 /// Read at fixed offsets after the one variable field (the frame_id): the
-/// message is a header and 37 f64s, so this is the whole of CDR it needs,
-/// and it allocates nothing (serde's decoding through the `cdr` crate made
-/// a String per message and was an eighth of `triad allan`'s time on a bag).
-/// [`encode_cdr`] writes with the `cdr` crate, so the tests hold the two
-/// against each other.
+/// message is a header and 37 f64s, so this is the whole of CDR it needs;
+/// it reads only the six f64s it returns (after checking that all 37 are
+/// there) and allocates nothing (serde's decoding through the `cdr` crate
+/// made a String per message and was an eighth of `triad allan`'s time on
+/// a bag). [`encode_cdr`] writes with the `cdr` crate, so the tests hold
+/// the two against each other.
 pub fn decode_cdr(data: &[u8]) -> anyhow::Result<ImuFields> {
-    let (stamp, f) = decode_header_and_floats::<IMU_FLOATS>(data, ROS2_TYPE)?;
+    let body = CdrBody::of(data, IMU_FLOATS, ROS2_TYPE)?;
+    let f = |k: usize| body.float(data, k);
     Ok(ImuFields {
-        stamp,
-        angular_velocity: [f[13], f[14], f[15]],
-        linear_acceleration: [f[25], f[26], f[27]],
+        stamp: body.stamp,
+        angular_velocity: [f(13), f(14), f(15)],
+        linear_acceleration: [f(25), f(26), f(27)],
     })
 }
 
@@ -115,52 +117,76 @@ pub fn decode_header_and_floats<const N: usize>(
     data: &[u8],
     ty: &str,
 ) -> anyhow::Result<(Time, [f64; N])> {
-    // Encapsulation (4 bytes), then sec, nanosec and frame_id's length.
-    if data.len() < 16 {
-        bail!("{} bytes: too short for {ty}", data.len());
-    }
-    let little = match data[1] {
-        0 | 2 => false,
-        1 | 3 => true,
-        e => bail!("CDR encapsulation {e} is not plain CDR"),
-    };
-    let word = |at: usize| {
-        let b = [data[at], data[at + 1], data[at + 2], data[at + 3]];
-        if little {
-            u32::from_le_bytes(b)
-        } else {
-            u32::from_be_bytes(b)
+    let body = CdrBody::of(data, N, ty)?;
+    Ok((body.stamp, std::array::from_fn(|k| body.float(data, k))))
+}
+
+/// Where the f64s after a CDR message's std_msgs/Header start, checked to
+/// hold as many as the type has.
+struct CdrBody {
+    stamp: Time,
+    little: bool,
+    /// The byte of the first f64.
+    start: usize,
+}
+
+impl CdrBody {
+    /// The header of `data`, a message of type `ty` whose header is
+    /// followed by `floats` f64s (an error when they are not all there).
+    fn of(data: &[u8], floats: usize, ty: &str) -> anyhow::Result<CdrBody> {
+        // Encapsulation (4 bytes), then sec, nanosec and frame_id's length.
+        if data.len() < 16 {
+            bail!("{} bytes: too short for {ty}", data.len());
         }
-    };
-    let (sec, nanosec, len) = (word(4) as i32, word(8), word(12) as usize);
-    if len > data.len() - 16 {
-        bail!(
-            "frame_id's length {len} runs past the message's {} bytes",
-            data.len()
-        );
+        let little = match data[1] {
+            0 | 2 => false,
+            1 | 3 => true,
+            e => bail!("CDR encapsulation {e} is not plain CDR"),
+        };
+        let word = |at: usize| {
+            let b = [data[at], data[at + 1], data[at + 2], data[at + 3]];
+            if little {
+                u32::from_le_bytes(b)
+            } else {
+                u32::from_be_bytes(b)
+            }
+        };
+        let (sec, nanosec, len) = (word(4) as i32, word(8), word(12) as usize);
+        if len > data.len() - 16 {
+            bail!(
+                "frame_id's length {len} runs past the message's {} bytes",
+                data.len()
+            );
+        }
+        // CDR aligns an f64 to 8 bytes from the start of the body (after the
+        // 4-byte encapsulation).
+        let body_at = (12 + len).next_multiple_of(8);
+        let start = 4 + body_at;
+        if data.len() < start + 8 * floats {
+            bail!(
+                "{} bytes with a frame_id of {len}: too short for {ty}",
+                data.len()
+            );
+        }
+        Ok(CdrBody {
+            stamp: Time { sec, nanosec },
+            little,
+            start,
+        })
     }
-    // CDR aligns an f64 to 8 bytes from the start of the body (after the
-    // 4-byte encapsulation).
-    let body_at = (12 + len).next_multiple_of(8);
-    let start = 4 + body_at;
-    if data.len() < start + 8 * N {
-        bail!(
-            "{} bytes with a frame_id of {len}: too short for {ty}",
-            data.len()
-        );
-    }
-    let mut floats = [0.0; N];
-    for (k, f) in floats.iter_mut().enumerate() {
-        let at = start + 8 * k;
+
+    /// The `k`th f64 of `data` (k below the count [`CdrBody::of`] checked).
+    #[inline]
+    fn float(&self, data: &[u8], k: usize) -> f64 {
+        let at = self.start + 8 * k;
         let mut b = [0u8; 8];
         b.copy_from_slice(&data[at..at + 8]);
-        *f = if little {
+        if self.little {
             f64::from_le_bytes(b)
         } else {
             f64::from_be_bytes(b)
-        };
+        }
     }
-    Ok((Time { sec, nanosec }, floats))
 }
 
 /// Encodes `imu` as ROS 2 CDR, little-endian, with its encapsulation header.

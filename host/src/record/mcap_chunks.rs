@@ -318,18 +318,8 @@ fn decode_chunk(
         if opcode != op::MESSAGE {
             continue;
         }
-        let Record::Message { header, data } =
-            mcap::parse_record(opcode, body).map_err(|e| e.to_string())?
-        else {
-            continue;
-        };
-        decode(
-            wanted,
-            header.channel_id,
-            header.log_time,
-            &data,
-            &mut batch,
-        );
+        let (channel, log_time, data) = message_fields(body)?;
+        decode(wanted, channel, log_time, data, &mut batch);
         if batch.undecodable.is_some() {
             break;
         }
@@ -355,6 +345,26 @@ fn split_record(data: &[u8]) -> Result<(u8, &[u8], &[u8]), String> {
     let (body, after) = rest.split_at(len as usize);
     Ok((opcode, body, after))
 }
+
+/// A Message record's body, read where the MCAP specification puts its
+/// fields (channel id u16, sequence u32, log time u64, publish time u64,
+/// then the data), without the crate's general record parser: (channel,
+/// log time, data).
+fn message_fields(body: &[u8]) -> Result<(u16, u64, &[u8]), String> {
+    let Some((fields, data)) = body.split_first_chunk::<MESSAGE_HEADER>() else {
+        return Err(format!(
+            "a message record of {} bytes, shorter than its {MESSAGE_HEADER}-byte header",
+            body.len()
+        ));
+    };
+    let channel = u16::from_le_bytes([fields[0], fields[1]]);
+    let mut log_time = [0u8; 8];
+    log_time.copy_from_slice(&fields[6..14]);
+    Ok((channel, u64::from_le_bytes(log_time), data))
+}
+
+/// The bytes of a Message record's fields before its data.
+const MESSAGE_HEADER: usize = 2 + 4 + 8 + 8;
 
 /// Decodes the message `data` of channel `channel` into `batch` if it is wanted.
 fn decode(wanted: &Wanted, channel: u16, log_time: u64, data: &[u8], batch: &mut Batch) {
@@ -503,6 +513,23 @@ mod tests {
             }
             at = body + len as usize;
         }
+    }
+
+    #[test]
+    fn a_message_record_is_read_where_the_specification_puts_its_fields() {
+        let mut body = Vec::new();
+        body.extend_from_slice(&7u16.to_le_bytes());
+        body.extend_from_slice(&3u32.to_le_bytes());
+        body.extend_from_slice(&123_456_789_012u64.to_le_bytes());
+        body.extend_from_slice(&5u64.to_le_bytes());
+        body.extend_from_slice(b"cdr");
+        let (channel, log_time, data) = message_fields(&body).unwrap();
+        assert_eq!((channel, log_time, data), (7, 123_456_789_012, &b"cdr"[..]));
+        let e = message_fields(&body[..21]).unwrap_err();
+        assert_eq!(
+            e,
+            "a message record of 21 bytes, shorter than its 22-byte header"
+        );
     }
 
     #[test]

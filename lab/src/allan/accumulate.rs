@@ -97,6 +97,33 @@ pub struct OctaveResult {
     pub non_overlapping_terms: u64,
 }
 
+impl OctaveResult {
+    /// The estimates at m after `samples` samples from the sums of the
+    /// squared second differences: `overlapping` over every k = 2m … N,
+    /// `non_overlapping` over those at multiples of m (None before k = 2m).
+    pub fn fully_overlapping(
+        m: u64,
+        samples: u64,
+        overlapping: f64,
+        non_overlapping: f64,
+    ) -> Option<Self> {
+        if samples < 2 * m {
+            return None;
+        }
+        // Terms at k = 2m … N: N − 2m + 1 overlapping, ⌊N/m⌋ − 1 at multiples of m.
+        let overlapping_terms = samples - 2 * m + 1;
+        let non_overlapping_terms = samples / m - 1;
+        let scale = |terms: u64| 2.0 * (m as f64) * (m as f64) * terms as f64;
+        Some(OctaveResult {
+            m,
+            overlapping: overlapping / scale(overlapping_terms),
+            overlapping_terms,
+            non_overlapping: non_overlapping / scale(non_overlapping_terms),
+            non_overlapping_terms,
+        })
+    }
+}
+
 /// Streaming Allan variance at octave m over a ring `R` of cumulative sums.
 #[derive(Debug)]
 pub struct OctaveAccumulator<R> {
@@ -248,26 +275,11 @@ impl<R: AsMut<[f64]> + AsRef<[f64]>> OctaveAccumulator<R> {
             return None;
         }
         let sums = &self.octave[o];
-        let m = 1u64 << o;
-        let k = self.count;
-        if k < 2 * m {
-            return None;
-        }
-        // Terms at k = 2m … N: N − 2m + 1 overlapping, ⌊N/m⌋ − 1 at multiples of m.
-        let overlapping_terms = k - 2 * m + 1;
-        let non_overlapping_terms = k / m - 1;
         let mut over = sums.overlapping;
         over.add(sums.overlapping_block);
         let mut non = sums.non_overlapping;
         non.add(sums.non_overlapping_block);
-        let scale = |terms: u64| 2.0 * (m as f64) * (m as f64) * terms as f64;
-        Some(OctaveResult {
-            m,
-            overlapping: over.value() / scale(overlapping_terms),
-            overlapping_terms,
-            non_overlapping: non.value() / scale(non_overlapping_terms),
-            non_overlapping_terms,
-        })
+        OctaveResult::fully_overlapping(1 << o, self.count, over.value(), non.value())
     }
 
     /// Every octave that has at least one term, shortest τ first.

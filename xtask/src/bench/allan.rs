@@ -60,7 +60,8 @@ pub fn section(long: bool) -> Result<String> {
          `cargo xtask bench --allan --long` (this section alone; `cargo xtask bench` writes it with the rest): \
          host/examples/bench_allan_scale.rs on this machine, `triad allan` timed by `/usr/bin/time` \
          (wall, user + system CPU, peak resident memory), allantools' `oadev` (octave taus) on the same \
-         six columns already in memory, timed in its process (bench/allan_peer.py), one after the other in one run.\n\n",
+         six columns already in memory, timed in its process (bench/allan_peer.py), one after the other in one run; \
+         then, as the floor under triad's time, the bag's chunks read and zstd-decompressed alone on one core, under the same timer.\n\n",
     );
     for line in String::from_utf8_lossy(&out.stdout).lines() {
         md += &format!("- {line}\n");

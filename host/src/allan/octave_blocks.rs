@@ -1,0 +1,455 @@
+//! The fully overlapping octaves of one column, a block of samples at a
+//! time: the streaming estimator of
+//! [`OctaveAccumulator`](triad_lab::allan::accumulate::OctaveAccumulator)
+//! (the same cumulative sums S_k, the same terms), reorganised for speed.
+//!
+//! Why not one sample at a time: there, each sample visits every octave
+//! (a dozen and more), each visit two dependent reads of a ring and two
+//! sums; that was half of `triad allan`'s time on a long bag. Here a block's
+//! cumulative sums are appended to a plain buffer that keeps the last
+//! 2·m_max of them before the block, and then each octave m sums
+//! (S_k − 2S_{k−m} + S_{k−2m})² over the block in one loop over three
+//! contiguous slices, in [`LANES`] independent partial sums, which the
+//! compiler vectorises. The buffer is shifted down only when full (it holds
+//! the history twice over), so the copy costs one f64 per sample.
+//!
+//! Rounding: a lane adds at most [`MAX_BLOCK`]/[`LANES`] = 1024 plain terms
+//! before its block's total is added with compensation, the bound the
+//! one-sample accumulator has (1024·ε relative); the order of the terms
+//! differs, so the two agree to that bound, not bit for bit.
+
+use triad_lab::allan::accumulate::{OctaveResult, MAX_OCTAVES};
+use triad_lab::allan::CompensatedSum;
+
+/// Independent partial sums per octave (vector lanes and pipelining).
+pub const LANES: usize = 8;
+
+/// Most samples a block may hold: 1024 terms per lane before a compensated flush.
+pub const MAX_BLOCK: usize = 1024 * LANES;
+
+/// The octaves m = 1, 2, 4, … ≤ `history`/2 of one column, fully overlapping.
+#[derive(Debug)]
+pub struct OctaveBlocks {
+    /// S_k for k = `first`, `first` + 1, …, `count`.
+    sums: Vec<f64>,
+    /// The k of `sums[0]`.
+    first: u64,
+    /// Sums kept before a block: 2·(the largest m), a power of two.
+    history: usize,
+    /// Octaves served: m = 2^o for `lowest` ≤ o < `octaves`.
+    octaves: usize,
+    lowest: usize,
+    offset: f64,
+    running: CompensatedSum,
+    count: u64,
+    overlapping: [CompensatedSum; MAX_OCTAVES],
+    non_overlapping: [CompensatedSum; MAX_OCTAVES],
+}
+
+impl OctaveBlocks {
+    /// Octaves up to m = `history`/2 (`history` a power of two, at least 2;
+    /// a longer one is clamped to the octaves [`MAX_OCTAVES`] allows) of
+    /// samples from which `offset` is subtracted (the mean of the first
+    /// samples, so that S grows only as the noise integrates).
+    pub fn new(history: usize, offset: f64) -> Result<Self, String> {
+        if history < 2 || !history.is_power_of_two() {
+            return Err(format!(
+                "history of {history} sums: must be a power of two, at least 2"
+            ));
+        }
+        if !offset.is_finite() {
+            return Err(format!("offset {offset} is not a finite number"));
+        }
+        let octaves = (history.trailing_zeros() as usize).min(MAX_OCTAVES);
+        Ok(OctaveBlocks {
+            sums: vec![0.0],
+            first: 0,
+            history: 1 << octaves,
+            octaves,
+            lowest: 0,
+            offset,
+            running: CompensatedSum::ZERO,
+            count: 0,
+            overlapping: [CompensatedSum::ZERO; MAX_OCTAVES],
+            non_overlapping: [CompensatedSum::ZERO; MAX_OCTAVES],
+        })
+    }
+
+    /// Samples pushed so far.
+    pub fn samples(&self) -> u64 {
+        self.count
+    }
+
+    /// The offset subtracted from every sample.
+    pub fn offset(&self) -> f64 {
+        self.offset
+    }
+
+    /// The cumulative sums of the last block pushed, S_k for k = the
+    /// samples before it + 1, …, [`Self::samples`] (what strided octaves take).
+    pub fn last_block(&self, len: usize) -> &[f64] {
+        &self.sums[self.sums.len() - len..]
+    }
+
+    /// Adds the samples `values` (at most [`MAX_BLOCK`] of them; more are
+    /// pushed in pieces of that length).
+    pub fn push(&mut self, values: impl ExactSizeIterator<Item = f64>) {
+        let n = values.len();
+        if n > MAX_BLOCK {
+            let all: Vec<f64> = values.collect();
+            for piece in all.chunks(MAX_BLOCK) {
+                self.push(piece.iter().copied());
+            }
+            return;
+        }
+        // The running sum in a local: kept in registers over the block.
+        let (mut running, offset) = (self.running, self.offset);
+        self.push_sums(values.map(|v| {
+            running.add(v - offset);
+            running.value()
+        }));
+        self.running = running;
+    }
+
+    /// Adds the cumulative sums S_k of the next samples themselves (at
+    /// most [`MAX_BLOCK`]): what a strided octave takes ([`StridedBlocks`]).
+    fn push_sums(&mut self, sums: impl ExactSizeIterator<Item = f64>) {
+        let n = sums.len();
+        self.make_room(n);
+        let start = self.count;
+        self.sums.extend(sums);
+        self.count += n as u64;
+        self.sum_block(start);
+    }
+
+    /// Shifts the buffer down, keeping the history, when `n` more sums
+    /// would take it past twice the history (or one block beyond it).
+    fn make_room(&mut self, n: usize) {
+        let limit = self.history + self.history.max(MAX_BLOCK);
+        let len = self.sums.len();
+        if len + n <= limit || len <= self.history {
+            // Grown by doubling up to the limit, no further.
+            if len + n > self.sums.capacity() {
+                let want = (2 * len).clamp(len + n, limit.max(len + n));
+                self.sums.reserve_exact(want - len);
+            }
+            return;
+        }
+        let drop = self.sums.len() - self.history;
+        self.sums.copy_within(drop.., 0);
+        self.sums.truncate(self.history);
+        self.first += drop as u64;
+    }
+
+    /// Adds the terms of the samples after `start` (the block just
+    /// appended) to every octave that has any.
+    fn sum_block(&mut self, start: u64) {
+        let count = self.count;
+        for o in self.lowest..self.octaves {
+            let m = 1u64 << o;
+            // Terms at k = 2m, …, count.
+            let from = (start + 1).max(2 * m);
+            if from > count {
+                break;
+            }
+            let at = |k: u64| (k - self.first) as usize;
+            let (j0, j1, mu) = (at(from), at(count) + 1, m as usize);
+            let over = squared_second_differences(
+                &self.sums[j0..j1],
+                &self.sums[j0 - mu..j1 - mu],
+                &self.sums[j0 - 2 * mu..j1 - 2 * mu],
+            );
+            self.overlapping[o].add(over);
+            // The non-overlapping terms: those at multiples of m (m = 1: all).
+            let non = if m == 1 {
+                over
+            } else {
+                let mut non = 0.0;
+                let mut k = from.next_multiple_of(m);
+                while k <= count {
+                    let j = at(k);
+                    let s = &self.sums;
+                    let d = (s[j] - s[j - mu]) - (s[j - mu] - s[j - 2 * mu]);
+                    non += d * d;
+                    k += m;
+                }
+                non
+            };
+            self.non_overlapping[o].add(non);
+        }
+    }
+
+    /// The result at octave `o` (m = 2^o), or None when it has no term yet.
+    pub fn result(&self, o: usize) -> Option<OctaveResult> {
+        if o >= self.octaves || o < self.lowest {
+            return None;
+        }
+        OctaveResult::fully_overlapping(
+            1 << o,
+            self.count,
+            self.overlapping[o].value(),
+            self.non_overlapping[o].value(),
+        )
+    }
+
+    /// Every octave that has at least one term, shortest τ first.
+    pub fn results(&self) -> impl Iterator<Item = OctaveResult> + '_ {
+        (0..self.octaves).map_while(move |o| self.result(o))
+    }
+}
+
+/// One octave m above a base M (both powers of two): the strided estimator
+/// of [`StridedOctave`](triad_lab::allan::strided::StridedOctave), its terms
+/// every d = m/M samples, computed as the octave M of the cumulative sums
+/// taken every d samples (D_p = S_{p·d}: the term at k = p·d is
+/// D_p − 2D_{p−M} + D_{p−2M}), a block at a time by [`OctaveBlocks`]; its
+/// variance is that octave's over d². Memory: at most 4·M sums.
+#[derive(Debug)]
+pub struct StridedBlocks {
+    m: u64,
+    stride: u64,
+    /// The octave M of the sums taken every `stride` samples, alone.
+    every_stride: OctaveBlocks,
+}
+
+impl StridedBlocks {
+    /// Octave `m` (a power of two above `base`, itself a power of two of at least 1).
+    pub fn new(m: u64, base: u64) -> Result<Self, String> {
+        if !(base.is_power_of_two() && m.is_power_of_two() && m > base) {
+            return Err(format!(
+                "averaging factor {m}: a strided octave needs a power of two above the base {base} (itself a power of two)"
+            ));
+        }
+        let history = usize::try_from(2 * base).map_err(|e| e.to_string())?;
+        let mut every_stride = OctaveBlocks::new(history, 0.0)?;
+        every_stride.lowest = every_stride.octaves - 1;
+        Ok(StridedBlocks {
+            m,
+            stride: m / base,
+            every_stride,
+        })
+    }
+
+    /// The averaging factor.
+    pub fn m(&self) -> u64 {
+        self.m
+    }
+
+    /// The stride d = m/M.
+    pub fn stride(&self) -> u64 {
+        self.stride
+    }
+
+    /// Takes the cumulative sums `sums` = S_k, k = `start` + 1, …,
+    /// `start` + sums.len() (at most [`MAX_BLOCK`] of them; those at
+    /// multiples of the stride are used).
+    pub fn push(&mut self, start: u64, sums: &[f64]) {
+        let first = (start + 1).next_multiple_of(self.stride) - start - 1;
+        if let Some(from) = sums.get(first as usize..) {
+            self.every_stride
+                .push_sums(from.iter().step_by(self.stride as usize).copied());
+        }
+    }
+
+    /// The estimates, or None without a term.
+    pub fn result(&self) -> Option<OctaveResult> {
+        let r = self.every_stride.result(self.every_stride.lowest)?;
+        let d2 = (self.stride as f64) * (self.stride as f64);
+        Some(OctaveResult {
+            m: self.m,
+            overlapping: r.overlapping / d2,
+            non_overlapping: r.non_overlapping / d2,
+            ..r
+        })
+    }
+}
+
+/// Σ ((s − b) − (b − c))² over three slices of one length, in [`LANES`]
+/// partial sums (independent, so the loop vectorises), added pairwise at
+/// the end. On an x86-64 with AVX2 the same loop is compiled for it (four
+/// f64 a vector instead of SSE2's two): the same operations in the same
+/// order (Rust contracts no multiply-add), so the same result, bit for bit.
+fn squared_second_differences(s: &[f64], b: &[f64], c: &[f64]) -> f64 {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has AVX2, checked just above.
+        return unsafe { squared_second_differences_avx2(s, b, c) };
+    }
+    lane_sums(s, b, c)
+}
+
+/// [`lane_sums`] compiled for AVX2.
+///
+/// # Safety
+/// Only on a CPU with AVX2 (an `unsafe fn`, not a safe one: the MSRV
+/// predates safe `#[target_feature]` functions).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn squared_second_differences_avx2(s: &[f64], b: &[f64], c: &[f64]) -> f64 {
+    lane_sums(s, b, c)
+}
+
+/// `x` as rows of [`LANES`] values (as arrays: the loop over them then
+/// has no bounds to check), and the values after the last full row.
+#[inline(always)]
+fn rows(x: &[f64]) -> (impl Iterator<Item = &[f64; LANES]>, &[f64]) {
+    let rows = x.chunks_exact(LANES);
+    let tail = rows.remainder();
+    // A chunk of chunks_exact has LANES values: the fallback is never taken.
+    (rows.map(|r| r.try_into().unwrap_or(&[0.0; LANES])), tail)
+}
+
+/// The sum of [`squared_second_differences`], in plain Rust for the
+/// compiler to vectorise for the target it is compiled for.
+#[inline(always)]
+fn lane_sums(s: &[f64], b: &[f64], c: &[f64]) -> f64 {
+    let n = s.len().min(b.len()).min(c.len());
+    let (s_rows, s_tail) = rows(&s[..n]);
+    let (b_rows, b_tail) = rows(&b[..n]);
+    let (c_rows, c_tail) = rows(&c[..n]);
+    let mut lanes = [0.0f64; LANES];
+    for ((s, b), c) in s_rows.zip(b_rows).zip(c_rows) {
+        for l in 0..LANES {
+            let d = (s[l] - b[l]) - (b[l] - c[l]);
+            lanes[l] += d * d;
+        }
+    }
+    for (l, ((s, b), c)) in s_tail.iter().zip(b_tail).zip(c_tail).enumerate() {
+        let d = (s - b) - (b - c);
+        lanes[l] += d * d;
+    }
+    // Pairwise: 8 → 4 → 2 → 1.
+    let mut width = LANES;
+    while width > 1 {
+        width /= 2;
+        for l in 0..width {
+            lanes[l] += lanes[l + width];
+        }
+    }
+    lanes[0]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use triad_lab::allan::accumulate::OctaveAccumulator;
+
+    fn record(n: u32) -> Vec<f64> {
+        (0..n)
+            .map(|i| f64::from(i.wrapping_mul(2_654_435_761) % 1000) * 1e-3 + 9.8)
+            .collect()
+    }
+
+    /// Every octave's estimates and counts as the one-sample accumulator
+    /// gives them, whatever the blocks' lengths (the buffer shifted many
+    /// times over): the same terms, summed in another order.
+    #[test]
+    fn blocks_of_any_length_give_the_one_sample_accumulator_results() {
+        let y = record(40_000);
+        let mut one = OctaveAccumulator::new(vec![0.0; 1 << 10], 9.8).unwrap();
+        for &v in &y {
+            one.push(v);
+        }
+        let want: Vec<OctaveResult> = one.results().collect();
+        assert_eq!(want.len(), 10, "m = 1 … 512");
+        for lengths in [&[1usize][..], &[7, 1000, 3], &[MAX_BLOCK], &[20_000]] {
+            let mut blocks = OctaveBlocks::new(1 << 10, 9.8).unwrap();
+            let mut at = 0;
+            for &n in lengths.iter().cycle() {
+                if at == y.len() {
+                    break;
+                }
+                let end = (at + n).min(y.len());
+                blocks.push(y[at..end].iter().copied());
+                at = end;
+            }
+            let got: Vec<OctaveResult> = blocks.results().collect();
+            assert_eq!(got.len(), want.len(), "{lengths:?}");
+            for (g, w) in got.iter().zip(&want) {
+                assert_eq!(
+                    (g.m, g.overlapping_terms, g.non_overlapping_terms),
+                    (w.m, w.overlapping_terms, w.non_overlapping_terms)
+                );
+                for (a, b) in [
+                    (g.overlapping, w.overlapping),
+                    (g.non_overlapping, w.non_overlapping),
+                ] {
+                    assert!((a - b).abs() <= 1e-12 * b, "m = {}: {a} against {b}", g.m);
+                }
+            }
+            assert_eq!(blocks.samples(), y.len() as u64);
+            assert!(blocks.sums.len() <= 2 * MAX_BLOCK.max(1 << 10) + 1);
+        }
+    }
+
+    /// The loop compiled for AVX2 (where the CPU has it) and the plain one
+    /// give the same sum, bit for bit, whatever the tail.
+    #[test]
+    fn the_vector_loop_is_the_plain_one_bit_for_bit() {
+        let y = record(1003);
+        for n in [0, 5, 8, 997, 1001] {
+            let (s, b, c) = (&y[2..2 + n], &y[1..1 + n], &y[..n]);
+            let plain = lane_sums(s, b, c);
+            let by_definition: f64 = (0..n)
+                .map(|i| ((s[i] - b[i]) - (b[i] - c[i])).powi(2))
+                .sum();
+            assert!(
+                (plain - by_definition).abs() <= 1e-13 * by_definition,
+                "{n}"
+            );
+            assert_eq!(
+                squared_second_differences(s, b, c).to_bits(),
+                plain.to_bits(),
+                "{n}"
+            );
+        }
+    }
+
+    /// A strided octave fed a block of sums at a time gives what the
+    /// one-sum-at-a-time one of the lab gives: the same terms and counts.
+    #[test]
+    fn strided_blocks_give_the_strided_octave_results() {
+        use triad_lab::allan::strided::StridedOctave;
+        let y = record(9_000);
+        let mut s = vec![0.0; y.len() + 1];
+        triad_lab::allan::direct::cumulative_sums(&y, 9.8, &mut s);
+        for m in [16u64, 64, 1024] {
+            let mut lab = StridedOctave::new(m, 8, vec![0.0; 16]).unwrap();
+            let mut blocks = StridedBlocks::new(m, 8).unwrap();
+            for (k, &sk) in s.iter().enumerate().skip(1) {
+                lab.push(k as u64, sk);
+            }
+            let mut start = 0;
+            for block in s[1..].chunks(777) {
+                blocks.push(start, block);
+                start += block.len() as u64;
+            }
+            let (g, w) = (blocks.result().unwrap(), lab.result().unwrap());
+            assert_eq!((blocks.m(), blocks.stride()), (m, m / 8));
+            assert_eq!(
+                (g.m, g.overlapping_terms, g.non_overlapping_terms),
+                (w.m, w.overlapping_terms, w.non_overlapping_terms)
+            );
+            assert!((g.overlapping - w.overlapping).abs() <= 1e-12 * w.overlapping);
+            assert!((g.non_overlapping - w.non_overlapping).abs() <= 1e-12 * w.non_overlapping);
+        }
+        assert!(StridedBlocks::new(8, 8).is_err());
+        assert!(StridedBlocks::new(24, 8).is_err());
+        assert!(StridedBlocks::new(1 << 20, 1 << 10)
+            .unwrap()
+            .result()
+            .is_none());
+    }
+
+    #[test]
+    fn a_short_record_has_the_octaves_it_reaches_and_bad_settings_are_refused() {
+        let mut blocks = OctaveBlocks::new(1 << 20, 0.0).unwrap();
+        blocks.push(record(9).into_iter());
+        // 2m ≤ 9: m = 1, 2, 4.
+        assert_eq!(blocks.results().count(), 3);
+        assert_eq!(blocks.last_block(9).len(), 9);
+        assert!(OctaveBlocks::new(3, 0.0).is_err());
+        assert!(OctaveBlocks::new(0, 0.0).is_err());
+        assert!(OctaveBlocks::new(4, f64::NAN).is_err());
+    }
+}
