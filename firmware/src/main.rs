@@ -102,6 +102,7 @@ mod app {
         on_data_ready, on_fifo_ready, sample_period_us, CommandHandler, Control, Handled,
         LoadWindow, Outgoing, Sampler, SensorHealth, StallWatch, Stepped, Task,
     };
+    use triad::device::{SlotConsumer, SlotProducer, SlotQueue};
     use triad::protocol::Decoder;
     use triad::protocol::{Reply, MAX_WIRE_LEN};
     use triad::sensor::{SelfTestError, SelfTestReport};
@@ -126,6 +127,9 @@ mod app {
     #[local]
     struct Local {
         sample_line: <B as Board>::SampleLine,
+        /// The board's own interrupt's: the stall watch, ticked once per
+        /// data-ready period.
+        watch: StallWatch,
         clock: <B as Board>::Clock,
         /// The chip: the data-ready task's, but the idle task's while it
         /// runs the chip's self-test.
@@ -133,8 +137,8 @@ mod app {
         sampler: Sampler,
         /// Stalls and restarts of the sensor (the data-ready task's).
         health: SensorHealth,
-        /// data_ready → transmit: frames (woken by [`OUTGOING`]).
-        frames_in: Producer<'static, Outgoing>,
+        /// data_ready → transmit: frames, written in their slots (woken by [`OUTGOING`]).
+        frames_in: SlotProducer<'static, Outgoing, QUEUE_LEN>,
         /// commands → data_ready: changes, applied between two samples.
         controls_out: Receiver<'static, Control, 2>,
         /// commands → data_ready: a self-test to run (its sequence number).
@@ -165,13 +169,13 @@ mod app {
         self_tests_done_out: Receiver<'static, SelfTestDone, 1>,
         // The transmitter's.
         serial: <B as Board>::Serial,
-        frames_out: Consumer<'static, Outgoing>,
+        frames_out: SlotConsumer<'static, Outgoing, QUEUE_LEN>,
         replies_out: Receiver<'static, Reply, 1>,
     }
 
     #[init(local = [
         rx: Queue<u8, RX_QUEUE_LEN> = Queue::new(),
-        frames: Queue<Outgoing, QUEUE_LEN> = Queue::new(),
+        frames: SlotQueue<Outgoing, QUEUE_LEN> = SlotQueue::new(Outgoing::EMPTY),
     ])]
     fn init(cx: init::Context) -> (Shared, Local) {
         let b = B::init(cx.device, &SETTINGS);
@@ -181,7 +185,6 @@ mod app {
         let step_us = sample_period_us(
             started.sensor.sample_rate_hz() / f64::from(SETTINGS.watermark.max(1)),
         );
-        crate::stall::set_tick_us(step_us);
         let (frames_in, frames_out) = cx.local.frames.split();
         let (replies, replies_out) = make_channel!(Reply, 1);
         let (rx_in, rx_out) = cx.local.rx.split();
@@ -201,6 +204,7 @@ mod app {
             Shared {},
             Local {
                 sample_line,
+                watch: StallWatch::new(step_us),
                 clock: b.clock,
                 sensor: Some(started.sensor),
                 sampler: started.sampler,
@@ -297,7 +301,7 @@ mod app {
     /// keeps the stall watch: a sensor silent for 50 ms gets the data-ready
     /// task pended to check it (the NUCLEO's independent watchdog resets a
     /// board whose data-ready task read no sample for 10 s instead).
-    #[task(binds = BOARD_OWN, priority = 4, local = [watch: Option<StallWatch> = None])]
+    #[task(binds = BOARD_OWN, priority = 4, local = [watch])]
     fn board_own(cx: board_own::Context) {
         let run = crate::run_time::begin();
         let done = B::own_interrupt();
@@ -420,7 +424,7 @@ mod app {
                 sensor,
                 l.sampler,
                 |sensor| B::data_ready(sensor, SETTINGS.watermark),
-                |frame| frames_in.enqueue(frame).is_ok(),
+                frames_in,
             );
             if let Some(error) = &stepped.read_failed {
                 defmt::warn!("FIFO read failed: {}", defmt::Debug2Format(error));
@@ -449,8 +453,9 @@ mod app {
         if l.health.read(read) {
             restart(sensor, l.health);
         }
+        // The health's totals change only at a stall or a restart, where
+        // they are published; the sampler's at every step.
         COUNTERS.publish(l.sampler.totals(), l.sampler.uptime_ms());
-        COUNTERS.publish_health(l.health.totals());
         crate::queue_marks::frames(frames_in.len());
         if queued {
             OUTGOING.wake();
@@ -472,6 +477,7 @@ mod app {
         let mut delay = <B as Board>::Delay::default();
         let restarted = sensor.start_with(&mut delay, &SETTINGS);
         health.restarted(restarted.is_ok());
+        COUNTERS.publish_health(health.totals());
         if restarted.is_ok() {
             defmt::warn!("sensor restarted ({} so far)", health.totals().restarts);
         }
@@ -573,13 +579,13 @@ mod app {
                     blocked = Some((n, true));
                     break;
                 }
-                let _ = l.frames_out.dequeue();
+                l.frames_out.release();
             }
             crate::run_time::end(run, Task::Link);
             if let Some((n, frame)) = blocked {
                 wire::queue(l.serial, &l.buffer[..n]).await;
                 if frame {
-                    let _ = l.frames_out.dequeue();
+                    l.frames_out.release();
                 }
             }
         }

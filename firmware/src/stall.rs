@@ -6,7 +6,7 @@
 //! Plain loads and stores: a step that begins between the watch's load and
 //! its store goes unseen for one period, which is 1 of the 50 ms a stall takes.
 
-use core::sync::atomic::{AtomicBool, AtomicU32, Ordering};
+use core::sync::atomic::{AtomicBool, Ordering};
 use triad::device::StallWatch;
 
 /// A data-ready step began since the watch's last tick.
@@ -15,8 +15,6 @@ static STEPPED: AtomicBool = AtomicBool::new(false);
 static IN_STEP: AtomicBool = AtomicBool::new(false);
 /// The watch asked the data-ready task to check the sensor.
 static CHECK: AtomicBool = AtomicBool::new(false);
-/// The watch's tick, µs (0 until set at start-up).
-static TICK_US: AtomicU32 = AtomicU32::new(0);
 
 /// A data-ready step, from its start to its end.
 pub struct Step;
@@ -36,19 +34,10 @@ impl Drop for Step {
     }
 }
 
-/// The watch ticks every `tick_us` (one data-ready period).
-pub fn set_tick_us(tick_us: u32) {
-    TICK_US.store(tick_us, Ordering::Relaxed);
-}
-
-/// One tick of the watch (its task only); true when it asked for a check,
-/// which the caller then pends the data-ready task for.
-pub fn tick(watch: &mut Option<StallWatch>) -> bool {
-    let tick_us = TICK_US.load(Ordering::Relaxed);
-    if tick_us == 0 {
-        return false;
-    }
-    let watch = watch.get_or_insert_with(|| StallWatch::new(tick_us));
+/// One tick of the watch (made at start-up with the data-ready period;
+/// its task only); true when it asked for a check, which the caller then
+/// pends the data-ready task for.
+pub fn tick(watch: &mut StallWatch) -> bool {
     let stepped = STEPPED.load(Ordering::Relaxed) || IN_STEP.load(Ordering::Relaxed);
     STEPPED.store(false, Ordering::Relaxed);
     let check = watch.tick(stepped);

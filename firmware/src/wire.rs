@@ -6,11 +6,10 @@
 
 use core::future::poll_fn;
 use core::task::Poll;
-use heapless::spsc::Consumer;
 use rtic_common::waker_registration::CriticalSectionWakerRegistration;
 use rtic_sync::channel::Receiver;
 use triad::device::board::LinkTx;
-use triad::device::Outgoing;
+use triad::device::{Outgoing, SlotConsumer};
 use triad::protocol::{Reply, MAX_WIRE_LEN};
 
 /// Woken when a frame or a reply is waiting.
@@ -20,8 +19,8 @@ pub static OUTGOING: CriticalSectionWakerRegistration = CriticalSectionWakerRegi
 pub static TX_ROOM: CriticalSectionWakerRegistration = CriticalSectionWakerRegistration::new();
 
 /// Returns once a frame or a reply is waiting.
-pub async fn something_to_send<const N: usize>(
-    frames: &Consumer<'static, Outgoing>,
+pub async fn something_to_send<const F: usize, const N: usize>(
+    frames: &SlotConsumer<'static, Outgoing, F>,
     replies: &Receiver<'static, Reply, N>,
 ) {
     let waiting = || frames.ready() || !replies.is_empty();
