@@ -27,8 +27,10 @@
 //!   command task; never waits. On the emulated board it also drains the
 //!   transmit ring (QEMU's USART has no DMA).
 //! - `commands` (async, priority 1, run from DISPATCH: EXTI1): decodes received commands and answers
-//!   each through the core's `CommandHandler`; its replies wait for room in
-//!   the transmit channel (never dropped).
+//!   each through the core's `CommandHandler`, which writes the reply where
+//!   it keeps it; the task encodes it from there to wire bytes in the reply
+//!   slot, awaiting the slot while the previous reply is sent (a reply is
+//!   never dropped, nor copied between tasks).
 //! - `transmit` (async, priority 1): puts replies and frames on the line,
 //!   awaiting room in the transmit ring when it is full. Neither async task
 //!   spins: each awaits a channel, a queue's waker or the ring's room.
@@ -92,19 +94,19 @@ mod wire;
 #[rtic::app(device = crate::board::vectors, dispatchers = [DISPATCH])]
 mod app {
     use crate::received::{self, RX_WAKER};
-    use crate::wire::{self, OUTGOING, TX_ROOM};
+    use crate::wire::{self, ReplyIn, ReplyOut, ReplyWire, OUTGOING, REPLY_ROOM, TX_ROOM};
     use crate::{COUNTERS, QUEUE_LEN, RX_QUEUE_LEN, SETTINGS};
     use heapless::spsc::{Consumer, Producer, Queue};
     use rtic_sync::channel::{Receiver, Sender};
     use rtic_sync::make_channel;
     use triad::device::board::{Board, DataReadyLine, LinkRx, LinkTx};
     use triad::device::{
-        on_data_ready, on_fifo_ready, sample_period_us, CommandHandler, Control, Handled,
+        on_data_ready, on_fifo_ready, sample_period_us, Answer, CommandHandler, Control,
         LoadWindow, Outgoing, Sampler, SensorHealth, StallWatch, Stepped, Task,
     };
     use triad::device::{SlotConsumer, SlotProducer, SlotQueue};
     use triad::protocol::Decoder;
-    use triad::protocol::{Reply, MAX_WIRE_LEN};
+    use triad::protocol::MAX_WIRE_LEN;
     use triad::sensor::{SelfTestError, SelfTestReport};
 
     /// The board, through its contract.
@@ -162,20 +164,21 @@ mod app {
         handler: CommandHandler<<B as Board>::Flash>,
         decoder: Decoder,
         rx_out: Consumer<'static, u8>,
-        /// commands → transmit: replies.
-        replies: Sender<'static, Reply, 1>,
+        /// commands → transmit: the reply slot (woken by [`wire::OUTGOING`]).
+        replies: ReplyOut,
         controls_in: Sender<'static, Control, 2>,
         self_tests_in: Sender<'static, u16, 1>,
         self_tests_done_out: Receiver<'static, SelfTestDone, 1>,
         // The transmitter's.
         serial: <B as Board>::Serial,
         frames_out: SlotConsumer<'static, Outgoing, QUEUE_LEN>,
-        replies_out: Receiver<'static, Reply, 1>,
+        replies_out: ReplyIn,
     }
 
     #[init(local = [
         rx: Queue<u8, RX_QUEUE_LEN> = Queue::new(),
         frames: SlotQueue<Outgoing, QUEUE_LEN> = SlotQueue::new(Outgoing::EMPTY),
+        reply_slot: SlotQueue<ReplyWire, 1> = SlotQueue::new(ReplyWire::EMPTY),
     ])]
     fn init(cx: init::Context) -> (Shared, Local) {
         let b = B::init(cx.device, &SETTINGS);
@@ -186,7 +189,7 @@ mod app {
             started.sensor.sample_rate_hz() / f64::from(SETTINGS.watermark.max(1)),
         );
         let (frames_in, frames_out) = cx.local.frames.split();
-        let (replies, replies_out) = make_channel!(Reply, 1);
+        let (replies, replies_out) = cx.local.reply_slot.split();
         let (rx_in, rx_out) = cx.local.rx.split();
         let (controls_in, controls_out) = make_channel!(Control, 2);
         let (self_tests_in, self_tests_out) = make_channel!(u16, 1);
@@ -520,35 +523,35 @@ mod app {
         loop {
             let byte = received::next_byte(l.rx_out).await;
             let run = crate::run_time::begin();
-            let Some(decoded) = l.decoder.push(byte) else {
+            let Some(completed) = l.decoder.push_command(byte) else {
                 crate::run_time::end(run, Task::Link);
                 continue;
             };
             let controls_in = &mut *l.controls_in;
-            let handled = l.handler.on_packet(
-                &decoded,
-                l.decoder.last_packet_bytes(),
-                &COUNTERS,
-                &mut |control| controls_in.try_send(control).is_ok(),
-            );
-            crate::run_time::end(run, Task::Link);
-            let reply = match handled {
-                Handled::Reply(reply) => reply,
-                Handled::SelfTest { sequence } => {
+            let answer = l
+                .handler
+                .answer_received(&completed, &COUNTERS, &mut |control| {
+                    controls_in.try_send(control).is_ok()
+                });
+            match answer {
+                Answer::Reply(reply) => {
+                    crate::run_time::end(run, Task::Link);
+                    // Its encoding is timed as the link's in the send.
+                    wire::send_reply(l.replies, reply).await;
+                }
+                Answer::SelfTest { sequence } => {
+                    crate::run_time::end(run, Task::Link);
                     if l.self_tests_in.try_send(sequence).is_err() {
                         continue;
                     }
                     let Ok((sequence, result)) = l.self_tests_done_out.recv().await else {
                         return;
                     };
-                    l.handler.self_test_reply(sequence, &result)
+                    let reply = l.handler.self_test_reply(sequence, &result);
+                    wire::send_reply(l.replies, &reply).await;
                 }
-                Handled::Nothing => continue,
-            };
-            if l.replies.send(reply).await.is_err() {
-                return;
+                Answer::Nothing => crate::run_time::end(run, Task::Link),
             }
-            OUTGOING.wake();
         }
     }
 
@@ -564,10 +567,12 @@ mod app {
             wire::something_to_send(l.frames_out, l.replies_out).await;
             let run = crate::run_time::begin();
             let mut blocked = None;
-            if let Ok(reply) = l.replies_out.try_recv() {
-                let n = wire::reply_to_wire(&reply, l.buffer);
-                if !l.serial.queue(&l.buffer[..n]) {
-                    blocked = Some((n, false));
+            if let Some(reply) = l.replies_out.peek() {
+                if l.serial.queue(reply.as_bytes()) {
+                    l.replies_out.release();
+                    REPLY_ROOM.wake();
+                } else {
+                    blocked = Some(Blocked::Reply);
                 }
             }
             while blocked.is_none() {
@@ -576,19 +581,34 @@ mod app {
                 };
                 let n = frame.to_wire(l.buffer);
                 if !l.serial.queue(&l.buffer[..n]) {
-                    blocked = Some((n, true));
+                    blocked = Some(Blocked::Frame(n));
                     break;
                 }
                 l.frames_out.release();
             }
             crate::run_time::end(run, Task::Link);
-            if let Some((n, frame)) = blocked {
-                wire::queue(l.serial, &l.buffer[..n]).await;
-                if frame {
+            match blocked {
+                Some(Blocked::Reply) => {
+                    if let Some(reply) = l.replies_out.peek() {
+                        wire::queue(l.serial, reply.as_bytes()).await;
+                    }
+                    l.replies_out.release();
+                    REPLY_ROOM.wake();
+                }
+                Some(Blocked::Frame(n)) => {
+                    wire::queue(l.serial, &l.buffer[..n]).await;
                     l.frames_out.release();
                 }
+                None => {}
             }
         }
+    }
+
+    /// What the transmit ring had no room for: the reply in its slot, or
+    /// the frame at the queue's head, encoded in the buffer (its length).
+    enum Blocked {
+        Reply,
+        Frame(usize),
     }
 }
 

@@ -25,7 +25,7 @@ pub mod step_monitor;
 pub mod storage;
 pub mod tx_ring;
 
-pub use commands::{ActiveCalibration, CommandHandler, DeviceFacts, Handled};
+pub use commands::{ActiveCalibration, Answer, CommandHandler, DeviceFacts, Handled};
 pub use control::Control;
 pub use counters::{SamplerTotals, SharedCounters};
 pub use data_ready::{on_data_ready, on_fifo_ready, Stepped};
