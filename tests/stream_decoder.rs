@@ -425,9 +425,7 @@ fn device_counters_are_summed() {
 /// data frames, replies, damaged and cut packets, garbage.
 #[test]
 fn the_device_decoder_completes_what_push_completes() {
-    use triad::protocol::{
-        Command, Mode, Packet, Payload, Received, Reply, Status, MAX_WIRE_LEN,
-    };
+    use triad::protocol::{Command, Mode, Packet, Payload, Received, Reply, Status, MAX_WIRE_LEN};
     let mut rng = SmallRng::seed_from_u64(25);
     let mut bytes = Vec::new();
     for round in 0u16..400 {

@@ -42,12 +42,16 @@
 //!   did not measure meanwhile (`overruns`, flag SELF_TEST).
 //!
 //! Frames go from `data_ready` to `transmit` through a lock-free
-//! single-producer queue and a waker, not an rtic-sync channel: a frame is
-//! up to 232 bytes, and the channel's send and receive (each a critical
-//! section, each a copy of the item, and the executor's wake-up per frame)
-//! cost about 90 instructions per sample more at 8 kHz (measured, see
-//! docs/BENCHMARKS.md); the transmitter encodes a frame where it lies in
-//! the queue.
+//! single-producer queue of slots (`triad::device::SlotQueue`) and a
+//! waker, not an rtic-sync channel: a frame is up to 232 bytes, and the
+//! channel's send and receive (each a critical section, each a copy of the
+//! item, and the executor's wake-up per frame) cost about 90 instructions
+//! per sample more at 8 kHz (measured, see docs/BENCHMARKS.md). The sampler
+//! writes each batch where it lies in its slot and the transmitter encodes
+//! it from there: no frame is built apart and copied (about 95 instructions
+//! per sample at 8 kHz with W = 32). Replies likewise: the command task
+//! encodes the reply the handler wrote in place straight into the one
+//! reply slot the transmitter reads.
 #![no_std]
 #![no_main]
 
@@ -330,9 +334,11 @@ mod app {
         let _step = crate::stall::Step::begin();
         let run = crate::run_time::begin();
         let model = B::model_cycles();
-        let l = cx.local;
-        // The window closes here; its log waits until the sample is read,
-        // so that writing it does not delay the step's timestamp.
+        let mut l = cx.local;
+        step(&mut l);
+        // The window closes at this step's start (`run.start()`), but its
+        // bookkeeping and its log wait until the sample is read, so that
+        // they never delay the step's timestamp.
         let closed = l
             .load_window
             .tick(run.start(), B::CYCLES_HZ, &COUNTERS.load);
@@ -346,7 +352,6 @@ mod app {
         // The second window first (the first full second of steady
         // sampling: `cargo xtask bench` reads it), then every tenth.
         let log = closed.filter(|_| *l.windows % LOG_LOAD_EVERY == 2);
-        step(l);
         if let Some(shares) = log {
             let load = COUNTERS.load.load(B::CYCLES_HZ);
             defmt::info!(
@@ -383,7 +388,7 @@ mod app {
     // A frame the channel has no room for comes back (the sampler counts it
     // dropped and carries its events on): the large `Err` is that frame.
     #[allow(clippy::result_large_err)]
-    fn step(l: data_ready::LocalResources<'_>) {
+    fn step(l: &mut data_ready::LocalResources<'_>) {
         // The handler's changes take effect here, between two samples.
         while let Ok(control) = l.controls_out.try_recv() {
             l.sampler.apply(control);
@@ -419,7 +424,7 @@ mod app {
             COUNTERS.publish_health(l.health.totals());
             return;
         }
-        let frames_in = l.frames_in;
+        let frames_in = &mut *l.frames_in;
         let (queued, read) = if SETTINGS.watermark > 1 {
             let stepped = on_fifo_ready(
                 l.sample_line,

@@ -187,21 +187,21 @@ impl Decoder {
         // Checked, then read again below for the borrow's sake: a command
         // is its checked bytes less the version, type and CRC. Any other
         // packet is read whole (`None`: a command).
-        let checked = self.finish_frame().and_then(|len| {
-            match PacketRef::check(&self.raw[..len])? {
-                PacketRef::V2 {
-                    kind: PacketType::Command,
-                    body,
-                } => match CommandRef::parse(body) {
-                    Some(_) => Ok(None),
-                    None => Err(DecodeError::Body {
-                        kind: PacketType::Command as u8,
-                        len: body.len(),
-                    }),
-                },
-                other => other.parse().map(Some),
-            }
-        });
+        let checked =
+            self.finish_frame()
+                .and_then(|len| match PacketRef::check(&self.raw[..len])? {
+                    PacketRef::V2 {
+                        kind: PacketType::Command,
+                        body,
+                    } => match CommandRef::parse(body) {
+                        Some(_) => Ok(None),
+                        None => Err(DecodeError::Body {
+                            kind: PacketType::Command as u8,
+                            len: body.len(),
+                        }),
+                    },
+                    other => other.parse().map(Some),
+                });
         let other = match checked {
             Ok(other) => other,
             Err(error) => {
