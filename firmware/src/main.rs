@@ -181,7 +181,7 @@ mod app {
 
     #[init(local = [
         rx: Queue<u8, RX_QUEUE_LEN> = Queue::new(),
-        frames: SlotQueue<Outgoing, QUEUE_LEN> = SlotQueue::new(Outgoing::EMPTY),
+        frames: SlotQueue<Outgoing, QUEUE_LEN> = SlotQueue::new(crate::wire::NO_FRAME),
         reply_slot: SlotQueue<ReplyWire, 1> = SlotQueue::new(ReplyWire::EMPTY),
     ])]
     fn init(cx: init::Context) -> (Shared, Local) {

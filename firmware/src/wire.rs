@@ -12,7 +12,7 @@ use core::task::Poll;
 use rtic_common::waker_registration::CriticalSectionWakerRegistration;
 use triad::device::board::LinkTx;
 use triad::device::{Outgoing, SlotConsumer, SlotProducer, Task};
-use triad::protocol::{Reply, MAX_WIRE_LEN};
+use triad::protocol::{Flags, Frame, Reply, MAX_WIRE_LEN};
 
 /// Woken when a frame or a reply is waiting.
 pub static OUTGOING: CriticalSectionWakerRegistration = CriticalSectionWakerRegistration::new();
@@ -22,6 +22,23 @@ pub static TX_ROOM: CriticalSectionWakerRegistration = CriticalSectionWakerRegis
 
 /// Woken by the transmitter when the reply slot is free again.
 pub static REPLY_ROOM: CriticalSectionWakerRegistration = CriticalSectionWakerRegistration::new();
+
+/// What the frame queue's slots hold before their first frame: all zero
+/// bits, so that the queue (7.4 KiB) is zeroed at start-up (`.bss`), not
+/// copied from an image in flash (`.data`). The first frame written into
+/// each slot is a batch built apart and copied in; every later one is
+/// written in place.
+pub const NO_FRAME: Outgoing = Outgoing::Data(Frame {
+    sequence: 0,
+    timestamp_us: 0,
+    flags: Flags::empty(),
+    overruns: 0,
+    dropped: 0,
+    calibration_id: 0,
+    accel: [0.0; 3],
+    gyro: [0.0; 3],
+    temperature: 0.0,
+});
 
 /// A reply on the wire: stuffed, delimited.
 #[derive(Clone, Copy)]
