@@ -10,7 +10,7 @@ mod model_support;
 use std::collections::VecDeque;
 
 use model_support::*;
-use triad::device::{Outgoing, Sampler};
+use triad::device::{Outgoing, Sampler, SlotQueue};
 use triad::model::{BatchKernel, Corrector, Orientation};
 use triad::protocol::Flags;
 use triad::protocol::{Mode, MAX_BATCH};
@@ -212,6 +212,51 @@ fn a_full_link_queue_drops_and_counts_and_the_next_frame_carries_it() {
     assert_eq!(b.dropped, 2);
     assert!(b.flags.contains(Flags::DROPPED));
     assert_eq!(b.sequence, 0, "a dropped frame gives its number back");
+}
+
+#[test]
+fn frames_written_in_the_link_queues_slots_are_the_frames_given_by_value() {
+    // The firmware's queue (frames built in its slots, none built when it is
+    // full) against the by-value form (built, then refused): the same
+    // frames, the same counts, the same bytes on the wire.
+    let (mut fifo_a, mut by_value, _) = setup(21);
+    let (mut fifo_b, mut in_place, _) = setup(21);
+    // Slots that start as data frames (the firmware's zeroed queue): the
+    // first batch into each is built apart and copied in, the later ones
+    // are written in place.
+    let mut queue = SlotQueue::<Outgoing, 2>::new(Outgoing::Data(Default::default()));
+    let (mut slots, mut link) = queue.split();
+    let mut wire_a = [0u8; triad::protocol::MAX_WIRE_LEN];
+    let mut wire_b = [0u8; triad::protocol::MAX_WIRE_LEN];
+    // 70 samples: five batches, the last of 6 (slots reused hold 16).
+    for (step, n) in [(0u32, 70usize), (1, 70), (2, 40), (3, 3)] {
+        fill(&mut fifo_a, 22 + u64::from(step), n);
+        fill(&mut fifo_b, 22 + u64::from(step), n);
+        let now_us = 10_000 * (step + 1);
+        let mut room = 2;
+        let mut given = Vec::new();
+        let a = by_value.step_fifo(&mut fifo_a, now_us, |f| {
+            let queued = room > 0;
+            if queued {
+                room -= 1;
+                given.push(f);
+            }
+            queued
+        });
+        let b = in_place.step_fifo_into(&mut fifo_b, now_us, &mut slots);
+        assert_eq!(a, b, "step {step}");
+        assert_eq!(by_value.totals(), in_place.totals(), "step {step}");
+        let mut taken = Vec::new();
+        while let Some(frame) = link.peek() {
+            taken.push(*frame);
+            link.release();
+        }
+        assert_eq!(given, taken, "step {step}");
+        for (a, b) in given.iter().zip(&taken) {
+            let (na, nb) = (a.to_wire(&mut wire_a), b.to_wire(&mut wire_b));
+            assert_eq!(wire_a[..na], wire_b[..nb], "step {step}");
+        }
+    }
 }
 
 #[test]

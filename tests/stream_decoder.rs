@@ -418,3 +418,81 @@ fn device_counters_are_summed() {
     assert_eq!(s.device_overruns, 1 + 65535);
     assert_eq!(s.device_dropped, 3 + 65535);
 }
+
+/// A device's decoder (`push_command`: a command read where it lies, no
+/// packet copied) completes exactly what `push` completes, at the same
+/// bytes, with the same rejections and counters: commands of every kind,
+/// data frames, replies, damaged and cut packets, garbage.
+#[test]
+fn the_device_decoder_completes_what_push_completes() {
+    use triad::protocol::{Command, Mode, Packet, Payload, Received, Reply, Status, MAX_WIRE_LEN};
+    let mut rng = SmallRng::seed_from_u64(25);
+    let mut bytes = Vec::new();
+    for round in 0u16..400 {
+        let command = match round % 6 {
+            0 => Command::Identify,
+            1 => Command::SetMode(Mode::Raw),
+            2 => Command::SetDecimation(round),
+            3 => Command::UploadChunk {
+                offset: round,
+                data: Payload::new(&[0, 7, 0, 9][..usize::from(round % 5).min(4)]).unwrap(),
+            },
+            4 => Command::ReadCalibration { offset: 0 },
+            _ => Command::ResetCounters,
+        };
+        let mut wire = [0u8; MAX_WIRE_LEN];
+        let n = command.to_packet(round).unwrap().to_wire(&mut wire);
+        let mut packet = wire[..n].to_vec();
+        match rng.random_range(0..8) {
+            // A flipped bit (CRC error, or broken stuffing), a cut packet.
+            0 => {
+                let at = rng.random_range(0..packet.len());
+                packet[at] ^= 1 << rng.random_range(0..8);
+            }
+            1 => packet.truncate(rng.random_range(0..packet.len())),
+            _ => {}
+        }
+        bytes.extend(packet);
+        match rng.random_range(0..4) {
+            0 => bytes.extend(encoded(&frame(u32::from(round)))),
+            1 => {
+                let reply = Reply {
+                    sequence: round,
+                    command: 1,
+                    status: Status::Ok,
+                    payload: Payload::EMPTY,
+                };
+                let n = reply.to_wire(&mut wire).unwrap();
+                bytes.extend(&wire[..n]);
+            }
+            2 => bytes.extend((0..rng.random_range(1..9)).map(|_| rng.random::<u8>())),
+            _ => {}
+        }
+    }
+    let (mut by_value, mut in_place) = (Decoder::new(), Decoder::new());
+    let mut commands = 0;
+    for &byte in &bytes {
+        let expected = by_value.push(byte);
+        let got = in_place.push_command(byte);
+        match (expected, got) {
+            (None, None) => {}
+            (Some(expected), Some(got)) => {
+                assert_eq!(got.bytes, by_value.last_packet_bytes());
+                match (expected, got.decoded) {
+                    (Ok(Packet::Command(c)), Ok(Received::Command(r))) => {
+                        assert_eq!(c.as_ref(), r);
+                        commands += 1;
+                    }
+                    (Ok(Packet::Command(c)), other) => panic!("{c:?} came as {other:?}"),
+                    (Ok(_), Ok(Received::Other)) => {}
+                    (Err(e), Err(g)) => assert_eq!(e, g),
+                    (e, g) => panic!("push gave {e:?}, push_command {g:?}"),
+                }
+            }
+            (e, g) => panic!("push gave {e:?}, push_command {:?}", g.map(|g| g.decoded)),
+        }
+    }
+    assert_eq!(by_value.stats(), in_place.stats());
+    assert!(commands > 200, "{commands} commands");
+    assert!(by_value.stats().crc_errors > 0 && by_value.stats().malformed > 0);
+}

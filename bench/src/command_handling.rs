@@ -1,7 +1,8 @@
 //! What a command costs the firmware's `link` task: the receive decoder
-//! over the command's wire bytes ([`Decoder::push`]), the handler
-//! ([`CommandHandler::on_packet`]) and the reply encoded to wire bytes
-//! ([`triad::protocol::Reply::to_packet`], [`PacketBuf::to_wire`]), as the task runs them
+//! over the command's wire bytes ([`Decoder::push_command`]: the command
+//! read where it lies), the handler ([`CommandHandler::answer_received`],
+//! its reply written where the handler keeps it) and the reply encoded from there to wire bytes where they go
+//! ([`triad::protocol::Reply::to_wire`]), as the task runs them
 //! (firmware/src/main.rs), over a [`RamFlash`] that counts its operations.
 //! Sending the reply (the transmitter) is not counted: it is the link's time.
 //!
@@ -21,7 +22,7 @@ use super::inputs;
 use super::kernels::Meter;
 use super::ram_flash::{FlashOps, RamFlash, ERASE_SIZE, UNITS};
 use triad::device::{
-    ActiveCalibration, CalibrationStore, CommandHandler, Control, DeviceFacts, Handled,
+    ActiveCalibration, Answer, CalibrationStore, CommandHandler, Control, DeviceFacts,
     SharedCounters, StorageError,
 };
 use triad::model::blob::{self, BLOB_LEN};
@@ -341,23 +342,18 @@ impl Wire {
 pub fn handle_command(link: &mut Link, wire: &[u8], reply: &mut [u8; MAX_WIRE_LEN]) -> usize {
     let mut len = 0;
     for &byte in wire {
-        let Some(decoded) = link.decoder.push(byte) else {
+        let Some(completed) = link.decoder.push_command(byte) else {
             continue;
         };
         let control = &mut link.control;
-        let handled = link.handler.on_packet(
-            &decoded,
-            link.decoder.last_packet_bytes(),
-            &link.counters,
-            &mut |c| {
+        let answer = link
+            .handler
+            .answer_received(&completed, &link.counters, &mut |c| {
                 *control = Some(c);
                 true
-            },
-        );
-        if let Handled::Reply(r) = handled {
-            if let Ok(packet) = r.to_packet() {
-                len = packet.to_wire(reply);
-            }
+            });
+        if let Answer::Reply(r) = answer {
+            len = r.to_wire(reply).unwrap_or(0);
         }
     }
     len

@@ -27,8 +27,10 @@
 //!   command task; never waits. On the emulated board it also drains the
 //!   transmit ring (QEMU's USART has no DMA).
 //! - `commands` (async, priority 1, run from DISPATCH: EXTI1): decodes received commands and answers
-//!   each through the core's `CommandHandler`; its replies wait for room in
-//!   the transmit channel (never dropped).
+//!   each through the core's `CommandHandler`, which writes the reply where
+//!   it keeps it; the task encodes it from there to wire bytes in the reply
+//!   slot, awaiting the slot while the previous reply is sent (a reply is
+//!   never dropped, nor copied between tasks).
 //! - `transmit` (async, priority 1): puts replies and frames on the line,
 //!   awaiting room in the transmit ring when it is full. Neither async task
 //!   spins: each awaits a channel, a queue's waker or the ring's room.
@@ -40,12 +42,16 @@
 //!   did not measure meanwhile (`overruns`, flag SELF_TEST).
 //!
 //! Frames go from `data_ready` to `transmit` through a lock-free
-//! single-producer queue and a waker, not an rtic-sync channel: a frame is
-//! up to 232 bytes, and the channel's send and receive (each a critical
-//! section, each a copy of the item, and the executor's wake-up per frame)
-//! cost about 90 instructions per sample more at 8 kHz (measured, see
-//! docs/BENCHMARKS.md); the transmitter encodes a frame where it lies in
-//! the queue.
+//! single-producer queue of slots (`triad::device::SlotQueue`) and a
+//! waker, not an rtic-sync channel: a frame is up to 232 bytes, and the
+//! channel's send and receive (each a critical section, each a copy of the
+//! item, and the executor's wake-up per frame) cost about 90 instructions
+//! per sample more at 8 kHz (measured, see docs/BENCHMARKS.md). The sampler
+//! writes each batch where it lies in its slot and the transmitter encodes
+//! it from there: no frame is built apart and copied (about 95 instructions
+//! per sample at 8 kHz with W = 32). Replies likewise: the command task
+//! encodes the reply the handler wrote in place straight into the one
+//! reply slot the transmitter reads.
 #![no_std]
 #![no_main]
 
@@ -92,18 +98,19 @@ mod wire;
 #[rtic::app(device = crate::board::vectors, dispatchers = [DISPATCH])]
 mod app {
     use crate::received::{self, RX_WAKER};
-    use crate::wire::{self, OUTGOING, TX_ROOM};
+    use crate::wire::{self, ReplyIn, ReplyOut, ReplyWire, OUTGOING, REPLY_ROOM, TX_ROOM};
     use crate::{COUNTERS, QUEUE_LEN, RX_QUEUE_LEN, SETTINGS};
     use heapless::spsc::{Consumer, Producer, Queue};
     use rtic_sync::channel::{Receiver, Sender};
     use rtic_sync::make_channel;
     use triad::device::board::{Board, DataReadyLine, LinkRx, LinkTx};
     use triad::device::{
-        on_data_ready, on_fifo_ready, CommandHandler, Control, Handled, LoadWindow, Outgoing,
+        on_data_ready, on_fifo_ready, Answer, CommandHandler, Control, LoadWindow, Outgoing,
         Sampler, SensorHealth, StallWatch, Stepped, Task,
     };
+    use triad::device::{SlotConsumer, SlotProducer, SlotQueue};
     use triad::protocol::Decoder;
-    use triad::protocol::{Reply, MAX_WIRE_LEN};
+    use triad::protocol::MAX_WIRE_LEN;
     use triad::sensor::{SelfTestError, SelfTestReport};
 
     /// The board, through its contract.
@@ -140,8 +147,8 @@ mod app {
         found_in: Sender<'static, ChipFacts, 1>,
         /// Stalls and restarts of the sensor (the data-ready task's).
         health: SensorHealth,
-        /// data_ready → transmit: frames (woken by [`OUTGOING`]).
-        frames_in: Producer<'static, Outgoing>,
+        /// data_ready → transmit: frames, written in their slots (woken by [`OUTGOING`]).
+        frames_in: SlotProducer<'static, Outgoing, QUEUE_LEN>,
         /// commands → data_ready: changes, applied between two samples.
         controls_out: Receiver<'static, Control, 2>,
         /// commands → data_ready: a self-test to run (its sequence number).
@@ -166,20 +173,21 @@ mod app {
         found_out: Receiver<'static, ChipFacts, 1>,
         decoder: Decoder,
         rx_out: Consumer<'static, u8>,
-        /// commands → transmit: replies.
-        replies: Sender<'static, Reply, 1>,
+        /// commands → transmit: the reply slot (woken by [`wire::OUTGOING`]).
+        replies: ReplyOut,
         controls_in: Sender<'static, Control, 2>,
         self_tests_in: Sender<'static, u16, 1>,
         self_tests_done_out: Receiver<'static, SelfTestDone, 1>,
         // The transmitter's.
         serial: <B as Board>::Serial,
-        frames_out: Consumer<'static, Outgoing>,
-        replies_out: Receiver<'static, Reply, 1>,
+        frames_out: SlotConsumer<'static, Outgoing, QUEUE_LEN>,
+        replies_out: ReplyIn,
     }
 
     #[init(local = [
         rx: Queue<u8, RX_QUEUE_LEN> = Queue::new(),
-        frames: Queue<Outgoing, QUEUE_LEN> = Queue::new(),
+        frames: SlotQueue<Outgoing, QUEUE_LEN> = SlotQueue::new(crate::wire::NO_FRAME),
+        reply_slot: SlotQueue<ReplyWire, 1> = SlotQueue::new(ReplyWire::EMPTY),
     ])]
     fn init(cx: init::Context) -> (Shared, Local) {
         let b = B::init(cx.device, &SETTINGS);
@@ -198,7 +206,7 @@ mod app {
         crate::stall::set_tick_us(step_us);
         let (found_in, found_out) = make_channel!(ChipFacts, 1);
         let (frames_in, frames_out) = cx.local.frames.split();
-        let (replies, replies_out) = make_channel!(Reply, 1);
+        let (replies, replies_out) = cx.local.reply_slot.split();
         let (rx_in, rx_out) = cx.local.rx.split();
         let (controls_in, controls_out) = make_channel!(Control, 2);
         let (self_tests_in, self_tests_out) = make_channel!(u16, 1);
@@ -341,9 +349,11 @@ mod app {
         let _step = crate::stall::Step::begin();
         let run = crate::run_time::begin();
         let model = B::model_cycles();
-        let l = cx.local;
-        // The window closes here; its log waits until the sample is read,
-        // so that writing it does not delay the step's timestamp.
+        let mut l = cx.local;
+        step(&mut l);
+        // The window closes at this step's start (`run.start()`), but its
+        // bookkeeping and its log wait until the sample is read, so that
+        // they never delay the step's timestamp.
         let closed = l
             .load_window
             .tick(run.start(), B::CYCLES_HZ, &COUNTERS.load);
@@ -357,7 +367,6 @@ mod app {
         // The second window first (the first full second of steady
         // sampling: `cargo xtask bench` reads it), then every tenth.
         let log = closed.filter(|_| *l.windows % LOG_LOAD_EVERY == 2);
-        step(l);
         if let Some(shares) = log {
             let load = COUNTERS.load.load(B::CYCLES_HZ);
             defmt::info!(
@@ -394,7 +403,7 @@ mod app {
     // A frame the channel has no room for comes back (the sampler counts it
     // dropped and carries its events on): the large `Err` is that frame.
     #[allow(clippy::result_large_err)]
-    fn step(l: data_ready::LocalResources<'_>) {
+    fn step(l: &mut data_ready::LocalResources<'_>) {
         if l.waiting.is_some() {
             look_for_sensor(l);
             return;
@@ -439,7 +448,7 @@ mod app {
             COUNTERS.publish_health(l.health.totals());
             return;
         }
-        let frames_in = l.frames_in;
+        let frames_in = &mut *l.frames_in;
         let (queued, read) = if SETTINGS.watermark > 1 {
             let stepped = on_fifo_ready(
                 l.sample_line,
@@ -447,7 +456,7 @@ mod app {
                 sensor,
                 sampler,
                 |sensor| B::data_ready(sensor, SETTINGS.watermark),
-                |frame| frames_in.enqueue(frame).is_ok(),
+                frames_in,
             );
             if let Some(error) = &stepped.read_failed {
                 defmt::warn!("FIFO read failed: {}", defmt::Debug2Format(error));
@@ -476,8 +485,9 @@ mod app {
         if l.health.read(read) {
             restart(sensor, l.health);
         }
+        // The health's totals change only at a stall or a restart, where
+        // they are published; the sampler's at every step.
         COUNTERS.publish(sampler.totals(), sampler.uptime_ms());
-        COUNTERS.publish_health(l.health.totals());
         crate::queue_marks::frames(frames_in.len());
         if queued {
             OUTGOING.wake();
@@ -499,7 +509,7 @@ mod app {
     /// configured), the calibration chosen for it and the sampler built;
     /// the command task learns its facts; its data-ready line then starts
     /// the stream.
-    fn look_for_sensor(l: data_ready::LocalResources<'_>) {
+    fn look_for_sensor(l: &mut data_ready::LocalResources<'_>) {
         l.sample_line.acknowledge();
         if !crate::stall::take_check() {
             return;
@@ -538,6 +548,7 @@ mod app {
         let mut delay = <B as Board>::Delay::default();
         let restarted = sensor.start_with(&mut delay, &SETTINGS);
         health.restarted(restarted.is_ok());
+        COUNTERS.publish_health(health.totals());
         if restarted.is_ok() {
             defmt::warn!("sensor restarted ({} so far)", health.totals().restarts);
         }
@@ -586,35 +597,35 @@ mod app {
                 l.handler
                     .sensor_found(chip.facts, chip.active, chip.stored, chip.stored_reason);
             }
-            let Some(decoded) = l.decoder.push(byte) else {
+            let Some(completed) = l.decoder.push_command(byte) else {
                 crate::run_time::end(run, Task::Link);
                 continue;
             };
             let controls_in = &mut *l.controls_in;
-            let handled = l.handler.on_packet(
-                &decoded,
-                l.decoder.last_packet_bytes(),
-                &COUNTERS,
-                &mut |control| controls_in.try_send(control).is_ok(),
-            );
-            crate::run_time::end(run, Task::Link);
-            let reply = match handled {
-                Handled::Reply(reply) => reply,
-                Handled::SelfTest { sequence } => {
+            let answer = l
+                .handler
+                .answer_received(&completed, &COUNTERS, &mut |control| {
+                    controls_in.try_send(control).is_ok()
+                });
+            match answer {
+                Answer::Reply(reply) => {
+                    crate::run_time::end(run, Task::Link);
+                    // Its encoding is timed as the link's in the send.
+                    wire::send_reply(l.replies, reply).await;
+                }
+                Answer::SelfTest { sequence } => {
+                    crate::run_time::end(run, Task::Link);
                     if l.self_tests_in.try_send(sequence).is_err() {
                         continue;
                     }
                     let Ok((sequence, result)) = l.self_tests_done_out.recv().await else {
                         return;
                     };
-                    l.handler.self_test_reply(sequence, &result)
+                    let reply = l.handler.self_test_reply(sequence, &result);
+                    wire::send_reply(l.replies, &reply).await;
                 }
-                Handled::Nothing => continue,
-            };
-            if l.replies.send(reply).await.is_err() {
-                return;
+                Answer::Nothing => crate::run_time::end(run, Task::Link),
             }
-            OUTGOING.wake();
         }
     }
 
@@ -630,10 +641,12 @@ mod app {
             wire::something_to_send(l.frames_out, l.replies_out).await;
             let run = crate::run_time::begin();
             let mut blocked = None;
-            if let Ok(reply) = l.replies_out.try_recv() {
-                let n = wire::reply_to_wire(&reply, l.buffer);
-                if !l.serial.queue(&l.buffer[..n]) {
-                    blocked = Some((n, false));
+            if let Some(reply) = l.replies_out.peek() {
+                if l.serial.queue(reply.as_bytes()) {
+                    l.replies_out.release();
+                    REPLY_ROOM.wake();
+                } else {
+                    blocked = Some(Blocked::Reply);
                 }
             }
             while blocked.is_none() {
@@ -642,19 +655,34 @@ mod app {
                 };
                 let n = frame.to_wire(l.buffer);
                 if !l.serial.queue(&l.buffer[..n]) {
-                    blocked = Some((n, true));
+                    blocked = Some(Blocked::Frame(n));
                     break;
                 }
-                let _ = l.frames_out.dequeue();
+                l.frames_out.release();
             }
             crate::run_time::end(run, Task::Link);
-            if let Some((n, frame)) = blocked {
-                wire::queue(l.serial, &l.buffer[..n]).await;
-                if frame {
-                    let _ = l.frames_out.dequeue();
+            match blocked {
+                Some(Blocked::Reply) => {
+                    if let Some(reply) = l.replies_out.peek() {
+                        wire::queue(l.serial, reply.as_bytes()).await;
+                    }
+                    l.replies_out.release();
+                    REPLY_ROOM.wake();
                 }
+                Some(Blocked::Frame(n)) => {
+                    wire::queue(l.serial, &l.buffer[..n]).await;
+                    l.frames_out.release();
+                }
+                None => {}
             }
         }
+    }
+
+    /// What the transmit ring had no room for: the reply in its slot, or
+    /// the frame at the queue's head, encoded in the buffer (its length).
+    enum Blocked {
+        Reply,
+        Frame(usize),
     }
 }
 

@@ -32,8 +32,8 @@ use crate::protocol::bytes::Writer;
 use crate::protocol::crc32c::crc32c;
 use crate::protocol::DecodeError;
 use crate::protocol::{
-    CalibrationSource, Command, DeviceInfo, Mode, Packet, PacketType, Payload, RawScale, Reply,
-    SelfTestResult, Status, StoredReason, StoredState, Text, CHUNK_LEN,
+    CalibrationSource, Command, Completed, DeviceInfo, Mode, Packet, PacketType, Payload, RawScale,
+    Received, Reply, SelfTestResult, Status, StoredReason, StoredState, Text, CHUNK_LEN,
 };
 use crate::sensor::self_test::{ChipLeft, SelfTestError, SelfTestReport};
 use crate::sensor::ImuScale;
@@ -88,16 +88,46 @@ pub enum Handled {
     Nothing,
 }
 
-/// The last reply sent, kept to answer a retry.
-#[derive(Clone, Copy, Debug)]
-struct LastReply {
-    sequence: u16,
-    crc: u32,
-    reply: Reply,
+/// What the handler did with a packet, its reply where the handler wrote
+/// it ([`CommandHandler::answer`]): the firmware encodes it from there
+/// straight to wire bytes, so no reply is copied on the way.
+#[derive(Debug, PartialEq)]
+pub enum Answer<'a> {
+    /// Send this reply.
+    Reply(&'a Reply),
+    /// Run the chip's self-test, as [`Handled::SelfTest`].
+    SelfTest {
+        /// The command's sequence number.
+        sequence: u16,
+    },
+    /// Nothing to send, as [`Handled::Nothing`].
+    Nothing,
 }
 
-/// The command handler's state.
+/// The command the kept reply answers: a retry is known by both.
+#[derive(Clone, Copy, Debug)]
+struct LastCommand {
+    sequence: u16,
+    crc: u32,
+}
+
+/// The command handler's state. Its replies are written where they are
+/// kept (a few hundred bytes each: no copy per command), in slots apart
+/// from the state the commands change, so that a command's work can write
+/// its reply's payload in place.
 pub struct CommandHandler<F> {
+    state: State<F>,
+    /// The last command's reply; a retry of that command gets it again.
+    answered: Reply,
+    /// The command `answered` answers (`None`: no reply kept).
+    last: Option<LastCommand>,
+    /// The reply to a packet that failed its checks (apart from
+    /// `answered`, which a retry of the last command still gets).
+    rejected: Reply,
+}
+
+/// What the commands read and change.
+struct State<F> {
     facts: DeviceFacts,
     store: Option<CalibrationStore<F>>,
     stored: StoredState,
@@ -107,7 +137,6 @@ pub struct CommandHandler<F> {
     decimation: u16,
     upload: [u8; BLOB_LEN],
     upload_len: usize,
-    last: Option<LastReply>,
     commands: u32,
     errors: u32,
     baseline: crate::protocol::Counters,
@@ -119,14 +148,15 @@ pub struct CommandHandler<F> {
 /// What `identify` says for the chip while none has answered on the bus.
 pub const NO_SENSOR: &str = "none";
 
-/// Where the step is in handling one command.
-type Outcome = Result<Payload, (Status, Payload)>;
+/// How a command ended; its result or reason is in the reply's payload.
+type Outcome = Result<(), Status>;
 
-/// An error reply's status and its reason, formatted without allocating.
-fn fail(status: Status, reason: core::fmt::Arguments<'_>) -> (Status, Payload) {
-    let mut text = Payload::EMPTY;
-    let _ = text.write_fmt(reason);
-    (status, text)
+/// Writes an error's reason into `out` (formatted without allocating)
+/// and gives its status.
+fn fail(out: &mut Payload, status: Status, reason: core::fmt::Arguments<'_>) -> Status {
+    out.set_len(0);
+    let _ = out.write_fmt(reason);
+    status
 }
 
 /// Whether `command` needs the chip: its mode and decimation are the
@@ -149,6 +179,14 @@ fn blob_status(error: &BlobError) -> Status {
     }
 }
 
+/// A reply to nothing yet: what the slots hold before their first.
+const NO_REPLY: Reply = Reply {
+    sequence: 0,
+    command: 0,
+    status: Status::Ok,
+    payload: Payload::EMPTY,
+};
+
 impl<F: NorFlash> CommandHandler<F> {
     /// A handler for a device described by `facts`, running `active` with
     /// `decimation`, over `store` (`None`: this board keeps nothing), whose
@@ -161,20 +199,24 @@ impl<F: NorFlash> CommandHandler<F> {
         stored: StoredState,
     ) -> Self {
         Self {
-            facts,
-            store,
-            stored,
-            stored_reason: StoredReason::None,
-            active,
-            mode: Mode::Calibrated,
-            decimation,
-            upload: [0; BLOB_LEN],
-            upload_len: 0,
+            state: State {
+                facts,
+                store,
+                stored,
+                stored_reason: StoredReason::None,
+                active,
+                mode: Mode::Calibrated,
+                decimation,
+                upload: [0; BLOB_LEN],
+                upload_len: 0,
+                commands: 0,
+                errors: 0,
+                baseline: crate::protocol::Counters::default(),
+                awaiting_sensor: false,
+            },
+            answered: NO_REPLY,
             last: None,
-            commands: 0,
-            errors: 0,
-            baseline: crate::protocol::Counters::default(),
-            awaiting_sensor: false,
+            rejected: NO_REPLY,
         }
     }
 
@@ -184,7 +226,7 @@ impl<F: NorFlash> CommandHandler<F> {
     /// an upload, save, erase, the self-test) until
     /// [`CommandHandler::sensor_found`].
     pub fn awaiting_sensor(mut self) -> Self {
-        self.awaiting_sensor = true;
+        self.state.awaiting_sensor = true;
         self
     }
 
@@ -198,45 +240,51 @@ impl<F: NorFlash> CommandHandler<F> {
         stored: StoredState,
         stored_reason: StoredReason,
     ) {
-        self.facts = facts;
-        self.active = active;
-        self.stored = stored;
-        self.stored_reason = stored_reason;
-        self.awaiting_sensor = false;
+        self.state.facts = facts;
+        self.state.active = active;
+        self.state.stored = stored;
+        self.state.stored_reason = stored_reason;
+        self.state.awaiting_sensor = false;
     }
 
     /// The handler, with why the flash's record was rejected at start-up
     /// (`identify` reports it until a save or an erase changes the flash).
     pub fn with_stored_reason(mut self, reason: StoredReason) -> Self {
-        self.stored_reason = reason;
+        self.state.stored_reason = reason;
         self
     }
 
     /// The calibration in force as the handler last applied it.
     pub fn active(&self) -> &ActiveCalibration {
-        &self.active
+        &self.state.active
     }
 
     /// The calibration store, if the device has one (tests arm a power cut
     /// in its flash).
     pub fn store_mut(&mut self) -> Option<&mut CalibrationStore<F>> {
-        self.store.as_mut()
+        self.state.store.as_mut()
     }
 
     /// The store, given back.
     pub fn into_store(self) -> Option<CalibrationStore<F>> {
-        self.store
+        self.state.store
     }
 
     /// What the flash holds.
     pub fn stored(&self) -> StoredState {
-        self.stored
+        self.state.stored
+    }
+
+    /// The identify reply.
+    pub fn info(&self, counters: &SharedCounters) -> DeviceInfo {
+        self.state.info(counters)
     }
 
     /// Handles one decoded packet (or decoding error); `bytes` are its
     /// unstuffed bytes as received (for the sequence number of a packet that
     /// failed its checks), `counters` what identify reports. `submit` queues a change for the data-ready task
-    /// and says whether it had room.
+    /// and says whether it had room. [`CommandHandler::answer`], the reply
+    /// copied out.
     pub fn on_packet(
         &mut self,
         decoded: &Result<Packet, DecodeError>,
@@ -244,10 +292,51 @@ impl<F: NorFlash> CommandHandler<F> {
         counters: &SharedCounters,
         submit: &mut dyn FnMut(Control) -> bool,
     ) -> Handled {
-        let packet = match decoded {
-            Ok(Packet::Command(packet)) => packet,
+        match self.answer(decoded, bytes, counters, submit) {
+            Answer::Reply(reply) => Handled::Reply(*reply),
+            Answer::SelfTest { sequence } => Handled::SelfTest { sequence },
+            Answer::Nothing => Handled::Nothing,
+        }
+    }
+
+    /// [`CommandHandler::on_packet`] with the reply where the handler
+    /// wrote it.
+    pub fn answer(
+        &mut self,
+        decoded: &Result<Packet, DecodeError>,
+        bytes: &[u8],
+        counters: &SharedCounters,
+        submit: &mut dyn FnMut(Control) -> bool,
+    ) -> Answer<'_> {
+        let received = match decoded {
+            Ok(Packet::Command(packet)) => Ok(Received::Command(packet.as_ref())),
+            Ok(_) => Ok(Received::Other),
+            Err(error) => Err(*error),
+        };
+        self.answer_received(
+            &Completed {
+                decoded: received,
+                bytes,
+            },
+            counters,
+            submit,
+        )
+    }
+
+    /// [`CommandHandler::answer`] for a packet as the device's decoder
+    /// completed it ([`crate::protocol::Decoder::push_command`]: a command
+    /// read where it lies): the firmware's form, no packet or reply copied.
+    pub fn answer_received(
+        &mut self,
+        completed: &Completed<'_>,
+        counters: &SharedCounters,
+        submit: &mut dyn FnMut(Control) -> bool,
+    ) -> Answer<'_> {
+        let bytes = completed.bytes;
+        let packet = match &completed.decoded {
+            Ok(Received::Command(packet)) => packet,
             // A device ignores what devices send (a looped-back line).
-            Ok(_) => return Handled::Nothing,
+            Ok(Received::Other) => return Answer::Nothing,
             Err(error) => return self.rejected(error, bytes),
         };
         // The packet's own CRC tells two commands with one number apart (a
@@ -260,31 +349,38 @@ impl<F: NorFlash> CommandHandler<F> {
             if last.sequence == packet.sequence && last.crc == crc {
                 // Answered again, counted again: as an error when it is one,
                 // so `commands` and `command_errors` count the same replies.
-                self.commands = self.commands.wrapping_add(1);
-                if last.reply.status != Status::Ok {
-                    self.errors = self.errors.wrapping_add(1);
-                }
-                return Handled::Reply(last.reply);
+                self.state.count(self.answered.status);
+                return Answer::Reply(&self.answered);
             }
         }
-        let outcome = match packet.command() {
-            Ok(command) if self.awaiting_sensor && needs_sensor(&command) => Err(fail(
+        let command = packet.command();
+        // Without a chip the self-test is refused below, as what needs one.
+        if let (Ok(Command::SelfTest), false) = (&command, self.state.awaiting_sensor) {
+            // Counted when its reply is made (`self_test_reply`).
+            self.last = None;
+            return Answer::SelfTest {
+                sequence: packet.sequence,
+            };
+        }
+        let reply = &mut self.answered;
+        reply.sequence = packet.sequence;
+        reply.command = packet.code;
+        reply.payload.set_len(0);
+        let outcome = match command {
+            Ok(command) if self.state.awaiting_sensor && needs_sensor(&command) => Err(fail(
+                &mut reply.payload,
                 Status::SensorError,
                 format_args!(
                     "no sensor: no known chip has answered on the {} bus yet (the firmware \
                      keeps looking)",
-                    self.facts.bus
+                    self.state.facts.bus
                 ),
             )),
-            Ok(Command::SelfTest) => {
-                // Counted when its reply is made (`self_test_reply`).
-                self.last = None;
-                return Handled::SelfTest {
-                    sequence: packet.sequence,
-                };
-            }
-            Ok(command) => self.run(command, counters, submit),
+            Ok(command) => self
+                .state
+                .run(command, counters, submit, &mut reply.payload),
             Err(error) => Err(fail(
+                &mut reply.payload,
                 match error {
                     crate::protocol::CommandError::Unknown { .. } => Status::UnknownCommand,
                     crate::protocol::CommandError::Length { .. } => Status::Malformed,
@@ -293,18 +389,18 @@ impl<F: NorFlash> CommandHandler<F> {
                 format_args!("{error}"),
             )),
         };
-        let reply = self.reply(packet.sequence, packet.code, outcome);
-        self.last = Some(LastReply {
+        reply.status = outcome.err().unwrap_or(Status::Ok);
+        self.state.count(reply.status);
+        self.last = Some(LastCommand {
             sequence: packet.sequence,
             crc,
-            reply,
         });
-        Handled::Reply(reply)
+        Answer::Reply(&self.answered)
     }
 
     /// The reply to a packet that failed its checks: its sequence number
     /// and code are read from the bytes as received, which may be wrong.
-    fn rejected(&mut self, error: &DecodeError, bytes: &[u8]) -> Handled {
+    fn rejected(&mut self, error: &DecodeError, bytes: &[u8]) -> Answer<'_> {
         let status = match error {
             DecodeError::Crc { .. } => Status::BadCrc,
             DecodeError::Version { .. } => Status::WrongVersion,
@@ -320,32 +416,17 @@ impl<F: NorFlash> CommandHandler<F> {
             && kind != Some(PacketType::Command as u8)
             && bytes.first() == Some(&crate::protocol::packet::VERSION)
         {
-            return Handled::Nothing;
+            return Answer::Nothing;
         }
-        let sequence = u16::from_le_bytes([
+        let reply = &mut self.rejected;
+        reply.sequence = u16::from_le_bytes([
             bytes.get(2).copied().unwrap_or(0),
             bytes.get(3).copied().unwrap_or(0),
         ]);
-        let code = bytes.get(4).copied().unwrap_or(0);
-        Handled::Reply(self.reply(sequence, code, Err(fail(status, format_args!("{error}")))))
-    }
-
-    /// Counts the outcome and makes the reply.
-    fn reply(&mut self, sequence: u16, command: u8, outcome: Outcome) -> Reply {
-        self.commands = self.commands.wrapping_add(1);
-        let (status, payload) = match outcome {
-            Ok(payload) => (Status::Ok, payload),
-            Err((status, reason)) => {
-                self.errors = self.errors.wrapping_add(1);
-                (status, reason)
-            }
-        };
-        Reply {
-            sequence,
-            command,
-            status,
-            payload,
-        }
+        reply.command = bytes.get(4).copied().unwrap_or(0);
+        reply.status = fail(&mut reply.payload, status, format_args!("{error}"));
+        self.state.count(reply.status);
+        Answer::Reply(&self.rejected)
     }
 
     /// The reply to the self-test the firmware ran after
@@ -356,9 +437,18 @@ impl<F: NorFlash> CommandHandler<F> {
         sequence: u16,
         result: &Result<SelfTestReport, SelfTestError<E>>,
     ) -> Reply {
-        let outcome = match result {
-            Ok(report) => Ok(SelfTestResult::of(report).to_payload()),
-            Err(e) => Err(fail(
+        let mut reply = Reply {
+            sequence,
+            command: crate::protocol::command::code::SELF_TEST,
+            ..NO_REPLY
+        };
+        reply.status = match result {
+            Ok(report) => {
+                reply.payload = SelfTestResult::of(report).to_payload();
+                Status::Ok
+            }
+            Err(e) => fail(
+                &mut reply.payload,
                 Status::SensorError,
                 format_args!(
                     "the self-test did not finish: {:?}; the chip is {}",
@@ -368,50 +458,76 @@ impl<F: NorFlash> CommandHandler<F> {
                         ChipLeft::NeedsInit => "being restarted",
                     }
                 ),
-            )),
+            ),
         };
-        self.reply(sequence, crate::protocol::command::code::SELF_TEST, outcome)
+        self.state.count(reply.status);
+        reply
+    }
+}
+
+impl<F: NorFlash> State<F> {
+    /// Counts a reply of `status`.
+    fn count(&mut self, status: Status) {
+        self.commands = self.commands.wrapping_add(1);
+        if status != Status::Ok {
+            self.errors = self.errors.wrapping_add(1);
+        }
     }
 
+    /// Runs `command`, its result or its reason written into `out`
+    /// (empty on entry).
     fn run(
         &mut self,
         command: Command,
         counters: &SharedCounters,
         submit: &mut dyn FnMut(Control) -> bool,
+        out: &mut Payload,
     ) -> Outcome {
         match command {
-            Command::Identify => Ok(self.info(counters).to_payload()),
+            Command::Identify => self.identify(counters, out),
             Command::SetMode(mode) => {
-                queue(submit, Control::SetMode(mode))?;
+                queue(submit, Control::SetMode(mode), out)?;
                 self.mode = mode;
-                Ok(Payload::EMPTY)
+                Ok(())
             }
             Command::SetDecimation(n) => {
-                queue(submit, Control::SetDecimation(n))?;
+                queue(submit, Control::SetDecimation(n), out)?;
                 self.decimation = n;
-                Ok(Payload::EMPTY)
+                Ok(())
             }
-            Command::UploadChunk { offset, data } => self.upload_chunk(offset, data.as_slice()),
-            Command::UploadCommit { len, crc } => self.commit(len, crc, submit),
-            Command::ReadCalibration { offset } => self.read_back(offset),
-            Command::Save => self.save(),
-            Command::Erase => self.erase(),
+            Command::UploadChunk { offset, data } => {
+                self.upload_chunk(offset, data.as_slice(), out)
+            }
+            Command::UploadCommit { len, crc } => self.commit(len, crc, submit, out),
+            Command::ReadCalibration { offset } => self.read_back(offset, out),
+            Command::Save => self.save(out),
+            Command::Erase => self.erase(out),
             Command::ResetCounters => {
                 self.baseline = counters.snapshot();
                 self.commands = 0;
                 self.errors = 0;
-                Ok(Payload::EMPTY)
+                Ok(())
             }
             // Never reached: on_packet hands self-tests to the firmware.
             Command::SelfTest => Err(fail(
+                out,
                 Status::Busy,
                 format_args!("self-test is run by the firmware"),
             )),
         }
     }
 
-    /// The identify reply.
-    pub fn info(&self, counters: &SharedCounters) -> DeviceInfo {
+    /// The identify reply's payload into `out`. Out of line, as each
+    /// command that holds more than a few bytes on the stack: a command's
+    /// frame is then its own, and the trivial ones stay small (the link
+    /// task's share of the one stack).
+    #[inline(never)]
+    fn identify(&self, counters: &SharedCounters, out: &mut Payload) -> Outcome {
+        *out = self.info(counters).to_payload();
+        Ok(())
+    }
+
+    fn info(&self, counters: &SharedCounters) -> DeviceInfo {
         let now = counters.snapshot();
         let b = &self.baseline;
         let mut c = now;
@@ -447,13 +563,14 @@ impl<F: NorFlash> CommandHandler<F> {
         }
     }
 
-    fn upload_chunk(&mut self, offset: u16, data: &[u8]) -> Outcome {
+    fn upload_chunk(&mut self, offset: u16, data: &[u8], out: &mut Payload) -> Outcome {
         let offset = usize::from(offset);
         if offset == 0 {
             self.upload_len = 0;
         }
         if offset != self.upload_len {
             return Err(fail(
+                out,
                 Status::BadArgument,
                 format_args!(
                     "upload chunk at offset {offset}, expected {} (chunks come in order from 0)",
@@ -464,19 +581,28 @@ impl<F: NorFlash> CommandHandler<F> {
         let end = offset + data.len();
         let Some(slot) = self.upload.get_mut(offset..end) else {
             return Err(fail(
+                out,
                 Status::BadArgument,
                 format_args!("upload chunk ends at byte {end}, past the {BLOB_LEN}-byte blob"),
             ));
         };
         slot.copy_from_slice(data);
         self.upload_len = end;
-        Ok(Payload::EMPTY)
+        Ok(())
     }
 
-    fn commit(&mut self, len: u16, crc: u32, submit: &mut dyn FnMut(Control) -> bool) -> Outcome {
+    #[inline(never)]
+    fn commit(
+        &mut self,
+        len: u16,
+        crc: u32,
+        submit: &mut dyn FnMut(Control) -> bool,
+        out: &mut Payload,
+    ) -> Outcome {
         let uploaded = core::mem::take(&mut self.upload_len);
         if usize::from(len) != uploaded {
             return Err(fail(
+                out,
                 Status::BadArgument,
                 format_args!("commit of {len} bytes, but {uploaded} were uploaded"),
             ));
@@ -485,14 +611,20 @@ impl<F: NorFlash> CommandHandler<F> {
         let computed = crc32c(bytes);
         if computed != crc {
             return Err(fail(
+                out,
                 Status::BadCrc,
                 format_args!(
                     "the uploaded bytes have CRC-32C {computed:#010x}, the commit says {crc:#010x}"
                 ),
             ));
         }
-        let cal = blob::decode(bytes)
-            .map_err(|e| fail(blob_status(&e), format_args!("not a calibration blob: {e}")))?;
+        let cal = blob::decode(bytes).map_err(|e| {
+            fail(
+                out,
+                blob_status(&e),
+                format_args!("not a calibration blob: {e}"),
+            )
+        })?;
         // The checks of `triad calib check`: the calibration folded for this
         // chip, and its fixed-point form (which the Cortex-M0 path runs).
         // The control is built around the corrector in place: one corrector
@@ -500,11 +632,11 @@ impl<F: NorFlash> CommandHandler<F> {
         let id = cal.id;
         let control = Control::Calibrate(
             Corrector::new(&cal, &self.facts.scale, self.facts.orientation)
-                .map_err(|e| fail(Status::InvalidCalibration, format_args!("{e}")))?,
+                .map_err(|e| fail(out, Status::InvalidCalibration, format_args!("{e}")))?,
         );
         if let Control::Calibrate(corrector) = &control {
             FixedCorrector::new(corrector)
-                .map_err(|e| fail(Status::InvalidCalibration, format_args!("{e}")))?;
+                .map_err(|e| fail(out, Status::InvalidCalibration, format_args!("{e}")))?;
         }
         // A version-2 blob is kept (read back, saved) in the current layout,
         // encoded over the upload buffer: no more blob copies on the stack
@@ -512,97 +644,104 @@ impl<F: NorFlash> CommandHandler<F> {
         if uploaded != BLOB_LEN {
             blob::encode_into(&cal, &mut self.upload);
         }
-        queue(submit, control)?;
+        queue(submit, control, out)?;
         self.active = ActiveCalibration {
             blob: Some(self.upload),
             id,
             source: CalibrationSource::Uploaded,
         };
-        let mut p = Payload::EMPTY;
-        let mut w = Writer::new(p.buffer());
-        w.u32(id);
-        p.set_len(4);
-        Ok(p)
+        Writer::new(out.buffer()).u32(id);
+        out.set_len(4);
+        Ok(())
     }
 
-    fn read_back(&self, offset: u16) -> Outcome {
+    #[inline(never)]
+    fn read_back(&self, offset: u16, out: &mut Payload) -> Outcome {
         let Some(blob) = &self.active.blob else {
-            let mut p = Payload::EMPTY;
-            Writer::new(p.buffer()).u16(0);
-            p.set_len(2);
-            return Ok(p);
+            Writer::new(out.buffer()).u16(0);
+            out.set_len(2);
+            return Ok(());
         };
         let offset = usize::from(offset);
         let Some(rest) = blob.get(offset..) else {
             return Err(fail(
+                out,
                 Status::BadArgument,
                 format_args!("read from byte {offset}, past the {BLOB_LEN}-byte blob"),
             ));
         };
         let chunk = &rest[..rest.len().min(CHUNK_LEN)];
-        let mut p = Payload::EMPTY;
-        let mut w = Writer::new(p.buffer());
+        let mut w = Writer::new(out.buffer());
         w.u16(BLOB_LEN as u16).bytes(chunk);
         let n = w.len();
-        p.set_len(n);
-        Ok(p)
+        out.set_len(n);
+        Ok(())
     }
 
-    fn no_storage() -> (Status, Payload) {
+    fn no_storage(out: &mut Payload) -> Status {
         fail(
+            out,
             Status::NotSupported,
             format_args!("this board has no calibration storage"),
         )
     }
 
-    fn save(&mut self) -> Outcome {
+    #[inline(never)]
+    fn save(&mut self, out: &mut Payload) -> Outcome {
         let Some(blob) = self.active.blob else {
             return Err(fail(
+                out,
                 Status::BadArgument,
                 format_args!(
                     "no calibration is active (the identity is not saved); upload one first"
                 ),
             ));
         };
-        let store = self.store.as_mut().ok_or_else(Self::no_storage)?;
+        let Some(store) = self.store.as_mut() else {
+            return Err(Self::no_storage(out));
+        };
         match store.save(&blob) {
             Ok(stored) => {
                 self.stored = StoredState::Valid;
                 self.stored_reason = StoredReason::None;
                 self.active.source = CalibrationSource::Stored;
-                let mut p = Payload::EMPTY;
-                let mut w = Writer::new(p.buffer());
-                w.u32(stored.generation).u8(stored.slot);
-                p.set_len(5);
-                Ok(p)
+                Writer::new(out.buffer())
+                    .u32(stored.generation)
+                    .u8(stored.slot);
+                out.set_len(5);
+                Ok(())
             }
             Err(e) => {
                 // A failed save may have erased the other slot: what the flash
                 // holds is re-read at the next start-up; the active
                 // calibration is unchanged.
-                Err(storage_failure("save", &e))
+                Err(storage_failure("save", &e, out))
             }
         }
     }
 
-    fn erase(&mut self) -> Outcome {
-        let store = self.store.as_mut().ok_or_else(Self::no_storage)?;
-        store.erase().map_err(|e| storage_failure("erase", &e))?;
+    #[inline(never)]
+    fn erase(&mut self, out: &mut Payload) -> Outcome {
+        let Some(store) = self.store.as_mut() else {
+            return Err(Self::no_storage(out));
+        };
+        store
+            .erase()
+            .map_err(|e| storage_failure("erase", &e, out))?;
         self.stored = StoredState::Empty;
         self.stored_reason = StoredReason::None;
-        Ok(Payload::EMPTY)
+        Ok(())
     }
 }
 
-/// Offers `control` to the data-ready task; a full queue is a busy reply.
-fn queue(
-    submit: &mut dyn FnMut(Control) -> bool,
-    control: Control,
-) -> Result<(), (Status, Payload)> {
+/// Offers `control` to the data-ready task; a full queue is a busy reply
+/// (its reason written into `out`).
+fn queue(submit: &mut dyn FnMut(Control) -> bool, control: Control, out: &mut Payload) -> Outcome {
     if submit(control) {
         Ok(())
     } else {
         Err(fail(
+            out,
             Status::Busy,
             format_args!("the sampling task has not taken the previous change yet"),
         ))
@@ -610,13 +749,19 @@ fn queue(
 }
 
 /// A storage error as a reply.
-fn storage_failure<E: NorFlashError>(what: &str, error: &StorageError<E>) -> (Status, Payload) {
+fn storage_failure<E: NorFlashError>(
+    what: &str,
+    error: &StorageError<E>,
+    out: &mut Payload,
+) -> Status {
     match error {
         StorageError::Flash(e) => fail(
+            out,
             Status::StorageFailure,
             format_args!("{what} failed: flash error {:?}", e.kind()),
         ),
         StorageError::Layout { what: why, value } => fail(
+            out,
             Status::StorageFailure,
             format_args!("{what} failed: {why} (value {value})"),
         ),

@@ -6,6 +6,7 @@
 //! waiting, in batch frames.
 
 use super::board::{DataReadyLine, MicrosecondClock};
+use super::frame_sink::FrameSink;
 use super::framer::Outgoing;
 use super::sampler::FifoStepped;
 use super::{Sampler, StepOutcome};
@@ -63,7 +64,7 @@ where
 
 /// One FIFO watermark step: acknowledge, timestamp, let the board do its
 /// work at the edge (`edge`, as for [`on_data_ready`]), then drain the FIFO
-/// into frames ([`Sampler::step_fifo`]). A late interrupt loses nothing
+/// into frames written into `sink`'s slots ([`Sampler::step_fifo_into`]). A late interrupt loses nothing
 /// (the samples wait in the FIFO; an overflow is flagged and counted by the
 /// sampler), so no overrun is counted here.
 pub fn on_fifo_ready<L, C, I>(
@@ -72,7 +73,7 @@ pub fn on_fifo_ready<L, C, I>(
     imu: &mut I,
     sampler: &mut Sampler,
     edge: impl FnOnce(&mut I),
-    enqueue: impl FnMut(Outgoing) -> bool,
+    sink: &mut impl FrameSink,
 ) -> FifoStepped<I::Error>
 where
     L: DataReadyLine,
@@ -82,5 +83,5 @@ where
     line.acknowledge();
     let now_us = clock.now_us();
     edge(imu);
-    sampler.step_fifo(imu, now_us, enqueue)
+    sampler.step_fifo_into(imu, now_us, sink)
 }

@@ -33,6 +33,11 @@ pub struct Events {
 }
 
 impl Outgoing {
+    /// A batch of no samples: what a queue's slots hold before their first
+    /// frame (a batch, so that the firmware's frames, batches at W > 1,
+    /// are written into slots already of their kind).
+    pub const EMPTY: Outgoing = Outgoing::Batch(BatchFrame::new(0.0, 0.0));
+
     /// The numbering and counters the frame carries.
     pub fn events(&self) -> Events {
         let (sequence, dropped, overruns, flags) = match self {
@@ -214,7 +219,67 @@ impl Framer {
         period_ns: u32,
         temperature: f32,
     ) -> BatchFrame {
-        let mut frame = BatchFrame::new(kernel.accel_lsb(), kernel.gyro_lsb());
+        let mut frame = BatchFrame::new(0.0, 0.0);
+        self.fill_batch(
+            &mut frame,
+            kernel,
+            raw,
+            timestamp_us,
+            period_ns,
+            temperature,
+        );
+        frame
+    }
+
+    /// [`Framer::batch_frame`] written into `slot`, where it lies when the
+    /// slot holds a batch already (the link queue's slots do): no frame is
+    /// built apart and copied.
+    #[inline]
+    pub fn batch_frame_into(
+        &mut self,
+        slot: &mut Outgoing,
+        kernel: &BatchKernel,
+        raw: &[RawSample],
+        timestamp_us: u32,
+        period_ns: u32,
+        temperature: f32,
+    ) {
+        match slot {
+            Outgoing::Batch(frame) => {
+                self.fill_batch(frame, kernel, raw, timestamp_us, period_ns, temperature)
+            }
+            other => {
+                *other = Outgoing::Batch(self.batch_frame(
+                    kernel,
+                    raw,
+                    timestamp_us,
+                    period_ns,
+                    temperature,
+                ))
+            }
+        }
+    }
+
+    /// A frame was due but the link's queue had no room, so it was not
+    /// built: what [`Framer::events_dropped`] does for a frame built then
+    /// refused (its number given back, its events carried on), without
+    /// the frame.
+    pub fn frame_skipped(&mut self) {
+        self.dropped = self.dropped.saturating_add(1);
+    }
+
+    /// `frame` emptied and filled as [`Framer::batch_frame`] describes.
+    #[inline(always)]
+    fn fill_batch(
+        &mut self,
+        frame: &mut BatchFrame,
+        kernel: &BatchKernel,
+        raw: &[RawSample],
+        timestamp_us: u32,
+        period_ns: u32,
+        temperature: f32,
+    ) {
+        frame.clear(kernel.accel_lsb(), kernel.gyro_lsb());
         frame.push_raw(kernel, raw);
         let mut flags = self.pending_flags(&Sample::default()) | frame.flags;
         flags.set(Flags::UNCALIBRATED, !self.calibrated);
@@ -227,7 +292,6 @@ impl Framer {
         frame.calibration_id = self.calibration_id;
         frame.temperature = temperature;
         self.next();
-        frame
     }
 
     /// The flags of the sample and of the events pending.

@@ -4,6 +4,7 @@
 //! on the same chip model, so the host computes exactly the device's numbers.
 
 use super::counters::SamplerTotals;
+use super::frame_sink::{ByValue, FrameSink};
 use super::framer::{Events, Outgoing};
 use super::{Control, Decimator, Framer, StepMonitor};
 use crate::model::corrector::counts_f32;
@@ -43,6 +44,16 @@ pub struct FifoStepped<E> {
     pub samples: u16,
     /// The FIFO could not be read: the error (counted as a read failure).
     pub read_failed: Option<E>,
+}
+
+impl<E> FifoStepped<E> {
+    /// One frame offered: queued, or dropped.
+    fn count(&mut self, queued: bool) {
+        match queued {
+            true => self.queued = self.queued.saturating_add(1),
+            false => self.dropped = self.dropped.saturating_add(1),
+        }
+    }
 }
 
 /// What a step produced.
@@ -234,7 +245,20 @@ impl Sampler {
         &mut self,
         imu: &mut I,
         now_us: u32,
-        mut enqueue: impl FnMut(Outgoing) -> bool,
+        enqueue: impl FnMut(Outgoing) -> bool,
+    ) -> FifoStepped<I::Error> {
+        self.step_fifo_into(imu, now_us, &mut ByValue::new(enqueue))
+    }
+
+    /// [`Sampler::step_fifo`] with each frame written into the next slot
+    /// of `sink` (the firmware's link queue): a batch is built where the
+    /// transmitter reads it, and a frame the sink has no room for is not
+    /// built, only counted dropped.
+    pub fn step_fifo_into<I: FifoImu>(
+        &mut self,
+        imu: &mut I,
+        now_us: u32,
+        sink: &mut impl FrameSink,
     ) -> FifoStepped<I::Error> {
         self.uptime_us = self.clock.unwrap(now_us);
         let mut stepped = FifoStepped {
@@ -274,26 +298,18 @@ impl Sampler {
                     self.self_test_ended(from, first_us);
                 }
             }
-            let mut offer = |frame: Outgoing, sampler: &mut Self| {
-                let events = frame.events();
-                if enqueue(frame) {
-                    stepped.queued = stepped.queued.saturating_add(1);
-                } else {
-                    sampler.events_dropped(events);
-                    stepped.dropped = stepped.dropped.saturating_add(1);
-                }
-            };
             if self.mode == Mode::Calibrated && self.decimator.factor() == 1 && self.batch_frames {
                 for (i, chunk) in samples.chunks(MAX_BATCH).enumerate() {
                     let timestamp = first_us.wrapping_add(self.span_us(i * MAX_BATCH));
-                    let frame = self.batch(chunk, timestamp);
-                    offer(frame, self);
+                    let queued = self.batch_into(sink, chunk, timestamp);
+                    stepped.count(queued);
                 }
             } else {
                 for (i, raw) in samples.iter().enumerate() {
                     let timestamp = first_us.wrapping_add(self.span_us(i));
                     if let Some(frame) = self.process(raw, timestamp) {
-                        offer(frame, self);
+                        let queued = self.offer(sink, frame);
+                        stepped.count(queued);
                     }
                 }
             }
@@ -311,8 +327,17 @@ impl Sampler {
         span_us(samples, self.period_ns)
     }
 
-    /// One batch frame of `chunk` (≤ [`MAX_BATCH`] samples) at `timestamp_us`.
-    fn batch(&mut self, chunk: &[RawSample], timestamp_us: u32) -> Outgoing {
+    /// One batch frame of `chunk` (≤ [`MAX_BATCH`] samples) at
+    /// `timestamp_us`, written into `sink`'s next slot; true when queued.
+    /// Without room it is not built but counted dropped (the temperature
+    /// terms are re-folded on schedule all the same).
+    #[inline]
+    fn batch_into(
+        &mut self,
+        sink: &mut impl FrameSink,
+        chunk: &[RawSample],
+        timestamp_us: u32,
+    ) -> bool {
         // The mean in f32, converted as the per-sample path converts (f64
         // would be library calls on the Cortex-M4F).
         let sum: i32 = chunk.iter().map(|r| i32::from(r.temperature)).sum();
@@ -321,14 +346,50 @@ impl Sampler {
         if self.refold_due(chunk.len() as u32) {
             self.refold(f64::from(temperature_c));
         }
+        let Some(slot) = sink.slot() else {
+            self.frame_skipped();
+            return false;
+        };
         self.totals.frames_sent = self.totals.frames_sent.wrapping_add(1);
-        Outgoing::Batch(self.framer.batch_frame(
+        self.framer.batch_frame_into(
+            slot,
             &self.kernel,
             chunk,
             timestamp_us,
             self.period_ns,
             temperature_c,
-        ))
+        );
+        let events = slot.events();
+        self.committed(sink, events)
+    }
+
+    /// `frame`, made already, copied into `sink`'s next slot; true when
+    /// queued, else counted dropped.
+    fn offer(&mut self, sink: &mut impl FrameSink, frame: Outgoing) -> bool {
+        let Some(slot) = sink.slot() else {
+            // Made and counted sent: given back as a frame refused.
+            self.events_dropped(frame.events());
+            return false;
+        };
+        *slot = frame;
+        self.committed(sink, frame.events())
+    }
+
+    /// Commits the frame written into `sink`'s slot, which carries
+    /// `events`; true when queued, else counted dropped.
+    #[inline(always)]
+    fn committed(&mut self, sink: &mut impl FrameSink, events: Events) -> bool {
+        let queued = sink.commit();
+        if !queued {
+            self.events_dropped(events);
+        }
+        queued
+    }
+
+    /// A frame was due and the link had no room: not built, counted dropped.
+    fn frame_skipped(&mut self) {
+        self.framer.frame_skipped();
+        self.totals.frames_dropped = self.totals.frames_dropped.wrapping_add(1);
     }
 
     /// Applies a change from the command handler; call it between two

@@ -33,8 +33,10 @@ pub const BATCH_HEADER_LEN: usize = 35;
 /// Bytes per sample.
 pub const BATCH_SAMPLE_LEN: usize = 12;
 
-/// W corrected samples.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// W corrected samples. Two batches are equal when their fields and the
+/// samples in use are: what lies beyond `count` (left by an earlier batch
+/// in a slot reused in place, [`BatchFrame::clear`]) is never sent.
+#[derive(Clone, Copy, Debug)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct BatchFrame {
     /// Packet number, one numbering with data and raw frames.
@@ -65,6 +67,23 @@ pub struct BatchFrame {
 
 pub use crate::model::batch_kernel::to_counts;
 
+impl PartialEq for BatchFrame {
+    fn eq(&self, other: &Self) -> bool {
+        self.sequence == other.sequence
+            && self.timestamp_us == other.timestamp_us
+            && self.period_ns == other.period_ns
+            && self.flags == other.flags
+            && self.overruns == other.overruns
+            && self.dropped == other.dropped
+            && self.calibration_id == other.calibration_id
+            && self.accel_lsb == other.accel_lsb
+            && self.gyro_lsb == other.gyro_lsb
+            && self.temperature == other.temperature
+            && self.count == other.count
+            && self.samples() == other.samples()
+    }
+}
+
 impl BatchFrame {
     /// An empty batch.
     pub const fn new(accel_lsb: f32, gyro_lsb: f32) -> Self {
@@ -82,6 +101,18 @@ impl BatchFrame {
             count: 0,
             samples: [[0; 6]; MAX_BATCH],
         }
+    }
+
+    /// Empties the batch for reuse where it lies (a queue's slot), with
+    /// these LSBs, every other field to be set anew: no sample in use, no
+    /// flag. The samples' array is left as it is (only `count` of it is
+    /// ever read), so reuse costs no 192-byte zeroing.
+    #[inline]
+    pub fn clear(&mut self, accel_lsb: f32, gyro_lsb: f32) {
+        self.accel_lsb = accel_lsb;
+        self.gyro_lsb = gyro_lsb;
+        self.flags = Flags::empty();
+        self.count = 0;
     }
 
     /// Adds a corrected sample in fixed point; false when the batch is full.

@@ -159,19 +159,52 @@ pub struct CommandPacket {
 impl CommandPacket {
     /// Reads a command body (after the version and type bytes, before the CRC).
     pub fn parse(body: &[u8]) -> Result<CommandPacket, DecodeError> {
-        let mut r = Reader::new(body);
-        let sequence = r.u16();
-        let code = r.u8();
         let malformed = DecodeError::Body {
             kind: PacketType::Command as u8,
             len: body.len(),
         };
-        if r.ran_short() {
-            return Err(malformed);
-        }
-        let args = Payload::new(r.rest()).map_err(|_| malformed)?;
+        let packet = CommandRef::parse(body).ok_or(malformed)?;
         Ok(CommandPacket {
-            sequence,
+            sequence: packet.sequence,
+            code: packet.code,
+            args: Payload::new(packet.args).map_err(|_| malformed)?,
+        })
+    }
+
+    /// The packet where it lies.
+    pub fn as_ref(&self) -> CommandRef<'_> {
+        CommandRef {
+            sequence: self.sequence,
+            code: self.code,
+            args: self.args.as_slice(),
+        }
+    }
+
+    /// The command its code and arguments give.
+    pub fn command(&self) -> Result<Command, CommandError> {
+        self.as_ref().command()
+    }
+}
+
+/// A command packet read where it lies (a device's receive buffer): the
+/// fields of [`CommandPacket`], its arguments not copied.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CommandRef<'a> {
+    /// The host's number for this command.
+    pub sequence: u16,
+    /// The command code.
+    pub code: u8,
+    /// The argument bytes.
+    pub args: &'a [u8],
+}
+
+impl<'a> CommandRef<'a> {
+    /// Reads a command body (after the version and type bytes, before the
+    /// CRC); `None` when it is shorter than its sequence number and code.
+    pub fn parse(body: &'a [u8]) -> Option<CommandRef<'a>> {
+        let (&[s0, s1, code], args) = body.split_first_chunk::<3>()?;
+        Some(CommandRef {
+            sequence: u16::from_le_bytes([s0, s1]),
             code,
             args,
         })
@@ -179,7 +212,7 @@ impl CommandPacket {
 
     /// The command its code and arguments give.
     pub fn command(&self) -> Result<Command, CommandError> {
-        let args = self.args.as_slice();
+        let args = self.args;
         let code = self.code;
         let exactly = |expected: usize| {
             if args.len() == expected {

@@ -4,7 +4,35 @@ use super::cobs::Unstuffer;
 use super::encoder::DELIMITER;
 use super::error::DecodeError;
 use super::frame::Frame;
-use crate::protocol::{Packet, MAX_PACKET_LEN};
+use super::packet::{CRC_LEN, HEADER_LEN};
+use crate::protocol::{CommandRef, Packet, PacketRef, PacketType, MAX_PACKET_LEN};
+
+/// A frame's end, as [`Decoder::take`] saw it.
+struct Ended {
+    /// Its bytes on the wire, the delimiter included.
+    frame_bytes: u64,
+    /// A rejection is reported: the decoder was in step and the frame
+    /// was not empty.
+    reported: bool,
+}
+
+/// What a device received ([`Decoder::push_command`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Received<'a> {
+    /// A command, where it lies.
+    Command(CommandRef<'a>),
+    /// A good packet of another kind (a device ignores it).
+    Other,
+}
+
+/// A packet a delimiter completed, as [`Decoder::push_command`] gives it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Completed<'a> {
+    /// What it was, or why it was rejected.
+    pub decoded: Result<Received<'a>, DecodeError>,
+    /// Its unstuffed bytes as received ([`Decoder::last_packet_bytes`]).
+    pub bytes: &'a [u8],
+}
 
 /// What a [`Decoder`] has seen so far. Counters saturate, never wrap.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -134,6 +162,82 @@ impl Decoder {
     /// Takes one byte. At a delimiter that ends a packet, returns the packet
     /// or why it was rejected; otherwise `None`.
     pub fn push(&mut self, byte: u8) -> Option<Result<Packet, DecodeError>> {
+        let ended = self.take(byte)?;
+        let result = self
+            .finish_frame()
+            .and_then(|len| PacketRef::check(&self.raw[..len]))
+            .and_then(PacketRef::parse);
+        match result {
+            Ok(packet) => {
+                self.accept(&packet, ended.frame_bytes);
+                Some(Ok(packet))
+            }
+            Err(error) => self.rejected(error, &ended).map(Err),
+        }
+    }
+
+    /// [`Decoder::push`] as a device takes commands: a command is read
+    /// where it lies in the decoder's buffer ([`Received::Command`]), not
+    /// copied into a [`Packet`]; any other good packet is read whole as
+    /// `push` reads it and given as [`Received::Other`] (a device ignores
+    /// it), and every rejection is `push`'s. With the packet's unstuffed
+    /// bytes ([`Decoder::last_packet_bytes`]).
+    pub fn push_command(&mut self, byte: u8) -> Option<Completed<'_>> {
+        let ended = self.take(byte)?;
+        // Checked, then read again below for the borrow's sake: a command
+        // is its checked bytes less the version, type and CRC. Any other
+        // packet is read whole (`None`: a command).
+        let checked =
+            self.finish_frame()
+                .and_then(|len| match PacketRef::check(&self.raw[..len])? {
+                    PacketRef::V2 {
+                        kind: PacketType::Command,
+                        body,
+                    } => match CommandRef::parse(body) {
+                        Some(_) => Ok(None),
+                        None => Err(DecodeError::Body {
+                            kind: PacketType::Command as u8,
+                            len: body.len(),
+                        }),
+                    },
+                    other => other.parse().map(Some),
+                });
+        let other = match checked {
+            Ok(other) => other,
+            Err(error) => {
+                let error = self.rejected(error, &ended)?;
+                return Some(Completed {
+                    decoded: Err(error),
+                    bytes: self.last_packet_bytes(),
+                });
+            }
+        };
+        let command = other.is_none();
+        match other {
+            Some(packet) => self.accept(&packet, ended.frame_bytes),
+            None => {
+                let s = &mut self.stats;
+                s.packet_bytes = s.packet_bytes.saturating_add(ended.frame_bytes);
+                s.messages = s.messages.saturating_add(1);
+            }
+        }
+        let bytes = self.last_packet_bytes();
+        let body = bytes
+            .get(HEADER_LEN..bytes.len().saturating_sub(CRC_LEN))
+            .unwrap_or_default();
+        let received = match CommandRef::parse(body) {
+            Some(packet) if command => Received::Command(packet),
+            _ => Received::Other,
+        };
+        Some(Completed {
+            decoded: Ok(received),
+            bytes,
+        })
+    }
+
+    /// One byte into the frame in progress; at a delimiter, the frame's
+    /// bytes on the wire and whether a rejection is reported.
+    fn take(&mut self, byte: u8) -> Option<Ended> {
         self.stats.bytes = self.stats.bytes.saturating_add(1);
         if byte != DELIMITER {
             self.pending = self.pending.saturating_add(1);
@@ -145,29 +249,26 @@ impl Decoder {
             }
             return None;
         }
-        let frame_bytes = self.pending.saturating_add(1);
         let was_synced = core::mem::replace(&mut self.synced, true);
-        let empty = self.pending == 0;
-        let result = self.finish_frame();
-        match result {
-            Ok(packet) => {
-                self.accept(&packet, frame_bytes);
-                Some(Ok(packet))
-            }
-            Err(error) => {
-                self.skip(frame_bytes);
-                if empty || !was_synced {
-                    None
-                } else {
-                    if error.is_crc() {
-                        self.stats.crc_errors = self.stats.crc_errors.saturating_add(1);
-                    } else {
-                        self.stats.malformed = self.stats.malformed.saturating_add(1);
-                    }
-                    Some(Err(error))
-                }
-            }
+        Some(Ended {
+            frame_bytes: self.pending.saturating_add(1),
+            reported: self.pending != 0 && was_synced,
+        })
+    }
+
+    /// A frame rejected for `error`: skipped, and counted and reported once
+    /// the decoder is in step (before, and for an empty frame, `None`).
+    fn rejected(&mut self, error: DecodeError, ended: &Ended) -> Option<DecodeError> {
+        self.skip(ended.frame_bytes);
+        if !ended.reported {
+            return None;
         }
+        if error.is_crc() {
+            self.stats.crc_errors = self.stats.crc_errors.saturating_add(1);
+        } else {
+            self.stats.malformed = self.stats.malformed.saturating_add(1);
+        }
+        Some(error)
     }
 
     /// Feeds a slice; the iterator yields each packet or error as its
@@ -195,15 +296,16 @@ impl Decoder {
         })
     }
 
-    /// Ends the bytes since the last delimiter and resets for the next frame.
-    fn finish_frame(&mut self) -> Result<Packet, DecodeError> {
+    /// Ends the bytes since the last delimiter and resets for the next
+    /// frame; the frame's length, within the buffer.
+    fn finish_frame(&mut self) -> Result<usize, DecodeError> {
         let len = core::mem::take(&mut self.len);
         self.finished = len.min(MAX_PACKET_LEN);
         self.pending = 0;
         self.unstuffer.finish().map_err(|_| DecodeError::Stuffing)?;
-        match self.raw.get(..len) {
-            Some(bytes) => Packet::parse(bytes),
-            None => Err(DecodeError::Length { len }),
+        match len <= MAX_PACKET_LEN {
+            true => Ok(len),
+            false => Err(DecodeError::Length { len }),
         }
     }
 

@@ -41,9 +41,9 @@ pub mod self_test;
 pub mod timestamp;
 
 pub use batch_frame::{BatchFrame, MAX_BATCH};
-pub use command::{Command, CommandError, CommandPacket, Mode, CHUNK_LEN};
+pub use command::{Command, CommandError, CommandPacket, CommandRef, Mode, CHUNK_LEN};
 pub use crc32c::{crc32c, CRC32C_CHECK};
-pub use decoder::{Decoder, DecoderStats, Feed};
+pub use decoder::{Completed, Decoder, DecoderStats, Feed, Received};
 pub use device_info::{
     CalibrationSource, Counters, DeviceInfo, Load, StoredReason, StoredState, Text,
 };
@@ -51,7 +51,7 @@ pub use encoder::{encode, max_frame_rate, DELIMITER, MAX_ENCODED_LEN};
 pub use error::DecodeError;
 pub use flags::Flags;
 pub use frame::{Frame, CHECKED_LEN, FRAME_LEN, VERSION};
-pub use packet::{Packet, PacketBuf, PacketType, MAX_PACKET_LEN, MAX_WIRE_LEN};
+pub use packet::{Packet, PacketBuf, PacketRef, PacketType, MAX_PACKET_LEN, MAX_WIRE_LEN};
 pub use payload::{Payload, MAX_PAYLOAD, MAX_REPLY_PAYLOAD};
 pub use raw_frame::{RawFrame, RawScale};
 pub use reply::{Reply, Status};

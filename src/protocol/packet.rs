@@ -69,13 +69,37 @@ impl Packet {
     /// Reads a packet from its unstuffed bytes: the CRC first (nothing else
     /// can be trusted before it), then the version, then the type and body.
     pub fn parse(bytes: &[u8]) -> Result<Packet, DecodeError> {
+        PacketRef::check(bytes)?.parse()
+    }
+}
+
+/// A packet whose length, CRC, version and type are checked, its body not
+/// read yet: where it lies in the receive buffer (a device reads a command
+/// from there, [`crate::protocol::CommandRef`], without copying it).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PacketRef<'a> {
+    /// A version-1 data frame.
+    Data(&'a [u8; FRAME_LEN]),
+    /// A version-2 packet of `kind`, its body between the type and the CRC.
+    V2 {
+        /// The packet's type.
+        kind: PacketType,
+        /// Its body.
+        body: &'a [u8],
+    },
+}
+
+impl<'a> PacketRef<'a> {
+    /// Checks a packet's unstuffed bytes, as [`Packet::parse`] does before
+    /// it reads the body: the CRC first, then the version, then the type.
+    pub fn check(bytes: &'a [u8]) -> Result<PacketRef<'a>, DecodeError> {
         if !plausible_length(bytes) {
             return Err(DecodeError::Length { len: bytes.len() });
         }
         let body = checked_body(bytes)?;
         match bytes.first() {
             Some(1) => match <&[u8; FRAME_LEN]>::try_from(bytes) {
-                Ok(frame) => Frame::from_bytes(frame).map(Packet::Data),
+                Ok(frame) => Ok(PacketRef::Data(frame)),
                 Err(_) => Err(DecodeError::Length { len: bytes.len() }),
             },
             Some(&VERSION) => {
@@ -83,15 +107,25 @@ impl Packet {
                     .split_first()
                     .ok_or(DecodeError::Length { len: bytes.len() })?;
                 match PacketType::from_byte(*kind) {
-                    Some(PacketType::Raw) => RawFrame::parse(body).map(Packet::Raw),
-                    Some(PacketType::Reply) => Reply::parse(body).map(Packet::Reply),
-                    Some(PacketType::Batch) => BatchFrame::parse(body).map(Packet::Batch),
-                    Some(PacketType::Command) => CommandPacket::parse(body).map(Packet::Command),
+                    Some(kind) => Ok(PacketRef::V2 { kind, body }),
                     None => Err(DecodeError::Type { kind: *kind }),
                 }
             }
             Some(&version) => Err(DecodeError::Version { version }),
             None => Err(DecodeError::Length { len: 0 }),
+        }
+    }
+
+    /// Reads the body.
+    pub fn parse(self) -> Result<Packet, DecodeError> {
+        match self {
+            PacketRef::Data(frame) => Frame::from_bytes(frame).map(Packet::Data),
+            PacketRef::V2 { kind, body } => match kind {
+                PacketType::Raw => RawFrame::parse(body).map(Packet::Raw),
+                PacketType::Reply => Reply::parse(body).map(Packet::Reply),
+                PacketType::Batch => BatchFrame::parse(body).map(Packet::Batch),
+                PacketType::Command => CommandPacket::parse(body).map(Packet::Command),
+            },
         }
     }
 }

@@ -137,7 +137,7 @@ fn stretch(md: &mut String, rows: &[CommandRow]) -> Result<()> {
     let shallowest = m4_rows().map(|r| r.stack_bytes).min().unwrap_or(0);
     writeln!(
         md,
-        "- Stack: {} goes deepest, {} bytes below the caller on the Cortex-M4F, and no command takes less than {shallowest} (packets, replies and payloads are held inline, a few hundred bytes each, and copied through several frames). The `link` task's share of the firmware's one stack must hold that, with the data-ready and receive tasks' frames nested on it.",
+        "- Stack: {} goes deepest, {} bytes below the caller on the Cortex-M4F, and no command takes less than {shallowest} (no packet or reply is copied on the way: the command is read where it lies, its reply written where it is kept and encoded from there; the commands that hold more on the stack, identify, the upload's commit, read-back, save and erase, run in frames of their own). The command task's share of the firmware's one stack must hold that, with the data-ready and receive tasks' frames nested on it.",
         deepest.command.name(),
         deepest.stack_bytes
     )?;
@@ -193,10 +193,13 @@ fn wear(md: &mut String, rows: &[CommandRow]) -> Result<()> {
 }
 
 const METHOD: &str = "\
-The firmware's `link` task (priority 1, below the data-ready task) runs,
+The firmware's command task (priority 1, below the data-ready task) runs,
 for each command, the receive decoder over the command's wire bytes
-(`Decoder::push`), `CommandHandler::on_packet`, and the reply's encoding to
-wire bytes (`Reply::to_packet`, `PacketBuf::to_wire`): each row counts those,
+(`Decoder::push_command`: the command read where it lies in the decoder's
+buffer), `CommandHandler::answer_received` (the reply's payload written in
+place into the reply the handler keeps), and that reply's encoding straight
+to wire bytes (`Reply::to_wire`, into the transmitter's reply slot on the
+device): each row counts those,
 on the NUCLEO's device facts and the benchmark's ICM-42688-P scale
 (`bench/src/command_handling.rs`). Each figure is the mean of {REPETITIONS} runs
 ({CHUNK_RUNS} for the upload chunk: each of the blob's chunks is timed), every run on a device

@@ -51,17 +51,17 @@ and the disassembly): the data-ready task is the FIFO read (the driver's
 two SPI transactions per interrupt and about 30 instructions per sample
 decoding the 16-byte packets), the batch kernel (`batch_f32_w32` above;
 the default calibration's g-sensitivity adds three products per gyro
-value), and about 95 per sample moving frames: LLVM builds the 232-byte
-frame on the stack and copies it into the link queue's slot with the
-library's memcpy, its counts at an offset 2 mod 4 from the stack copy's
-(about 70), and zeroes the counts and the FIFO buffer (about 18). The
+value: about 36 instructions per sample in the accelerometer's pass and
+60 in the gyroscope's, whose rows also convert the raw accelerometer
+sample again), and the frame written where it lies in the link queue's
+slot (`device::slot_queue`: no frame built on the stack, no memcpy; the
+batch's mean temperature and the sampler's counters are the rest). The
 link task, per 235-byte packet: header and counts written where their
-wire bytes go (the counts by memcpy, about 4 instructions per byte: the
-frame's and the wire's offsets differ by 2 mod 4), then one pass that
-computes the CRC-32C (slicing-by-4, about 3.5 per byte) and finds the
-zero bytes a word at a time, writing a COBS code at each (no byte
-copied), then the copy into the board's transmit ring (byte by byte:
-each slot an atomic); the TX drain is about 7.3 per byte (status check,
+wire bytes go, then one pass that computes the CRC-32C (slicing-by-4)
+and finds the zero bytes a word at a time (about 7 instructions per
+byte together), writing a COBS code at each (about 2 per byte more),
+then the copy into the board's transmit ring (byte by byte, about 2 per
+byte: each slot an atomic); the TX drain is about 7.3 per byte (status check,
 load, store, loop), work the NUCLEO's DMA does with no instruction per
 byte. The STM32F4's CRC unit computes the Ethernet CRC-32 (polynomial
 0x04C11DB7, fixed), not the protocol's CRC-32C, so the CRC stays in
