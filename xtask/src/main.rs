@@ -94,11 +94,11 @@ enum Command {
         /// coverage-guided targets of fuzz/ under AFL++ (`--afl-seconds` each).
         #[arg(long, conflicts_with_all = ["json", "whole_firmware"])]
         fuzz: bool,
-        /// With --fuzz: seconds AFL++ fuzzes each target.
-        #[arg(long, requires = "fuzz", default_value_t = bench::AFL_SECONDS)]
+        /// Seconds AFL++ fuzzes each target (with --fuzz, or in the whole benchmark).
+        #[arg(long, conflicts_with = "whole_firmware", default_value_t = bench::AFL_SECONDS)]
         afl_seconds: u64,
-        /// With --fuzz: inputs per parser of the mutation run.
-        #[arg(long, requires = "fuzz", default_value_t = bench::MUTATIONS)]
+        /// Inputs per parser of the mutation run (with --fuzz, or in the whole benchmark).
+        #[arg(long, conflicts_with = "whole_firmware", default_value_t = bench::MUTATIONS)]
         mutations: u64,
         /// Only Allan at scale: an 8-hour 400 Hz six-axis record through
         /// `triad allan` beside allantools (installed in a venv under target/).
@@ -301,7 +301,7 @@ fn main() -> std::process::ExitCode {
                         bench::run_whole_firmware_one(rate, watermark, high_resolution)
                     }
                     (true, None) => bench::run_whole_firmware(),
-                    (false, _) => bench::run(json),
+                    (false, _) => bench::run(json, mutations, afl_seconds),
                 })
             }
         },

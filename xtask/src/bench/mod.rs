@@ -100,7 +100,7 @@ pub struct Row {
 
 /// Runs the benchmark; prints JSON rows when `json`, else a table; writes
 /// docs/BENCHMARKS.md either way.
-pub fn run(json: bool) -> Result<()> {
+pub fn run(json: bool, mutations: u64, afl_seconds: u64) -> Result<()> {
     let mut rows = Vec::new();
     let mut command_rows = Vec::new();
     let accuracies = accuracy::all()?;
@@ -125,7 +125,7 @@ pub fn run(json: bool) -> Result<()> {
         }
     }
     let host = host::measure()?;
-    run_fuzz(MUTATIONS, AFL_SECONDS)?;
+    run_fuzz(mutations, afl_seconds)?;
     let fit_imu_s = host::fit_imu_seconds()?;
     let fit_thermal_s = host::fit_thermal_seconds()?;
     let triad = crate::cmd::build_host_tool()?;
