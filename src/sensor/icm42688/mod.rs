@@ -156,7 +156,7 @@ impl Chip for Icm42688Chip {
 
     /// One burst of 14 bytes from TEMP_DATA1 to GYRO_DATA_Z0. With the
     /// high-resolution FIFO configured, brought to its 20-bit scale (the
-    /// registers stay 16-bit: [`widen`]).
+    /// registers stay 16-bit: `widen`).
     fn read_sample<I: RegisterInterface>(
         driver: &mut Icm42688<I>,
     ) -> Result<RawSample, Error<I::BusError>> {
