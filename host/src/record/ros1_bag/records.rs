@@ -49,26 +49,21 @@ pub fn field<'a>(mut fields: &'a [u8], name: &str) -> Result<Option<&'a [u8]>, S
     Ok(None)
 }
 
+/// Field `name`'s `N` bytes, required.
+fn fixed_field<const N: usize>(fields: &[u8], name: &str) -> Result<[u8; N], String> {
+    let v = field(fields, name)?.ok_or_else(|| format!("it has no {name} field"))?;
+    v.try_into()
+        .map_err(|_| format!("its {name} field has {} bytes, not {N}", v.len()))
+}
+
 /// Field `name` as a little-endian u32, required.
 pub fn u32_field(fields: &[u8], name: &str) -> Result<u32, String> {
-    match field(fields, name)? {
-        Some(v) => v
-            .try_into()
-            .map(u32::from_le_bytes)
-            .map_err(|_| format!("its {name} field has {} bytes, not 4", v.len())),
-        None => Err(format!("it has no {name} field")),
-    }
+    fixed_field(fields, name).map(u32::from_le_bytes)
 }
 
 /// Field `name` as a little-endian u64, required.
 pub fn u64_field(fields: &[u8], name: &str) -> Result<u64, String> {
-    match field(fields, name)? {
-        Some(v) => v
-            .try_into()
-            .map(u64::from_le_bytes)
-            .map_err(|_| format!("its {name} field has {} bytes, not 8", v.len())),
-        None => Err(format!("it has no {name} field")),
-    }
+    fixed_field(fields, name).map(u64::from_le_bytes)
 }
 
 /// Field `name` as ROS time (u32 seconds, u32 nanoseconds), in nanoseconds.
