@@ -81,24 +81,32 @@ pub fn runs(program: &str) -> bool {
         .is_ok_and(|s| s.success())
 }
 
-/// Builds the `triad` host tool (release) and returns its path.
+/// Builds the `triad` host tool as the benchmarks time it (release: fat
+/// LTO, one codegen unit) and returns its path.
 pub fn build_host_tool() -> Result<PathBuf> {
-    note!(
-        "xtask: building the triad host tool (release, fat LTO: a second when up to date, \
-         minutes the first time)"
-    );
+    build_triad(
+        "release",
+        "release, fat LTO: a second when up to date, minutes the first time",
+    )
+}
+
+/// Builds the `triad` host tool that `run`, `serve`, `hil` and `test` drive
+/// (Cargo.toml's quick-release profile: optimised, without LTO) and returns
+/// its path.
+pub fn build_quick_host_tool() -> Result<PathBuf> {
+    build_triad(
+        "quick-release",
+        "optimised: a second when up to date, a minute or two the first time",
+    )
+}
+
+fn build_triad(profile: &str, how_long: &str) -> Result<PathBuf> {
+    note!("xtask: building the triad host tool ({how_long})");
     let mut command = cargo();
-    command.args([
-        "build",
-        "--quiet",
-        "--release",
-        "-p",
-        "triad-host",
-        "--bin",
-        "triad",
-    ]);
+    command.args(["build", "--quiet", "--profile", profile]);
+    command.args(["-p", "triad-host", "--bin", "triad"]);
     check(command, "building the triad host tool")?;
-    Ok(host_target_dir().join("release/triad"))
+    Ok(host_target_dir().join(profile).join("triad"))
 }
 
 /// Packs the calibration TOML into the blob the firmware embeds and returns the

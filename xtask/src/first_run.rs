@@ -186,9 +186,13 @@ fn install_and_simulate(triad: &Path, scratch: &Path) -> Result<()> {
     let (root, elsewhere) = (scratch.join("root"), scratch.join("elsewhere"));
     std::fs::create_dir_all(&elsewhere)
         .with_context(|| format!("creating {}", elsewhere.display()))?;
+    // The quick-release profile: the build of the tool xtask drives is
+    // reused (what is checked, the scenes built into the binary, does not
+    // depend on the profile; release would build it all again with fat LTO).
     let mut install = cmd::cargo();
     install
-        .args(["install", "--quiet", "--locked", "--path", "host", "--root"])
+        .args(["install", "--quiet", "--locked", "--path", "host"])
+        .args(["--profile", "quick-release", "--root"])
         .arg(&root)
         .arg("--target-dir")
         .arg(cmd::host_target_dir());

@@ -386,7 +386,7 @@ fn build(args: &FirmwareArgs) -> anyhow::Result<(std::path::PathBuf, std::path::
         );
     }
     setup::ensure_for(args.board)?;
-    let triad = cmd::build_host_tool()?;
+    let triad = cmd::build_quick_host_tool()?;
     let calibration = cmd::pack_calibration(&triad, args.calib.as_deref())?;
     let emulated_chip = match (args.board.is_emulated(), args.sensor.as_deref()) {
         (true, chip) => {
@@ -431,7 +431,7 @@ fn build(args: &FirmwareArgs) -> anyhow::Result<(std::path::PathBuf, std::path::
 }
 
 fn man(dir: &std::path::Path) -> anyhow::Result<()> {
-    let triad = cmd::build_host_tool()?;
+    let triad = cmd::build_quick_host_tool()?;
     let mut command = std::process::Command::new(triad);
     command.args(["man", "--out-dir"]).arg(dir);
     cmd::check(command, "triad man")

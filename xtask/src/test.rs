@@ -78,14 +78,14 @@ pub fn run(scope: Scope) -> Result<()> {
     STARTED.get_or_init(Instant::now);
     setup::ensure_all()?;
     if scope == Scope::FirstRun {
-        return first_run::run(&cmd::build_host_tool()?);
+        return first_run::run(&cmd::build_quick_host_tool()?);
     }
     if scope == Scope::DifferentRates {
-        let triad = cmd::build_host_tool()?;
+        let triad = cmd::build_quick_host_tool()?;
         return different_rates(&triad, &cmd::pack_calibration(&triad, None)?);
     }
     if scope == Scope::HighResolution {
-        let triad = cmd::build_host_tool()?;
+        let triad = cmd::build_quick_host_tool()?;
         return high_resolution(&triad, &cmd::pack_calibration(&triad, None)?);
     }
     let e2e_only = scope == Scope::EndToEnd;
@@ -107,11 +107,11 @@ pub fn run(scope: Scope) -> Result<()> {
         )?;
         recordings_peers()?;
         // Statistical sweeps are ignored in debug builds: run here optimised
-        // (the `sweeps` profile: release without LTO, see Cargo.toml).
+        // (the `quick-release` profile: release without LTO, see Cargo.toml).
         let sweeps = [
             "test",
             "--profile",
-            "sweeps",
+            "quick-release",
             "--quiet",
             "-p",
             "triad-lab",
@@ -127,14 +127,14 @@ pub fn run(scope: Scope) -> Result<()> {
             "thermal_gyro",
         ];
         step(
-            "cargo test --profile sweeps (the Allan coverage sweeps, fully overlapping and strided, the rig-free, g-sensitivity and thermal fits' σ coverage over 60 seeds)",
+            "cargo test --profile quick-release (the Allan coverage sweeps, fully overlapping and strided, the rig-free, g-sensitivity and thermal fits' σ coverage over 60 seeds)",
             &sweeps,
         )?;
         note!("xtask: cargo doc (core, sim, lab) {}", at());
         embedded_checks::docs()?;
     }
 
-    let triad = cmd::build_host_tool()?;
+    let triad = cmd::build_quick_host_tool()?;
     if !e2e_only {
         first_run::run(&triad)?;
     }

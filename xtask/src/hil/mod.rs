@@ -153,7 +153,7 @@ pub fn run(args: HilArgs) -> Result<()> {
         false => args.sampling.clone(),
     };
     setup::ensure_for(args.board)?;
-    let triad = cmd::build_host_tool()?;
+    let triad = cmd::build_quick_host_tool()?;
     let calibration = cmd::pack_calibration(&triad, None)?;
     let dir = cmd::root().join("target/hil").join(format!(
         "{}-{}{}",
