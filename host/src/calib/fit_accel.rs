@@ -9,9 +9,9 @@ use anyhow::anyhow;
 use triad::model::Triad;
 use triad::units::STANDARD_GRAVITY;
 use triad_lab::calib_fit::fits::accel_fit::AccelFit;
+use triad_lab::calib_fit::fits::accel_fit::AccelFitError;
 use triad_lab::calib_fit::fits::gyro_fit::LinearFit;
 use triad_lab::calib_fit::fits::{accel_cube, accel_fit};
-use triad_lab::calib_fit::FitError;
 
 use super::fit::{file_list, inputs, names, write_calibration, Base, Output};
 use super::fit_csv::{self, Reading, Record};
@@ -105,10 +105,10 @@ fn ellipsoid(
 ) -> anyhow::Result<ExitCode> {
     let files = names(&args.positions);
     let fit = accel_fit::fit(means, args.gravity).map_err(|e| match e {
-        FitError::TooFewOrientations { .. } => anyhow!(
+        AccelFitError::TooFewOrientations { .. } => anyhow!(
             "{files}: {e}; use --axis-aligned if one sensor axis was vertical in every position"
         ),
-        FitError::OrientationsInOnePlane { .. } => anyhow!("{files}: {e}"),
+        AccelFitError::OrientationsInOnePlane { .. } => anyhow!("{files}: {e}"),
         _ => anyhow!("{files}: {} static segments: {e}", means.len()),
     })?;
     let mut out = String::new();
