@@ -11,6 +11,8 @@
 //!   Levenberg–Marquardt, the algebraic ellipsoid, quaternions, 3×3 helpers.
 //! - [`accel_frame`]: a truth's (I+Σ) in the rig-free fits' frame (the
 //!   accelerometer's upper triangular corrected axes), for comparisons.
+//! - [`stillness`]: whether a record (or a pose) is still, by its block
+//!   means and its mean rate.
 //! - [`hand_record`]: hand-turned records with known truth, for tests and
 //!   benchmarks.
 //!
@@ -34,3 +36,4 @@ pub mod hand_record;
 pub mod numerics;
 pub mod poses;
 pub mod static_segments;
+pub mod stillness;

@@ -20,7 +20,8 @@
 //! - [`g_sensitivity`]: the gyroscope's g-sensitivity G from static poses in
 //!   several orientations, and the poses' consistency test that accounts for
 //!   it; [`static_gyro`]: the gyroscope's bias and G from a record of
-//!   static poses alone.
+//!   static poses alone; [`gyro_at_rest`]: `fit gyro --static` whole, the
+//!   bias of a still record or the bias and G of its poses.
 //! - [`imu`]: `fit imu` whole, from one hand-turned record (or a cube
 //!   tumble) and its options to both triads with what the report says.
 //! - Across temperature: [`thermal_coverage`] (the range, the reference
@@ -36,6 +37,7 @@ pub mod accel_cube;
 pub mod accel_fit;
 pub mod bias_polynomial;
 pub mod g_sensitivity;
+pub mod gyro_at_rest;
 pub mod gyro_fit;
 pub mod imu;
 pub mod move_selection;

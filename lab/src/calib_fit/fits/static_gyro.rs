@@ -51,14 +51,20 @@ pub fn fit(
         .map_err(|stray| PoseNotStatic::new(&stray, poses, t))
 }
 
+/// The corrected specific force of a pose: its accelerometer mean through
+/// the `frame`'s calibration, m/s².
+pub fn specific_force(accel: &[[f64; 3]], frame: &Frame) -> [f64; 3] {
+    let a = static_segments::mean(accel);
+    matrix::mul_vec(
+        &frame.accel_inverse,
+        &[0, 1, 2].map(|i| a[i] - frame.accel_bias[i]),
+    )
+}
+
 fn pose_mean(gyro: &[[f64; 3]], accel: &[[f64; 3]], frame: &Frame) -> PoseMean {
     let n = libm::sqrt(gyro.len() as f64);
     let standard_error = static_segments::standard_deviation(gyro).map(|s| s / n);
-    let a = static_segments::mean(accel);
-    let force = matrix::mul_vec(
-        &frame.accel_inverse,
-        &[0, 1, 2].map(|i| a[i] - frame.accel_bias[i]),
-    );
+    let force = specific_force(accel, frame);
     let mut mean = static_segments::mean(gyro);
     if let Some((vertical, scale)) = &frame.earth {
         let norm = libm::sqrt(force.iter().map(|x| x * x).sum::<f64>());
