@@ -253,9 +253,10 @@ fn print_cube(out: &mut String, stats: &[Stat], fit: &LinearFit, g: f64) {
     );
     for (i, s) in stats.iter().enumerate() {
         let f = accel_cube::reference(&s.mean, g).unwrap_or([0.0; 3]);
-        let model = triad::model::matrix::mul_vec(&fit.scale_misalignment, &f);
-        let r: Vec<String> = (0..3)
-            .map(|k| format!("{:+.2e}", s.mean[k] - model[k] - fit.bias[k]))
+        let r: Vec<String> = fit
+            .residual(&f, &s.mean)
+            .iter()
+            .map(|x| format!("{x:+.2e}"))
             .collect();
         outln!(
             out,

@@ -8,7 +8,6 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{anyhow, bail};
-use triad::model::matrix::mul_vec;
 use triad::model::{Triad, TriadCalibration};
 use triad::units::{deg_to_rad, rad_to_deg, EARTH_RATE};
 use triad_lab::calib_fit::fits::gyro_at_rest::{
@@ -210,14 +209,10 @@ fn print_rate_table(out: &mut String, segments: &[RateSegment], fit: &LinearFit)
     outln!(out, "gyro rate-table fit: {} segments", fit.segments);
     outln!(out, "  segment  true rate (°/s)            measured mean (°/s)                    residual (°/s)");
     for (i, s) in segments.iter().enumerate() {
-        let model = mul_vec(&fit.scale_misalignment, &s.true_rate);
-        let r: Vec<String> = (0..3)
-            .map(|k| {
-                format!(
-                    "{:+.2e}",
-                    rad_to_deg(s.measured[k] - model[k] - fit.bias[k])
-                )
-            })
+        let r: Vec<String> = fit
+            .residual(&s.true_rate, &s.measured)
+            .iter()
+            .map(|&x| format!("{:+.2e}", rad_to_deg(x)))
             .collect();
         let [w0, w1, w2] = s.true_rate.map(rad_to_deg);
         let [m0, m1, m2] = s.measured.map(rad_to_deg);

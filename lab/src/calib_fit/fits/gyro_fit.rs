@@ -108,6 +108,18 @@ pub struct LinearFit {
     pub condition: f64,
 }
 
+impl LinearFit {
+    /// The residual m̂ − (I+Σ)·m − b of a pair (known m, measured mean m̂).
+    pub fn residual(&self, known: &[f64; 3], measured: &[f64; 3]) -> [f64; 3] {
+        residual(&self.scale_misalignment, &self.bias, known, measured)
+    }
+}
+
+fn residual(m: &Mat3, bias: &[f64; 3], known: &[f64; 3], measured: &[f64; 3]) -> [f64; 3] {
+    let model = triad::model::matrix::mul_vec(m, known);
+    core::array::from_fn(|i| measured[i] - model[i] - bias[i])
+}
+
 /// The gyro's fit: [`LinearFit`] of rate-table segments.
 pub type GyroFit = LinearFit;
 
@@ -175,9 +187,7 @@ where
     let mut sum_sq = 0.0;
     let mut worst = 0.0f64;
     for (known, measured) in pairs {
-        let model = triad::model::matrix::mul_vec(&m, &known);
-        for i in 0..3 {
-            let r = measured[i] - model[i] - bias[i];
+        for r in residual(&m, &bias, &known, &measured) {
             sum_sq += r * r;
             worst = worst.max(r.abs());
         }
