@@ -4,11 +4,16 @@
 #![allow(clippy::needless_range_loop)] // index form reads as the matrix formulas
 
 use triad::model::matrix;
-use triad_lab::calib_fit::error::{FitError, MIN_ACCEL_ORIENTATIONS};
+use triad_lab::calib_fit::fits::accel_cube::AccelCubeError;
+use triad_lab::calib_fit::fits::accel_fit::{
+    AccelFitError, NotNearGravity, MIN_ACCEL_ORIENTATIONS,
+};
+use triad_lab::calib_fit::fits::gyro_fit::GyroFitError;
 use triad_lab::calib_fit::fits::gyro_fit::{self, RateSegment};
 use triad_lab::calib_fit::fits::{accel_cube, accel_fit};
 use triad_lab::calib_fit::numerics::qr::{GivensLs, LsError};
 use triad_lab::calib_fit::numerics::small3::{cholesky_upper, gram, symmetric_eigenvalues};
+use triad_lab::calib_fit::numerics::NumericsError;
 use triad_lab::calib_fit::static_segments::{DetectError, Detector, Segment};
 
 const G: f64 = 9.80665;
@@ -217,7 +222,7 @@ fn accel_fit_refuses_six_cube_faces_with_the_count() {
     }
     assert_eq!(
         accel_fit::fit(&means, G),
-        Err(FitError::TooFewOrientations {
+        Err(AccelFitError::TooFewOrientations {
             segments: 24,
             found: 6,
             needed: MIN_ACCEL_ORIENTATIONS
@@ -235,7 +240,7 @@ fn accel_fit_refuses_orientations_in_one_plane() {
         })
         .collect();
     match accel_fit::fit(&means, G) {
-        Err(FitError::OrientationsInOnePlane {
+        Err(AccelFitError::OrientationsInOnePlane {
             orientations,
             out_of_plane_rms,
             ..
@@ -253,22 +258,25 @@ fn accel_fit_refuses_bad_gravity_and_non_finite_means() {
     let means = directions(12);
     assert_eq!(
         accel_fit::fit(&means, 0.0),
-        Err(FitError::InvalidGravity { value: 0.0 })
+        Err(AccelFitError::InvalidGravity { value: 0.0 })
     );
     // Directions on the unit sphere are 1 m/s², as if the record were in g.
     match accel_fit::fit(&means, G) {
-        Err(FitError::NotNearGravity {
+        Err(AccelFitError::NotNearGravity(NotNearGravity {
             segment: 0,
             magnitude,
             gravity,
-        }) => assert!((magnitude - 1.0).abs() < 1e-12 && gravity == G),
+        })) => assert!((magnitude - 1.0).abs() < 1e-12 && gravity == G),
         other => panic!("{other:?}"),
     }
     let mut bad: Vec<[f64; 3]> = means.iter().map(|u| u.map(|x| x * G)).collect();
     bad[3][1] = f64::NAN;
     assert!(matches!(
         accel_fit::fit(&bad, G),
-        Err(FitError::NonFinite { segment: 3, .. })
+        Err(AccelFitError::Numerics(NumericsError::NonFinite {
+            segment: 3,
+            ..
+        }))
     ));
 }
 
@@ -320,16 +328,16 @@ fn gyro_fit_refuses_rates_about_one_axis_in_one_plane_or_too_few() {
     ];
     assert_eq!(
         gyro_fit::fit(&rate_segments(&one_axis)),
-        Err(FitError::RatesDegenerate { dimension: 1 })
+        Err(GyroFitError::RatesDegenerate { dimension: 1 })
     );
     let plane = [[0.0, 0.0, r], [0.0, 0.0, -r], [r, 0.0, 0.0], [-r, 0.0, 0.0]];
     assert_eq!(
         gyro_fit::fit(&rate_segments(&plane)),
-        Err(FitError::RatesDegenerate { dimension: 2 })
+        Err(GyroFitError::RatesDegenerate { dimension: 2 })
     );
     assert_eq!(
         gyro_fit::fit(&rate_segments(&plane[..3])),
-        Err(FitError::TooFewRates {
+        Err(GyroFitError::TooFewRates {
             found: 3,
             needed: 4
         })
@@ -433,7 +441,7 @@ fn accel_fit_refuses_directions_off_no_coordinate_plane_by_conditioning() {
     ];
     let means: Vec<[f64; 3]> = dirs.iter().map(|u| measure(&u.map(|x| G * x))).collect();
     match accel_fit::fit(&means, G) {
-        Err(FitError::IllConditioned { condition, limit }) => {
+        Err(AccelFitError::Numerics(NumericsError::IllConditioned { condition, limit })) => {
             assert!(condition > limit, "{condition}")
         }
         other => panic!("{other:?}"),
@@ -468,7 +476,7 @@ fn accel_cube_fit_recovers_the_full_matrix_from_six_faces() {
     let plane = [means[0], means[1], means[2], means[3]];
     assert_eq!(
         accel_cube::fit(&plane, G),
-        Err(FitError::TooFewFaces {
+        Err(AccelCubeError::TooFewFaces {
             found: 4,
             segments: 4
         })
@@ -478,7 +486,7 @@ fn accel_cube_fit_recovers_the_full_matrix_from_six_faces() {
     let (s30, c30) = (0.5, 0.75f64.sqrt());
     tilted[2] = measure(&[G * c30, G * s30 * 0.5f64.sqrt(), G * s30 * 0.5f64.sqrt()]);
     match accel_cube::fit(&tilted, G) {
-        Err(FitError::NotAxisAligned {
+        Err(AccelCubeError::NotAxisAligned {
             segment: 2,
             angle_deg,
             ..

@@ -14,7 +14,6 @@ use triad_lab::calib_fit::fits::rig_free::{self, RigFreeGyroFit};
 use triad_lab::calib_fit::hand_record::{self, Axes, Script, TriadTruth, Unit};
 use triad_lab::calib_fit::numerics::small3::{cholesky_upper, gram};
 use triad_lab::calib_fit::static_segments::{Detector, Segment};
-use triad_lab::calib_fit::FitError;
 use triad_lab::student_t;
 use triad_sim::effects::rng::Rng;
 
@@ -89,15 +88,16 @@ fn poses(r: &Recorded) -> (Vec<Segment>, Vec<[f64; 3]>) {
     (buffer, means)
 }
 
-/// The accelerometer fit, then the gyro's.
-fn fit(r: &Recorded, full_scale: f64) -> Result<(AccelFit, RigFreeGyroFit), FitError> {
+/// The accelerometer fit, then the gyro's (either's refusal as its message).
+fn fit(r: &Recorded, full_scale: f64) -> Result<(AccelFit, RigFreeGyroFit), String> {
     let (segments, means) = poses(r);
-    let accel = accel_fit::fit(&means, G)?;
+    let accel = accel_fit::fit(&means, G).map_err(|e| e.to_string())?;
     let record = rig_free::Record {
         t: &r.t,
         gyro: &r.gyro,
     };
-    let gyro = rig_free::fit(record, &segments, &means, &accel, full_scale)?;
+    let gyro =
+        rig_free::fit(record, &segments, &means, &accel, full_scale).map_err(|e| e.to_string())?;
     Ok((accel, gyro))
 }
 

@@ -9,10 +9,9 @@
 
 use triad::model::matrix::{self, Mat3};
 use triad_lab::calib_fit::fits::bias_polynomial::{self, StaticMean};
-use triad_lab::calib_fit::fits::thermal_accel::{self, Terms, ThermalAccelFit};
+use triad_lab::calib_fit::fits::thermal_accel::{self, Terms, ThermalAccelError, ThermalAccelFit};
 use triad_lab::calib_fit::fits::thermal_coverage::{self, coverage, CoverageError};
 use triad_lab::calib_fit::numerics::small3::{cholesky_upper, gram};
-use triad_lab::calib_fit::FitError;
 use triad_lab::student_t;
 use triad_sim::effects::rng::Rng;
 
@@ -147,7 +146,7 @@ fn ramp() -> Vec<f64> {
     (0..141).map(|k| -10.0 + 0.5 * k as f64).collect()
 }
 
-fn fit_accel(segments: &[StaticMean]) -> Result<ThermalAccelFit, FitError> {
+fn fit_accel(segments: &[StaticMean]) -> Result<ThermalAccelFit, ThermalAccelError> {
     let temps: Vec<f64> = segments.iter().map(|s| s.temperature_c).collect();
     let cov = coverage(&temps).expect("the temperatures support a term");
     let terms = Terms {

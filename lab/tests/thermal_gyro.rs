@@ -11,11 +11,10 @@ use triad_lab::calib_fit::fits::bias_polynomial::{self, BiasPolynomial, StaticMe
 use triad_lab::calib_fit::fits::rig_free::Record;
 use triad_lab::calib_fit::fits::thermal_accel::{self, Terms, ThermalAccelFit};
 use triad_lab::calib_fit::fits::thermal_coverage::coverage;
-use triad_lab::calib_fit::fits::thermal_gyro::{self, Poses, ThermalGyroFit};
+use triad_lab::calib_fit::fits::thermal_gyro::{self, Poses, ThermalGyroError, ThermalGyroFit};
 use triad_lab::calib_fit::hand_record::{self, Script, TriadTruth, Unit};
 use triad_lab::calib_fit::numerics::small3::{cholesky_upper, gram};
 use triad_lab::calib_fit::static_segments::{self, Detector, Segment};
-use triad_lab::calib_fit::FitError;
 use triad_lab::student_t;
 use triad_sim::effects::rng::Rng;
 
@@ -130,7 +129,9 @@ fn soak(accel: &Thermal, gyro: &Thermal, temperature: f64, rng: &mut Rng) -> Soa
 }
 
 /// The accelerometer, the gyro bias, then the gyro's (I+Σ)(T).
-fn fit(soaks: &[Soak]) -> Result<(ThermalAccelFit, BiasPolynomial, ThermalGyroFit), FitError> {
+fn fit(
+    soaks: &[Soak],
+) -> Result<(ThermalAccelFit, BiasPolynomial, ThermalGyroFit), ThermalGyroError> {
     let accel_means: Vec<StaticMean> = soaks.iter().flat_map(|s| s.accel.clone()).collect();
     let gyro_means: Vec<StaticMean> = soaks.iter().flat_map(|s| s.gyro_means.clone()).collect();
     let temps: Vec<f64> = accel_means.iter().map(|m| m.temperature_c).collect();
@@ -141,7 +142,8 @@ fn fit(soaks: &[Soak]) -> Result<(ThermalAccelFit, BiasPolynomial, ThermalGyroFi
         scale: true,
     };
     let (mut scratch, mut weights) = (vec![[0.0; 3]; temps.len()], vec![0.0; temps.len()]);
-    let accel = thermal_accel::fit(&accel_means, G, terms, &mut scratch, &mut weights)?;
+    let accel = thermal_accel::fit(&accel_means, G, terms, &mut scratch, &mut weights)
+        .expect("the accelerometer fits");
     let bias = bias_polynomial::fit(&gyro_means, cov.reference_c, cov.bias_order())
         .expect("the gyro's bias fits");
     let sets: Vec<Poses> = soaks
@@ -252,7 +254,7 @@ fn turns_at_one_temperature_only_are_refused() {
     assert!(
         matches!(
             err,
-            FitError::TooFewTurnsForScale {
+            ThermalGyroError::TooFewTurnsForScale {
                 colder: 13,
                 warmer: 0,
                 ..

@@ -9,9 +9,9 @@ use anyhow::anyhow;
 use triad::model::Triad;
 use triad::units::STANDARD_GRAVITY;
 use triad_lab::calib_fit::fits::accel_fit::AccelFit;
+use triad_lab::calib_fit::fits::accel_fit::AccelFitError;
 use triad_lab::calib_fit::fits::gyro_fit::LinearFit;
 use triad_lab::calib_fit::fits::{accel_cube, accel_fit};
-use triad_lab::calib_fit::FitError;
 
 use super::fit::{file_list, inputs, names, write_calibration, Base, Output};
 use super::fit_csv::{self, Reading, Record};
@@ -105,10 +105,10 @@ fn ellipsoid(
 ) -> anyhow::Result<ExitCode> {
     let files = names(&args.positions);
     let fit = accel_fit::fit(means, args.gravity).map_err(|e| match e {
-        FitError::TooFewOrientations { .. } => anyhow!(
+        AccelFitError::TooFewOrientations { .. } => anyhow!(
             "{files}: {e}; use --axis-aligned if one sensor axis was vertical in every position"
         ),
-        FitError::OrientationsInOnePlane { .. } => anyhow!("{files}: {e}"),
+        AccelFitError::OrientationsInOnePlane { .. } => anyhow!("{files}: {e}"),
         _ => anyhow!("{files}: {} static segments: {e}", means.len()),
     })?;
     let mut out = String::new();
@@ -253,9 +253,10 @@ fn print_cube(out: &mut String, stats: &[Stat], fit: &LinearFit, g: f64) {
     );
     for (i, s) in stats.iter().enumerate() {
         let f = accel_cube::reference(&s.mean, g).unwrap_or([0.0; 3]);
-        let model = triad::model::matrix::mul_vec(&fit.scale_misalignment, &f);
-        let r: Vec<String> = (0..3)
-            .map(|k| format!("{:+.2e}", s.mean[k] - model[k] - fit.bias[k]))
+        let r: Vec<String> = fit
+            .residual(&f, &s.mean)
+            .iter()
+            .map(|x| format!("{x:+.2e}"))
             .collect();
         outln!(
             out,

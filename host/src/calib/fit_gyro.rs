@@ -1,25 +1,27 @@
 //! `triad calib fit gyro`: (I+Σ) and b from rate-table runs with known
 //! rates ([`gyro_fit`]), or the bias alone from a static record, and with
 //! it the g-sensitivity G from a record of several static poses
-//! ([`static_gyro`]).
+//! ([`gyro_at_rest`]). The lab fits; this module parses the arguments,
+//! reads the records, renders the report and writes the calibration.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{anyhow, bail};
-use triad::model::matrix::{self, mul_vec, Mat3};
 use triad::model::{Triad, TriadCalibration};
 use triad::units::{deg_to_rad, rad_to_deg, EARTH_RATE};
+use triad_lab::calib_fit::fits::gyro_at_rest::{
+    self, AtRestOptions, AtRestRecord, GyroAtRest, GyroAtRestError, PosesAtRest, StaticBias,
+};
 use triad_lab::calib_fit::fits::gyro_fit::{self, LinearFit, RateSegment};
-use triad_lab::calib_fit::fits::static_gyro::{self, Frame};
-use triad_lab::calib_fit::static_segments::{self, Segment};
+use triad_lab::calib_fit::poses;
+use triad_lab::calib_fit::stillness;
 
 use super::fit::{file_list, inputs, names, write_calibration, Base, Output};
 use super::fit_csv;
 use super::g_sensitivity_report;
 use super::report::{fit_report, method_table, print_vector};
 use super::segments::{self, stat, Stat};
-use super::stillness;
 use crate::calib::file::vector;
 use crate::plumbing::input;
 use crate::plumbing::number::{positive, readable};
@@ -207,14 +209,10 @@ fn print_rate_table(out: &mut String, segments: &[RateSegment], fit: &LinearFit)
     outln!(out, "gyro rate-table fit: {} segments", fit.segments);
     outln!(out, "  segment  true rate (°/s)            measured mean (°/s)                    residual (°/s)");
     for (i, s) in segments.iter().enumerate() {
-        let model = mul_vec(&fit.scale_misalignment, &s.true_rate);
-        let r: Vec<String> = (0..3)
-            .map(|k| {
-                format!(
-                    "{:+.2e}",
-                    rad_to_deg(s.measured[k] - model[k] - fit.bias[k])
-                )
-            })
+        let r: Vec<String> = fit
+            .residual(&s.true_rate, &s.measured)
+            .iter()
+            .map(|&x| format!("{:+.2e}", rad_to_deg(x)))
             .collect();
         let [w0, w1, w2] = s.true_rate.map(rad_to_deg);
         let [m0, m1, m2] = s.measured.map(rad_to_deg);
@@ -235,7 +233,8 @@ fn print_rate_table(out: &mut String, segments: &[RateSegment], fit: &LinearFit)
 }
 
 /// `--static`: the bias alone, the mean of each axis (less the vertical
-/// Earth rate with `--latitude`), the scale kept from `--base`.
+/// Earth rate with `--latitude`), the scale kept from `--base`; or, from a
+/// record of several poses, the bias and G ([`gyro_at_rest`]).
 fn gyro_static(args: &GyroArgs, base: Base, path: &Path) -> anyhow::Result<ExitCode> {
     positive(
         "--max-bias",
@@ -260,50 +259,83 @@ fn gyro_static(args: &GyroArgs, base: Base, path: &Path) -> anyhow::Result<ExitC
         .ok()
         .map(|(r, _)| r);
     drop(text);
-    // Several poses (the accelerometer's static stretches) with turns
-    // between them: the bias and G from the poses.
-    if let Some(accel) = &accel {
-        positive(
-            "--min-static",
-            args.min_static,
-            "must be a positive number of seconds",
-        )?;
-        if let Ok(found) = segments::detect(accel, args.min_static) {
-            if found.segments.len() >= 2 {
-                return gyro_poses(args, base, path, &gyro, accel, &found.segments);
-            }
+    // With the accelerometer, its static stretches may be several poses.
+    let detector = match &accel {
+        Some(accel) => {
+            positive(
+                "--min-static",
+                args.min_static,
+                "must be a positive number of seconds",
+            )?;
+            accel
+                .rate_hz()
+                .ok()
+                .map(|rate| poses::detector(rate, args.min_static))
         }
-    }
-    let s = stat(&gyro, 0, 0..gyro.samples.len());
-    if s.count < 2 {
-        bail!(
-            "{}: {} sample(s), need at least 2 for a mean and its standard error",
-            input::name(path),
-            s.count
-        );
-    }
-    stillness::check(
-        &input::name(path),
-        &gyro.samples,
-        accel.as_ref().map(|a| a.samples.as_slice()),
-        &s.mean,
-        args.max_bias,
-    )?;
+        None => None,
+    };
+    let parts = accel.as_ref().map(|a| a.parts()).unwrap_or_default();
+    let record = AtRestRecord {
+        t: &gyro.t,
+        gyro: &gyro.samples,
+        accel: accel.as_ref().map(|a| a.samples.as_slice()),
+        parts: &parts,
+    };
     // Without --base the base is the identity.
+    let options = AtRestOptions {
+        detector,
+        max_bias_dps: args.max_bias,
+        earth_vertical: args.latitude.map(|lat| EARTH_RATE * deg_to_rad(lat).sin()),
+        accel_scale_misalignment: base.calibration.accel.scale_misalignment,
+        accel_bias: base.calibration.accel.bias,
+        gyro_scale_misalignment: base.calibration.gyro.scale_misalignment,
+    };
+    let name = input::name(path);
+    match gyro_at_rest::fit(&record, &options).map_err(|e| refusal(&name, e))? {
+        GyroAtRest::Bias(fit) => write_bias(args, base, path, &fit),
+        GyroAtRest::Poses(fit) => write_poses(args, base, path, &gyro, &fit),
+    }
+}
+
+/// The refusal of the record `name`, in the options' words.
+fn refusal(name: &str, e: GyroAtRestError) -> anyhow::Error {
+    match e {
+        GyroAtRestError::NotStill { pose: None, why } => anyhow!("{}", why.named(name)),
+        GyroAtRestError::NotStill { pose: Some(p), why } => {
+            anyhow!("{}", why.named(&format!("{name} {p}")))
+        }
+        GyroAtRestError::NoAccelerometer => anyhow!(
+            "{name}: --latitude needs the accelerometer columns ax,ay,az to tell the vertical"
+        ),
+        e @ GyroAtRestError::SingularAccel => anyhow!("--base: {e}"),
+        e => anyhow!("{name}: {e}"),
+    }
+}
+
+/// The bias of a still record: report and calibration.
+fn write_bias(
+    args: &GyroArgs,
+    base: Base,
+    path: &Path,
+    fit: &StaticBias,
+) -> anyhow::Result<ExitCode> {
+    let s = &fit.statistics;
     let base_matrix = base.calibration.gyro.scale_misalignment;
     let base_note = if args.output.base.is_some() {
         "from --base"
     } else {
         "identity"
     };
-    let (bias, earth_note) = match args.latitude {
-        Some(lat) => without_earth_rate(path, accel.as_ref(), s.mean, lat, &base_matrix)?,
-        None => (
-            s.mean,
-            format!(
-                "the Earth rate (up to Ω = {:.3} °/h) is included in the bias: give --latitude to remove its vertical part",
-                rad_to_deg(EARTH_RATE) * 3600.0
-            ),
+    let earth_note = match args.latitude {
+        Some(lat) => format!(
+            "the vertical Earth rate Ω·sin φ = {:.3} °/h is removed along the measured vertical; the horizontal \
+             part Ω·cos φ = {:.3} °/h (its direction is unknown without a heading) is still included",
+            rad_to_deg(EARTH_RATE * deg_to_rad(lat).sin()) * 3600.0,
+            rad_to_deg(EARTH_RATE * deg_to_rad(lat).cos()) * 3600.0
+        ),
+        None => format!(
+            "the Earth rate (up to Ω = {:.3} °/h) is included in the bias: give --latitude to remove its vertical part",
+            rad_to_deg(EARTH_RATE) * 3600.0
         ),
     };
     let mut out = String::new();
@@ -313,10 +345,10 @@ fn gyro_static(args: &GyroArgs, base: Base, path: &Path) -> anyhow::Result<ExitC
         s.count,
         input::name(path)
     );
-    print_vector(&mut out, "b (rad/s)", &bias, Some(&s.standard_error));
+    print_vector(&mut out, "b (rad/s)", &fit.bias, Some(&s.standard_error));
     outln!(out, "  (± is the standard error s/√n, which assumes white noise; `triad allan` shows the correlated part)");
     outln!(out, "  {earth_note}");
-    let table = static_table(path, &s, &earth_note);
+    let table = static_table(path, fit, &earth_note);
     let header = format!(
         "Gyroscope bias fitted by `triad calib fit gyro --static` from {} ({} samples);\n\
          gyro scale_misalignment {base_note}; {earth_note}.",
@@ -325,56 +357,24 @@ fn gyro_static(args: &GyroArgs, base: Base, path: &Path) -> anyhow::Result<ExitC
     );
     let triad = TriadCalibration {
         scale_misalignment: base_matrix,
-        bias,
+        bias: fit.bias,
         temperature: None,
     };
     write_calibration(&args.output, base, Triad::Gyro, triad, &header, table, &out)
 }
 
-/// `--static` on a record of several poses: the bias and G from the
-/// poses' means ([`static_gyro`]), each pose checked still, G in the frame
-/// of the base's accelerometer (the one the file carries).
-fn gyro_poses(
+/// The bias and G of several static poses: report and calibration, G in
+/// the frame of the base's accelerometer (the one the file carries).
+fn write_poses(
     args: &GyroArgs,
     base: Base,
     path: &Path,
     gyro: &fit_csv::Record,
-    accel: &fit_csv::Record,
-    poses: &[Segment],
+    fit: &PosesAtRest,
 ) -> anyhow::Result<ExitCode> {
     let name = input::name(path);
-    let pose_span = |p: &Segment| {
-        format!(
-            "t = {:.2}..{:.2} s",
-            gyro.t[p.start],
-            gyro.t[p.end.max(p.start + 1) - 1]
-        )
-    };
-    for (i, p) in poses.iter().enumerate() {
-        let still = stat(gyro, 0, p.start..p.end);
-        stillness::check(
-            &format!("{name} pose {} ({})", i + 1, pose_span(p)),
-            &gyro.samples[p.start..p.end],
-            Some(&accel.samples[p.start..p.end]),
-            &still.mean,
-            args.max_bias,
-        )?;
-    }
-    let accel_cal = &base.calibration.accel;
-    let accel_inverse = matrix::inverse(&accel_cal.scale_misalignment).ok_or_else(|| {
-        anyhow!("--base: the accelerometer's (I+Σ) is singular: cannot correct the poses' specific force")
-    })?;
+    let (poses, rest) = (&fit.poses, &fit.rest);
     let base_matrix = base.calibration.gyro.scale_misalignment;
-    let earth = args
-        .latitude
-        .map(|lat| (EARTH_RATE * deg_to_rad(lat).sin(), base_matrix));
-    let frame = Frame {
-        accel_inverse,
-        accel_bias: accel_cal.bias,
-        earth,
-    };
-    let rest = static_gyro::fit(&gyro.t, &gyro.samples, &accel.samples, poses, &frame)
-        .map_err(|e| anyhow!("{name}: gyroscope: {e}"))?;
     let earth_note = match args.latitude {
         Some(lat) => format!(
             "the vertical Earth rate Ω·sin φ = {:.3} °/h is removed from each pose along its own measured vertical; the horizontal part Ω·cos φ = {:.3} °/h (its direction is unknown without a heading) is still included",
@@ -403,17 +403,16 @@ fn gyro_poses(
         "  pose  from..to (s)         samples          |f| (m/s²)"
     );
     for (i, p) in poses.iter().enumerate() {
-        let m = static_segments::mean(&accel.samples[p.start..p.end]);
-        let f = mul_vec(&accel_inverse, &[0, 1, 2].map(|k| m[k] - accel_cal.bias[k]));
+        let s = &p.samples;
         outln!(
             out,
             "  {:>4}  {:>8.2}..{:<8.2}  {:>7}..{:<7}  {:.5}",
             i + 1,
-            gyro.t[p.start],
-            gyro.t[p.end - 1],
-            p.start + 1,
-            p.end,
-            (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt()
+            gyro.t[s.start],
+            gyro.t[s.end - 1],
+            s.start + 1,
+            s.end,
+            p.force
         );
     }
     print_vector(&mut out, "b (rad/s)", &rest.bias, rest.sigma_bias.as_ref());
@@ -470,7 +469,8 @@ fn gyro_poses(
 }
 
 /// The `[fit.gyro]` table of a static bias.
-fn static_table(path: &Path, s: &Stat, earth_note: &str) -> toml::Table {
+fn static_table(path: &Path, fit: &StaticBias, earth_note: &str) -> toml::Table {
+    let s = &fit.statistics;
     let mut table = method_table("static record: bias = mean of each axis", None);
     table.insert("records".into(), file_list(&[path]));
     table.insert("samples".into(), toml::Value::Integer(s.count as i64));
@@ -479,63 +479,9 @@ fn static_table(path: &Path, s: &Stat, earth_note: &str) -> toml::Table {
     table
 }
 
-/// The static `mean` of the record at `path` less the vertical Earth rate
-/// at latitude `lat` (degrees) as a gyro of scale `matrix` sees it, and the
-/// sentence saying what was removed. `accel` is the record's accelerometer.
-fn without_earth_rate(
-    path: &Path,
-    accel: Option<&fit_csv::Record>,
-    mean: [f64; 3],
-    lat: f64,
-    matrix: &Mat3,
-) -> anyhow::Result<([f64; 3], String)> {
-    // At rest the specific force points up: its mean direction is the
-    // vertical, which carries Ω·sin φ of the Earth rate.
-    let Some(accel) = accel else {
-        bail!(
-            "{}: --latitude needs the accelerometer columns ax,ay,az to tell the vertical",
-            input::name(path)
-        );
-    };
-    let up = static_segments::mean(&accel.samples);
-    let bias = remove_vertical_rate(mean, up, lat, matrix).ok_or_else(|| {
-        anyhow!(
-            "{}: the mean specific force is zero: cannot tell the vertical",
-            input::name(path)
-        )
-    })?;
-    let vertical = EARTH_RATE * deg_to_rad(lat).sin();
-    let horizontal = EARTH_RATE * deg_to_rad(lat).cos();
-    let note = format!(
-        "the vertical Earth rate Ω·sin φ = {:.3} °/h is removed along the measured vertical; the horizontal \
-         part Ω·cos φ = {:.3} °/h (its direction is unknown without a heading) is still included",
-        rad_to_deg(vertical) * 3600.0,
-        rad_to_deg(horizontal) * 3600.0
-    );
-    Ok((bias, note))
-}
-
-/// `mean` less Ω·sin φ along the direction of `up`, as the gyro measures it
-/// through (I+Σ) = `matrix`: ω̂ = (I+Σ)·ω_e + b. None when `up` is zero.
-fn remove_vertical_rate(mean: [f64; 3], up: [f64; 3], lat: f64, matrix: &Mat3) -> Option<[f64; 3]> {
-    let n = (up[0] * up[0] + up[1] * up[1] + up[2] * up[2]).sqrt();
-    if n.is_nan() || n <= 0.0 {
-        return None;
-    }
-    let vertical = EARTH_RATE * deg_to_rad(lat).sin();
-    let w = up.map(|fi| vertical * fi / n);
-    let seen = mul_vec(matrix, &w);
-    let mut bias = mean;
-    for (b, x) in bias.iter_mut().zip(seen) {
-        *b -= x;
-    }
-    Some(bias)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use triad::model::calibration::IDENTITY;
 
     #[test]
     fn rates_are_signed_axes_in_degrees_per_second() {
@@ -569,17 +515,5 @@ mod tests {
             err.to_string(),
             "--rates gives 1 rate(s) for 2 segment(s) (--segments): give one rate per run"
         );
-    }
-
-    #[test]
-    fn the_vertical_earth_rate_is_removed_along_the_measured_up() {
-        // Level, z up, at the pole: all of Ω on z.
-        let b = remove_vertical_rate([1.0, 2.0, 3.0], [0.0, 0.0, 9.8], 90.0, &IDENTITY).unwrap();
-        assert_eq!((b[0], b[1]), (1.0, 2.0));
-        assert!((b[2] - (3.0 - EARTH_RATE)).abs() < 1e-15);
-        // At the equator nothing is vertical.
-        let b = remove_vertical_rate([1.0; 3], [0.0, 9.8, 0.0], 0.0, &IDENTITY).unwrap();
-        assert_eq!(b, [1.0; 3]);
-        assert!(remove_vertical_rate([0.0; 3], [0.0; 3], 45.0, &IDENTITY).is_none());
     }
 }

@@ -13,14 +13,16 @@ use std::process::ExitCode;
 use anyhow::anyhow;
 use triad::model::{Triad, TriadCalibration};
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
+use triad_lab::calib_fit::fits::accel_fit::AccelFitError;
 use triad_lab::calib_fit::fits::imu::{
     self, ImuFitError, ImuOptions, ImuRecord, LeftOutMove, PoseSource,
 };
 use triad_lab::calib_fit::fits::move_selection::LeftOut;
+use triad_lab::calib_fit::fits::rig_free::RigFreeError;
 use triad_lab::calib_fit::fits::rig_free::{RigFreeGyroFit, MAX_RANGE_FRACTION};
+use triad_lab::calib_fit::fits::turn_refusals::{TooFastForRate, TooFewRotations};
 use triad_lab::calib_fit::poses;
 use triad_lab::calib_fit::static_segments::Segment;
-use triad_lab::calib_fit::FitError;
 
 use super::g_sensitivity_report;
 
@@ -420,14 +422,13 @@ fn refusal(name: &str, gyro: &Record, full_scale: f64, e: ImuFitError) -> anyhow
                 "{name}: --exclude-poses {pose}: the record has {poses} pose(s), numbered from 1 in the report"
             )
         }
-        ImuFitError::Accel {
-            error,
-            axis_aligned: true,
-            ..
-        } => return anyhow!("{name}: accelerometer (--axis-aligned): {error}"),
+        ImuFitError::AccelCube { error, .. } => {
+            return anyhow!("{name}: accelerometer (--axis-aligned): {error}")
+        }
         ImuFitError::Accel {
             error:
-                e @ (FitError::TooFewOrientations { .. } | FitError::OrientationsInOnePlane { .. }),
+                e @ (AccelFitError::TooFewOrientations { .. }
+                | AccelFitError::OrientationsInOnePlane { .. }),
             ..
         } => {
             return anyhow!(
@@ -445,7 +446,7 @@ fn refusal(name: &str, gyro: &Record, full_scale: f64, e: ImuFitError) -> anyhow
         ),
     };
     let refused = match (error, pose) {
-        (e @ FitError::PoseNotStatic { .. }, Some(p)) => {
+        (e @ RigFreeError::PoseNotStatic(_), Some(p)) => {
             let text = e.to_string();
             let rest = text.split_once(": ").map_or(text.as_str(), |(_, r)| r);
             anyhow!(
@@ -456,14 +457,14 @@ fn refusal(name: &str, gyro: &Record, full_scale: f64, e: ImuFitError) -> anyhow
             )
         }
         // This refusal lists what was left out itself.
-        (e @ FitError::TooFewRotations { .. }, _) if !left_out.is_empty() => {
+        (e @ RigFreeError::TooFewRotations(TooFewRotations { .. }), _) if !left_out.is_empty() => {
             return anyhow!(
                 "{name}: gyroscope: {e} ({} move(s) were left out: {})",
                 left_out.len(),
                 left_out.join("; ")
             )
         }
-        (e @ FitError::TooFastForRate { sample, .. }, _) => {
+        (e @ RigFreeError::TooFastForRate(TooFastForRate { sample, .. }), _) => {
             anyhow!("{name}: gyroscope: {e} (t = {:.2} s)", gyro.t[sample])
         }
         (e, _) => anyhow!("{name}: gyroscope: {e}"),

@@ -16,7 +16,6 @@ pub mod g_sensitivity_report;
 pub mod report;
 pub mod segments;
 pub mod session;
-pub mod stillness;
 pub mod verify;
 
 use std::path::{Path, PathBuf};

@@ -293,6 +293,19 @@ impl AppliedAt {
     }
 }
 
+/// |`mean`| − `gravity` of a corrected static mean (m/s²), and the mean's
+/// standard error along its direction (from the axes' `standard_error`).
+pub fn gravity_residual(mean: &[f64; 3], standard_error: &[f64; 3], gravity: f64) -> (f64, f64) {
+    let m = mean;
+    let norm = (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt();
+    let u = m.map(|x| x / norm);
+    let se = (0..3)
+        .map(|i| (u[i] * standard_error[i]).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    (norm - gravity, se)
+}
+
 fn accel_residuals(args: &VerifyArgs, correct: &Correct<'_>) -> anyhow::Result<Vec<Residual>> {
     let records = super::fit_accel::read_records(&args.reading, &args.records, &args.ranges)?;
     let stats = segments::detected(&records, args.min_static)?;
@@ -300,16 +313,10 @@ fn accel_residuals(args: &VerifyArgs, correct: &Correct<'_>) -> anyhow::Result<V
         .iter()
         .map(|s| {
             let m = correct(&s.mean, s)?;
-            let norm = (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt();
-            // The mean's standard error along gravity's direction.
-            let u = m.map(|x| x / norm);
-            let se = (0..3)
-                .map(|i| (u[i] * s.standard_error[i]).powi(2))
-                .sum::<f64>()
-                .sqrt();
+            let (r, se) = gravity_residual(&m, &s.standard_error, args.gravity);
             Ok(Residual {
                 label: label(args, s),
-                r: vec![norm - args.gravity],
+                r: vec![r],
                 standard_error: vec![se],
             })
         })

@@ -13,7 +13,7 @@ use std::collections::VecDeque;
 use triad::units::deg_to_rad;
 use triad_lab::calib_fit::static_segments;
 
-use crate::calib::stillness::{self, ACCEL_FLOOR, DEFAULT_MAX_BIAS_DPS, GYRO_FLOOR_DPS};
+use triad_lab::calib_fit::stillness::{self, ACCEL_FLOOR, DEFAULT_MAX_BIAS_DPS, GYRO_FLOOR_DPS};
 
 /// The window the stillness test looks at, seconds of data: long enough
 /// for 8 blocks of a few samples at 100 Hz, short enough to follow a hand.

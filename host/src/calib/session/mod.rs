@@ -529,7 +529,8 @@ fn verify_fresh<P: Read + Write>(
     );
     let mut sum_sq = 0.0;
     for pose in &fresh {
-        let (r, se) = gravity_residual(pose, args.gravity);
+        let (r, se) =
+            verify::gravity_residual(&pose.accel, &pose.accel_standard_error, args.gravity);
         sum_sq += r * r;
         let rate = pose.gyro.map(f64::to_degrees);
         outln!(
@@ -605,18 +606,6 @@ fn corrected_samples(packet: &Packet, id: u32) -> Vec<Corrected> {
             .collect(),
         _ => Vec::new(),
     }
-}
-
-/// |mean f| − g of a corrected pose, and the standard error of the mean
-/// along its direction.
-fn gravity_residual(pose: &Pose, gravity: f64) -> (f64, f64) {
-    let m = pose.accel;
-    let norm = (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt();
-    let se = (0..3)
-        .map(|i| (m[i] / norm * pose.accel_standard_error[i]).powi(2))
-        .sum::<f64>()
-        .sqrt();
-    (norm - gravity, se)
 }
 
 #[cfg(test)]

@@ -38,7 +38,10 @@
 //! segments of similar length, so their means have similar noise and s² is
 //! the variance they share.
 
-use crate::calib_fit::error::{FitError, MIN_ACCEL_ORIENTATIONS};
+use core::fmt;
+
+use crate::calib_fit::numerics::ellipsoid::{self, EllipsoidError};
+use crate::calib_fit::numerics::error::{check_condition, check_finite, NumericsError};
 use crate::calib_fit::numerics::levenberg_marquardt::{self, Problem};
 use crate::calib_fit::numerics::qr::GivensLs;
 use crate::calib_fit::numerics::small3::{spread, Mat3};
@@ -151,21 +154,154 @@ fn cost(p: &Params, means: &[[f64; 3]], g: f64) -> f64 {
         .sum()
 }
 
+/// The fewest distinct gravity directions the accelerometer fit accepts: 9
+/// unknowns (6 of the triangular T, 3 of b), one equation |T(f̂−b)| = g per
+/// orientation.
+pub const MIN_ACCEL_ORIENTATIONS: usize = 9;
+
+/// Why the accelerometer fit refused its static means.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AccelFitError {
+    /// The gravity given is not a positive finite number.
+    InvalidGravity {
+        /// The value in m/s².
+        value: f64,
+    },
+    /// A static mean's magnitude is nowhere near g.
+    NotNearGravity(NotNearGravity),
+    /// Fewer distinct static orientations than the model's unknowns.
+    TooFewOrientations {
+        /// Static segments given.
+        segments: usize,
+        /// Distinct gravity directions among them (more than
+        /// [`DISTINCT_ANGLE_DEG`] apart).
+        found: usize,
+        /// The minimum.
+        needed: usize,
+    },
+    /// The gravity directions lie near one plane (a circle on the sphere):
+    /// the ellipsoid is not determined across it.
+    OrientationsInOnePlane {
+        /// Distinct orientations found.
+        orientations: usize,
+        /// RMS distance of the unit directions from their best plane.
+        out_of_plane_rms: f64,
+        /// The smallest accepted RMS distance.
+        needed: f64,
+    },
+    /// The algebraic ellipsoid fit that starts the iteration is not an
+    /// ellipsoid (the data are not a sensor at rest in several orientations).
+    NotAnEllipsoid,
+    /// A value is not finite, the parameters are not determined, or the
+    /// iteration did not converge.
+    Numerics(NumericsError),
+}
+
+/// A static mean's magnitude is nowhere near g: not the sensor at rest in
+/// gravity, or not in m/s² (a record in g gives |f̂| ≈ 1).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NotNearGravity {
+    /// The segment (0-based).
+    pub segment: usize,
+    /// |f̂|, m/s².
+    pub magnitude: f64,
+    /// g, m/s².
+    pub gravity: f64,
+}
+
+impl From<NumericsError> for AccelFitError {
+    fn from(e: NumericsError) -> Self {
+        AccelFitError::Numerics(e)
+    }
+}
+
+impl From<NotNearGravity> for AccelFitError {
+    fn from(e: NotNearGravity) -> Self {
+        AccelFitError::NotNearGravity(e)
+    }
+}
+
+impl From<EllipsoidError> for AccelFitError {
+    fn from(e: EllipsoidError) -> Self {
+        match e {
+            EllipsoidError::Numerics(e) => AccelFitError::Numerics(e),
+            EllipsoidError::NotAnEllipsoid => AccelFitError::NotAnEllipsoid,
+        }
+    }
+}
+
+impl fmt::Display for NotNearGravity {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "static segment {}: |f̂| = {:.4} m/s² is outside 0.5..1.5 × g = {} m/s² \
+             (not at rest, or the record is not in m/s²?)",
+            self.segment + 1,
+            self.magnitude,
+            self.gravity
+        )
+    }
+}
+
+/// The refusal of a gravity that is not a positive finite number (m/s²).
+pub(crate) fn write_invalid_gravity(f: &mut fmt::Formatter<'_>, value: f64) -> fmt::Result {
+    write!(f, "gravity {value} m/s²: must be a positive finite number")
+}
+
+impl fmt::Display for AccelFitError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            AccelFitError::InvalidGravity { value } => write_invalid_gravity(f, *value),
+            AccelFitError::NotNearGravity(e) => write!(f, "{e}"),
+            AccelFitError::TooFewOrientations {
+                segments,
+                found,
+                needed,
+            } => write!(
+                f,
+                "found {found} distinct static orientation(s) in {segments} static segment(s); \
+                 the accelerometer fit (9 unknowns: 6 scale/misalignment, 3 bias) needs at least {needed} \
+                 distinct orientations, well spread over the sphere (a 6- or 24-position cube tumble \
+                 gives only 6 gravity directions)"
+            ),
+            AccelFitError::OrientationsInOnePlane {
+                orientations,
+                out_of_plane_rms,
+                needed,
+            } => write!(
+                f,
+                "the {orientations} static orientations have gravity directions in one plane \
+                 (RMS distance {out_of_plane_rms:.4} of the unit vectors from it, need ≥ {needed}): \
+                 tilt the sensor out of that plane too"
+            ),
+            AccelFitError::NotAnEllipsoid => write!(
+                f,
+                "the static means do not lie on an ellipsoid around the origin \
+                 (not a sensor at rest in several orientations?)"
+            ),
+            AccelFitError::Numerics(e) => write!(f, "{e}"),
+        }
+    }
+}
+
 /// Checks one static mean: finite, and |f̂| within 0.5..1.5 g. The loader
 /// accepts scale factors 0.5..1.5 (`model::validate`) and a bias is a few %
 /// of g: outside that range it is no sensor at rest that could pass
 /// validation (a record in g instead of m/s² gives |f̂| ≈ 1).
-pub fn check_magnitude(segment: usize, mean: &[f64; 3], g: f64) -> Result<(), FitError> {
-    if let Some(&value) = mean.iter().find(|x| !x.is_finite()) {
-        return Err(FitError::NonFinite { segment, value });
-    }
+/// Each fit that takes static means wraps both refusals in its own error.
+pub fn check_magnitude<E>(segment: usize, mean: &[f64; 3], g: f64) -> Result<(), E>
+where
+    E: From<NumericsError> + From<NotNearGravity>,
+{
+    check_finite(segment, mean)?;
     let magnitude = norm(mean);
     if !(0.5 * g..=1.5 * g).contains(&magnitude) {
-        return Err(FitError::NotNearGravity {
+        return Err(NotNearGravity {
             segment,
             magnitude,
             gravity: g,
-        });
+        }
+        .into());
     }
     Ok(())
 }
@@ -186,10 +322,10 @@ pub fn distinct_orientations(means: &[[f64; 3]]) -> usize {
 }
 
 /// Checks the geometry before fitting: enough distinct orientations, not in one plane.
-pub fn check_orientations(means: &[[f64; 3]]) -> Result<usize, FitError> {
+pub fn check_orientations(means: &[[f64; 3]]) -> Result<usize, AccelFitError> {
     let found = distinct_orientations(means);
     if found < MIN_ACCEL_ORIENTATIONS {
-        return Err(FitError::TooFewOrientations {
+        return Err(AccelFitError::TooFewOrientations {
             segments: means.len(),
             found,
             needed: MIN_ACCEL_ORIENTATIONS,
@@ -201,7 +337,7 @@ pub fn check_orientations(means: &[[f64; 3]]) -> Result<usize, FitError> {
     });
     let (_, out_of_plane) = spread(units, 1e-6);
     if out_of_plane.is_nan() || out_of_plane < MIN_OUT_OF_PLANE_RMS {
-        return Err(FitError::OrientationsInOnePlane {
+        return Err(AccelFitError::OrientationsInOnePlane {
             orientations: found,
             out_of_plane_rms: out_of_plane,
             needed: MIN_OUT_OF_PLANE_RMS,
@@ -211,15 +347,15 @@ pub fn check_orientations(means: &[[f64; 3]]) -> Result<usize, FitError> {
 }
 
 /// Fits T and b to the static means (m/s²) for gravity `g` (m/s²).
-pub fn fit(means: &[[f64; 3]], g: f64) -> Result<AccelFit, FitError> {
+pub fn fit(means: &[[f64; 3]], g: f64) -> Result<AccelFit, AccelFitError> {
     if !(g > 0.0 && g.is_finite()) {
-        return Err(FitError::InvalidGravity { value: g });
+        return Err(AccelFitError::InvalidGravity { value: g });
     }
     for (segment, m) in means.iter().enumerate() {
-        check_magnitude(segment, m, g)?;
+        check_magnitude::<AccelFitError>(segment, m, g)?;
     }
     let orientations = check_orientations(means)?;
-    let (t0, b0, _) = crate::calib_fit::numerics::ellipsoid::algebraic_fit(means, g)?;
+    let (t0, b0, _) = ellipsoid::algebraic_fit(means, g)?;
     let start: Params = [
         t0[0][0], t0[0][1], t0[0][2], t0[1][1], t0[1][2], t0[2][2], b0[0], b0[1], b0[2],
     ];
@@ -237,22 +373,17 @@ pub fn fit(means: &[[f64; 3]], g: f64) -> Result<AccelFit, FitError> {
         worst = worst.max(r.abs());
     }
     let condition = ls.scaled_condition();
-    if condition.is_nan() || condition > MAX_CONDITION {
-        return Err(FitError::IllConditioned {
-            condition,
-            limit: MAX_CONDITION,
-        });
-    }
+    check_condition(condition, MAX_CONDITION)?;
     let dof = means.len().saturating_sub(9);
     let covariance = if dof > 0 {
         let s2 = sum_sq / dof as f64;
-        let inv = ls.inverse_normal_matrix()?;
+        let inv = ls.inverse_normal_matrix().map_err(NumericsError::from)?;
         Some(inv.map(|row| row.map(|x| x * s2)))
     } else {
         None
     };
     let t = t_of(&p);
-    let mut m = matrix::inverse(&t).ok_or(FitError::NotAnEllipsoid)?;
+    let mut m = matrix::inverse(&t).ok_or(AccelFitError::NotAnEllipsoid)?;
     // T⁻¹ of an upper triangular T is upper triangular: make the zeros exact (no −0).
     m[1][0] = 0.0;
     m[2][0] = 0.0;

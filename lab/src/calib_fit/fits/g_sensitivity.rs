@@ -27,8 +27,11 @@
 //! freedom. So the limit scales with the noise the record shows, and a pose
 //! whose mean differs only by G·f is not called turned.
 
+use core::fmt;
+
 use crate::calib_fit::numerics::qr::GivensLs;
 use crate::calib_fit::numerics::small3::Mat3;
+use crate::calib_fit::static_segments::Segment;
 use crate::f_dist;
 use triad::units::STANDARD_GRAVITY;
 
@@ -294,6 +297,71 @@ pub struct Stray {
     pub limit: f64,
     /// How the poses were checked.
     pub check: Consistency,
+}
+
+/// The refusal of a stray pose: the gyro's mean over a static pose strays
+/// from what the other poses predict for it (their bias, and their
+/// g-sensitivity where they support one): the unit turned during the pose
+/// (about the vertical, which the accelerometer does not see).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PoseNotStatic {
+    /// The pose (0-based).
+    pub pose: usize,
+    /// Its first and last sample's times, s.
+    pub time_s: [f64; 2],
+    /// The gyro axis (0..3).
+    pub axis: usize,
+    /// Its mean minus the others' prediction, rad/s.
+    pub rate: f64,
+    /// The largest accepted, rad/s.
+    pub limit: f64,
+    /// The limit in σ's of the residual.
+    pub sigmas: f64,
+    /// Whether the prediction included the g-sensitivity.
+    pub with_g: bool,
+    /// Poses checked.
+    pub poses: usize,
+}
+
+impl PoseNotStatic {
+    /// The refusal of `stray` among the `poses` (sample ranges of the
+    /// record), with its times from `t`.
+    pub fn new(stray: &Stray, poses: &[Segment], t: &[f64]) -> Self {
+        let s = &poses[stray.pose];
+        PoseNotStatic {
+            pose: stray.pose,
+            time_s: [t[s.start], t[s.end - 1]],
+            axis: stray.axis,
+            rate: stray.residual.abs(),
+            limit: stray.limit,
+            sigmas: stray.check.sigmas,
+            with_g: stray.check.with_g,
+            poses: poses.len(),
+        }
+    }
+}
+
+impl fmt::Display for PoseNotStatic {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "pose {} ({:.2}–{:.2} s): the gyro's {} mean differs from what the other poses predict \
+             (their bias{}) by {:.4} °/s (limit {:.4} °/s: {:.1} σ of that difference, \
+             from the poses' own scatter and standard errors, at a family-wise level of {} over \
+             {} poses × 3 axes): the unit turned during that pose (about the vertical, which \
+             the accelerometer does not see); hold it still at each pose",
+            self.pose + 1,
+            self.time_s[0],
+            self.time_s[1],
+            ["x", "y", "z"].get(self.axis).copied().unwrap_or("?"),
+            if self.with_g { " and g-sensitivity" } else { "" },
+            self.rate.to_degrees(),
+            self.limit.to_degrees(),
+            self.sigmas,
+            POSE_FAMILY_LEVEL,
+            self.poses,
+        )
+    }
 }
 
 /// Checks each of the `n` poses against the others (module doc), with G

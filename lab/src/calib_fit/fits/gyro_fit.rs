@@ -9,13 +9,70 @@
 //! Unlike the accelerometer's, the true rates are known vectors, so all nine
 //! entries of (I+Σ) are determined: the rotation is the table's.
 
-use crate::calib_fit::error::{FitError, MIN_GYRO_RATES};
+use core::fmt;
+
+use crate::calib_fit::numerics::error::{check_condition, check_finite, NumericsError};
 use crate::calib_fit::numerics::qr::GivensLs;
 use crate::calib_fit::numerics::small3::{spread, Mat3};
 
 /// The largest accepted condition number of the column-scaled design
 /// (see [`crate::calib_fit::fits::accel_fit::MAX_CONDITION`] for the reasoning).
 pub const MAX_CONDITION: f64 = 1.0e4;
+
+/// The fewest rate vectors the gyro fit accepts: 4 unknowns per output axis
+/// (a row of I+Σ and b_i), one equation per axis per segment.
+pub const MIN_GYRO_RATES: usize = 4;
+
+/// Why the rate-table fit refused its segments.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum GyroFitError {
+    /// Fewer rate vectors than the gyro model's unknowns per axis.
+    TooFewRates {
+        /// Rate segments given.
+        found: usize,
+        /// The minimum.
+        needed: usize,
+    },
+    /// The true rate vectors (with the bias column) do not span 4 dimensions.
+    RatesDegenerate {
+        /// Affine dimension of the rate vectors: 0 all equal, 1 on one line
+        /// (e.g. all about one axis), 2 in one plane.
+        dimension: u8,
+    },
+    /// A value is not finite, or the parameters are not determined.
+    Numerics(NumericsError),
+}
+
+impl From<NumericsError> for GyroFitError {
+    fn from(e: NumericsError) -> Self {
+        GyroFitError::Numerics(e)
+    }
+}
+
+impl fmt::Display for GyroFitError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            GyroFitError::TooFewRates { found, needed } => write!(
+                f,
+                "found {found} rate segment(s); the gyro fit (per axis: 3 of I+Σ and 1 bias) needs at least {needed} \
+                 rate vectors not in one plane"
+            ),
+            GyroFitError::RatesDegenerate { dimension } => {
+                let what = match dimension {
+                    0 => "all the same",
+                    1 => "on one line (e.g. all about one axis)",
+                    _ => "in one plane",
+                };
+                write!(
+                    f,
+                    "the true rate vectors are {what}: I+Σ and b need at least 4 rate vectors not in one plane \
+                     (e.g. +30 and −30 °/s about z, and +30 °/s about x and about y)"
+                )
+            }
+            GyroFitError::Numerics(e) => write!(f, "{e}"),
+        }
+    }
+}
 
 /// One rate-table segment: the known true rate and the measured mean, rad/s.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -51,37 +108,47 @@ pub struct LinearFit {
     pub condition: f64,
 }
 
+impl LinearFit {
+    /// The residual m̂ − (I+Σ)·m − b of a pair (known m, measured mean m̂).
+    pub fn residual(&self, known: &[f64; 3], measured: &[f64; 3]) -> [f64; 3] {
+        residual(&self.scale_misalignment, &self.bias, known, measured)
+    }
+}
+
+fn residual(m: &Mat3, bias: &[f64; 3], known: &[f64; 3], measured: &[f64; 3]) -> [f64; 3] {
+    let model = triad::model::matrix::mul_vec(m, known);
+    core::array::from_fn(|i| measured[i] - model[i] - bias[i])
+}
+
 /// The gyro's fit: [`LinearFit`] of rate-table segments.
 pub type GyroFit = LinearFit;
 
 /// Fits (I+Σ) and b to `segments`.
-pub fn fit(segments: &[RateSegment]) -> Result<GyroFit, FitError> {
+pub fn fit(segments: &[RateSegment]) -> Result<GyroFit, GyroFitError> {
     linear_fit(segments.iter().map(|s| (s.true_rate, s.measured)))
 }
 
 /// Fits m̂ = (I+Σ)·m + b to pairs (known m, measured mean m̂). Errors:
-/// [`FitError::TooFewRates`], [`FitError::RatesDegenerate`] (callers with
-/// other known vectors rename them), [`FitError::IllConditioned`].
-pub fn linear_fit<I>(pairs: I) -> Result<LinearFit, FitError>
+/// [`GyroFitError::TooFewRates`], [`GyroFitError::RatesDegenerate`] (callers
+/// with other known vectors rename them), [`NumericsError`].
+pub fn linear_fit<I>(pairs: I) -> Result<LinearFit, GyroFitError>
 where
     I: Iterator<Item = ([f64; 3], [f64; 3])> + Clone,
 {
     let mut count = 0;
     for (segment, (known, measured)) in pairs.clone().enumerate() {
         count += 1;
-        if let Some(&value) = known.iter().chain(measured.iter()).find(|x| !x.is_finite()) {
-            return Err(FitError::NonFinite { segment, value });
-        }
+        check_finite(segment, known.iter().chain(measured.iter()))?;
     }
     if count < MIN_GYRO_RATES {
-        return Err(FitError::TooFewRates {
+        return Err(GyroFitError::TooFewRates {
             found: count,
             needed: MIN_GYRO_RATES,
         });
     }
     let (dimension, _) = spread(pairs.clone().map(|(known, _)| known), 1e-6);
     if dimension < 3 {
-        return Err(FitError::RatesDegenerate { dimension });
+        return Err(GyroFitError::RatesDegenerate { dimension });
     }
     let mut axes = [GivensLs::<4>::new(); 3];
     for (known, measured) in pairs.clone() {
@@ -91,22 +158,19 @@ where
         }
     }
     let condition = axes[0].scaled_condition();
-    if condition.is_nan() || condition > MAX_CONDITION {
-        return Err(FitError::IllConditioned {
-            condition,
-            limit: MAX_CONDITION,
-        });
-    }
+    check_condition(condition, MAX_CONDITION)?;
     let mut m = [[0.0; 3]; 3];
     let mut bias = [0.0; 3];
     for (i, ls) in axes.iter().enumerate() {
-        let x = ls.solve()?;
+        let x = ls.solve().map_err(NumericsError::from)?;
         m[i] = [x[0], x[1], x[2]];
         bias[i] = x[3];
     }
     let dof = count - MIN_GYRO_RATES;
     let (sigma_m, sigma_b) = if dof > 0 {
-        let inv = axes[0].inverse_normal_matrix()?;
+        let inv = axes[0]
+            .inverse_normal_matrix()
+            .map_err(NumericsError::from)?;
         let mut sm = [[0.0; 3]; 3];
         let mut sb = [0.0; 3];
         for (i, ls) in axes.iter().enumerate() {
@@ -123,9 +187,7 @@ where
     let mut sum_sq = 0.0;
     let mut worst = 0.0f64;
     for (known, measured) in pairs {
-        let model = triad::model::matrix::mul_vec(&m, &known);
-        for i in 0..3 {
-            let r = measured[i] - model[i] - bias[i];
+        for r in residual(&m, &bias, &known, &measured) {
             sum_sq += r * r;
             worst = worst.max(r.abs());
         }

@@ -13,12 +13,11 @@ use alloc::vec::Vec;
 use core::fmt;
 use core::ops::Range;
 
-use crate::calib_fit::error::FitError;
-use crate::calib_fit::fits::accel_cube;
-use crate::calib_fit::fits::accel_fit::{self, AccelFit};
+use crate::calib_fit::fits::accel_cube::{self, AccelCubeError};
+use crate::calib_fit::fits::accel_fit::{self, AccelFit, AccelFitError};
 use crate::calib_fit::fits::gyro_fit::LinearFit;
 use crate::calib_fit::fits::move_selection::{self, LeftOut};
-use crate::calib_fit::fits::rig_free::{self, RigFreeGyroFit};
+use crate::calib_fit::fits::rig_free::{self, RigFreeError, RigFreeGyroFit};
 use crate::calib_fit::poses::{self, Statistics};
 use crate::calib_fit::static_segments::{DetectError, Detector, Dropped, Segment};
 
@@ -118,14 +117,19 @@ pub enum ImuFitError {
         /// Poses found.
         poses: usize,
     },
-    /// The accelerometer fit refused the poses.
+    /// The accelerometer fit (poses in unknown orientations) refused the poses.
     Accel {
         /// Why.
-        error: FitError,
+        error: AccelFitError,
         /// Poses used.
         poses: usize,
-        /// Whether it was the cube's fit.
-        axis_aligned: bool,
+    },
+    /// The accelerometer's fit on a cube's faces refused the poses.
+    AccelCube {
+        /// Why.
+        error: AccelCubeError,
+        /// Poses used.
+        poses: usize,
     },
     /// The gyroscope fit refused the poses or moves.
     Gyro(Box<GyroRefusal>),
@@ -135,7 +139,7 @@ pub enum ImuFitError {
 #[derive(Clone, Debug, PartialEq)]
 pub struct GyroRefusal {
     /// Why.
-    pub error: FitError,
+    pub error: RigFreeError,
     /// The pose the error names (a pose that is not static), if any.
     pub pose: Option<Pose>,
     /// The moves left out before the fit.
@@ -151,6 +155,7 @@ impl fmt::Display for ImuFitError {
                 "pose {pose} to leave out: the record has {poses} pose(s), numbered from 1"
             ),
             ImuFitError::Accel { error, .. } => write!(f, "accelerometer: {error}"),
+            ImuFitError::AccelCube { error, .. } => write!(f, "accelerometer: {error}"),
             ImuFitError::Gyro(refusal) => write!(f, "gyroscope: {}", refusal.error),
         }
     }
@@ -185,22 +190,20 @@ pub fn fit(record: &ImuRecord, options: &ImuOptions) -> Result<ImuFit, ImuFitErr
     let excluded = options.exclude.iter().map(|&n| (n, found[n - 1])).collect();
     let segments: Vec<Segment> = used.iter().map(|p| p.samples).collect();
     let means: Vec<[f64; 3]> = used.iter().map(|p| p.accel.mean).collect();
-    let refused = |error| ImuFitError::Accel {
-        error,
-        poses: means.len(),
-        axis_aligned: options.axis_aligned,
-    };
+    let poses = means.len();
     // The gravity direction of each pose comes from the accelerometer fit
     // (unknown orientations) or, on a cube's faces, from the face itself.
     let (accel, directions) = if options.axis_aligned {
-        let fit = accel_cube::fit(&means, options.gravity).map_err(refused)?;
+        let fit = accel_cube::fit(&means, options.gravity)
+            .map_err(|error| ImuFitError::AccelCube { error, poses })?;
         let faces: Vec<[f64; 3]> = means
             .iter()
             .map(|m| accel_cube::reference(m, options.gravity).unwrap_or([0.0; 3]))
             .collect();
         (faces_frame(&fit, &faces), faces)
     } else {
-        let fit = accel_fit::fit(&means, options.gravity).map_err(refused)?;
+        let fit = accel_fit::fit(&means, options.gravity)
+            .map_err(|error| ImuFitError::Accel { error, poses })?;
         (fit, means.clone())
     };
 
@@ -238,7 +241,7 @@ pub fn fit(record: &ImuRecord, options: &ImuOptions) -> Result<ImuFit, ImuFitErr
     .map_err(|error| {
         ImuFitError::Gyro(Box::new(GyroRefusal {
             pose: match error {
-                FitError::PoseNotStatic { pose, .. } => used.get(pose).copied(),
+                RigFreeError::PoseNotStatic(e) => used.get(e.pose).copied(),
                 _ => None,
             },
             error,

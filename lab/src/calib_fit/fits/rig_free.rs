@@ -33,11 +33,15 @@
 //! integrated over the turn). The caller owns the record.
 
 use alloc::vec::Vec;
+use core::fmt;
 
-use crate::calib_fit::error::FitError;
 use crate::calib_fit::fits::accel_fit::{self, AccelFit};
-use crate::calib_fit::fits::g_sensitivity::{self, AtRest, Consistency, PoseMean, Support};
+use crate::calib_fit::fits::g_sensitivity::{
+    self, AtRest, Consistency, PoseMean, PoseNotStatic, Support,
+};
+use crate::calib_fit::fits::turn_refusals::{RangeError, TooFastForRate, TooFewRotations};
 use crate::calib_fit::fits::turn_sensitivity;
+use crate::calib_fit::numerics::error::{check_condition, NumericsError};
 use crate::calib_fit::numerics::levenberg_marquardt::{self, Problem};
 use crate::calib_fit::numerics::qr::GivensLs;
 use crate::calib_fit::numerics::quaternion::{self, Quat};
@@ -478,24 +482,106 @@ impl Problem<9> for Moves<'_> {
     }
 }
 
+/// Why the rig-free gyro fit refused a record.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum RigFreeError {
+    /// The record's times and samples differ in number, or a pose's samples
+    /// are not within the record, after the previous pose's.
+    PosesOutOfRecord {
+        /// The pose (0-based).
+        pose: usize,
+        /// Samples in the record.
+        samples: usize,
+    },
+    /// The full scale given is not a rate, or a sample the fit uses is near it.
+    Range(RangeError),
+    /// A pose's gyro mean strays from what the others predict.
+    PoseNotStatic(PoseNotStatic),
+    /// Too few moves, or too few of them turn.
+    TooFewRotations(TooFewRotations),
+    /// The record turns too far between two samples for the integration.
+    TooFastForRate(TooFastForRate),
+    /// The turns' axes lie near one plane or one axis: some column of the
+    /// gyro's (I+Σ) is not determined.
+    RotationAxesDegenerate {
+        /// Turns whose axes were measured.
+        turns: usize,
+        /// The smallest and the middle eigenvalue of the axes' scatter
+        /// (mean of a·aᵀ, trace 1; 1/3 each for axes spread evenly).
+        spread: [f64; 2],
+        /// The smallest accepted eigenvalue.
+        needed: f64,
+    },
+    /// A value is not finite, the parameters are not determined, or the
+    /// iteration did not converge.
+    Numerics(NumericsError),
+}
+
+impl From<NumericsError> for RigFreeError {
+    fn from(e: NumericsError) -> Self {
+        RigFreeError::Numerics(e)
+    }
+}
+
+impl From<RangeError> for RigFreeError {
+    fn from(e: RangeError) -> Self {
+        RigFreeError::Range(e)
+    }
+}
+
+impl fmt::Display for RigFreeError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            RigFreeError::PosesOutOfRecord { pose, samples } => write!(
+                f,
+                "pose {}: its samples are not within the record's {samples} (or not after the previous pose's)",
+                pose + 1
+            ),
+            RigFreeError::Range(e) => write!(f, "{e}"),
+            RigFreeError::PoseNotStatic(e) => write!(f, "{e}"),
+            RigFreeError::TooFewRotations(e) => write!(f, "{e}"),
+            RigFreeError::TooFastForRate(e) => write!(f, "{e}"),
+            RigFreeError::RotationAxesDegenerate {
+                turns,
+                spread,
+                needed,
+            } => {
+                let what = if spread[1] < *needed {
+                    "all about one axis"
+                } else {
+                    "all about axes in one plane"
+                };
+                write!(
+                    f,
+                    "the {turns} turns are {what} (eigenvalues {:.4}, {:.4} of the axes' scatter, need ≥ {needed}): \
+                 the gyro's response to rates about the missing axis is not determined; turn the unit about \
+                 other axes too (tip it over its edges and spin it flat, not always the same way)",
+                    spread[0], spread[1]
+                )
+            }
+            RigFreeError::Numerics(e) => write!(f, "{e}"),
+        }
+    }
+}
+
 /// Checks the poses lie in the record, in order, each with ≥ 2 samples.
 fn check_poses(
     record: &Record,
     poses: &[Segment],
     accel_means: &[[f64; 3]],
-) -> Result<(), FitError> {
+) -> Result<(), RigFreeError> {
     let samples = record.gyro.len();
     if record.t.len() != samples {
-        return Err(FitError::PosesOutOfRecord { pose: 0, samples });
+        return Err(RigFreeError::PosesOutOfRecord { pose: 0, samples });
     }
     if accel_means.len() != poses.len() {
         let pose = accel_means.len().min(poses.len());
-        return Err(FitError::PosesOutOfRecord { pose, samples });
+        return Err(RigFreeError::PosesOutOfRecord { pose, samples });
     }
     let mut previous_end = 0;
     for (pose, s) in poses.iter().enumerate() {
         if s.start < previous_end || s.end < s.start + 2 || s.end > samples {
-            return Err(FitError::PosesOutOfRecord { pose, samples });
+            return Err(RigFreeError::PosesOutOfRecord { pose, samples });
         }
         previous_end = s.end;
     }
@@ -507,16 +593,17 @@ fn check_poses(
         .enumerate()
         .find(|(_, x)| !x.is_finite())
     {
-        return Err(FitError::NonFinite {
+        return Err(NumericsError::NonFinite {
             segment: sample / 3,
             value: *value,
-        });
+        }
+        .into());
     }
     Ok(())
 }
 
 /// The largest |axis| of the record, and the sample; refused near the range.
-pub(crate) fn check_range(record: &Record, full_scale: f64) -> Result<f64, FitError> {
+pub(crate) fn check_range(record: &Record, full_scale: f64) -> Result<f64, RangeError> {
     check_range_of(record, 0..record.gyro.len(), full_scale)
 }
 
@@ -543,13 +630,13 @@ fn check_range_of(
     record: &Record,
     range: core::ops::Range<usize>,
     full_scale: f64,
-) -> Result<f64, FitError> {
+) -> Result<f64, RangeError> {
     if !(full_scale > 0.0 && full_scale.is_finite()) {
-        return Err(FitError::InvalidFullScale { value: full_scale });
+        return Err(RangeError::InvalidFullScale { value: full_scale });
     }
     let (sample, peak) = peak_of(record, range);
     if peak > MAX_RANGE_FRACTION * full_scale {
-        return Err(FitError::GyroNearRange {
+        return Err(RangeError::GyroNearRange {
             sample,
             rate: peak,
             full_scale,
@@ -592,7 +679,7 @@ fn poses_at_rest(
     poses: &[Segment],
     accel_means: &[[f64; 3]],
     accel: &AccelFit,
-) -> Result<AtRest, FitError> {
+) -> Result<AtRest, RigFreeError> {
     let n = poses.len();
     // Each pose's means once: the consistency test visits every pose n times.
     let means: Vec<PoseMean> = poses
@@ -607,23 +694,8 @@ fn poses_at_rest(
             }
         })
         .collect();
-    g_sensitivity::at_rest(n, |q| means[q]).map_err(|stray| stray_error(&stray, poses, record.t))
-}
-
-/// The refusal of a pose that strays from the others ([`g_sensitivity::Stray`]),
-/// with its times from `t`.
-pub(crate) fn stray_error(stray: &g_sensitivity::Stray, poses: &[Segment], t: &[f64]) -> FitError {
-    let s = &poses[stray.pose];
-    FitError::PoseNotStatic {
-        pose: stray.pose,
-        time_s: [t[s.start], t[s.end - 1]],
-        axis: stray.axis,
-        rate: stray.residual.abs(),
-        limit: stray.limit,
-        sigmas: stray.check.sigmas,
-        with_g: stray.check.with_g,
-        poses: poses.len(),
-    }
+    g_sensitivity::at_rest(n, |q| means[q])
+        .map_err(|stray| RigFreeError::PoseNotStatic(PoseNotStatic::new(&stray, poses, record.t)))
 }
 
 /// The largest rotation between two samples of the moves (rad), and where.
@@ -741,7 +813,7 @@ pub fn fit(
     accel_means: &[[f64; 3]],
     accel: &AccelFit,
     full_scale: f64,
-) -> Result<RigFreeGyroFit, FitError> {
+) -> Result<RigFreeGyroFit, RigFreeError> {
     check_range(&record, full_scale)?;
     let all = Used::All(poses.len().saturating_sub(1));
     fit_used(record, poses, all, accel_means, accel, full_scale)
@@ -783,7 +855,7 @@ pub fn fit_moves(
     accel_means: &[[f64; 3]],
     accel: &AccelFit,
     full_scale: f64,
-) -> Result<RigFreeGyroFit, FitError> {
+) -> Result<RigFreeGyroFit, RigFreeError> {
     fit_used(
         record,
         poses,
@@ -801,13 +873,13 @@ fn fit_used(
     accel_means: &[[f64; 3]],
     accel: &AccelFit,
     full_scale: f64,
-) -> Result<RigFreeGyroFit, FitError> {
+) -> Result<RigFreeGyroFit, RigFreeError> {
     check_poses(&record, poses, accel_means)?;
     if let Some(j) = (0..used.len())
         .map(|m| used.get(m))
         .find(|&j| j + 1 >= poses.len())
     {
-        return Err(FitError::PosesOutOfRecord {
+        return Err(RigFreeError::PosesOutOfRecord {
             pose: j + 1,
             samples: record.gyro.len(),
         });
@@ -822,11 +894,11 @@ fn fit_used(
     }
     let rotations = used.len();
     if rotations < MIN_ROTATIONS {
-        return Err(FitError::TooFewRotations {
+        return Err(RigFreeError::TooFewRotations(TooFewRotations {
             rotations,
             turns: rotations,
             needed: MIN_ROTATIONS,
-        });
+        }));
     }
     let AtRest {
         bias,
@@ -839,23 +911,23 @@ fn fit_used(
     let (sample, step) = fastest_step_of(&record, poses, &bias, used);
     let limit = MAX_ROTATION_PER_SAMPLE_DEG.to_radians();
     if step > limit {
-        return Err(FitError::TooFastForRate {
+        return Err(RigFreeError::TooFastForRate(TooFastForRate {
             sample,
             rotation_deg: step.to_degrees(),
             limit_deg: MAX_ROTATION_PER_SAMPLE_DEG,
             rate_hz: 1.0 / (record.t[sample + 1] - record.t[sample]),
-        });
+        }));
     }
     let (turns, spread) = axis_spread(&record, poses, used, &bias);
     if turns < MIN_ROTATIONS {
-        return Err(FitError::TooFewRotations {
+        return Err(RigFreeError::TooFewRotations(TooFewRotations {
             rotations,
             turns,
             needed: MIN_ROTATIONS,
-        });
+        }));
     }
     if spread[0].is_nan() || spread[0] < MIN_AXIS_SPREAD {
-        return Err(FitError::RotationAxesDegenerate {
+        return Err(RigFreeError::RotationAxesDegenerate {
             turns,
             spread,
             needed: MIN_AXIS_SPREAD,
@@ -881,17 +953,12 @@ fn fit_used(
         worst = worst.max(r.abs());
     });
     let condition = ls.scaled_condition();
-    if condition.is_nan() || condition > MAX_CONDITION {
-        return Err(FitError::IllConditioned {
-            condition,
-            limit: MAX_CONDITION,
-        });
-    }
+    check_condition(condition, MAX_CONDITION)?;
     let residuals = 2 * rotations;
     let gyro_dof = residuals - 9;
     let (sigma_scale_misalignment, dof_entries) = match (gyro_dof, accel.covariance) {
         (1.., Some(accel_cov)) => {
-            let inv = ls.inverse_normal_matrix()?;
+            let inv = ls.inverse_normal_matrix().map_err(NumericsError::from)?;
             let s2 = sum_sq / gyro_dof as f64;
             let own: [f64; 9] = core::array::from_fn(|k| s2 * inv[k][k]);
             let carried = carried_variance(&problem, &p, &inv, &accel_cov);

@@ -15,11 +15,9 @@
 
 use alloc::vec::Vec;
 
-use crate::calib_fit::fits::g_sensitivity::{self, AtRest, PoseMean};
-use crate::calib_fit::fits::rig_free;
+use crate::calib_fit::fits::g_sensitivity::{self, AtRest, PoseMean, PoseNotStatic};
 use crate::calib_fit::numerics::small3::Mat3;
 use crate::calib_fit::static_segments::{self, Segment};
-use crate::calib_fit::FitError;
 use triad::model::matrix;
 
 /// How a pose's means are turned into the fit's inputs.
@@ -36,31 +34,37 @@ pub struct Frame {
 
 /// Fits the gyro at rest to the static `poses` (sample ranges of `t`,
 /// `gyro` and `accel`, two samples or more each), in the `frame`. A pose
-/// whose mean is not what the others predict is refused
-/// ([`FitError::PoseNotStatic`], with its times).
+/// whose mean is not what the others predict is refused with its times:
+/// that is the only refusal of this fit, so it is its error.
 pub fn fit(
     t: &[f64],
     gyro: &[[f64; 3]],
     accel: &[[f64; 3]],
     poses: &[Segment],
     frame: &Frame,
-) -> Result<AtRest, FitError> {
+) -> Result<AtRest, PoseNotStatic> {
     let means: Vec<PoseMean> = poses
         .iter()
         .map(|s| pose_mean(&gyro[s.start..s.end], &accel[s.start..s.end], frame))
         .collect();
     g_sensitivity::at_rest(means.len(), |q| means[q])
-        .map_err(|stray| rig_free::stray_error(&stray, poses, t))
+        .map_err(|stray| PoseNotStatic::new(&stray, poses, t))
+}
+
+/// The corrected specific force of a pose: its accelerometer mean through
+/// the `frame`'s calibration, m/s².
+pub fn specific_force(accel: &[[f64; 3]], frame: &Frame) -> [f64; 3] {
+    let a = static_segments::mean(accel);
+    matrix::mul_vec(
+        &frame.accel_inverse,
+        &[0, 1, 2].map(|i| a[i] - frame.accel_bias[i]),
+    )
 }
 
 fn pose_mean(gyro: &[[f64; 3]], accel: &[[f64; 3]], frame: &Frame) -> PoseMean {
     let n = libm::sqrt(gyro.len() as f64);
     let standard_error = static_segments::standard_deviation(gyro).map(|s| s / n);
-    let a = static_segments::mean(accel);
-    let force = matrix::mul_vec(
-        &frame.accel_inverse,
-        &[0, 1, 2].map(|i| a[i] - frame.accel_bias[i]),
-    );
+    let force = specific_force(accel, frame);
     let mut mean = static_segments::mean(gyro);
     if let Some((vertical, scale)) = &frame.earth {
         let norm = libm::sqrt(force.iter().map(|x| x * x).sum::<f64>());

@@ -18,14 +18,13 @@
 use alloc::vec::Vec;
 use core::fmt;
 
-use crate::calib_fit::error::FitError;
 use crate::calib_fit::fits::bias_polynomial::{
     self, BiasPolynomial, BiasPolynomialError, StaticMean,
 };
 use crate::calib_fit::fits::rig_free::Record;
-use crate::calib_fit::fits::thermal_accel::{self, Terms, ThermalAccelFit};
+use crate::calib_fit::fits::thermal_accel::{self, Terms, ThermalAccelError, ThermalAccelFit};
 use crate::calib_fit::fits::thermal_coverage::{self, Coverage, CoverageError};
-use crate::calib_fit::fits::thermal_gyro::{self, Poses, ThermalGyroFit};
+use crate::calib_fit::fits::thermal_gyro::{self, Poses, ThermalGyroError, ThermalGyroFit};
 use crate::calib_fit::poses;
 use crate::calib_fit::static_segments::{DetectError, Detector, Segment};
 
@@ -67,7 +66,7 @@ pub enum ScaleNotFitted {
     /// gives the gravity directions).
     GyroOnly,
     /// Too few turns on either side of the reference.
-    TooFewTurns(FitError),
+    TooFewTurns(ThermalGyroError),
 }
 
 /// Both triads' temperature terms, with what the report says.
@@ -105,13 +104,13 @@ pub enum ThermalFitError {
         /// Static segments given.
         segments: usize,
         /// Why.
-        error: FitError,
+        error: ThermalAccelError,
     },
     /// The gyroscope's bias polynomial refused the segments.
     GyroBias(BiasPolynomialError),
     /// The gyroscope's (I+Σ) against temperature refused the turns (other
     /// than for too few of them, which leaves it unfitted).
-    GyroScale(FitError),
+    GyroScale(ThermalGyroError),
 }
 
 impl fmt::Display for ThermalFitError {
@@ -273,7 +272,7 @@ pub fn fit(
                 .collect();
             match thermal_gyro::fit(&sets, accel_fit, &gyro_bias, options.full_scale) {
                 Ok(fit) => Ok(fit),
-                Err(e @ FitError::TooFewTurnsForScale { .. }) => {
+                Err(e @ ThermalGyroError::TooFewTurnsForScale { .. }) => {
                     Err(ScaleNotFitted::TooFewTurns(e))
                 }
                 Err(e) => return Err(ThermalFitError::GyroScale(e)),

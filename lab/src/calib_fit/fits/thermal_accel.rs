@@ -35,13 +35,47 @@
 //! s²·(JᵀJ)⁻¹ with s² = Σ(r/σ)²/(segments − parameters fitted), which
 //! are its degrees of freedom.
 
-use crate::calib_fit::error::FitError;
-use crate::calib_fit::fits::accel_fit::{self, T_ENTRIES};
+use core::fmt;
+
+use crate::calib_fit::fits::accel_fit::{self, AccelFitError, T_ENTRIES};
 use crate::calib_fit::fits::bias_polynomial::StaticMean;
+use crate::calib_fit::numerics::error::{check_condition, check_finite, NumericsError};
 use crate::calib_fit::numerics::levenberg_marquardt::{self, Problem};
-use crate::calib_fit::numerics::qr::GivensLs;
+use crate::calib_fit::numerics::qr::{GivensLs, LsError};
 use crate::calib_fit::numerics::small3::Mat3;
 use triad::model::matrix;
+
+/// Why the accelerometer's fit across temperature refused its segments.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ThermalAccelError {
+    /// The single-temperature fit of all the means, the start, refused
+    /// them (their geometry, gravity, or its numerics).
+    Start(AccelFitError),
+    /// A value is not finite, the parameters are not determined (or no
+    /// degree of freedom is left), or the iteration did not converge.
+    Numerics(NumericsError),
+}
+
+impl From<NumericsError> for ThermalAccelError {
+    fn from(e: NumericsError) -> Self {
+        ThermalAccelError::Numerics(e)
+    }
+}
+
+impl From<AccelFitError> for ThermalAccelError {
+    fn from(e: AccelFitError) -> Self {
+        ThermalAccelError::Start(e)
+    }
+}
+
+impl fmt::Display for ThermalAccelError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ThermalAccelError::Start(e) => write!(f, "{e}"),
+            ThermalAccelError::Numerics(e) => write!(f, "{e}"),
+        }
+    }
+}
 
 /// Parameters: (I+Σ)₀ (6), D (6), b₀ (3), c per axis and order (9).
 pub const PARAMETERS: usize = 24;
@@ -248,14 +282,11 @@ pub fn fit(
     terms: Terms,
     means: &mut [[f64; 3]],
     weights: &mut [f64],
-) -> Result<ThermalAccelFit, FitError> {
+) -> Result<ThermalAccelFit, ThermalAccelError> {
     let n = segments.len().min(means.len()).min(weights.len());
     let segments = &segments[..n];
     for (segment, s) in segments.iter().enumerate() {
-        let values = s.standard_error.iter().chain([&s.temperature_c]);
-        if let Some(&value) = values.into_iter().find(|x| !x.is_finite()) {
-            return Err(FitError::NonFinite { segment, value });
-        }
+        check_finite(segment, s.standard_error.iter().chain([&s.temperature_c]))?;
         means[segment] = s.mean;
     }
     // The start, and the geometry's refusals: one fit of all the means.
@@ -283,20 +314,14 @@ pub fn fit(
     let mut ls = GivensLs::<PARAMETERS>::new();
     problem.rows(&p, &mut |grad, r| ls.add_row(grad, -r));
     let condition = ls.scaled_condition();
-    if condition.is_nan() || condition > MAX_CONDITION {
-        return Err(FitError::IllConditioned {
-            condition,
-            limit: MAX_CONDITION,
-        });
-    }
+    check_condition(condition, MAX_CONDITION)?;
     let dof = n.saturating_sub(fitted);
     if dof == 0 {
-        return Err(FitError::LeastSquares(
-            crate::calib_fit::numerics::qr::LsError::TooFewRows {
-                rows: n,
-                unknowns: fitted + 1,
-            },
-        ));
+        return Err(NumericsError::LeastSquares(LsError::TooFewRows {
+            rows: n,
+            unknowns: fitted + 1,
+        })
+        .into());
     }
     let (mut sum_sq, mut weighted_sq, mut worst) = (0.0, 0.0, 0.0f64);
     for (s, w) in weights[..n].iter().enumerate() {
@@ -306,7 +331,7 @@ pub fn fit(
         worst = worst.max(r.abs());
     }
     let s2 = weighted_sq / dof as f64;
-    let inv = ls.inverse_normal_matrix()?;
+    let inv = ls.inverse_normal_matrix().map_err(NumericsError::from)?;
     let sigma = |k: usize| {
         if active[k] {
             libm::sqrt(s2 * inv[k][k])

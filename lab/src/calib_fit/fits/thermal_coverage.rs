@@ -26,8 +26,8 @@
 
 use core::fmt;
 
-use crate::calib_fit::error::MIN_ACCEL_ORIENTATIONS;
 use crate::calib_fit::fits::accel_fit::distinct_orientations;
+use crate::calib_fit::fits::accel_fit::MIN_ACCEL_ORIENTATIONS;
 
 /// The smallest swing (°C) per polynomial order of the bias; also the
 /// smallest for (I+Σ) linear in ΔT. See the module's notes for why.

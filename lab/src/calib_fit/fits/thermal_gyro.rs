@@ -23,14 +23,17 @@
 //! polynomial's error is not carried (its effect, σ_b × a turn's duration,
 //! is far below the noise integrated over a turn, as in the rig-free fit).
 
-use crate::calib_fit::error::FitError;
+use core::fmt;
+
 use crate::calib_fit::fits::bias_polynomial::BiasPolynomial;
 use crate::calib_fit::fits::rig_free::{
     self, across, dot, MoveBias, Record, MIN_ROTATIONS, MIN_TURN_DEG,
 };
 use crate::calib_fit::fits::thermal_accel::{self, ThermalAccelFit, MAX_CONDITION, PARAMETERS};
 use crate::calib_fit::fits::thermal_coverage::LEVEL_C;
+use crate::calib_fit::fits::turn_refusals::{RangeError, TooFastForRate, TooFewRotations};
 use crate::calib_fit::fits::turn_sensitivity::{self, TurnSensitivity};
+use crate::calib_fit::numerics::error::{check_condition, NumericsError};
 use crate::calib_fit::numerics::levenberg_marquardt::{self, Problem};
 use crate::calib_fit::numerics::qr::GivensLs;
 use crate::calib_fit::numerics::quaternion;
@@ -249,13 +252,71 @@ impl Problem<GYRO_PARAMETERS> for Moves<'_> {
     }
 }
 
+/// Why the gyroscope's (I+Σ) against temperature was refused.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ThermalGyroError {
+    /// The full scale given is not a rate, or a record comes near it.
+    Range(RangeError),
+    /// A record turns too far between two samples for the integration.
+    TooFastForRate(TooFastForRate),
+    /// Too few turns both colder and warmer than the reference temperature.
+    TooFewTurnsForScale {
+        /// Turns of ≥ 10° colder than the reference.
+        colder: usize,
+        /// Warmer.
+        warmer: usize,
+        /// The reference temperature, °C.
+        reference_c: f64,
+        /// The minimum on each side.
+        needed: usize,
+    },
+    /// Too few moves for the 18 parameters to leave a degree of freedom.
+    TooFewRotations(TooFewRotations),
+    /// The parameters are not determined, or the iteration did not converge.
+    Numerics(NumericsError),
+}
+
+impl From<NumericsError> for ThermalGyroError {
+    fn from(e: NumericsError) -> Self {
+        ThermalGyroError::Numerics(e)
+    }
+}
+
+impl From<RangeError> for ThermalGyroError {
+    fn from(e: RangeError) -> Self {
+        ThermalGyroError::Range(e)
+    }
+}
+
+impl fmt::Display for ThermalGyroError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ThermalGyroError::Range(e) => write!(f, "{e}"),
+            ThermalGyroError::TooFastForRate(e) => write!(f, "{e}"),
+            ThermalGyroError::TooFewTurnsForScale {
+                colder,
+                warmer,
+                reference_c,
+                needed,
+            } => write!(
+                f,
+                "the gyro's (I+Σ) against temperature needs ≥ {needed} turns of ≥ {MIN_TURN_DEG} degrees between static \
+                 poses both colder and warmer than the reference {reference_c:.1} °C; found {colder} colder and \
+                 {warmer} warmer: turn the unit by hand between poses at each end of the range (the hand-soak script)"
+            ),
+            ThermalGyroError::TooFewRotations(e) => write!(f, "{e}"),
+            ThermalGyroError::Numerics(e) => write!(f, "{e}"),
+        }
+    }
+}
+
 /// Fits the gyro's (I+Σ)₀ and D; `full_scale` is the gyro's range, rad/s.
 pub fn fit(
     sets: &[Poses],
     accel: &ThermalAccelFit,
     bias: &BiasPolynomial,
     full_scale: f64,
-) -> Result<ThermalGyroFit, FitError> {
+) -> Result<ThermalGyroFit, ThermalGyroError> {
     let reference_c = accel.terms.reference_c;
     let problem = Moves {
         sets,
@@ -271,12 +332,12 @@ pub fn fit(
         let (sample, step) = rig_free::fastest_step(&s.record, s.segments, &b);
         let limit = rig_free::MAX_ROTATION_PER_SAMPLE_DEG.to_radians();
         if step > limit {
-            return Err(FitError::TooFastForRate {
+            return Err(ThermalGyroError::TooFastForRate(TooFastForRate {
                 sample,
                 rotation_deg: step.to_degrees(),
                 limit_deg: rig_free::MAX_ROTATION_PER_SAMPLE_DEG,
                 rate_hz: 1.0 / (s.record.t[sample + 1] - s.record.t[sample]),
-            });
+            }));
         }
     }
     problem.each(|m| {
@@ -290,7 +351,7 @@ pub fn fit(
         }
     });
     if turns[0] < MIN_ROTATIONS || turns[1] < MIN_ROTATIONS {
-        return Err(FitError::TooFewTurnsForScale {
+        return Err(ThermalGyroError::TooFewTurnsForScale {
             colder: turns[0],
             warmer: turns[1],
             reference_c,
@@ -321,21 +382,16 @@ pub fn fit(
         }
     });
     let condition = ls.scaled_condition();
-    if condition.is_nan() || condition > MAX_CONDITION {
-        return Err(FitError::IllConditioned {
-            condition,
-            limit: MAX_CONDITION,
-        });
-    }
+    check_condition(condition, MAX_CONDITION)?;
     let gyro_dof = (2 * moves).saturating_sub(GYRO_PARAMETERS);
     if gyro_dof == 0 {
-        return Err(FitError::TooFewRotations {
+        return Err(ThermalGyroError::TooFewRotations(TooFewRotations {
             rotations: moves,
             turns: turns[0] + turns[1],
             needed: GYRO_PARAMETERS / 2 + 1,
-        });
+        }));
     }
-    let inv = ls.inverse_normal_matrix()?;
+    let inv = ls.inverse_normal_matrix().map_err(NumericsError::from)?;
     let s2 = sum_sq / gyro_dof as f64;
     // The solution moves by dp = G·da, G = −(JᵀJ)⁻¹·Jᵀ·J_a: its covariance G·C_a·Gᵀ.
     let g: [[f64; PARAMETERS]; GYRO_PARAMETERS] = core::array::from_fn(|i| {

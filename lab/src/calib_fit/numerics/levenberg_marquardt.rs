@@ -5,7 +5,7 @@
 //! It stops when a taken step changes every parameter by ≤ 1e-13 of its
 //! size (or of 1), or when no step, however short, lowers the cost (λ > 1e10).
 
-use crate::calib_fit::error::FitError;
+use crate::calib_fit::numerics::error::NumericsError;
 use crate::calib_fit::numerics::qr::GivensLs;
 
 /// A least-squares problem in N parameters.
@@ -22,7 +22,7 @@ pub fn minimise<const N: usize>(
     problem: &impl Problem<N>,
     mut p: [f64; N],
     max_iterations: u32,
-) -> Result<([f64; N], u32), FitError> {
+) -> Result<([f64; N], u32), NumericsError> {
     let mut lambda = 1e-3;
     let mut current = problem.cost(&p);
     for iteration in 1..=max_iterations {
@@ -64,7 +64,7 @@ pub fn minimise<const N: usize>(
             }
         }
     }
-    Err(FitError::NoConvergence {
+    Err(NumericsError::NoConvergence {
         iterations: max_iterations,
     })
 }
@@ -103,7 +103,7 @@ mod tests {
         assert!(iterations < 100);
         assert_eq!(
             minimise(&Exponential, [1.0, 0.5], 1),
-            Err(FitError::NoConvergence { iterations: 1 })
+            Err(NumericsError::NoConvergence { iterations: 1 })
         );
     }
 }

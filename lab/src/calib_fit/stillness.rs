@@ -1,6 +1,7 @@
 //! Is a record still? `calib fit gyro --static` takes each axis's mean rate
-//! as the bias, which is only right if the sensor did not turn. Two tests,
-//! each refusing with the figure it measured:
+//! as the bias, which is only right if the sensor did not turn (and the
+//! live session holds a pose by the same measure). Two tests, each refusing
+//! with the figure it measured ([`NotStill`]):
 //!
 //! 1. **Steadiness.** The record is cut into [`BLOCKS`] equal blocks. Any
 //!    turn during part of the record moves the block means of the gyro
@@ -16,8 +17,11 @@
 //!    steady; then the mean rate itself must be a plausible bias: at most
 //!    `--max-bias` (default [`DEFAULT_MAX_BIAS_DPS`]).
 
+use alloc::vec::Vec;
+use core::fmt;
+
+use crate::calib_fit::static_segments;
 use triad::units::{deg_to_rad, rad_to_deg};
-use triad_lab::calib_fit::static_segments;
 
 /// Blocks the record is cut into.
 pub const BLOCKS: usize = 8;
@@ -80,7 +84,7 @@ pub fn steadiness(samples: &[[f64; 3]], floor: f64) -> Option<Steadiness> {
     for (axis, &axis_mean) in mean.iter().enumerate() {
         let mut sd: Vec<f64> = block_sds.iter().map(|s| s[axis]).collect();
         sd.sort_by(f64::total_cmp);
-        let se = sd[BLOCKS / 2] / (per_block as f64).sqrt();
+        let se = sd[BLOCKS / 2] / libm::sqrt(per_block as f64);
         let limit = (SIGMAS * se).max(floor);
         for (block, block_mean) in block_means.iter().enumerate() {
             let stray = (block_mean[axis] - axis_mean).abs();
@@ -99,38 +103,46 @@ pub fn steadiness(samples: &[[f64; 3]], floor: f64) -> Option<Steadiness> {
     worst.map(|(_, s)| s)
 }
 
+/// Why a record is not still: the worst block of the gyro or of the
+/// accelerometer, or a steady mean rate too large for a bias.
+#[derive(Debug, PartialEq)]
+pub enum NotStill {
+    /// A block mean of the gyro (rad/s) strays: the sensor turned, or its
+    /// bias drifts.
+    Turned(Steadiness),
+    /// A block mean of the accelerometer (m/s²) strays: the sensor turned or moved.
+    Moved(Steadiness),
+    /// The record is steady but its mean rate is above the largest bias
+    /// accepted: a turn at a steady rate.
+    NotABias {
+        /// The axis (0, 1, 2).
+        axis: usize,
+        /// Its |mean rate|, °/s.
+        rate_dps: f64,
+        /// The largest accepted, °/s.
+        max_bias_dps: f64,
+    },
+}
+
+const AXES: [&str; 3] = ["x", "y", "z"];
+
 /// Refuses a gyro record (rad/s) that is not still, by the two tests, with
-/// `accel` (m/s²) when the record has it; `name` names the record.
+/// `accel` (m/s²) when the record has it; `mean_rate` is the gyro's mean,
+/// `max_bias_dps` the largest plausible bias (°/s).
 pub fn check(
-    name: &str,
     gyro: &[[f64; 3]],
     accel: Option<&[[f64; 3]]>,
     mean_rate: &[f64; 3],
     max_bias_dps: f64,
-) -> anyhow::Result<()> {
-    const AXES: [&str; 3] = ["x", "y", "z"];
+) -> Result<(), NotStill> {
     if let Some(s) = steadiness(gyro, deg_to_rad(GYRO_FLOOR_DPS)) {
         if s.stray > s.limit {
-            anyhow::bail!(
-                "{name} is not static: the mean rate about {} in part {} of {BLOCKS} differs from the record's \
-                 by {:.3} °/s (limit {:.3} °/s): the sensor turned, or its bias drifts; --static needs a still record",
-                AXES[s.axis],
-                s.block + 1,
-                rad_to_deg(s.stray),
-                rad_to_deg(s.limit)
-            );
+            return Err(NotStill::Turned(s));
         }
     }
     if let Some(s) = accel.and_then(|a| steadiness(a, ACCEL_FLOOR)) {
         if s.stray > s.limit {
-            anyhow::bail!(
-                "{name} is not static: the mean specific force along {} in part {} of {BLOCKS} differs from the \
-                 record's by {:.3} m/s² (limit {:.3} m/s²): the sensor turned or moved; --static needs a still record",
-                AXES[s.axis],
-                s.block + 1,
-                s.stray,
-                s.limit
-            );
+            return Err(NotStill::Moved(s));
         }
     }
     let (axis, worst) = mean_rate
@@ -139,18 +151,85 @@ pub fn check(
         .map(|(k, w)| (k, rad_to_deg(w.abs())))
         .fold((0, 0.0), |a, b| if b.1 > a.1 { b } else { a });
     if worst > max_bias_dps {
-        anyhow::bail!(
-            "{name}: the mean rate about {} is {worst:.3} °/s, above --max-bias {max_bias_dps} °/s: \
-             a turn at a steady rate (a rate table?), not a bias; raise --max-bias if the gyro's offset is that large",
-            AXES[axis]
-        );
+        return Err(NotStill::NotABias {
+            axis,
+            rate_dps: worst,
+            max_bias_dps,
+        });
     }
     Ok(())
+}
+
+impl NotStill {
+    /// The refusal as a sentence about the record `name`.
+    pub fn named<'a>(&'a self, name: &'a str) -> Named<'a> {
+        Named { error: self, name }
+    }
+}
+
+/// [`NotStill`] about a named record ([`NotStill::named`]).
+pub struct Named<'a> {
+    error: &'a NotStill,
+    name: &'a str,
+}
+
+impl fmt::Display for Named<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let name = self.name;
+        match self.error {
+            NotStill::Turned(s) => write!(
+                f,
+                "{name} is not static: the mean rate about {} in part {} of {BLOCKS} differs from the record's \
+                 by {:.3} °/s (limit {:.3} °/s): the sensor turned, or its bias drifts; --static needs a still record",
+                AXES[s.axis],
+                s.block + 1,
+                rad_to_deg(s.stray),
+                rad_to_deg(s.limit)
+            ),
+            NotStill::Moved(s) => write!(
+                f,
+                "{name} is not static: the mean specific force along {} in part {} of {BLOCKS} differs from the \
+                 record's by {:.3} m/s² (limit {:.3} m/s²): the sensor turned or moved; --static needs a still record",
+                AXES[s.axis],
+                s.block + 1,
+                s.stray,
+                s.limit
+            ),
+            NotStill::NotABias {
+                axis,
+                rate_dps,
+                max_bias_dps,
+            } => write!(
+                f,
+                "{name}: the mean rate about {} is {rate_dps:.3} °/s, above --max-bias {max_bias_dps} °/s: \
+                 a turn at a steady rate (a rate table?), not a bias; raise --max-bias if the gyro's offset is that large",
+                AXES[*axis]
+            ),
+        }
+    }
+}
+
+impl fmt::Display for NotStill {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.named("the record"))
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use alloc::string::{String, ToString};
+
+    /// [`check`], refused as the message about `name`.
+    fn checked(
+        name: &str,
+        gyro: &[[f64; 3]],
+        accel: Option<&[[f64; 3]]>,
+        mean_rate: &[f64; 3],
+        max_bias_dps: f64,
+    ) -> Result<(), String> {
+        check(gyro, accel, mean_rate, max_bias_dps).map_err(|e| e.named(name).to_string())
+    }
 
     /// `n` samples of alternating ±`noise` around `level` on every axis.
     fn steady(n: usize, level: f64, noise: f64) -> Vec<[f64; 3]> {
@@ -164,7 +243,7 @@ mod tests {
         let still = steady(800, 0.01, 0.002);
         let s = steadiness(&still, 0.0).unwrap();
         assert!(s.stray < 1e-12, "{s:?}");
-        assert!(check("r.csv", &still, None, &[0.01; 3], 10.0).is_ok());
+        assert!(checked("r.csv", &still, None, &[0.01; 3], 10.0).is_ok());
         // A turn at 20 °/s about y for the 5th block.
         let mut turned = still.clone();
         for v in &mut turned[400..500] {
@@ -172,7 +251,7 @@ mod tests {
         }
         let s = steadiness(&turned, deg_to_rad(GYRO_FLOOR_DPS)).unwrap();
         assert_eq!((s.axis, s.block), (1, 4));
-        let err = check("r.csv", &turned, None, &[0.01; 3], 10.0)
+        let err = checked("r.csv", &turned, None, &[0.01; 3], 10.0)
             .unwrap_err()
             .to_string();
         assert!(
@@ -184,20 +263,20 @@ mod tests {
     #[test]
     fn a_steady_turn_is_refused_by_its_rate_and_a_tilt_by_the_accelerometer() {
         let table = steady(800, deg_to_rad(30.0), 1e-3);
-        let err = check("t.csv", &table, None, &[0.0, 0.0, deg_to_rad(30.0)], 10.0)
+        let err = checked("t.csv", &table, None, &[0.0, 0.0, deg_to_rad(30.0)], 10.0)
             .unwrap_err()
             .to_string();
         assert!(
             err.starts_with("t.csv: the mean rate about z is 30.000 °/s, above --max-bias 10 °/s"),
             "{err}"
         );
-        assert!(check("t.csv", &table, None, &[0.0, 0.0, deg_to_rad(30.0)], 40.0).is_ok());
+        assert!(checked("t.csv", &table, None, &[0.0, 0.0, deg_to_rad(30.0)], 40.0).is_ok());
         let still = steady(800, 0.0, 1e-3);
         let mut accel = steady(800, 9.8, 0.01);
         for v in &mut accel[700..] {
             v[0] -= 1.0;
         }
-        let err = check("a.csv", &still, Some(&accel), &[0.0; 3], 10.0)
+        let err = checked("a.csv", &still, Some(&accel), &[0.0; 3], 10.0)
             .unwrap_err()
             .to_string();
         assert!(
