@@ -11,6 +11,7 @@ use core::fmt::Debug;
 
 use embedded_hal::delay::DelayNs;
 
+use super::accel_range::AccelRange;
 use super::config::Config;
 use super::driver::Driver;
 use super::error::Error;
@@ -31,7 +32,9 @@ pub trait Loggable {}
 #[cfg(not(feature = "defmt"))]
 impl<T> Loggable for T {}
 
-/// A full-scale range setting of one triad (a chip's `AccelRange`, `GyroRange`).
+/// A full-scale range setting of one triad that is the chip's own type (its
+/// `GyroRange`: the chips' gyroscope ranges and codes differ; the
+/// accelerometer's are the shared [`AccelRange`]).
 pub trait FullScale: Copy + Debug + PartialEq + Eq + Loggable {
     /// Counts → SI units and the range in SI units, from the data sheet.
     fn scale(self) -> TriadScale;
@@ -72,8 +75,6 @@ pub trait Chip: Copy + Debug + PartialEq + Eq + Loggable + Sized + 'static {
     /// °C at temperature reading 0.
     const TEMP_OFFSET_C: f64;
 
-    /// Accelerometer full-scale range.
-    type AccelRange: FullScale;
     /// Gyroscope full-scale range.
     type GyroRange: FullScale;
     /// Output data rate.
@@ -81,6 +82,13 @@ pub trait Chip: Copy + Debug + PartialEq + Eq + Loggable + Sized + 'static {
     /// What the driver keeps between FIFO drains beyond the held sample
     /// (the LSM6DSOX: a time slot cut by a full output; `()` where nothing).
     type FifoState: Copy + Default + core::fmt::Debug;
+
+    /// The accelerometer range field's value for `range` (the data sheet's
+    /// register map).
+    fn accel_code(range: AccelRange) -> u8;
+
+    /// Counts → m/s² at `range`, from the data sheet's sensitivity table.
+    fn accel_si_per_lsb(range: AccelRange) -> f64;
 
     /// The driver's default configuration.
     const DEFAULT_CONFIG: Config<Self>;
