@@ -40,13 +40,23 @@ pub trait FullScale: Copy + Debug + PartialEq + Eq + Loggable {
     fn scale(self) -> TriadScale;
 }
 
-/// An output data rate setting (a chip's `Odr`).
+/// An output data rate setting (a chip's `Odr`): its rate and its code in
+/// the chip's output-data-rate fields.
 pub trait DataRate: Copy + Debug + PartialEq + Eq + Loggable + 'static {
     /// Every rate the driver offers.
     const ALL: &'static [Self];
 
     /// The rate in Hz.
     fn hz(self) -> f64;
+
+    /// The chip's output-data-rate field value for this rate.
+    fn code(self) -> u8;
+
+    /// The rate whose output-data-rate field value is `code`, if the driver
+    /// offers it.
+    fn from_code(code: u8) -> Option<Self> {
+        Self::ALL.iter().copied().find(|r| r.code() == code)
+    }
 
     /// The rate whose whole number of hertz is `hz` (833 for 833 Hz, 12
     /// for 12.5 Hz), if the chip has it.

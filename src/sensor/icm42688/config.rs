@@ -177,29 +177,6 @@ impl Odr {
         Self::Hz12_5,
     ];
 
-    /// The 4-bit ODR field value (note 500 Hz is 0b1111, out of sequence).
-    pub fn code(self) -> u8 {
-        match self {
-            Self::Hz32000 => 0x1,
-            Self::Hz16000 => 0x2,
-            Self::Hz8000 => 0x3,
-            Self::Hz4000 => 0x4,
-            Self::Hz2000 => 0x5,
-            Self::Hz1000 => 0x6,
-            Self::Hz200 => 0x7,
-            Self::Hz100 => 0x8,
-            Self::Hz50 => 0x9,
-            Self::Hz25 => 0xA,
-            Self::Hz12_5 => 0xB,
-            Self::Hz500 => 0xF,
-        }
-    }
-
-    /// The rate for an ODR field value.
-    pub fn from_code(code: u8) -> Option<Self> {
-        Self::ALL.into_iter().find(|r| r.code() == code)
-    }
-
     /// The sample period in nanoseconds (exact for every rate).
     pub fn period_ns(self) -> u32 {
         match self {
@@ -221,6 +198,24 @@ impl Odr {
 
 impl DataRate for Odr {
     const ALL: &'static [Odr] = &Odr::ALL;
+
+    /// The 4-bit ODR field value (note 500 Hz is 0b1111, out of sequence).
+    fn code(self) -> u8 {
+        match self {
+            Self::Hz32000 => 0x1,
+            Self::Hz16000 => 0x2,
+            Self::Hz8000 => 0x3,
+            Self::Hz4000 => 0x4,
+            Self::Hz2000 => 0x5,
+            Self::Hz1000 => 0x6,
+            Self::Hz200 => 0x7,
+            Self::Hz100 => 0x8,
+            Self::Hz50 => 0x9,
+            Self::Hz25 => 0xA,
+            Self::Hz12_5 => 0xB,
+            Self::Hz500 => 0xF,
+        }
+    }
 
     /// The rate in Hz.
     fn hz(self) -> f64 {

@@ -15,7 +15,7 @@ mod self_test;
 use embedded_hal::delay::DelayNs;
 
 use self::registers as reg;
-use super::chip::Chip;
+use super::chip::{Chip, DataRate};
 use super::driver::Driver;
 use super::error::Error;
 use super::fifo::FifoRead;

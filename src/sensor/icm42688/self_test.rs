@@ -23,6 +23,7 @@ use super::config::{self, AccelRange, GyroRange, Odr};
 use super::registers as reg;
 use super::{Icm42688, Icm42688Chip};
 use crate::model::Triad;
+use crate::sensor::chip::DataRate;
 use crate::sensor::error::Error;
 use crate::sensor::interface::RegisterInterface;
 use crate::sensor::self_test::{

@@ -158,27 +158,6 @@ impl Odr {
         Self::Hz6667,
     ];
 
-    /// The 4-bit ODR field value (0 is power-down).
-    pub fn code(self) -> u8 {
-        match self {
-            Self::Hz12_5 => 0x1,
-            Self::Hz26 => 0x2,
-            Self::Hz52 => 0x3,
-            Self::Hz104 => 0x4,
-            Self::Hz208 => 0x5,
-            Self::Hz416 => 0x6,
-            Self::Hz833 => 0x7,
-            Self::Hz1666 => 0x8,
-            Self::Hz3333 => 0x9,
-            Self::Hz6667 => 0xA,
-        }
-    }
-
-    /// The rate for an ODR field value.
-    pub fn from_code(code: u8) -> Option<Self> {
-        Self::ALL.into_iter().find(|r| r.code() == code)
-    }
-
     /// The nominal rate in mHz, as the datasheet names it (12.5 Hz × 2ⁿ rounded:
     /// 26, 52, 104, ... 6667 Hz).
     pub fn millihertz(self) -> u32 {
@@ -199,6 +178,22 @@ impl Odr {
 
 impl DataRate for Odr {
     const ALL: &'static [Odr] = &Odr::ALL;
+
+    /// The 4-bit ODR field value (0 is power-down).
+    fn code(self) -> u8 {
+        match self {
+            Self::Hz12_5 => 0x1,
+            Self::Hz26 => 0x2,
+            Self::Hz52 => 0x3,
+            Self::Hz104 => 0x4,
+            Self::Hz208 => 0x5,
+            Self::Hz416 => 0x6,
+            Self::Hz833 => 0x7,
+            Self::Hz1666 => 0x8,
+            Self::Hz3333 => 0x9,
+            Self::Hz6667 => 0xA,
+        }
+    }
 
     /// The nominal rate in Hz.
     fn hz(self) -> f64 {

@@ -15,6 +15,7 @@ use super::config::{self, AccelRange, GyroRange, Odr};
 use super::registers as reg;
 use super::{Lsm6dsox, Lsm6dsoxChip};
 use crate::model::Triad;
+use crate::sensor::chip::DataRate;
 use crate::sensor::error::Error;
 use crate::sensor::interface::RegisterInterface;
 use crate::sensor::self_test::{
