@@ -9,7 +9,9 @@ use embedded_hal::i2c::{ErrorKind, NoAcknowledgeSource};
 use embedded_hal_mock::eh1::delay::{CheckedDelay, NoopDelay, Transaction as DelayTrans};
 use embedded_hal_mock::eh1::i2c::{Mock as I2cMock, Transaction as I2cTrans};
 use triad::sensor::icm42688::config::{Config, FifoMode};
-use triad::sensor::icm42688::{AccelRange, FifoConfig, GyroRange, Icm42688, InterruptPin, Odr};
+use triad::sensor::icm42688::{
+    AccelRange, FifoConfig, GyroRange, Icm42688, Icm42688Chip, InterruptPin, Odr,
+};
 use triad::sensor::{Error, FifoImu, FifoRead, FullScale, Imu, RawSample};
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
 
@@ -413,7 +415,10 @@ fn scale_is_the_datasheet_sensitivity_in_si() {
         (AccelRange::G16, 2048.0),
     ];
     for (range, lsb_per_g) in table {
-        assert_eq!(range.scale().si_per_lsb, STANDARD_GRAVITY / lsb_per_g);
+        assert_eq!(
+            range.scale::<Icm42688Chip>().si_per_lsb,
+            STANDARD_GRAVITY / lsb_per_g
+        );
     }
     let table = [
         (GyroRange::Dps15_625, 2097.2),

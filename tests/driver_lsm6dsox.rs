@@ -9,7 +9,7 @@ use embedded_hal::i2c::{ErrorKind, NoAcknowledgeSource};
 use embedded_hal_mock::eh1::delay::{CheckedDelay, NoopDelay, Transaction as DelayTrans};
 use embedded_hal_mock::eh1::i2c::{Mock as I2cMock, Transaction as I2cTrans};
 use triad::sensor::lsm6dsox::{
-    AccelRange, Config, FifoConfig, FifoMode, GyroRange, InterruptPin, Lsm6dsox, Odr,
+    AccelRange, Config, FifoConfig, FifoMode, GyroRange, InterruptPin, Lsm6dsox, Lsm6dsoxChip, Odr,
 };
 use triad::sensor::{Error, FifoImu, FifoRead, FullScale, Imu, RawSample};
 use triad::units::{deg_to_rad, STANDARD_GRAVITY};
@@ -373,8 +373,14 @@ fn scale_is_the_datasheet_sensitivity_in_si() {
         (AccelRange::G16, 0.488),
     ];
     for (range, mg) in table {
-        assert_eq!(range.scale().si_per_lsb, mg * 1e-3 * STANDARD_GRAVITY);
-        assert_eq!(range.scale().full_scale, range.g() * STANDARD_GRAVITY);
+        assert_eq!(
+            range.scale::<Lsm6dsoxChip>().si_per_lsb,
+            mg * 1e-3 * STANDARD_GRAVITY
+        );
+        assert_eq!(
+            range.scale::<Lsm6dsoxChip>().full_scale,
+            range.g() * STANDARD_GRAVITY
+        );
     }
     let table = [
         (GyroRange::Dps125, 4.375),

@@ -15,6 +15,8 @@
 //! - the extra bits reach the stream: the raw samples carry bits below the
 //!   16-bit code, and the frames differ from what the same samples cut to
 //!   16 bits would give;
+//! - with the accelerometer and gyroscope at two rates, the slower triad
+//!   held between its own samples (`emulated_board::slower_held`);
 //! - `triad correct` on the same raw samples in SI units agrees within its
 //!   f32 bound.
 //!
@@ -23,7 +25,7 @@
 mod emulated_board;
 
 use emulated_board::capture::{self, env_path};
-use emulated_board::{host_sampler, settings_from_env, triad_correct, HostSensor};
+use emulated_board::{host_sampler, settings_from_env, slower_held, triad_correct, HostSensor};
 use triad::device::{Outgoing, Sampler};
 use triad::protocol::{Frame, Packet};
 use triad::sensor::{Imu, RawSample};
@@ -141,6 +143,20 @@ fn high_resolution_frames_equal_the_hosts_and_carry_the_extra_bits() {
         "{n} data frames equal the host's bit for bit; {finer} samples carry bits below \
          the 16-bit code, {differs} frames differ from the same samples cut to 16 bits"
     );
+}
+
+#[test]
+#[ignore = "needs the QEMU capture made by `cargo xtask test`"]
+fn the_slower_sensor_is_held_between_its_own_samples() {
+    // Only a build with one sensor slower (docs/PROTOCOL.md §22): packets
+    // 4 then carry the slower sensor's data only at its own rate (§6.1).
+    let Some(slower) = settings_from_env().slower else {
+        return;
+    };
+    let device = captured_frames();
+    let (_, raws, _) = host_frames(&device);
+    let sensor = HostSensor::from_env();
+    slower_held::assert_held_between_its_samples(&raws[..device.len()], &sensor, slower);
 }
 
 #[test]

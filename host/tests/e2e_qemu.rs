@@ -23,9 +23,9 @@ mod emulated_board;
 
 use std::path::PathBuf;
 
-use emulated_board::{capture, decoded_csv, triad_correct, HostSensor};
+use emulated_board::{capture, decoded_csv, slower_held, triad_correct, HostSensor};
 use triad::device::{sample_period_us, start_calibration, Outgoing, Sampler, StepOutcome};
-use triad::model::{Corrector, Triad};
+use triad::model::Corrector;
 use triad::protocol::{Decoder, Frame};
 use triad::sensor::{Imu, RawSample, CHIP_NAMES};
 use triad_sim::chips::emulated_board::DESCRIPTION;
@@ -139,48 +139,15 @@ fn host_frames(count: usize, timestamps: &[u32]) -> (Vec<Frame>, Vec<RawSample>,
 #[ignore = "needs the QEMU capture made by `cargo xtask test`"]
 fn the_slower_sensor_is_held_between_its_own_samples() {
     // Only a build with one sensor slower (docs/PROTOCOL.md §22).
-    let Some((triad, slower_hz)) = emulated_board::settings_from_env().slower else {
+    let Some(slower) = emulated_board::settings_from_env().slower else {
         return;
     };
     let device = captured_frames();
     let timestamps: Vec<u32> = device.iter().map(|f| f.timestamp_us).collect();
     // The samples the firmware read (its frames equal the host's bit for bit).
     let (_, raws, _) = host_frames(device.len(), &timestamps);
-    let ratio = (HostSensor::from_env().sample_rate_hz() / f64::from(slower_hz)).round() as usize;
-    assert!(ratio >= 2, "{slower_hz} Hz is slower than the stream");
-    let slow = |r: &RawSample| match triad {
-        Triad::Accel => r.accel,
-        Triad::Gyro => r.gyro,
-    };
-    // Until its first sample the slower triad reads -32768 on every axis.
-    let first = raws
-        .iter()
-        .take_while(|r| slow(r) == [i32::from(i16::MIN); 3])
-        .count();
-    assert!(
-        first < ratio,
-        "{first} samples before the slower sensor's first"
-    );
-    assert!(
-        raws.iter().all(|r| r.accel != [0; 3] && r.gyro != [0; 3]),
-        "no triad reads the output registers' reset value as a measurement"
-    );
-    let changed: Vec<usize> = (first + 1..raws.len())
-        .filter(|&i| slow(&raws[i]) != slow(&raws[i - 1]))
-        .collect();
-    // The slower sensor's samples keep one phase against the faster's.
-    let phase = changed.first().map_or(0, |&i| i % ratio);
-    assert!(
-        changed.len() > raws.len() / ratio / 2,
-        "the slower sensor's value moves: {} changes in {} samples",
-        changed.len(),
-        raws.len()
-    );
-    let off_beat: Vec<usize> = changed.into_iter().filter(|i| i % ratio != phase).collect();
-    assert!(
-        off_beat.is_empty(),
-        "held between its samples (every {ratio}): changed at {off_beat:?}"
-    );
+    let sensor = HostSensor::from_env();
+    slower_held::assert_held_between_its_samples(&raws, &sensor, slower);
 }
 
 #[test]

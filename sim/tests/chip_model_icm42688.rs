@@ -10,7 +10,7 @@ use embedded_hal::i2c::{ErrorKind as I2cErrorKind, NoAcknowledgeSource};
 use embedded_hal::spi::{ErrorKind as SpiErrorKind, Operation, SpiDevice};
 use embedded_hal_mock::eh1::delay::NoopDelay;
 use triad::sensor::icm42688::config::{Config, FifoMode};
-use triad::sensor::icm42688::{AccelRange, FifoConfig, GyroRange, Icm42688, Odr};
+use triad::sensor::icm42688::{AccelRange, FifoConfig, GyroRange, Icm42688, Icm42688Chip, Odr};
 use triad::sensor::interface::{I2cInterface, SpiInterface};
 use triad::sensor::{Error, FifoImu, FullScale, Imu, RawSample};
 use triad_sim::chips::fault::Fault;
@@ -74,7 +74,7 @@ fn every_range_and_rate_round_trips_and_sets_sensitivity_and_timing() {
         let cfg = config(accel_range, gyro_range, odr);
         // Inputs within ±1.2 full scale: some axes saturate, most do not.
         let fs = (
-            accel_range.scale().full_scale,
+            accel_range.scale::<Icm42688Chip>().full_scale,
             gyro_range.scale().full_scale,
         );
         let source = RandomSource::new(i as u64 + 1, 1.2 * fs.0, 1.2 * fs.1);
@@ -85,7 +85,7 @@ fn every_range_and_rate_round_trips_and_sets_sensitivity_and_timing() {
             (accel_range, gyro_range, odr, odr)
         );
         let scale = imu.scale();
-        assert_eq!(scale.accel, accel_range.scale());
+        assert_eq!(scale.accel, accel_range.scale::<Icm42688Chip>());
         assert_eq!(scale.gyro, gyro_range.scale());
         let period = u64::from(odr.period_ns());
         for _ in 0..50 {

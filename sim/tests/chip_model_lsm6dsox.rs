@@ -10,7 +10,9 @@ use embedded_hal::i2c::{ErrorKind as I2cErrorKind, NoAcknowledgeSource};
 use embedded_hal::spi::{ErrorKind as SpiErrorKind, Operation, SpiDevice};
 use embedded_hal_mock::eh1::delay::NoopDelay;
 use triad::sensor::interface::{I2cInterface, SpiInterface};
-use triad::sensor::lsm6dsox::{AccelRange, Config, FifoConfig, FifoMode, GyroRange, Lsm6dsox, Odr};
+use triad::sensor::lsm6dsox::{
+    AccelRange, Config, FifoConfig, FifoMode, GyroRange, Lsm6dsox, Lsm6dsoxChip, Odr,
+};
 use triad::sensor::{Error, FifoImu, FullScale, Imu, ImuScale, RawSample};
 use triad_sim::chips::fault::Fault;
 use triad_sim::chips::lsm6dsox_model::Lsm6dsoxModel;
@@ -69,7 +71,7 @@ fn every_range_and_rate_round_trips_and_sets_sensitivity_and_timing() {
         };
         // Inputs within ±1.2 full scale: some axes saturate, most do not.
         let fs = (
-            accel_range.scale().full_scale,
+            accel_range.scale::<Lsm6dsoxChip>().full_scale,
             gyro_range.scale().full_scale,
         );
         let source = RandomSource::new(i as u64 + 1, 1.2 * fs.0, 1.2 * fs.1);
@@ -82,7 +84,7 @@ fn every_range_and_rate_round_trips_and_sets_sensitivity_and_timing() {
         let scale = imu.scale();
         assert_eq!(
             (scale.accel, scale.gyro),
-            (accel_range.scale(), gyro_range.scale())
+            (accel_range.scale::<Lsm6dsoxChip>(), gyro_range.scale())
         );
         let mut now = 0;
         for k in 1..=50 {

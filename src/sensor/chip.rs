@@ -11,6 +11,7 @@ use core::fmt::Debug;
 
 use embedded_hal::delay::DelayNs;
 
+use super::accel_range::AccelRange;
 use super::config::Config;
 use super::driver::Driver;
 use super::error::Error;
@@ -31,19 +32,31 @@ pub trait Loggable {}
 #[cfg(not(feature = "defmt"))]
 impl<T> Loggable for T {}
 
-/// A full-scale range setting of one triad (a chip's `AccelRange`, `GyroRange`).
+/// A full-scale range setting of one triad that is the chip's own type (its
+/// `GyroRange`: the chips' gyroscope ranges and codes differ; the
+/// accelerometer's are the shared [`AccelRange`]).
 pub trait FullScale: Copy + Debug + PartialEq + Eq + Loggable {
     /// Counts → SI units and the range in SI units, from the data sheet.
     fn scale(self) -> TriadScale;
 }
 
-/// An output data rate setting (a chip's `Odr`).
+/// An output data rate setting (a chip's `Odr`): its rate and its code in
+/// the chip's output-data-rate fields.
 pub trait DataRate: Copy + Debug + PartialEq + Eq + Loggable + 'static {
     /// Every rate the driver offers.
     const ALL: &'static [Self];
 
     /// The rate in Hz.
     fn hz(self) -> f64;
+
+    /// The chip's output-data-rate field value for this rate.
+    fn code(self) -> u8;
+
+    /// The rate whose output-data-rate field value is `code`, if the driver
+    /// offers it.
+    fn from_code(code: u8) -> Option<Self> {
+        Self::ALL.iter().copied().find(|r| r.code() == code)
+    }
 
     /// The rate whose whole number of hertz is `hz` (833 for 833 Hz, 12
     /// for 12.5 Hz), if the chip has it.
@@ -72,8 +85,6 @@ pub trait Chip: Copy + Debug + PartialEq + Eq + Loggable + Sized + 'static {
     /// °C at temperature reading 0.
     const TEMP_OFFSET_C: f64;
 
-    /// Accelerometer full-scale range.
-    type AccelRange: FullScale;
     /// Gyroscope full-scale range.
     type GyroRange: FullScale;
     /// Output data rate.
@@ -81,6 +92,13 @@ pub trait Chip: Copy + Debug + PartialEq + Eq + Loggable + Sized + 'static {
     /// What the driver keeps between FIFO drains beyond the held sample
     /// (the LSM6DSOX: a time slot cut by a full output; `()` where nothing).
     type FifoState: Copy + Default + core::fmt::Debug;
+
+    /// The accelerometer range field's value for `range` (the data sheet's
+    /// register map).
+    fn accel_code(range: AccelRange) -> u8;
+
+    /// Counts → m/s² at `range`, from the data sheet's sensitivity table.
+    fn accel_si_per_lsb(range: AccelRange) -> f64;
 
     /// The driver's default configuration.
     const DEFAULT_CONFIG: Config<Self>;

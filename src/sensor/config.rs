@@ -1,7 +1,9 @@
-//! A chip's driver configuration as typed values: the chip's own ranges and
-//! rate (its [`Chip`] types), the interrupt pin and the FIFO. One struct for
+//! A chip's driver configuration as typed values: the shared accelerometer
+//! range, the chip's own gyroscope range and rate (its [`Chip`] types), the
+//! interrupt pin and the FIFO. One struct for
 //! every chip; each chip gives its default ([`Chip::DEFAULT_CONFIG`]).
 
+use super::accel_range::AccelRange;
 use super::chip::{Chip, DataRate, FullScale};
 use super::fifo::FifoConfig;
 use super::interrupt::InterruptPin;
@@ -12,7 +14,7 @@ use super::ImuScale;
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Config<C: Chip> {
     /// Accelerometer range.
-    pub accel_range: C::AccelRange,
+    pub accel_range: AccelRange,
     /// Gyroscope range.
     pub gyro_range: C::GyroRange,
     /// Accelerometer output data rate.
@@ -56,7 +58,7 @@ impl<C: Chip> Config<C> {
     /// temperature sensor: 16-bit codes at the configured full scales.
     pub fn range_scale(&self) -> ImuScale {
         ImuScale {
-            accel: self.accel_range.scale(),
+            accel: self.accel_range.scale::<C>(),
             gyro: self.gyro_range.scale(),
             temperature_per_lsb: 1.0 / C::TEMP_LSB_PER_C,
             temperature_offset: C::TEMP_OFFSET_C,

@@ -2,6 +2,7 @@
 //! the [`Chip`] trait (what differs between chips), the one generic
 //! [`Driver`] over it, and one module per chip.
 
+pub mod accel_range;
 pub mod chip;
 pub mod config;
 pub mod detect;
@@ -15,6 +16,7 @@ pub mod lsm6dsox;
 pub mod self_test;
 pub mod settings;
 
+pub use accel_range::AccelRange;
 pub use chip::{Chip, DataRate, FullScale};
 pub use config::Config;
 pub use detect::{AnyChip, DetectError, Undetected, CHIP_NAMES};

@@ -34,20 +34,27 @@ const BATCH_RATE_HZ: u32 = 8000;
 /// The FIFO build's watermark: the largest the firmware offers.
 const BATCH_WATERMARK: u16 = 32;
 /// The high-resolution FIFO build (the ICM-42688-P's 20-bit packets): its
-/// rate and watermark. It streams a data frame per sample, so a rate the
-/// link carries frame by frame.
+/// rate, its slower sensor (the accelerometer at half the rate: packets
+/// with only the gyroscope's data between, checked held as in
+/// [`DIFFERENT_RATES`]) and watermark. It streams a data frame per sample,
+/// so a rate the link carries frame by frame.
 const HIRES_RATE_HZ: u32 = 1000;
+const HIRES_SLOWER: (Triad, u32) = (Triad::Accel, 500);
 const HIRES_WATERMARK: u16 = 8;
 /// Seconds of stream per sampling setting in the hardware-in-the-loop run.
 const HIL_SECONDS: f64 = 2.0;
 /// Each chip at two rates, on the emulated board: (chip, the stream's rate,
-/// the slower sensor and its rate). The slower rate divides the faster, so
-/// the chip's samples come at the board's one data-ready rate; the slower
-/// sensor is the accelerometer, whose demo-motion reading moves (the gyro's
-/// is a constant rate: a held value could not be told from a new one).
-const DIFFERENT_RATES: [(&str, u32, (Triad, u32)); 2] = [
-    ("icm42688", 1000, (Triad::Accel, 500)),
-    ("lsm6dsox", 1666, (Triad::Accel, 833)),
+/// the slower sensor and its rate, the FIFO watermark). The slower rate
+/// divides the faster, so the chip's samples come at the board's one
+/// data-ready rate; the slower sensor is the accelerometer, whose
+/// demo-motion reading moves (the gyro's is a constant rate: a held value
+/// could not be told from a new one). The ICM-42688-P reads its data
+/// registers on data ready (W = 1; its FIFO at two rates is the
+/// high-resolution build's); the LSM6DSOX drains its tagged FIFO (W = 16),
+/// whose words come at each sensor's own rate.
+const DIFFERENT_RATES: [(&str, u32, (Triad, u32), u16); 2] = [
+    ("icm42688", 1000, (Triad::Accel, 500), 1),
+    ("lsm6dsox", 1666, (Triad::Accel, 833), 16),
 ];
 /// The scene of the simulated end-to-end run, and its seed.
 const E2E_SCENE: &str = "thermal-ramp";
@@ -252,12 +259,13 @@ pub fn run(scope: Scope) -> Result<()> {
 /// (docs/PROTOCOL.md §22), the stream at the faster one's: built, captured
 /// and checked by host/tests/e2e_qemu.rs like the default builds.
 fn different_rates(triad: &Path, calibration: &Path) -> Result<()> {
-    for (chip, rate_hz, slower) in DIFFERENT_RATES {
+    for (chip, rate_hz, slower, watermark) in DIFFERENT_RATES {
         let firmware = Firmware {
             emulated_chip: Some(chip),
             sampling: Sampling {
                 rate_hz: Some(rate_hz),
                 slower: Some(slower),
+                watermark: (watermark > 1).then_some(watermark),
                 ..Sampling::default()
             },
             ..Firmware::default_emulated()
@@ -270,16 +278,16 @@ fn different_rates(triad: &Path, calibration: &Path) -> Result<()> {
 }
 
 /// The ICM-42688-P's high-resolution FIFO (20-bit packets 4, DS-000347
-/// §6.1), streamed as data frames: built, captured and checked by
-/// host/tests/e2e_hires_qemu.rs.
+/// §6.1) with the accelerometer at half the gyroscope's rate, streamed as
+/// data frames: built, captured and checked by host/tests/e2e_hires_qemu.rs.
 fn high_resolution(triad: &Path, calibration: &Path) -> Result<()> {
     let firmware = Firmware {
         emulated_chip: Some("icm42688"),
         sampling: Sampling {
             rate_hz: Some(HIRES_RATE_HZ),
+            slower: Some(HIRES_SLOWER),
             watermark: Some(HIRES_WATERMARK),
             high_resolution: true,
-            ..Sampling::default()
         },
         ..Firmware::default_emulated()
     };

@@ -7,6 +7,7 @@
 
 pub mod capture;
 pub mod decoded_csv;
+pub mod slower_held;
 pub mod triad_correct;
 
 use triad::sensor::interface::{I2cInterface, SpiInterface};

@@ -1,76 +1,35 @@
-//! ICM-42688-P configuration as typed values: full-scale ranges, output data
-//! rates, interrupt pin, FIFO. Codes and sensitivities from DS-000347 §3.1
-//! (Tables 1 and 2, sensitivity scale factors) and §14 (GYRO_CONFIG0,
-//! ACCEL_CONFIG0).
+//! ICM-42688-P configuration as typed values: full-scale ranges (the
+//! accelerometer's the shared [`AccelRange`], with this chip's codes and
+//! sensitivities), output data rates, interrupt pin, FIFO. Codes and
+//! sensitivities from DS-000347 §3.1 (Tables 1 and 2, sensitivity scale
+//! factors) and §14 (GYRO_CONFIG0, ACCEL_CONFIG0).
 
+pub use crate::sensor::accel_range::AccelRange;
 use crate::sensor::chip::{DataRate, FullScale};
 pub use crate::sensor::fifo::{FifoConfig, FifoMode};
 pub use crate::sensor::interrupt::InterruptPin;
 use crate::sensor::{CodeRange, ImuScale, TriadScale};
 use crate::units::{deg_to_rad, STANDARD_GRAVITY};
 
-/// Accelerometer full-scale range (ACCEL_CONFIG0 ACCEL_FS_SEL).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum AccelRange {
-    /// ±2 g, 16384 LSB/g.
-    G2,
-    /// ±4 g, 8192 LSB/g.
-    G4,
-    /// ±8 g, 4096 LSB/g.
-    G8,
-    /// ±16 g, 2048 LSB/g (reset value).
-    G16,
-}
-
-impl AccelRange {
-    /// All ranges, narrowest first.
-    pub const ALL: [AccelRange; 4] = [Self::G2, Self::G4, Self::G8, Self::G16];
-
-    /// The ACCEL_FS_SEL field value.
-    pub fn code(self) -> u8 {
-        match self {
-            Self::G16 => 0,
-            Self::G8 => 1,
-            Self::G4 => 2,
-            Self::G2 => 3,
-        }
-    }
-
-    /// The range for an ACCEL_FS_SEL field value (bits 7:5 of ACCEL_CONFIG0).
-    pub fn from_code(code: u8) -> Option<Self> {
-        Self::ALL.into_iter().find(|r| r.code() == code)
-    }
-
-    /// The full scale in g.
-    pub fn g(self) -> f64 {
-        match self {
-            Self::G2 => 2.0,
-            Self::G4 => 4.0,
-            Self::G8 => 8.0,
-            Self::G16 => 16.0,
-        }
-    }
-
-    /// §3.2 Table 2: sensitivity in LSB/g.
-    pub fn lsb_per_g(self) -> f64 {
-        match self {
-            Self::G2 => 16384.0,
-            Self::G4 => 8192.0,
-            Self::G8 => 4096.0,
-            Self::G16 => 2048.0,
-        }
+/// The ACCEL_FS_SEL field value of `range` (bits 7:5 of ACCEL_CONFIG0;
+/// ±16 g, the reset value, is 0 and each step halves the range).
+pub fn accel_fs_sel(range: AccelRange) -> u8 {
+    match range {
+        AccelRange::G16 => 0,
+        AccelRange::G8 => 1,
+        AccelRange::G4 => 2,
+        AccelRange::G2 => 3,
     }
 }
 
-impl FullScale for AccelRange {
-    /// Counts → m/s² and the range in m/s².
-    fn scale(self) -> TriadScale {
-        TriadScale {
-            si_per_lsb: STANDARD_GRAVITY / self.lsb_per_g(),
-            full_scale: self.g() * STANDARD_GRAVITY,
-            codes: CodeRange::I16,
-        }
+/// §3.2 Table 2: sensitivity in LSB/g (±2 g: 16384, ±4 g: 8192, ±8 g:
+/// 4096, ±16 g: 2048).
+pub fn accel_lsb_per_g(range: AccelRange) -> f64 {
+    match range {
+        AccelRange::G2 => 16384.0,
+        AccelRange::G4 => 8192.0,
+        AccelRange::G8 => 4096.0,
+        AccelRange::G16 => 2048.0,
     }
 }
 
@@ -218,29 +177,6 @@ impl Odr {
         Self::Hz12_5,
     ];
 
-    /// The 4-bit ODR field value (note 500 Hz is 0b1111, out of sequence).
-    pub fn code(self) -> u8 {
-        match self {
-            Self::Hz32000 => 0x1,
-            Self::Hz16000 => 0x2,
-            Self::Hz8000 => 0x3,
-            Self::Hz4000 => 0x4,
-            Self::Hz2000 => 0x5,
-            Self::Hz1000 => 0x6,
-            Self::Hz200 => 0x7,
-            Self::Hz100 => 0x8,
-            Self::Hz50 => 0x9,
-            Self::Hz25 => 0xA,
-            Self::Hz12_5 => 0xB,
-            Self::Hz500 => 0xF,
-        }
-    }
-
-    /// The rate for an ODR field value.
-    pub fn from_code(code: u8) -> Option<Self> {
-        Self::ALL.into_iter().find(|r| r.code() == code)
-    }
-
     /// The sample period in nanoseconds (exact for every rate).
     pub fn period_ns(self) -> u32 {
         match self {
@@ -262,6 +198,24 @@ impl Odr {
 
 impl DataRate for Odr {
     const ALL: &'static [Odr] = &Odr::ALL;
+
+    /// The 4-bit ODR field value (note 500 Hz is 0b1111, out of sequence).
+    fn code(self) -> u8 {
+        match self {
+            Self::Hz32000 => 0x1,
+            Self::Hz16000 => 0x2,
+            Self::Hz8000 => 0x3,
+            Self::Hz4000 => 0x4,
+            Self::Hz2000 => 0x5,
+            Self::Hz1000 => 0x6,
+            Self::Hz200 => 0x7,
+            Self::Hz100 => 0x8,
+            Self::Hz50 => 0x9,
+            Self::Hz25 => 0xA,
+            Self::Hz12_5 => 0xB,
+            Self::Hz500 => 0xF,
+        }
+    }
 
     /// The rate in Hz.
     fn hz(self) -> f64 {

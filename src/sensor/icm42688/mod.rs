@@ -15,12 +15,13 @@ mod self_test;
 use embedded_hal::delay::DelayNs;
 
 use self::registers as reg;
-use super::chip::Chip;
+use super::chip::{Chip, DataRate};
 use super::driver::Driver;
 use super::error::Error;
 use super::fifo::FifoRead;
 use super::interface::RegisterInterface;
 use super::{CodeRange, Imu, ImuScale, RawSample};
+use crate::units::STANDARD_GRAVITY;
 
 pub use self::config::{AccelRange, Config, FifoConfig, FifoMode, GyroRange, InterruptPin, Odr};
 pub use self::registers::{I2C_ADDRESS_AD0_HIGH, I2C_ADDRESS_AD0_LOW};
@@ -46,10 +47,19 @@ impl Chip for Icm42688Chip {
     const TEMP_LSB_PER_C: f64 = reg::TEMP_LSB_PER_C;
     const TEMP_OFFSET_C: f64 = reg::TEMP_OFFSET_C;
 
-    type AccelRange = AccelRange;
     type GyroRange = GyroRange;
     type Odr = Odr;
     type FifoState = ();
+
+    /// ACCEL_CONFIG0 ACCEL_FS_SEL (§14).
+    fn accel_code(range: AccelRange) -> u8 {
+        config::accel_fs_sel(range)
+    }
+
+    /// §3.2 Table 2.
+    fn accel_si_per_lsb(range: AccelRange) -> f64 {
+        STANDARD_GRAVITY / config::accel_lsb_per_g(range)
+    }
 
     /// ±16 g, ±2000 °/s, 1 kHz, data-ready interrupt, FIFO off: the chip's
     /// reset ranges and rate.
@@ -122,7 +132,8 @@ impl Chip for Icm42688Chip {
         )?;
         driver.write(
             reg::ACCEL_CONFIG0,
-            (config.accel_range.code() << reg::FS_SEL_SHIFT) | config.accel_odr.code(),
+            (config::accel_fs_sel(config.accel_range) << reg::FS_SEL_SHIFT)
+                | config.accel_odr.code(),
         )?;
         match config.fifo {
             Some(fifo) => {
@@ -233,7 +244,7 @@ impl<I: RegisterInterface> Icm42688<I> {
         };
         let gyro_range =
             GyroRange::from_code(gyro >> reg::FS_SEL_SHIFT).ok_or(invalid("GYRO_CONFIG0", gyro))?;
-        let accel_range = AccelRange::from_code(accel >> reg::FS_SEL_SHIFT)
+        let accel_range = AccelRange::from_code::<Icm42688Chip>(accel >> reg::FS_SEL_SHIFT)
             .ok_or(invalid("ACCEL_CONFIG0", accel))?;
         let gyro_odr = Odr::from_code(gyro & reg::ODR_MASK).ok_or(invalid("GYRO_CONFIG0", gyro))?;
         let accel_odr =
@@ -275,7 +286,7 @@ fn check_high_resolution<E>(config: &Config) -> Result<(), Error<E>> {
         return Err(Error::InvalidConfig {
             what: "accelerometer range with the high-resolution FIFO (fixed at ±16 g, \
                    DS-000347 §6.1): ACCEL_FS_SEL code",
-            value: u32::from(config.accel_range.code()),
+            value: u32::from(config::accel_fs_sel(config.accel_range)),
         });
     }
     if config.gyro_range != GyroRange::Dps2000 {

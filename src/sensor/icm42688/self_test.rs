@@ -19,10 +19,11 @@
 
 use embedded_hal::delay::DelayNs;
 
-use super::config::{AccelRange, GyroRange, Odr};
+use super::config::{self, AccelRange, GyroRange, Odr};
 use super::registers as reg;
 use super::{Icm42688, Icm42688Chip};
 use crate::model::Triad;
+use crate::sensor::chip::DataRate;
 use crate::sensor::error::Error;
 use crate::sensor::interface::RegisterInterface;
 use crate::sensor::self_test::{
@@ -92,8 +93,8 @@ impl Procedure {
             self_test: reg::EN_A_ST | reg::ACCEL_ST_POWER,
             self_test_settle_ms: 25,
             output: reg::ACCEL_DATA_X1,
-            fs_sel: range.code(),
-            lsb_per_unit: range.lsb_per_g() / 1000.0,
+            fs_sel: config::accel_fs_sel(range),
+            lsb_per_unit: config::accel_lsb_per_g(range) / 1000.0,
             factory_codes: (2, reg::XA_ST_DATA_BANK2),
         }
     }

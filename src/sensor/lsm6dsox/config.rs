@@ -1,74 +1,34 @@
-//! LSM6DSOX configuration as typed values. Codes from DS12814 §9 (CTRL1_XL,
-//! CTRL2_G); sensitivities from §4.1 Table 2 (mechanical characteristics).
+//! LSM6DSOX configuration as typed values (the accelerometer's range the
+//! shared [`AccelRange`], with this chip's codes and sensitivities). Codes
+//! from DS12814 §9 (CTRL1_XL, CTRL2_G); sensitivities from §4.1 Table 2
+//! (mechanical characteristics).
 
+pub use crate::sensor::accel_range::AccelRange;
 use crate::sensor::chip::{DataRate, FullScale};
 pub use crate::sensor::fifo::{FifoConfig, FifoMode};
 pub use crate::sensor::interrupt::InterruptPin;
 use crate::sensor::{CodeRange, TriadScale};
-use crate::units::{deg_to_rad, STANDARD_GRAVITY};
+use crate::units::deg_to_rad;
 
-/// Accelerometer full-scale range (CTRL1_XL FS_XL, with XL_FS_MODE = 0).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum AccelRange {
-    /// ±2 g, 0.061 mg/LSB (reset value).
-    G2,
-    /// ±4 g, 0.122 mg/LSB.
-    G4,
-    /// ±8 g, 0.244 mg/LSB.
-    G8,
-    /// ±16 g, 0.488 mg/LSB.
-    G16,
-}
-
-impl AccelRange {
-    /// All ranges, narrowest first.
-    pub const ALL: [AccelRange; 4] = [Self::G2, Self::G4, Self::G8, Self::G16];
-
-    /// The FS_XL field value (note ±16 g is 01, out of order).
-    pub fn code(self) -> u8 {
-        match self {
-            Self::G2 => 0b00,
-            Self::G16 => 0b01,
-            Self::G4 => 0b10,
-            Self::G8 => 0b11,
-        }
-    }
-
-    /// The range for an FS_XL field value.
-    pub fn from_code(code: u8) -> Option<Self> {
-        Self::ALL.into_iter().find(|r| r.code() == code)
-    }
-
-    /// The full scale in g.
-    pub fn g(self) -> f64 {
-        match self {
-            Self::G2 => 2.0,
-            Self::G4 => 4.0,
-            Self::G8 => 8.0,
-            Self::G16 => 16.0,
-        }
-    }
-
-    /// §4.1 Table 2: sensitivity in mg/LSB.
-    pub fn mg_per_lsb(self) -> f64 {
-        match self {
-            Self::G2 => 0.061,
-            Self::G4 => 0.122,
-            Self::G8 => 0.244,
-            Self::G16 => 0.488,
-        }
+/// The FS_XL field value of `range` (CTRL1_XL bits 3:2, with XL_FS_MODE =
+/// 0; note ±16 g is 01, out of order; ±2 g, 00, is the reset value).
+pub fn accel_fs_xl(range: AccelRange) -> u8 {
+    match range {
+        AccelRange::G2 => 0b00,
+        AccelRange::G16 => 0b01,
+        AccelRange::G4 => 0b10,
+        AccelRange::G8 => 0b11,
     }
 }
 
-impl FullScale for AccelRange {
-    /// Counts → m/s² and the range in m/s².
-    fn scale(self) -> TriadScale {
-        TriadScale {
-            si_per_lsb: self.mg_per_lsb() * 1e-3 * STANDARD_GRAVITY,
-            full_scale: self.g() * STANDARD_GRAVITY,
-            codes: CodeRange::I16,
-        }
+/// §4.1 Table 2: sensitivity in mg/LSB (±2 g: 0.061, ±4 g: 0.122, ±8 g:
+/// 0.244, ±16 g: 0.488).
+pub fn accel_mg_per_lsb(range: AccelRange) -> f64 {
+    match range {
+        AccelRange::G2 => 0.061,
+        AccelRange::G4 => 0.122,
+        AccelRange::G8 => 0.244,
+        AccelRange::G16 => 0.488,
     }
 }
 
@@ -198,27 +158,6 @@ impl Odr {
         Self::Hz6667,
     ];
 
-    /// The 4-bit ODR field value (0 is power-down).
-    pub fn code(self) -> u8 {
-        match self {
-            Self::Hz12_5 => 0x1,
-            Self::Hz26 => 0x2,
-            Self::Hz52 => 0x3,
-            Self::Hz104 => 0x4,
-            Self::Hz208 => 0x5,
-            Self::Hz416 => 0x6,
-            Self::Hz833 => 0x7,
-            Self::Hz1666 => 0x8,
-            Self::Hz3333 => 0x9,
-            Self::Hz6667 => 0xA,
-        }
-    }
-
-    /// The rate for an ODR field value.
-    pub fn from_code(code: u8) -> Option<Self> {
-        Self::ALL.into_iter().find(|r| r.code() == code)
-    }
-
     /// The nominal rate in mHz, as the datasheet names it (12.5 Hz × 2ⁿ rounded:
     /// 26, 52, 104, ... 6667 Hz).
     pub fn millihertz(self) -> u32 {
@@ -239,6 +178,22 @@ impl Odr {
 
 impl DataRate for Odr {
     const ALL: &'static [Odr] = &Odr::ALL;
+
+    /// The 4-bit ODR field value (0 is power-down).
+    fn code(self) -> u8 {
+        match self {
+            Self::Hz12_5 => 0x1,
+            Self::Hz26 => 0x2,
+            Self::Hz52 => 0x3,
+            Self::Hz104 => 0x4,
+            Self::Hz208 => 0x5,
+            Self::Hz416 => 0x6,
+            Self::Hz833 => 0x7,
+            Self::Hz1666 => 0x8,
+            Self::Hz3333 => 0x9,
+            Self::Hz6667 => 0xA,
+        }
+    }
 
     /// The nominal rate in Hz.
     fn hz(self) -> f64 {

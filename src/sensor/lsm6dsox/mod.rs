@@ -19,6 +19,7 @@ use super::error::Error;
 use super::fifo::FifoRead;
 use super::interface::RegisterInterface;
 use super::{Imu, RawSample};
+use crate::units::STANDARD_GRAVITY;
 
 pub use self::config::{AccelRange, Config, FifoConfig, FifoMode, GyroRange, InterruptPin, Odr};
 pub use self::registers::{I2C_ADDRESS_SA0_HIGH, I2C_ADDRESS_SA0_LOW};
@@ -45,10 +46,19 @@ impl Chip for Lsm6dsoxChip {
     const TEMP_LSB_PER_C: f64 = reg::TEMP_LSB_PER_C;
     const TEMP_OFFSET_C: f64 = reg::TEMP_OFFSET_C;
 
-    type AccelRange = AccelRange;
     type GyroRange = GyroRange;
     type Odr = Odr;
     type FifoState = TaggedFifo;
+
+    /// CTRL1_XL FS_XL (§9).
+    fn accel_code(range: AccelRange) -> u8 {
+        config::accel_fs_xl(range)
+    }
+
+    /// §4.1 Table 2.
+    fn accel_si_per_lsb(range: AccelRange) -> f64 {
+        config::accel_mg_per_lsb(range) * 1e-3 * STANDARD_GRAVITY
+    }
 
     /// ±16 g, ±2000 °/s, 833 Hz, data-ready interrupt, FIFO off.
     const DEFAULT_CONFIG: Config = Config {
@@ -118,7 +128,8 @@ impl Chip for Lsm6dsoxChip {
         }
         driver.write(
             reg::CTRL1_XL,
-            (accel_odr << reg::ODR_SHIFT) | (config.accel_range.code() << reg::FS_SHIFT),
+            (accel_odr << reg::ODR_SHIFT)
+                | (config::accel_fs_xl(config.accel_range) << reg::FS_SHIFT),
         )?;
         driver.write(
             reg::CTRL2_G,
@@ -318,7 +329,7 @@ impl<I: RegisterInterface> Lsm6dsox<I> {
             value: u32::from(value),
         };
         // FS_XL is 2 bits: every value is a range.
-        let accel_range = AccelRange::from_code((ctrl1_xl >> reg::FS_SHIFT) & 0b11)
+        let accel_range = AccelRange::from_code::<Lsm6dsoxChip>((ctrl1_xl >> reg::FS_SHIFT) & 0b11)
             .ok_or(invalid("CTRL1_XL", ctrl1_xl))?;
         let gyro_range = GyroRange::from_bits(ctrl2_g);
         let gyro_odr =

@@ -11,10 +11,11 @@
 
 use embedded_hal::delay::DelayNs;
 
-use super::config::{AccelRange, GyroRange, Odr};
+use super::config::{self, AccelRange, GyroRange, Odr};
 use super::registers as reg;
 use super::{Lsm6dsox, Lsm6dsoxChip};
 use crate::model::Triad;
+use crate::sensor::chip::DataRate;
 use crate::sensor::error::Error;
 use crate::sensor::interface::RegisterInterface;
 use crate::sensor::self_test::{
@@ -66,14 +67,14 @@ impl Procedure {
         Self {
             triad: Triad::Accel,
             setup: control_setup(
-                (odr.code() << reg::ODR_SHIFT) | (range.code() << reg::FS_SHIFT),
+                (odr.code() << reg::ODR_SHIFT) | (config::accel_fs_xl(range) << reg::FS_SHIFT),
                 0,
             ),
             odr,
             self_test: reg::ST_XL_POSITIVE,
             ready: reg::XLDA,
             output: reg::OUTX_L_A,
-            unit_per_lsb: range.mg_per_lsb(),
+            unit_per_lsb: config::accel_mg_per_lsb(range),
             limits: ACCEL_LIMITS_MG,
             odr_register: reg::CTRL1_XL,
         }

@@ -9,6 +9,7 @@ use triad::sensor::icm42688::Icm42688Chip;
 use super::source::Source;
 use super::Emulated;
 use crate::chips::icm42688_model::Icm42688Model;
+use crate::chips::icm42688_registers as reg;
 
 impl Emulated for Icm42688Chip {
     /// The chip model behind the bus, at I²C address 0x68 (AP_AD0 low).
@@ -20,24 +21,16 @@ impl Emulated for Icm42688Chip {
         Icm42688Model::new(source)
     }
 
-    /// Back at the power-on registers: bank 0 selected, then DEVICE_CONFIG's
-    /// SOFT_RESET_CONFIG, which sets every register to its §13 reset value.
-    fn power_on_reset(model: &mut Self::Model) {
-        use crate::chips::icm42688_registers as reg;
-        use embedded_hal::spi::{Operation, SpiDevice};
-        for (address, value) in [
-            (reg::REG_BANK_SEL, 0),
-            (reg::DEVICE_CONFIG, reg::SOFT_RESET_CONFIG),
-        ] {
-            // The model's own SPI port: nothing fails once faults are cleared.
-            let _ = model.transaction(&mut [Operation::Write(&[address, value])]);
-        }
-    }
+    /// Bank 0 selected, then DEVICE_CONFIG's SOFT_RESET_CONFIG, which sets
+    /// every register to its §13 reset value.
+    const POWER_ON_RESET: [(u8, u8); 2] = [
+        (reg::REG_BANK_SEL, 0),
+        (reg::DEVICE_CONFIG, reg::SOFT_RESET_CONFIG),
+    ];
 
     /// FIFO_COUNTH and FIFO_COUNTL (bank 0) reading 4095: records, as the
     /// driver counts them, where the FIFO holds 128.
     fn impossible_fifo_count(address: u8, byte: u8) -> u8 {
-        use crate::chips::icm42688_registers as reg;
         match address {
             reg::FIFO_COUNTH => 0x0F,
             a if a == reg::FIFO_COUNTH + 1 => 0xFF,

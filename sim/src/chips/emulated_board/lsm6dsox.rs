@@ -9,6 +9,7 @@ use triad::sensor::lsm6dsox::Lsm6dsoxChip;
 use super::source::Source;
 use super::Emulated;
 use crate::chips::lsm6dsox_model::Lsm6dsoxModel;
+use crate::chips::lsm6dsox_registers as reg;
 
 impl Emulated for Lsm6dsoxChip {
     /// The chip model behind the bus, at I²C address 0x6A (SA0/SDO low).
@@ -23,24 +24,16 @@ impl Emulated for Lsm6dsoxChip {
         Lsm6dsoxModel::new(source)
     }
 
-    /// Back at the power-on registers: the main page selected, then CTRL3_C's
-    /// SW_RESET, which sets every register to its §8 reset value.
-    fn power_on_reset(model: &mut Self::Model) {
-        use crate::chips::lsm6dsox_registers as reg;
-        use embedded_hal::spi::{Operation, SpiDevice};
-        for (address, value) in [
-            (reg::FUNC_CFG_ACCESS, 0),
-            (reg::CTRL3_C, reg::CTRL3_C_RESET | reg::SW_RESET),
-        ] {
-            // The model's own SPI port: nothing fails once faults are cleared.
-            let _ = model.transaction(&mut [Operation::Write(&[address, value])]);
-        }
-    }
+    /// The main page selected, then CTRL3_C's SW_RESET, which sets every
+    /// register to its §8 reset value.
+    const POWER_ON_RESET: [(u8, u8); 2] = [
+        (reg::FUNC_CFG_ACCESS, 0),
+        (reg::CTRL3_C, reg::CTRL3_C_RESET | reg::SW_RESET),
+    ];
 
     /// FIFO_STATUS1 and FIFO_STATUS2's DIFF_FIFO bits reading 1023 words, where
     /// the FIFO holds 512; FIFO_STATUS2's flags as they are.
     fn impossible_fifo_count(address: u8, byte: u8) -> u8 {
-        use crate::chips::lsm6dsox_registers as reg;
         match address {
             reg::FIFO_STATUS1 => 0xFF,
             reg::FIFO_STATUS2 => byte | reg::DIFF_FIFO_HIGH_MASK,
