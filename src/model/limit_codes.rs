@@ -46,12 +46,13 @@ fn bit_15(x: i32) -> u32 {
     ((x ^ (x >> 15)) + 1) as u32
 }
 
-/// `QDADD t, K, t` on t = x·2¹⁵ − 1 saturates (setting Q) exactly for
-/// the limit codes of an i16 x: 2t saturates below −2³¹ only for
-/// x = −32768 (2t = −2³¹ − 2), and K + 2t exceeds 2³¹ − 1 only for
-/// x = 32767 (2t = 2³¹ − 2¹⁶ − 2; for 32766 the sum is 2³¹ − 2¹⁶).
+/// `QDADD t, K, t` on t = x·(2¹⁵ + 1) (one `add` with shifted operand,
+/// no constant register) saturates (setting Q) exactly for the limit codes
+/// of an i16 x: 2t saturates below −2³¹ only for x = −32768 (t = −2³⁰ −
+/// 2¹⁵; for −32767, t = −2³⁰ + 1), and K + 2t exceeds 2³¹ − 1 only for
+/// x = 32767 (2t = 2³¹ − 2; for 32766, 2t = 2³¹ − 65540).
 #[cfg(any(triad_dsp, test))]
-const QDADD_K: i32 = (1 << 16) + 2;
+const QDADD_K: i32 = 2;
 
 // Why inline assembly: the DSP extension's saturating arithmetic sets the
 // sticky Q flag, so the test costs two instructions per axis and no
@@ -79,14 +80,13 @@ impl LimitCodes {
         // SAFETY: register arithmetic; sets Q, clobbers no memory.
         unsafe {
             core::arch::asm!(
-                "add.w {t}, {m1}, {x0}, lsl #15",
+                "add.w {t}, {x0}, {x0}, lsl #15",
                 "qdadd {t}, {k}, {t}",
-                "add.w {t}, {m1}, {x1}, lsl #15",
+                "add.w {t}, {x1}, {x1}, lsl #15",
                 "qdadd {t}, {k}, {t}",
-                "add.w {t}, {m1}, {x2}, lsl #15",
+                "add.w {t}, {x2}, {x2}, lsl #15",
                 "qdadd {t}, {k}, {t}",
                 t = out(reg) _,
-                m1 = in(reg) -1i32,
                 k = in(reg) QDADD_K,
                 x0 = in(reg) x0,
                 x1 = in(reg) x1,
@@ -128,7 +128,7 @@ mod tests {
         for x in i32::from(i16::MIN)..=i32::from(i16::MAX) {
             let limit = x == 32767 || x == -32768;
             assert_eq!((bit_15(x) >> 15) & 1 != 0, limit, "portable, {x}");
-            let t = (x << 15).wrapping_add(-1);
+            let t = x + (x << 15);
             assert_eq!(qdadd(QDADD_K, t).1, limit, "DSP, {x}");
         }
         let mut codes = LimitCodes::start();
