@@ -48,8 +48,10 @@
 //! item, and the executor's wake-up per frame) cost about 90 instructions
 //! per sample more at 8 kHz (measured, see docs/BENCHMARKS.md). The sampler
 //! writes each batch where it lies in its slot and the transmitter encodes
-//! it from there: no frame is built apart and copied (about 95 instructions
-//! per sample at 8 kHz with W = 32). Replies likewise: the command task
+//! it from there straight into the board's transmit ring where the board
+//! lends its free bytes (`LinkTx::queue_encoded`; the emulated board does):
+//! no frame is built apart and copied (about 95 instructions per sample at
+//! 8 kHz with W = 32, and the copy into the ring about 26). Replies likewise: the command task
 //! encodes the reply the handler wrote in place straight into the one
 //! reply slot the transmitter reads.
 #![no_std]
@@ -634,7 +636,7 @@ mod app {
     /// the transmit ring has no room for one, awaits the board's transmit
     /// interrupt freeing some (a frame stays queued meanwhile, so a full
     /// queue makes the data-ready task drop and count new ones).
-    #[task(priority = 1, local = [serial, frames_out, replies_out, buffer: [u8; MAX_WIRE_LEN] = [0; MAX_WIRE_LEN]])]
+    #[task(priority = 1, local = [serial, frames_out, replies_out])]
     async fn transmit(cx: transmit::Context) {
         let l = cx.local;
         loop {
@@ -653,9 +655,9 @@ mod app {
                 let Some(frame) = l.frames_out.peek() else {
                     break;
                 };
-                let n = frame.to_wire(l.buffer);
-                if !l.serial.queue(&l.buffer[..n]) {
-                    blocked = Some(Blocked::Frame(n));
+                // Encoded where the transmitter sends it from: no copy.
+                if !l.serial.queue_encoded(|out| frame.to_wire(out)) {
+                    blocked = Some(Blocked::Frame);
                     break;
                 }
                 l.frames_out.release();
@@ -669,20 +671,18 @@ mod app {
                     l.replies_out.release();
                     REPLY_ROOM.wake();
                 }
-                Some(Blocked::Frame(n)) => {
-                    wire::queue(l.serial, &l.buffer[..n]).await;
-                    l.frames_out.release();
-                }
+                // The frame stays queued: encoded at the next round.
+                Some(Blocked::Frame) => wire::room(l.serial, MAX_WIRE_LEN).await,
                 None => {}
             }
         }
     }
 
     /// What the transmit ring had no room for: the reply in its slot, or
-    /// the frame at the queue's head, encoded in the buffer (its length).
+    /// the frame at the queue's head (the room of a longest packet).
     enum Blocked {
         Reply,
-        Frame(usize),
+        Frame,
     }
 }
 

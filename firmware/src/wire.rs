@@ -113,13 +113,20 @@ pub async fn send_reply(slot: &mut ReplyOut, reply: &Reply) {
 
 /// Queues `bytes` whole into the board's transmit ring, awaiting room.
 pub async fn queue<T: LinkTx>(serial: &mut T, bytes: &[u8]) {
+    room(serial, bytes.len()).await;
+    // The room awaited is still there: only this task queues.
+    serial.queue(bytes);
+}
+
+/// Returns once the board's transmit ring has `bytes` free.
+pub async fn room<T: LinkTx>(serial: &T, bytes: usize) {
     poll_fn(|cx| {
-        if serial.queue(bytes) {
+        if serial.room() >= bytes {
             return Poll::Ready(());
         }
         TX_ROOM.register(cx.waker());
-        // Room freed between the try and the registration woke no one.
-        match serial.queue(bytes) {
+        // Room freed between the look and the registration woke no one.
+        match serial.room() >= bytes {
             true => Poll::Ready(()),
             false => Poll::Pending,
         }

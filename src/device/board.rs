@@ -5,6 +5,7 @@
 //! and the RTIC application is written once.
 
 use crate::model::Orientation;
+use crate::protocol::MAX_WIRE_LEN;
 use crate::sensor::interface::RegisterInterface;
 use crate::sensor::{AnyChip, Settings, Undetected};
 use embedded_hal::delay::DelayNs;
@@ -37,6 +38,25 @@ pub trait LinkTx {
     /// Queues `bytes` (at most [`LinkTx::room`]; beyond it nothing is
     /// queued and it returns false) and starts the transmitter if it is idle.
     fn queue(&mut self, bytes: &[u8]) -> bool;
+
+    /// Queues the packet `encode` writes into the buffer it is given (wire
+    /// bytes from the start; it returns how many) and starts the
+    /// transmitter, when at least [`MAX_WIRE_LEN`] bytes are free; else
+    /// queues nothing and returns false. A board whose ring can lend its
+    /// free bytes has `encode` write straight into them (the emulated
+    /// board: no copy per byte); this default encodes into a buffer on the
+    /// stack and queues its bytes.
+    fn queue_encoded(&mut self, encode: impl FnOnce(&mut [u8; MAX_WIRE_LEN]) -> usize) -> bool
+    where
+        Self: Sized,
+    {
+        if self.room() < MAX_WIRE_LEN {
+            return false;
+        }
+        let mut buffer = [0; MAX_WIRE_LEN];
+        let n = encode(&mut buffer).min(MAX_WIRE_LEN);
+        self.queue(&buffer[..n])
+    }
 }
 
 /// Why a received byte was lost.

@@ -14,6 +14,7 @@
 //! accelerometer's three), so the same holds.
 
 use super::corrector::{counts_f32, ClipFlags, Corrector};
+use super::limit_codes::LimitCodes;
 use super::Triad;
 use crate::sensor::{CodeRange, RawSample, TriadScale};
 
@@ -206,14 +207,13 @@ impl ScaledTriad {
         let [[c00, c01, c02], [c10, c11, c12], [c20, c21, c22]] =
             self.cross.unwrap_or([[0.0; 3]; 3]);
         let [o0, o1, o2] = self.offset;
-        // Bit 15: a raw axis at a limit code (see at_limit in corrector.rs);
-        // bit 31: a value beyond ±MAX_COUNTS.
-        let (mut limit, mut over) = (0u32, 0u32);
+        // A raw axis at a limit code (see at_limit in corrector.rs); bit 31
+        // of `over`: a value beyond ±MAX_COUNTS.
+        let (mut limit, mut over) = (LimitCodes::start(), 0u32);
         for (r, o) in raw.iter().zip(out.iter_mut()) {
             let a = if AT == 0 { &r.accel } else { &r.gyro };
             let [a0, a1, a2] = *a;
-            let m = |x: i32| ((x ^ (x >> 15)) + 1) as u32;
-            limit |= m(a0) | m(a1) | m(a2);
+            limit.add(*a);
             let (x0, x1, x2) = (a0 as f32, a1 as f32, a2 as f32);
             let mut v = [
                 o0 + k00 * x0 + k01 * x1 + k02 * x2,
@@ -243,7 +243,7 @@ impl ScaledTriad {
             }
             return true;
         }
-        (limit >> 15) & 1 != 0
+        limit.any()
     }
 }
 

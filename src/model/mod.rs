@@ -17,6 +17,7 @@ pub mod fixed;
 pub mod fixed_narrow;
 pub mod fold;
 pub mod g_sensitivity;
+mod limit_codes;
 pub mod matrix;
 pub mod orientation;
 pub mod validate;

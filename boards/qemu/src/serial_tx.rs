@@ -8,20 +8,42 @@
 //! hardware would fire anyway (pending it there is harmless).
 
 use super::pac;
+use core::cell::UnsafeCell;
 use core::ops::Deref;
-use core::sync::atomic::{AtomicU8, AtomicUsize, Ordering};
+use core::sync::atomic::{AtomicUsize, Ordering};
 use triad::device::board::LinkTx;
 use triad::device::tx_ring::TxRing;
+use triad::protocol::MAX_WIRE_LEN;
 
 /// Bytes queued for the line: four longest packets.
 pub const TX_QUEUE_LEN: usize = 1024;
 
 type Ring = TxRing<TX_QUEUE_LEN>;
 
-/// The bytes queued. Atomics so that the transmitter's stores and the
-/// interrupt's loads need no `unsafe`: the transmitter stores only into free
-/// bytes, the interrupt loads only pending ones.
-static BUFFER: [AtomicU8; TX_QUEUE_LEN] = [const { AtomicU8::new(0) }; TX_QUEUE_LEN];
+/// The ring's bytes, then room for one longest packet past its end: a
+/// packet is encoded straight into the free bytes from the write position
+/// ([`SerialTx::queue_encoded`]), and what ran past the ring's end is then
+/// copied to its start (a packet's tail, once per lap of the ring), where
+/// copying every byte in would cost two instructions each.
+struct Bytes(UnsafeCell<[u8; TX_QUEUE_LEN + MAX_WIRE_LEN]>);
+
+// SAFETY: two parties touch the bytes, each through raw pointers or a
+// reference to bytes the other does not touch: the one `SerialTx` writes
+// only free bytes (outside RELEASED..WRITTEN, and the spare bytes past the
+// ring's end), and the one `TxDrain` reads only pending ones
+// (RELEASED..WRITTEN). WRITTEN's release store after the writes and the
+// drain's acquire load before its reads order them; RELEASED's likewise
+// hand bytes back.
+unsafe impl Sync for Bytes {}
+
+impl Bytes {
+    fn base(&self) -> *mut u8 {
+        self.0.get().cast()
+    }
+}
+
+/// The bytes queued.
+static BUFFER: Bytes = Bytes(UnsafeCell::new([0; TX_QUEUE_LEN + MAX_WIRE_LEN]));
 
 /// Bytes ever queued, wrapping: stored only by [`SerialTx::queue`] (one
 /// `SerialTx` exists: it owns USART2).
@@ -67,17 +89,45 @@ impl<U: Deref<Target = pac::usart1::RegisterBlock>> LinkTx for SerialTx<U> {
         let start = Ring::index(written);
         // Two copies at most: to the ring's end, then from its start.
         let (to_end, from_start) = bytes.split_at(bytes.len().min(TX_QUEUE_LEN - start));
-        for (slot, &byte) in BUFFER[start..].iter().zip(to_end) {
-            slot.store(byte, Ordering::Relaxed);
+        let base = BUFFER.base();
+        // SAFETY: the bytes written..written + len are free (room), at
+        // start..start + to_end.len() ≤ TX_QUEUE_LEN and from the ring's start.
+        unsafe {
+            core::ptr::copy_nonoverlapping(to_end.as_ptr(), base.add(start), to_end.len());
+            core::ptr::copy_nonoverlapping(from_start.as_ptr(), base, from_start.len());
         }
-        for (slot, &byte) in BUFFER.iter().zip(from_start) {
-            slot.store(byte, Ordering::Relaxed);
+        self.queued(written, bytes.len());
+        true
+    }
+
+    fn queue_encoded(&mut self, encode: impl FnOnce(&mut [u8; MAX_WIRE_LEN]) -> usize) -> bool {
+        if self.room() < MAX_WIRE_LEN {
+            return false;
         }
+        let written = WRITTEN.load(Ordering::Relaxed);
+        let start = Ring::index(written);
+        let base = BUFFER.base();
+        // SAFETY: start + MAX_WIRE_LEN is within the array; of those bytes,
+        // the ring's are free (room) and the spare ones past its end are
+        // read by no one; the reference ends before the drain may see them.
+        let out = unsafe { &mut *base.add(start).cast::<[u8; MAX_WIRE_LEN]>() };
+        let len = encode(out).min(MAX_WIRE_LEN);
+        let past_end = (start + len).saturating_sub(TX_QUEUE_LEN);
+        // SAFETY: the bytes past the ring's end go to its first `past_end`
+        // bytes, free as the rest of the packet's (room ≥ MAX_WIRE_LEN ≥ len).
+        unsafe { core::ptr::copy_nonoverlapping(base.add(TX_QUEUE_LEN), base, past_end) };
+        self.queued(written, len);
+        true
+    }
+}
+
+impl<U: Deref<Target = pac::usart1::RegisterBlock>> SerialTx<U> {
+    /// `len` bytes from `written` on are in: hands them to the interrupt.
+    fn queued(&mut self, written: usize, len: usize) {
         // Release: the bytes are in before the interrupt can see them.
-        WRITTEN.store(written.wrapping_add(bytes.len()), Ordering::Release);
+        WRITTEN.store(written.wrapping_add(len), Ordering::Release);
         self.usart.cr1().modify(|_, w| w.txeie().set_bit());
         cortex_m::peripheral::NVIC::pend(pac::Interrupt::USART2);
-        true
     }
 }
 
@@ -88,14 +138,14 @@ impl TxDrain {
         let written = WRITTEN.load(Ordering::Acquire);
         let mut released = RELEASED.load(Ordering::Relaxed);
         while let Some(run) = Ring::next_run(written, released) {
-            for slot in &BUFFER[run.start..run.start + run.len] {
-                if usart.sr().read().txe().bit_is_clear() {
-                    RELEASED.store(released, Ordering::Release);
-                    return false;
-                }
-                let byte = slot.load(Ordering::Relaxed);
-                usart.dr().write(|w| w.dr().set(u16::from(byte)));
-                released = released.wrapping_add(1);
+            // SAFETY: the run's bytes are pending (see `Bytes`), inside the ring.
+            let pending =
+                unsafe { core::slice::from_raw_parts(BUFFER.base().add(run.start), run.len) };
+            let sent = send(usart, pending);
+            released = released.wrapping_add(sent);
+            if sent < run.len {
+                RELEASED.store(released, Ordering::Release);
+                return false;
             }
         }
         RELEASED.store(released, Ordering::Release);
@@ -103,4 +153,36 @@ impl TxDrain {
         // Bytes queued since `written` was read pend this interrupt again.
         true
     }
+}
+
+/// Writes `bytes` to DR while TXE says it takes one; how many it took.
+/// Four at a time, then the rest: the loop's own test once per four bytes
+/// (each byte's is TXE's), about 5.5 instructions a byte where a loop per
+/// byte takes 8.
+#[inline(always)]
+fn send(usart: &pac::usart1::RegisterBlock, bytes: &[u8]) -> usize {
+    let send_one = |byte: u8| {
+        if usart.sr().read().txe().bit_is_clear() {
+            return false;
+        }
+        usart.dr().write(|w| w.dr().set(u16::from(byte)));
+        true
+    };
+    let mut fours = bytes.chunks_exact(4);
+    let mut sent = 0;
+    for four in &mut fours {
+        for (n, &byte) in four.iter().enumerate() {
+            if !send_one(byte) {
+                return sent + n;
+            }
+        }
+        sent += 4;
+    }
+    for &byte in fours.remainder() {
+        if !send_one(byte) {
+            return sent;
+        }
+        sent += 1;
+    }
+    sent
 }

@@ -238,19 +238,25 @@ Why the targets are not all met:
   channel and 4 of loop. Without clip flags and temperature the same loop is
   the `fusion_f32` row.
 - `batch_f32_w*` on the Cortex-M4F (src/model/batch_kernel.rs): one pass
-  per triad keeps its 12 coefficients in registers; LLVM unrolls it by two.
-  Per triad and sample: 3 `ldrsh`, 3 `vmov` and 3 `vcvt` for the inputs, 3
-  accumulator copies and 9 `vmla` (the f32 kernel's order, so its bits), 3
-  `vadd` of the rounding constant, 3 `vmov` and 3 `strh` (the count is the
-  low half of the sum's bits), 1.5 of loop: 33, or 66 per sample before any
-  flag. The raw limit-code flag costs 3 per axis (`eor` with shifted
-  operand, `add`, `orr`): 18 per sample, the rest is a spill and the call.
-  No range test runs when no input can clip (the usual case: the frame's
-  LSB leaves room beyond the chip's range); where one could, it costs 4 per
-  value more (`vmov`, `add`, `eor`, `orr` on the f32's bits). Reaching 64
-  needs the flag at about 1 instruction per axis: the DSP extension's
-  `uadd16`/`usub16`/`sel` test two axes in 3, which stable Rust reaches only
-  through inline assembly, and paired `vmov`s, which LLVM does not emit.
+  per triad keeps its 12 coefficients in registers. Per triad and sample:
+  2 loads, 3 `vmov` and 3 `vcvt` for the inputs, 3 accumulator copies and
+  9 `vmla` (the f32 kernel's order, so its bits), 3 `vadd` of the rounding
+  constant, 3 `vmov` and 3 `strh` (the count is the low half of the sum's
+  bits), 2 of loop: 31, or 62 per sample before any flag. The raw
+  limit-code flag is 2 per axis on the DSP extension (an `add` with
+  shifted operand and a `qdadd` that sets the sticky Q flag exactly at a
+  limit code, src/model/limit_codes.rs; the portable form is 3): 12 per
+  sample; the rest is the coefficients reloaded from the stack at each
+  call and the call. No range test runs when no input can clip (the usual
+  case: the frame's LSB leaves room beyond the chip's range); where one
+  could, it costs 4 per value more (`vmov`, `add`, `eor`, `orr` on the
+  f32's bits). Reaching 64 needs 18 fewer per sample, 3 per value, where
+  what is left to cut per triad is the 3 accumulator copies, the 3 moves
+  of the results to core registers (paired `vmov`s, which LLVM does not
+  emit, would halve them) and the 2 of loop (LLVM no longer unrolls the
+  loop with the assembly in it): at most about 14 per sample, so 64 also
+  needs the raw samples in another layout (i16 pairs: two axes per load
+  and per limit test).
 - `full_fixed` on the Cortex-M0 (src/model/fixed_narrow.rs): only 32-bit
   `MULS`, two per term (a coefficient's high and low halves), and each row
   is 22 instructions of ARMv6-M assembly (LLVM keeps the coefficients as

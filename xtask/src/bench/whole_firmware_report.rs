@@ -60,10 +60,11 @@ link task, per 235-byte packet: header and counts written where their
 wire bytes go, then one pass that computes the CRC-32C (slicing-by-4)
 and finds the zero bytes a word at a time (about 7 instructions per
 byte together), writing a COBS code at each (about 2 per byte more),
-then the copy into the board's transmit ring (byte by byte, about 2 per
-byte: each slot an atomic); the TX drain is about 7.3 per byte (status check,
-load, store, loop), work the NUCLEO's DMA does with no instruction per
-byte. The STM32F4's CRC unit computes the Ethernet CRC-32 (polynomial
+all of it written straight into the emulated board's transmit ring
+(`LinkTx::queue_encoded`: no copy, but for the tail that runs past the
+ring's end, copied to its start once per lap); the TX drain is about 5.75
+per byte (status check, load, store, with the loop's test once per four
+bytes), work the NUCLEO's DMA does with no instruction per byte. The STM32F4's CRC unit computes the Ethernet CRC-32 (polynomial
 0x04C11DB7, fixed), not the protocol's CRC-32C, so the CRC stays in
 software. Not in these figures: on hardware the SPI transfer itself, 16
 bytes per sample, which the driver's blocking read waits out: about 6 µs
