@@ -142,12 +142,14 @@ impl RecordRows {
     ) -> anyhow::Result<()> {
         let width = values.len();
         let at = block.len();
-        for s in &self.chunk[self.next..self.next + n] {
+        // Written in place (a slot no cell fills stays 0).
+        block.resize(at + n * width, 0.0);
+        let run = &self.chunk[self.next..self.next + n];
+        for (s, out) in run.iter().zip(block[at..].chunks_exact_mut(width)) {
             let row = self.row(s);
             for &(cell, slot) in &self.cells {
-                values[slot] = row[cell];
+                out[slot] = row[cell];
             }
-            block.extend_from_slice(values);
         }
         // NaN and ±inf fail the comparison too.
         let in_range = |v: &f64| v.abs() <= MAX_MAGNITUDE;
