@@ -27,6 +27,9 @@ pub const LANES: usize = 8;
 /// Most samples a block may hold: 1024 terms per lane before a compensated flush.
 pub const MAX_BLOCK: usize = 1024 * LANES;
 
+/// Columns whose running sums [`OctaveBlocks::push_columns`] keeps in registers at once.
+const GROUP: usize = 4;
+
 /// The octaves m = 1, 2, 4, … ≤ `history`/2 of one column, fully overlapping.
 #[derive(Debug)]
 pub struct OctaveBlocks {
@@ -123,21 +126,51 @@ impl OctaveBlocks {
         width: usize,
         first: usize,
     ) {
-        let n = rows.len() / width;
-        debug_assert!(n <= MAX_BLOCK, "{n} rows, more than a block");
-        let mut sums: Vec<Vec<f64>> = blocks.iter().map(|_| Vec::with_capacity(n)).collect();
-        let mut running: Vec<(CompensatedSum, f64)> =
-            blocks.iter().map(|b| (b.running, b.offset)).collect();
-        for row in rows.chunks_exact(width) {
-            let values = &row[first..first + running.len()];
-            for ((r, offset), (out, &v)) in running.iter_mut().zip(sums.iter_mut().zip(values)) {
-                r.add(v - *offset);
-                out.push(r.value());
+        for (g, group) in blocks.chunks_mut(GROUP).enumerate() {
+            let first = first + g * GROUP;
+            match group.len() {
+                4 => Self::push_group::<4>(group, rows, width, first),
+                3 => Self::push_group::<3>(group, rows, width, first),
+                2 => Self::push_group::<2>(group, rows, width, first),
+                _ => Self::push_group::<1>(group, rows, width, first),
             }
         }
-        for ((b, (r, _)), s) in blocks.iter_mut().zip(running).zip(sums) {
-            b.running = r;
-            b.push_sums(s.into_iter());
+    }
+
+    /// [`Self::push_columns`] of `G` columns: their running sums kept in
+    /// registers over the rows, each column's cumulative sums written
+    /// straight into its buffer.
+    fn push_group<const G: usize>(
+        group: &mut [&mut OctaveBlocks],
+        rows: &[f64],
+        width: usize,
+        first: usize,
+    ) {
+        let Ok(group) = <&mut [&mut OctaveBlocks; G]>::try_from(group) else {
+            return;
+        };
+        let n = rows.len() / width;
+        debug_assert!(n <= MAX_BLOCK, "{n} rows, more than a block");
+        let mut running: [CompensatedSum; G] = std::array::from_fn(|i| group[i].running);
+        let offset: [f64; G] = std::array::from_fn(|i| group[i].offset);
+        let start: [u64; G] = std::array::from_fn(|i| group[i].count);
+        let outs = group.each_mut().map(|b| {
+            b.make_room(n);
+            let len = b.sums.len();
+            b.sums.resize(len + n, 0.0);
+            &mut b.sums[len..]
+        });
+        for (k, row) in rows.chunks_exact(width).enumerate() {
+            let values = &row[first..first + G];
+            for i in 0..G {
+                running[i].add(values[i] - offset[i]);
+                outs[i][k] = running[i].value();
+            }
+        }
+        for (i, b) in group.iter_mut().enumerate() {
+            b.running = running[i];
+            b.count += n as u64;
+            b.sum_block(start[i]);
         }
     }
 
@@ -554,22 +587,21 @@ mod tests {
     /// Columns pushed together give what each pushed alone gives, bit for bit.
     #[test]
     fn columns_pushed_together_are_each_pushed_alone() {
-        let y = record(3 * 5000);
-        let mut alone: Vec<OctaveBlocks> = (0..3)
-            .map(|_| OctaveBlocks::new(1 << 8, 9.8).unwrap())
-            .collect();
-        let mut together: Vec<OctaveBlocks> = (0..3)
-            .map(|_| OctaveBlocks::new(1 << 8, 9.8).unwrap())
-            .collect();
-        for rows in y.chunks(3 * 777) {
+        let y = record(6 * 5000);
+        let new = || OctaveBlocks::new(1 << 8, 9.8).unwrap();
+        let mut alone: Vec<OctaveBlocks> = (0..6).map(|_| new()).collect();
+        let mut together: Vec<OctaveBlocks> = (0..6).map(|_| new()).collect();
+        for rows in y.chunks(6 * 777) {
             for (c, b) in alone.iter_mut().enumerate() {
-                b.push(rows.chunks_exact(3).map(|r| r[c]));
+                b.push(rows.chunks_exact(6).map(|r| r[c]));
             }
+            // Five at once (a group of four and one of one), and one.
             let mut refs: Vec<&mut OctaveBlocks> = together[1..].iter_mut().collect();
-            OctaveBlocks::push_columns(&mut refs, rows, 3, 1);
-            OctaveBlocks::push_columns(&mut [&mut together[0]], rows, 3, 0);
+            OctaveBlocks::push_columns(&mut refs, rows, 6, 1);
+            OctaveBlocks::push_columns(&mut [&mut together[0]], rows, 6, 0);
         }
         for (a, t) in alone.iter().zip(&together) {
+            assert_eq!(a.samples(), t.samples());
             let (a, t): (Vec<_>, Vec<_>) = (a.results().collect(), t.results().collect());
             assert_eq!(a.len(), 8);
             for (a, t) in a.iter().zip(&t) {
