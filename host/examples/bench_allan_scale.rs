@@ -345,10 +345,16 @@ fn record_case(dir: &Path, hours: f64, rate: f64) {
         .filter_map(|&(input, form)| triad_row(input, form, &yaml, peer.as_ref()))
         .collect();
     if let [first, second] = &reports[..] {
+        // Each names its input; every other field is compared.
+        let figures = |r: &Value| {
+            let mut r = r.clone();
+            r.as_object_mut().map(|o| o.remove("input"));
+            r
+        };
         println!(
-            "the two bags' reports are {}",
-            if first == second {
-                "the same, every figure"
+            "the two bags' reports: {}",
+            if figures(first) == figures(second) {
+                "the same, every figure (their input's name apart)"
             } else {
                 "NOT the same"
             }
