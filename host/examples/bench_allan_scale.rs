@@ -24,6 +24,10 @@
 //! (this program, `gen`) through a pipe into `triad allan -`: time and peak
 //! memory of triad alone (allantools is not run: its six columns alone
 //! would take 8.3 GB).
+//!
+//! Its parts alone, for profiling: `gen N RATE` (the CSV on stdout),
+//! `uncompressed FROM.mcap TO.mcap` (the copy rosbag2's defaults give),
+//! `unzstd BAG.mcap` (the floor).
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -233,63 +237,167 @@ fn differences(report: &Value, peer: &Value) -> [(f64, u64); 2] {
     worst
 }
 
-/// The 8-hour case (or `hours` at `rate`): triad and allantools side by side.
+/// A copy of the MCAP at `from` at `to` with the same records in chunks
+/// stored uncompressed and without chunk CRCs: what rosbag2's MCAP storage
+/// writes by default (rosbag2_storage_mcap/src/mcap_storage.cpp sets
+/// `compression = None`, `noChunkCRC = true` unless a preset or a config
+/// file says otherwise). The records are read by the `mcap` crate and
+/// written again by it.
+fn uncompressed_copy(from: &Path, to: &Path) -> Result<(), String> {
+    use mcap::records::Record;
+    use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
+    use std::io::Read;
+    let mut file = File::open(from).map_err(|e| e.to_string())?;
+    let out = BufWriter::with_capacity(1 << 20, File::create(to).map_err(|e| e.to_string())?);
+    let mut writer = mcap::WriteOptions::new()
+        .profile("ros2")
+        .compression(None)
+        .calculate_chunk_crcs(false)
+        .create(out)
+        .map_err(|e| e.to_string())?;
+    let options = LinearReaderOptions::default().with_record_length_limit(1 << 30);
+    let mut reader = LinearReader::new_with_options(options);
+    while let Some(event) = reader.next_event() {
+        match event.map_err(|e| e.to_string())? {
+            LinearReadEvent::ReadRequest(need) => {
+                let n = file.read(reader.insert(need)).map_err(|e| e.to_string())?;
+                reader.notify_read(n);
+            }
+            LinearReadEvent::Record { opcode, data } => {
+                let written = match mcap::parse_record(opcode, data).map_err(|e| e.to_string())? {
+                    Record::Schema { header, data } => writer
+                        .add_schema_with_id(header.id, &header.name, &header.encoding, &data)
+                        .map(drop),
+                    Record::Channel(c) => writer
+                        .add_channel_with_id(
+                            c.id,
+                            c.schema_id,
+                            &c.topic,
+                            &c.message_encoding,
+                            &c.metadata,
+                        )
+                        .map(drop),
+                    Record::Message { header, data } => {
+                        writer.write_to_known_channel(&header, &data)
+                    }
+                    _ => Ok(()),
+                };
+                written.map_err(|e| e.to_string())?;
+            }
+        }
+    }
+    writer.finish().map_err(|e| e.to_string())?;
+    Ok(())
+}
+
+/// The 8-hour case (or `hours` at `rate`): allantools, then triad on each
+/// form of the record (the zstd MCAP `triad convert` writes, the same
+/// messages uncompressed as rosbag2 writes by default; the CSV when there
+/// is no MCAP), each beside the peer and the floor under its time.
 fn record_case(dir: &Path, hours: f64, rate: f64) {
     let n = (hours * 3600.0 * rate) as u64;
-    let (csv, raw, mcap, yaml) = (
+    let (csv, raw, mcap, plain, yaml) = (
         dir.join("record.csv"),
         dir.join("record.f64"),
         dir.join("record.mcap"),
+        dir.join("record-uncompressed.mcap"),
         dir.join("imu.yaml"),
     );
     write_record(&csv, &raw, n, rate);
-    let input = if convert_to_mcap(&csv, &mcap) {
-        &mcap
-    } else {
-        &csv
-    };
-    let size = std::fs::metadata(input).map_or(0, |m| m.len());
-    println!(
-        "{hours} h at {rate} Hz, six columns: {n} samples each, read from {} ({:.0} MB)",
-        input.file_name().and_then(|s| s.to_str()).unwrap_or("?"),
-        size as f64 / 1e6
-    );
-    let Some((report, (wall, cpu, peak))) = run_triad(input, &yaml) else {
-        return;
-    };
-    let octaves = report["columns"][0]["curve"].as_array().map_or(0, Vec::len);
-    println!(
-        "triad allan (octave ADEV, noise-term fit, grade, Kalibr imu.yaml): {wall:.2} s wall, {cpu:.2} s CPU, peak {peak:.0} MiB, {octaves} octaves per column"
-    );
-    match run_peer(&raw, rate) {
+    let bag = convert_to_mcap(&csv, &mcap);
+    if bag {
+        // The CSV is not read again: its disk space is the uncompressed bag's.
+        let _ = std::fs::remove_file(&csv);
+    }
+    println!("{hours} h at {rate} Hz, six columns: {n} samples each");
+    let peer = match run_peer(&raw, rate) {
         Ok(peer) => {
             let seconds = peer["seconds"].as_f64().unwrap_or(f64::NAN);
-            let peer_cpu = peer["cpu_seconds"].as_f64().unwrap_or(f64::NAN);
-            let peer_peak = peer["peak_rss_mb"].as_f64().unwrap_or(f64::NAN);
+            let cpu = peer["cpu_seconds"].as_f64().unwrap_or(f64::NAN);
+            let peak = peer["peak_rss_mb"].as_f64().unwrap_or(f64::NAN);
             println!(
-                "{} oadev, octave taus, the six columns in memory: {seconds:.2} s wall, {peer_cpu:.2} s CPU, peak {peer_peak:.0} MiB",
+                "{} oadev, octave taus, the six columns in memory (one core): {seconds:.2} s wall, {cpu:.2} s CPU, peak {peak:.0} MiB",
                 peer["tool"].as_str().unwrap_or("allantools")
             );
-            let [full, strided] = differences(&report, &peer);
-            println!(
-                "allantools/triad: time {:.1}x (wall), {:.1}x (CPU), peak memory {:.1}x; largest relative difference: {:.1e} over the fully overlapping octaves (m = {}), {:.1e} over the strided ones (m = {})",
-                seconds / wall,
-                peer_cpu / cpu,
-                peer_peak / peak,
-                full.0,
-                full.1,
-                strided.0,
-                strided.1
-            );
+            Some((peer, (seconds, cpu, peak)))
         }
-        Err(why) => println!("allantools not run: {why}"),
+        Err(why) => {
+            println!("allantools not run: {why}");
+            None
+        }
+    };
+    let _ = std::fs::remove_file(&raw);
+    let mut inputs: Vec<(&Path, &str)> = Vec::new();
+    if bag {
+        inputs.push((&mcap, "zstd chunks, as triad convert writes"));
+        match uncompressed_copy(&mcap, &plain) {
+            Ok(()) => inputs.push((
+                &plain,
+                "uncompressed chunks without CRCs, rosbag2's default",
+            )),
+            Err(e) => println!("no uncompressed MCAP ({e})"),
+        }
+    } else {
+        inputs.push((&csv, "CSV"));
     }
-    if input == &mcap {
-        reader_floor(&mcap, cpu);
+    let reports: Vec<Value> = inputs
+        .iter()
+        .filter_map(|&(input, form)| triad_row(input, form, &yaml, peer.as_ref()))
+        .collect();
+    if let [first, second] = &reports[..] {
+        // Each names its input; every other field is compared.
+        let figures = |r: &Value| {
+            let mut r = r.clone();
+            r.as_object_mut().map(|o| o.remove("input"));
+            r
+        };
+        println!(
+            "the two bags' reports: {}",
+            if figures(first) == figures(second) {
+                "the same, every figure (their input's name apart)"
+            } else {
+                "NOT the same"
+            }
+        );
     }
-    for p in [&csv, &raw, &mcap] {
+    for p in [&csv, &raw, &mcap, &plain] {
         let _ = std::fs::remove_file(p);
     }
+}
+
+/// triad allan on `input` (`form` says what it is): its figures, their
+/// ratios to the peer's, and (a bag) the floor under its time.
+fn triad_row(
+    input: &Path,
+    form: &str,
+    yaml: &Path,
+    peer: Option<&(Value, (f64, f64, f64))>,
+) -> Option<Value> {
+    let size = std::fs::metadata(input).map_or(0, |m| m.len());
+    let name = input.file_name().and_then(|s| s.to_str()).unwrap_or("?");
+    let (report, (wall, cpu, peak)) = run_triad(input, yaml)?;
+    let octaves = report["columns"][0]["curve"].as_array().map_or(0, Vec::len);
+    println!(
+        "triad allan on {name} ({form}, {:.0} MB; octave ADEV, noise-term fit, grade, Kalibr imu.yaml): {wall:.2} s wall, {cpu:.2} s CPU, peak {peak:.0} MiB, {octaves} octaves per column",
+        size as f64 / 1e6
+    );
+    if let Some((peer, (seconds, peer_cpu, peer_peak))) = peer {
+        let [full, strided] = differences(&report, peer);
+        println!(
+            "allantools/triad on {name}: time {:.1}x (wall, triad on every core), {:.1}x (CPU), peak memory {:.1}x; largest relative difference: {:.1e} over the fully overlapping octaves (m = {}), {:.1e} over the strided ones (m = {})",
+            seconds / wall,
+            peer_cpu / cpu,
+            peer_peak / peak,
+            full.0,
+            full.1,
+            strided.0,
+            strided.1
+        );
+    }
+    if input.extension().is_some_and(|e| e == "mcap") {
+        reader_floor(input, cpu);
+    }
+    Some(report)
 }
 
 /// Reads the MCAP at `path` and decompresses every chunk (zstd or none),
@@ -343,7 +451,8 @@ fn reader_floor(mcap: &Path, triad_cpu: f64) {
     let (wall, cpu, _) = timed(&out.stderr);
     let said = String::from_utf8_lossy(&out.stdout);
     println!(
-        "the bag read and its chunks zstd-decompressed alone (one core, no CDR, no Allan): {wall:.2} s wall, {cpu:.2} s CPU, {}: {:.0} % of triad allan's CPU",
+        "{} read and its chunks decompressed (zstd) or copied (uncompressed) alone (one core, no CRC, no CDR, no Allan): {wall:.2} s wall, {cpu:.2} s CPU, {}: {:.0} % of triad allan's CPU",
+        mcap.file_name().and_then(|s| s.to_str()).unwrap_or("?"),
         said.trim(),
         100.0 * cpu / triad_cpu
     );
@@ -395,6 +504,13 @@ fn main() {
             rate,
             None,
         );
+        return;
+    }
+    if args.first().map(String::as_str) == Some("uncompressed") {
+        if let Err(e) = uncompressed_copy(Path::new(&args[1]), Path::new(&args[2])) {
+            eprintln!("{e}");
+            std::process::exit(1);
+        }
         return;
     }
     if args.first().map(String::as_str) == Some("unzstd") {

@@ -95,27 +95,25 @@ impl ColumnState {
     }
 }
 
-/// Pushes column `c` of a block of rows of `width` values into `state`:
-/// the octaves up to BASE a block at a time, then the strided ones at the
-/// multiples of their strides within the block.
-pub(super) fn push_column(state: &mut ColumnState, block: &[f64], width: usize, c: usize) {
-    let column = || block.chunks_exact(width).map(|row| row[c]);
-    let start = state.acc.samples();
-    state.acc.push(column());
-    let n = state.acc.samples() - start;
-    let sums = state.acc.last_block(n as usize);
-    for o in state.above.iter_mut() {
-        o.push(start, sums);
-    }
-    if let Some(all) = state.all.as_mut() {
-        all.extend(column());
-    }
-}
-
-/// Pushes a block of rows (`states.len()` leading values per row of `width`).
-fn push_block(states: &mut [ColumnState], block: &[f64], width: usize) {
-    for (c, st) in states.iter_mut().enumerate() {
-        push_column(st, block, width, c);
+/// Pushes column `first + i` of a block of rows of `width` values into
+/// `states[i]`: the octaves up to BASE of all of them a block at a time
+/// ([`OctaveBlocks::push_columns`]), then each column's strided octaves at
+/// the multiples of their strides within the block.
+pub(super) fn push_columns(states: &mut [ColumnState], block: &[f64], width: usize, first: usize) {
+    for piece in block.chunks(BLOCK_ROWS * width) {
+        let start: Vec<u64> = states.iter().map(|s| s.acc.samples()).collect();
+        let mut accs: Vec<&mut OctaveBlocks> = states.iter_mut().map(|s| &mut s.acc).collect();
+        OctaveBlocks::push_columns(&mut accs, piece, width, first);
+        for (i, (state, start)) in states.iter_mut().zip(start).enumerate() {
+            let n = state.acc.samples() - start;
+            let sums = state.acc.last_block(n as usize);
+            for o in state.above.iter_mut() {
+                o.push(start, sums);
+            }
+            if let Some(all) = state.all.as_mut() {
+                all.extend(piece.chunks_exact(width).map(|row| row[first + i]));
+            }
+        }
     }
 }
 
@@ -157,7 +155,7 @@ fn analyse_rows<R: RowSource>(
     let first = first_block(&mut rows, width)?;
     let first_rows = first.len() / width;
     let mut states = column_states(args, &rows, &first, width, layout.selected.len())?;
-    push_block(&mut states, &first, width);
+    push_columns(&mut states, &first, width, 0);
     drop(first);
     // Progress in bytes where they are counted (a CSV), else in samples.
     let progress = match rows.bytes() {
@@ -384,7 +382,7 @@ mod tests {
             .collect();
         let rows: Vec<f64> = (0..n).flat_map(|i| [-1.0, y(i)]).collect();
         for block in rows.chunks(2 * 5000) {
-            push_column(&mut st, block, 2, 1);
+            push_columns(std::slice::from_mut(&mut st), block, 2, 1);
         }
         for i in 0..n {
             one.push(y(i));
@@ -418,7 +416,7 @@ mod tests {
     fn every_tau_keeps_the_column() {
         let mut st = ColumnState::new(0.0, 16, true).unwrap();
         let rows: Vec<f64> = (0..40).map(|i| i as f64).collect();
-        push_block(std::slice::from_mut(&mut st), &rows, 1);
+        push_columns(std::slice::from_mut(&mut st), &rows, 1, 0);
         assert_eq!(st.acc.samples(), 40);
         assert_eq!(st.all.as_deref(), Some(&rows[..]));
     }

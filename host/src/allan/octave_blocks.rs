@@ -27,6 +27,9 @@ pub const LANES: usize = 8;
 /// Most samples a block may hold: 1024 terms per lane before a compensated flush.
 pub const MAX_BLOCK: usize = 1024 * LANES;
 
+/// Columns whose running sums [`OctaveBlocks::push_columns`] keeps in registers at once.
+const GROUP: usize = 4;
+
 /// The octaves m = 1, 2, 4, … ≤ `history`/2 of one column, fully overlapping.
 #[derive(Debug)]
 pub struct OctaveBlocks {
@@ -111,6 +114,66 @@ impl OctaveBlocks {
         self.running = running;
     }
 
+    /// Adds column `first + i` of `rows` (rows of `width` values, at most
+    /// [`MAX_BLOCK`] of them) to `blocks[i]`: what [`Self::push`] of each
+    /// column does, the same operations, with the cumulative sums of all
+    /// the columns made in one pass over the rows (the rows read once
+    /// rather than once per column, and the columns' running sums, each a
+    /// chain of dependent additions, overlapping in the core).
+    pub fn push_columns(
+        blocks: &mut [&mut OctaveBlocks],
+        rows: &[f64],
+        width: usize,
+        first: usize,
+    ) {
+        for (g, group) in blocks.chunks_mut(GROUP).enumerate() {
+            let first = first + g * GROUP;
+            match group.len() {
+                4 => Self::push_group::<4>(group, rows, width, first),
+                3 => Self::push_group::<3>(group, rows, width, first),
+                2 => Self::push_group::<2>(group, rows, width, first),
+                _ => Self::push_group::<1>(group, rows, width, first),
+            }
+        }
+    }
+
+    /// [`Self::push_columns`] of `G` columns: their running sums kept in
+    /// registers over the rows, each column's cumulative sums written
+    /// straight into its buffer.
+    fn push_group<const G: usize>(
+        group: &mut [&mut OctaveBlocks],
+        rows: &[f64],
+        width: usize,
+        first: usize,
+    ) {
+        let Ok(group) = <&mut [&mut OctaveBlocks; G]>::try_from(group) else {
+            return;
+        };
+        let n = rows.len() / width;
+        debug_assert!(n <= MAX_BLOCK, "{n} rows, more than a block");
+        let mut running: [CompensatedSum; G] = std::array::from_fn(|i| group[i].running);
+        let offset: [f64; G] = std::array::from_fn(|i| group[i].offset);
+        let start: [u64; G] = std::array::from_fn(|i| group[i].count);
+        let outs = group.each_mut().map(|b| {
+            b.make_room(n);
+            let len = b.sums.len();
+            b.sums.resize(len + n, 0.0);
+            &mut b.sums[len..]
+        });
+        for (k, row) in rows.chunks_exact(width).enumerate() {
+            let values = &row[first..first + G];
+            for i in 0..G {
+                running[i].add(values[i] - offset[i]);
+                outs[i][k] = running[i].value();
+            }
+        }
+        for (i, b) in group.iter_mut().enumerate() {
+            b.running = running[i];
+            b.count += n as u64;
+            b.sum_block(start[i]);
+        }
+    }
+
     /// Adds the cumulative sums S_k of the next samples themselves (at
     /// most [`MAX_BLOCK`]): what a strided octave takes ([`StridedBlocks`]).
     fn push_sums(&mut self, sums: impl ExactSizeIterator<Item = f64>) {
@@ -142,27 +205,52 @@ impl OctaveBlocks {
     }
 
     /// Adds the terms of the samples after `start` (the block just
-    /// appended) to every octave that has any.
+    /// appended) to every octave that has any: the octaves with a term at
+    /// every sample of the block (2m ≤ `start` + 1, all of them once the
+    /// record is past the history) in one tiled pass
+    /// ([`steady_octave_sums`]), the others (a record's first samples)
+    /// one at a time.
     fn sum_block(&mut self, start: u64) {
         let count = self.count;
-        for o in self.lowest..self.octaves {
+        let at = |k: u64| (k - self.first) as usize;
+        let steady = self.lowest
+            ..(self.lowest..self.octaves)
+                .find(|&o| 2u64 << o > start + 1)
+                .unwrap_or(self.octaves);
+        let mut over = [0.0; MAX_OCTAVES];
+        if !steady.is_empty() && count > start {
+            steady_octave_sums(
+                &self.sums,
+                at(start + 1),
+                at(count) + 1,
+                steady.clone(),
+                &mut over,
+            );
+        }
+        for (o, over_o) in over
+            .iter_mut()
+            .enumerate()
+            .take(self.octaves)
+            .skip(self.lowest)
+        {
             let m = 1u64 << o;
             // Terms at k = 2m, …, count.
             let from = (start + 1).max(2 * m);
             if from > count {
                 break;
             }
-            let at = |k: u64| (k - self.first) as usize;
             let (j0, j1, mu) = (at(from), at(count) + 1, m as usize);
-            let over = squared_second_differences(
-                &self.sums[j0..j1],
-                &self.sums[j0 - mu..j1 - mu],
-                &self.sums[j0 - 2 * mu..j1 - 2 * mu],
-            );
-            self.overlapping[o].add(over);
+            if !steady.contains(&o) {
+                *over_o = squared_second_differences(
+                    &self.sums[j0..j1],
+                    &self.sums[j0 - mu..j1 - mu],
+                    &self.sums[j0 - 2 * mu..j1 - 2 * mu],
+                );
+            }
+            self.overlapping[o].add(*over_o);
             // The non-overlapping terms: those at multiples of m (m = 1: all).
             let non = if m == 1 {
-                over
+                *over_o
             } else {
                 let mut non = 0.0;
                 let mut k = from.next_multiple_of(m);
@@ -289,6 +377,105 @@ unsafe fn squared_second_differences_avx2(s: &[f64], b: &[f64], c: &[f64]) -> f6
     lane_sums(s, b, c)
 }
 
+/// Rows of [`LANES`] sums per tile of [`steady_octave_sums`]: a tile's
+/// slices (4 KiB each) stay in L1 from one octave to the next.
+const TILE_ROWS: usize = 64;
+
+/// [`squared_second_differences`] of every octave o in `octaves` over the
+/// sums `sums[j0..j1]` (each with its 2m sums before it in `sums`), into
+/// `out[o]`: one pass over the block in tiles, each tile's octaves one
+/// after the other, so that the tile's own sums are read from L1 by every
+/// octave and the sums m back, read by octave o, are still there when
+/// octave o + 1 reads them as its 2m back (one read from L2 or memory per
+/// sum and octave instead of two). Each octave's lane l sums the same terms
+/// in the same order as [`lane_sums`], so the same result, bit for bit.
+fn steady_octave_sums(
+    sums: &[f64],
+    j0: usize,
+    j1: usize,
+    octaves: std::ops::Range<usize>,
+    out: &mut [f64; MAX_OCTAVES],
+) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has AVX2, checked just above.
+        return unsafe { steady_octave_sums_avx2(sums, j0, j1, octaves, out) };
+    }
+    tiled_lane_sums(sums, j0, j1, octaves, out)
+}
+
+/// [`tiled_lane_sums`] compiled for AVX2.
+///
+/// # Safety
+/// Only on a CPU with AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn steady_octave_sums_avx2(
+    sums: &[f64],
+    j0: usize,
+    j1: usize,
+    octaves: std::ops::Range<usize>,
+    out: &mut [f64; MAX_OCTAVES],
+) {
+    tiled_lane_sums(sums, j0, j1, octaves, out)
+}
+
+/// The loops of [`steady_octave_sums`], in plain Rust for the compiler to
+/// vectorise for the target it is compiled for.
+#[inline(always)]
+fn tiled_lane_sums(
+    sums: &[f64],
+    j0: usize,
+    j1: usize,
+    octaves: std::ops::Range<usize>,
+    out: &mut [f64; MAX_OCTAVES],
+) {
+    let n = j1 - j0;
+    let full = n - n % LANES;
+    let mut lanes = [[0.0f64; LANES]; MAX_OCTAVES];
+    let mut a = j0;
+    while a < j0 + full {
+        let b = (a + TILE_ROWS * LANES).min(j0 + full);
+        for o in octaves.clone() {
+            let m = 1usize << o;
+            let mut acc = lanes[o];
+            let (s_rows, _) = rows(&sums[a..b]);
+            let (b_rows, _) = rows(&sums[a - m..b - m]);
+            let (c_rows, _) = rows(&sums[a - 2 * m..b - 2 * m]);
+            for ((s, b), c) in s_rows.zip(b_rows).zip(c_rows) {
+                for l in 0..LANES {
+                    let d = (s[l] - b[l]) - (b[l] - c[l]);
+                    acc[l] += d * d;
+                }
+            }
+            lanes[o] = acc;
+        }
+        a = b;
+    }
+    for o in octaves {
+        let m = 1usize << o;
+        let acc = &mut lanes[o];
+        for (l, j) in (j0 + full..j1).enumerate() {
+            let d = (sums[j] - sums[j - m]) - (sums[j - m] - sums[j - 2 * m]);
+            acc[l] += d * d;
+        }
+        out[o] = pairwise(acc);
+    }
+}
+
+/// The lanes added pairwise: 8 → 4 → 2 → 1.
+#[inline(always)]
+fn pairwise(lanes: &mut [f64; LANES]) -> f64 {
+    let mut width = LANES;
+    while width > 1 {
+        width /= 2;
+        for l in 0..width {
+            lanes[l] += lanes[l + width];
+        }
+    }
+    lanes[0]
+}
+
 /// `x` as rows of [`LANES`] values (as arrays: the loop over them then
 /// has no bounds to check), and the values after the last full row.
 #[inline(always)]
@@ -318,15 +505,7 @@ fn lane_sums(s: &[f64], b: &[f64], c: &[f64]) -> f64 {
         let d = (s - b) - (b - c);
         lanes[l] += d * d;
     }
-    // Pairwise: 8 → 4 → 2 → 1.
-    let mut width = LANES;
-    while width > 1 {
-        width /= 2;
-        for l in 0..width {
-            lanes[l] += lanes[l + width];
-        }
-    }
-    lanes[0]
+    pairwise(&mut lanes)
 }
 
 #[cfg(test)]
@@ -402,6 +581,69 @@ mod tests {
                 plain.to_bits(),
                 "{n}"
             );
+        }
+    }
+
+    /// Columns pushed together give what each pushed alone gives, bit for bit.
+    #[test]
+    fn columns_pushed_together_are_each_pushed_alone() {
+        let y = record(6 * 5000);
+        let new = || OctaveBlocks::new(1 << 8, 9.8).unwrap();
+        let mut alone: Vec<OctaveBlocks> = (0..6).map(|_| new()).collect();
+        let mut together: Vec<OctaveBlocks> = (0..6).map(|_| new()).collect();
+        for rows in y.chunks(6 * 777) {
+            for (c, b) in alone.iter_mut().enumerate() {
+                b.push(rows.chunks_exact(6).map(|r| r[c]));
+            }
+            // Five at once (a group of four and one of one), and one.
+            let mut refs: Vec<&mut OctaveBlocks> = together[1..].iter_mut().collect();
+            OctaveBlocks::push_columns(&mut refs, rows, 6, 1);
+            OctaveBlocks::push_columns(&mut [&mut together[0]], rows, 6, 0);
+        }
+        for (a, t) in alone.iter().zip(&together) {
+            assert_eq!(a.samples(), t.samples());
+            let (a, t): (Vec<_>, Vec<_>) = (a.results().collect(), t.results().collect());
+            assert_eq!(a.len(), 8);
+            for (a, t) in a.iter().zip(&t) {
+                assert_eq!(a.overlapping.to_bits(), t.overlapping.to_bits());
+                assert_eq!(a.non_overlapping.to_bits(), t.non_overlapping.to_bits());
+            }
+        }
+    }
+
+    /// The tiled pass over several octaves gives each octave's sum of the
+    /// one-octave loop bit for bit, whatever the block's length against
+    /// the tiles and the lanes.
+    #[test]
+    fn the_tiled_pass_is_the_one_octave_loop_bit_for_bit() {
+        let sums = record(40_000);
+        let j0 = 1 << 13;
+        for n in [
+            0,
+            1,
+            7,
+            8,
+            9,
+            TILE_ROWS * LANES,
+            TILE_ROWS * LANES + 3,
+            5 * 1024 + 5,
+            MAX_BLOCK,
+        ] {
+            let mut out = [f64::NAN; MAX_OCTAVES];
+            steady_octave_sums(&sums, j0, j0 + n, 2..13, &mut out);
+            for (o, &got) in out.iter().enumerate() {
+                if !(2..13).contains(&o) {
+                    assert!(got.is_nan(), "octave {o} left alone");
+                    continue;
+                }
+                let m = 1 << o;
+                let one = squared_second_differences(
+                    &sums[j0..j0 + n],
+                    &sums[j0 - m..j0 + n - m],
+                    &sums[j0 - 2 * m..j0 + n - 2 * m],
+                );
+                assert_eq!(got.to_bits(), one.to_bits(), "n = {n}, m = {m}");
+            }
         }
     }
 

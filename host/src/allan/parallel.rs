@@ -7,18 +7,10 @@
 use std::sync::mpsc::{sync_channel, Receiver};
 use std::sync::Arc;
 
-use super::compute::{push_column, ColumnState, BLOCK_ROWS};
+use super::compute::{push_columns, ColumnState, BLOCK_ROWS};
 
 /// Blocks queued per worker before the sender waits.
 const QUEUED_BLOCKS: usize = 4;
-
-/// Pushes column `first + i` of `block` into `group[i]`, one column at a
-/// time (its accumulator stays in cache over the block).
-fn push_group(group: &mut [ColumnState], block: &[f64], width: usize, first: usize) {
-    for (i, state) in group.iter_mut().enumerate() {
-        push_column(state, block, width, first + i);
-    }
-}
 
 /// Threads to share `columns` among: the cores, at most one per column.
 pub(super) fn threads(columns: usize) -> usize {
@@ -46,7 +38,7 @@ pub(super) fn accumulate(
             let first = (g + 1) * per_thread;
             scope.spawn(move || {
                 for block in blocks {
-                    push_group(group, &block, width, first);
+                    push_columns(group, &block, width, first);
                 }
             });
             workers.push(tx);
@@ -62,7 +54,7 @@ pub(super) fn accumulate(
                 // A worker gone has panicked: the scope's join reports it.
                 let _ = tx.send(Arc::clone(&block));
             }
-            push_group(mine, &block, width, 0);
+            push_columns(mine, &block, width, 0);
             consumed += (block.len() / width) as u64;
             if consumed % (16 * BLOCK_ROWS as u64) == 0 {
                 report(consumed);

@@ -125,7 +125,7 @@ impl RowSource for Rows {
 /// The largest |value| analysed: a second difference of sums of up to 2^40
 /// samples, squared and summed 2^40 times, stays far below f64's 1.8e308
 /// (2^92·(1e100)² = 5e227); no sensor reads anywhere near it.
-const MAX_MAGNITUDE: f64 = 1e100;
+pub(crate) const MAX_MAGNITUDE: f64 = 1e100;
 
 /// A cell's finite number, spaces around it allowed.
 fn parse_cell(cell: &[u8]) -> Option<f64> {

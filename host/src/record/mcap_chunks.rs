@@ -283,6 +283,14 @@ fn decode_chunk(
                     zstd.insert(zstd::bulk::Decompressor::new().map_err(|e| format!("zstd: {e}"))?)
                 }
             };
+            // The chunk's CRC, where the writer gave one, is checked below:
+            // zstd's own checksum of the same bytes (XXH64, where the frame
+            // has one) would be a second pass over them.
+            context
+                .set_parameter(zstd::zstd_safe::DParameter::ForceIgnoreChecksum(
+                    h.uncompressed_crc != 0,
+                ))
+                .map_err(|e| format!("zstd: {e}"))?;
             // Into the buffer's capacity: a chunk longer than announced is an error.
             context
                 .decompress_to_buffer(&job.data, buffer)

@@ -58,10 +58,14 @@ pub fn section(long: bool) -> Result<String> {
     let mut md = String::from(
         "## Allan at the scale of real recordings\n\n\
          `cargo xtask bench --allan --long` (this section alone; `cargo xtask bench` writes it with the rest): \
-         host/examples/bench_allan_scale.rs on this machine, `triad allan` timed by `/usr/bin/time` \
-         (wall, user + system CPU, peak resident memory), allantools' `oadev` (octave taus) on the same \
-         six columns already in memory, timed in its process (bench/allan_peer.py), one after the other in one run; \
-         then, as the floor under triad's time, the bag's chunks read and zstd-decompressed alone on one core, under the same timer.\n\n",
+         host/examples/bench_allan_scale.rs on this machine, allantools' `oadev` (octave taus) on the six \
+         columns already in memory, timed in its process (bench/allan_peer.py; one core), then `triad allan` \
+         (every core) timed by `/usr/bin/time` (wall, user + system CPU, peak resident memory) on the same \
+         samples in two MCAP bags, one after the other in one run: zstd chunks with CRCs (what `triad convert` writes) \
+         and uncompressed chunks without CRCs (what rosbag2's MCAP storage writes by default: \
+         rosbag2_storage_mcap/src/mcap_storage.cpp sets `compression = None`, `noChunkCRC = true`). \
+         Wall time compares the two on this machine as they run (triad on every core, allantools on one), CPU time the work done. \
+         After each bag, the floor under triad's time: the bag read and its chunks decompressed (or copied) alone on one core, under the same timer.\n\n",
     );
     for line in String::from_utf8_lossy(&out.stdout).lines() {
         md += &format!("- {line}\n");
