@@ -6,6 +6,12 @@
 //! TXE set, and does not raise the transmit interrupt by itself: after
 //! enabling TXEIE the transmitter pends the USART's interrupt, which on
 //! hardware would fire anyway (pending it there is harmless).
+//!
+//! The drain reads SR once per call, not once per byte: TXE never clears
+//! here, and every SR read makes QEMU call `qemu_chr_fe_accept_input`,
+//! which wakes its main loop (an eventfd write, then the two threads trade
+//! the global lock): two thread switches per byte sent were most of the
+//! emulator's time at 53 kB per device second (the soak's bound).
 
 use super::pac;
 use core::ops::Deref;
@@ -82,17 +88,17 @@ impl<U: Deref<Target = pac::usart1::RegisterBlock>> LinkTx for SerialTx<U> {
 }
 
 impl TxDrain {
-    /// Writes queued bytes while `usart` takes them; when the ring is
-    /// empty, stops the transmit interrupt and returns true.
+    /// Writes the queued bytes when `usart` takes them (TXE, read once:
+    /// QEMU's USART keeps it set); when the ring is empty, stops the
+    /// transmit interrupt and returns true.
     pub fn drain(&mut self, usart: &pac::usart1::RegisterBlock) -> bool {
+        if usart.sr().read().txe().bit_is_clear() {
+            return false;
+        }
         let written = WRITTEN.load(Ordering::Acquire);
         let mut released = RELEASED.load(Ordering::Relaxed);
         while let Some(run) = Ring::next_run(written, released) {
             for slot in &BUFFER[run.start..run.start + run.len] {
-                if usart.sr().read().txe().bit_is_clear() {
-                    RELEASED.store(released, Ordering::Release);
-                    return false;
-                }
                 let byte = slot.load(Ordering::Relaxed);
                 usart.dr().write(|w| w.dr().set(u16::from(byte)));
                 released = released.wrapping_add(1);
