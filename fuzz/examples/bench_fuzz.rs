@@ -271,4 +271,19 @@ fn main() {
         leave,
         target(triad_fuzz::calibration_toml),
     );
+    // Each input a file (on /dev/shm) read through `triad`'s reader thread.
+    run(
+        "recording readers",
+        inputs,
+        &seeds_of("record"),
+        leave,
+        target(triad_fuzz::record),
+    );
+    run(
+        "triad CSV",
+        inputs,
+        &seeds_of("record"),
+        leave,
+        target(triad_fuzz::triad_csv),
+    );
 }
