@@ -7,23 +7,36 @@
 //!
 //! Checked as it runs, on every frame: the stream loses nothing on the wire
 //! (no sequence gap, no damaged packet), and every data-ready period between
-//! two frames is a frame or a step the device counted lost (the gap in
-//! periods = the frames between + the `overruns` they reported: no
+//! two frames is a sample carried or a step the device counted lost (the
+//! gap in periods = the samples the frames between carried, one per data
+//! frame and a batch's count, + the `overruns` they reported: no
 //! unexplained gap). At the end, every device counter accounted for: steps
 //! lost = the frames' `overruns`; stalls = the silencing faults; read
 //! failures = the NACK storms' transactions; nothing dropped, no received
 //! byte lost; and the queues' high-water marks from the firmware's log.
 //!
-//! What bounds its speed (measured on the shared 2-core machine, load
-//! 11–16): not the host. The firmware sleeps 97 % of device time, which
-//! QEMU's `-icount shift=0,sleep=off` skips; what is left per device second
-//! is QEMU's own work: the chip model's ~29 M instructions and the stream's
-//! 53 kB, which QEMU 7.2's STM32 USART writes to its socket a byte per
-//! system call. QEMU alone with that USART on `null` ran ~3.1× real time,
-//! on a file ~1.2–2.5×, through `xtask serve` and a reader ~1.0–1.9×; the
-//! serve pump gathering 2 ms of bytes cut its CPU and the reader's sixfold
-//! without changing the board's speed. So a soak goes faster with fewer
-//! link bytes or a cheaper chip model, or on a machine with a free core.
+//! With the chip's FIFO (`--soak-watermark` W > 1) these checks fail today,
+//! as they should: the firmware's FIFO step (`Sampler::step_fifo`) counts
+//! no steps lost over a silencing fault (each leaves a gap of ~500 periods
+//! that no `overruns` explains), and a NACK storm of 30 failed
+//! transactions shows as 24 read failures.
+//!
+//! What bounds its speed: QEMU, not the host tools (serve and this reader
+//! take a tenth of its CPU). The firmware sleeps ~98 % of device time,
+//! which `-icount shift=0,sleep=off` skips; what is left per device second
+//! is the chip model's ~12 M instructions (11.9 k per sample: the demo
+//! motion's one software sine and the quantisation, in `f64`, which the
+//! Cortex-M4F does in software) and the link's bytes, which QEMU 7.2's
+//! STM32 USART hands its socket one system call each: 53 kB per device
+//! second in data frames, 14.7 kB in batch frames (`--soak-watermark 16`,
+//! TRIAD_SOAK_* below unchanged). Measured on the shared 2-core machine
+//! (load 7–12): W = 1 about 4 device seconds per QEMU CPU second, W = 16
+//! about 16. Each CPU-second figure is printed at the end (device seconds
+//! per CPU second of QEMU, serve and the reader), so a run on a loaded
+//! machine still says what a free core would give. Past 52 429 s of device
+//! time the demo motion's sine argument (2π·5 Hz·t) passes 2²⁰·π/2, where
+//! libm reduces it by its long path: expect the last 9.4 hours of a day to
+//! run slower than the first.
 //!
 //! Environment (set by xtask): TRIAD_SOAK_XTASK (an xtask to serve with),
 //! TRIAD_SOAK_ELF, TRIAD_SOAK_BLOB (the calibration blob to upload),
