@@ -19,7 +19,9 @@
 //! as they should: the firmware's FIFO step (`Sampler::step_fifo`) counts
 //! no steps lost over a silencing fault (each leaves a gap of ~500 periods
 //! that no `overruns` explains), and a NACK storm of 30 failed
-//! transactions shows as 24 read failures.
+//! transactions shows as 24 read failures (the expectation, one failed
+//! transaction per read, is W = 1's; what took the other six, perhaps the
+//! re-detection after 50 ms of failed reads, is not established).
 //!
 //! What bounds its speed: QEMU, not the host tools (serve and this reader
 //! take a tenth of its CPU). The firmware sleeps ~98 % of device time,
