@@ -7,11 +7,12 @@
 //! enabling TXEIE the transmitter pends the USART's interrupt, which on
 //! hardware would fire anyway (pending it there is harmless).
 //!
-//! The drain reads SR once per call, not once per byte: TXE never clears
-//! here, and every SR read makes QEMU call `qemu_chr_fe_accept_input`,
-//! which wakes its main loop (an eventfd write, then the two threads trade
-//! the global lock): two thread switches per byte sent were most of the
-//! emulator's time at 53 kB per device second (the soak's bound).
+//! So the drain never reads SR: TXE never clears here, and every SR read
+//! makes QEMU call `qemu_chr_fe_accept_input`, which wakes its main loop
+//! (an eventfd write, then the two threads trade the global lock). A read
+//! per byte sent was most of the emulator's time at 53 kB per device
+//! second (the soak's bound); the receiver's one read per interrupt is
+//! what is left.
 
 use super::pac;
 use core::ops::Deref;
@@ -88,13 +89,10 @@ impl<U: Deref<Target = pac::usart1::RegisterBlock>> LinkTx for SerialTx<U> {
 }
 
 impl TxDrain {
-    /// Writes the queued bytes when `usart` takes them (TXE, read once:
-    /// QEMU's USART keeps it set); when the ring is empty, stops the
-    /// transmit interrupt and returns true.
+    /// Writes the queued bytes to `usart` (QEMU's takes each at once: no
+    /// TXE to wait for); then stops the transmit interrupt and returns
+    /// true (the ring is empty).
     pub fn drain(&mut self, usart: &pac::usart1::RegisterBlock) -> bool {
-        if usart.sr().read().txe().bit_is_clear() {
-            return false;
-        }
         let written = WRITTEN.load(Ordering::Acquire);
         let mut released = RELEASED.load(Ordering::Relaxed);
         while let Some(run) = Ring::next_run(written, released) {
