@@ -32,8 +32,8 @@
 //! STM32 USART hands its socket one system call each: 53 kB per device
 //! second in data frames, 14.7 kB in batch frames (`--soak-watermark 16`,
 //! TRIAD_SOAK_* below unchanged). Measured on the shared 2-core machine
-//! (load 7–12): W = 1 about 4 device seconds per QEMU CPU second, W = 16
-//! about 16. Each CPU-second figure is printed at the end (device seconds
+//! (load 7–12): W = 1 4.4–5.2 device seconds per QEMU CPU second (24 h in
+//! 4.6–5.5 h on a free core), W = 16 about 16 (1.5 h). Each CPU-second figure is printed at the end (device seconds
 //! per CPU second of QEMU, serve and the reader), so a run on a loaded
 //! machine still says what a free core would give. Past 52 429 s of device
 //! time the demo motion's sine argument (2π·5 Hz·t) passes 2²⁰·π/2, where
