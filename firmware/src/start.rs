@@ -5,7 +5,10 @@
 //! answer on the bus is not fatal: the board comes up without it (the
 //! handler says chip "none" and refuses what needs one), and the
 //! data-ready task keeps looking ([`find`], [`for_sensor`] when it
-//! answers). Every other failure that leaves nothing to stream stops the
+//! answers) at the stall watch's checks, on a board whose own interrupt
+//! ticks it (the emulated board's sample timer); on the NUCLEO nothing
+//! does, and its watchdog resets the board within 10 s, whose start-up
+//! looks again. Every other failure that leaves nothing to stream stops the
 //! board with the reason in the log.
 
 use crate::{B, CALIBRATION_BLOB, SETTINGS};

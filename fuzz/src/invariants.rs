@@ -144,3 +144,35 @@ pub fn error_has_message(message: &str) -> Result<(), Broken> {
         "an error without a message".to_string()
     })
 }
+
+/// A recording reader's chunk holds samples (an empty one would end a
+/// reading loop before the file's end).
+pub fn chunk_has_samples(len: usize) -> Result<(), Broken> {
+    holds(len > 0, || "a reader gave an empty chunk".to_string())
+}
+
+/// A sample's time is a number: the readers refuse what is not.
+pub fn sample_time_finite(t: f64) -> Result<(), Broken> {
+    holds(t.is_finite(), || format!("a sample at t = {t} passed"))
+}
+
+/// The samples' places in the file (line or message) increase.
+pub fn places_increase(at: u64, last: u64) -> Result<(), Broken> {
+    holds(at > last, || format!("places go back: {at} after {last}"))
+}
+
+/// A reading library that panicked on the file: refused, but through a
+/// panic (`message` is the refusal's, with its causes).
+pub fn no_library_panic(message: &str) -> Result<(), Broken> {
+    holds(
+        !message.contains(triad_host::record::producer::LIBRARY_FAILED),
+        || format!("a reader's library panicked: {message}"),
+    )
+}
+
+/// A refusal names the file it refused.
+pub fn error_names_file(message: &str, file: &str) -> Result<(), Broken> {
+    holds(message.contains(file), || {
+        format!("an error without the file's name ({file}): {message}")
+    })
+}

@@ -81,6 +81,61 @@ fn every_target_accepts_its_seeds_and_survives_their_cuts() {
     }
 }
 
+/// The recording readers over their seeds (valid files of each format,
+/// and their cuts): no broken invariant, and each whole seed read to its
+/// samples (the ULog seed is a cut file, read up to its cut).
+#[test]
+fn the_record_readers_read_their_seeds_and_survive_their_cuts() {
+    let mut read = Vec::new();
+    for (name, bytes) in seeds::read("record") {
+        if !name.ends_with(".ulg") {
+            read.push((name.clone(), triad_fuzz::record(&bytes)));
+        }
+        for keep in [bytes.len() * 2 / 3, bytes.len() / 3, 17, 0] {
+            for (target, verdict) in [
+                ("record", triad_fuzz::record(&bytes[..keep])),
+                ("triad_csv", triad_fuzz::triad_csv(&bytes[..keep])),
+            ] {
+                if let Err(broken) = verdict {
+                    panic!("{target} on record/{name} cut to {keep} bytes: {broken}");
+                }
+            }
+        }
+    }
+    read.sort_by(|a, b| a.0.cmp(&b.0));
+    let want: Vec<(String, Result<u64, Broken>)> = [
+        ("euroc3.csv", 3),
+        ("imu.bag", 200),
+        ("imu.db3", 200),
+        ("imu20.csv", 20),
+        ("imu20.mcap", 20),
+        ("imu_tk3.txt", 3),
+    ]
+    .iter()
+    .map(|(n, k)| (n.to_string(), Ok(*k)))
+    .collect();
+    assert_eq!(read, want);
+}
+
+/// The files on which AFL++ found the reading libraries' panics
+/// (fuzz/findings: triad reports them as the file's error, the libraries'
+/// bugs remain) are broken invariants for the record target, whichever
+/// extension they have: a library's panic is a crash there.
+#[test]
+fn the_findings_are_library_panics_to_the_record_target() {
+    let findings = seeds::root().join("../findings");
+    for name in [
+        "ulog_header_slice_out_of_range.ulg",
+        "mcap_scan_subtract_overflow.mcap",
+    ] {
+        let bytes = std::fs::read(findings.join(name)).unwrap();
+        for verdict in [triad_fuzz::record(&bytes), triad_fuzz::triad_csv(&bytes)] {
+            let broken = verdict.expect_err(name);
+            assert!(broken.0.contains("library panicked"), "{name}: {broken}");
+        }
+    }
+}
+
 /// A corrupted upload (one byte of a chunk flipped, so the commit's CRC
 /// fails) is refused and the device is as before: the invariant holds and
 /// nothing was accepted past the chunks.
@@ -145,4 +200,16 @@ fn the_invariants_can_fail() {
     assert!(invariants::stuffers_agree(&[1], &[&[2, 1], &[2, 2]]).is_err());
     assert!(invariants::reencodes_to_itself("x", &[1], &[2]).is_err());
     assert!(invariants::error_has_message(" ").is_err());
+    assert!(invariants::chunk_has_samples(0).is_err());
+    assert!(invariants::sample_time_finite(f64::NAN).is_err());
+    assert!(invariants::sample_time_finite(f64::INFINITY).is_err());
+    assert!(invariants::places_increase(3, 3).is_err());
+    assert!(invariants::places_increase(4, 3).is_ok());
+    assert!(invariants::error_names_file("a.csv: line 2: bad", "b.csv").is_err());
+    let panicked = format!(
+        "a.csv: {}, so it cannot be read",
+        triad_host::record::producer::LIBRARY_FAILED
+    );
+    assert!(invariants::no_library_panic(&panicked).is_err());
+    assert!(invariants::no_library_panic("a.csv: line 2: no number").is_ok());
 }

@@ -7,23 +7,38 @@
 //!
 //! Checked as it runs, on every frame: the stream loses nothing on the wire
 //! (no sequence gap, no damaged packet), and every data-ready period between
-//! two frames is a frame or a step the device counted lost (the gap in
-//! periods = the frames between + the `overruns` they reported: no
+//! two frames is a sample carried or a step the device counted lost (the
+//! gap in periods = the samples the frames between carried, one per data
+//! frame and a batch's count, + the `overruns` they reported: no
 //! unexplained gap). At the end, every device counter accounted for: steps
 //! lost = the frames' `overruns`; stalls = the silencing faults; read
 //! failures = the NACK storms' transactions; nothing dropped, no received
 //! byte lost; and the queues' high-water marks from the firmware's log.
 //!
-//! What bounds its speed (measured on the shared 2-core machine, load
-//! 11–16): not the host. The firmware sleeps 97 % of device time, which
-//! QEMU's `-icount shift=0,sleep=off` skips; what is left per device second
-//! is QEMU's own work: the chip model's ~29 M instructions and the stream's
-//! 53 kB, which QEMU 7.2's STM32 USART writes to its socket a byte per
-//! system call. QEMU alone with that USART on `null` ran ~3.1× real time,
-//! on a file ~1.2–2.5×, through `xtask serve` and a reader ~1.0–1.9×; the
-//! serve pump gathering 2 ms of bytes cut its CPU and the reader's sixfold
-//! without changing the board's speed. So a soak goes faster with fewer
-//! link bytes or a cheaper chip model, or on a machine with a free core.
+//! With the chip's FIFO (`--soak-watermark` W > 1) these checks fail today,
+//! as they should: the firmware's FIFO step (`Sampler::step_fifo`) counts
+//! no steps lost over a silencing fault (each leaves a gap of ~500 periods
+//! that no `overruns` explains), and a NACK storm of 30 failed
+//! transactions shows as 24 read failures (the expectation, one failed
+//! transaction per read, is W = 1's; what took the other six, perhaps the
+//! re-detection after 50 ms of failed reads, is not established).
+//!
+//! What bounds its speed: QEMU, not the host tools (serve and this reader
+//! take a tenth of its CPU). The firmware sleeps ~98 % of device time,
+//! which `-icount shift=0,sleep=off` skips; what is left per device second
+//! is the chip model's ~12 M instructions (11.9 k per sample: the demo
+//! motion's one software sine and the quantisation, in `f64`, which the
+//! Cortex-M4F does in software) and the link's bytes, which QEMU 7.2's
+//! STM32 USART hands its socket one system call each: 53 kB per device
+//! second in data frames, 14.7 kB in batch frames (`--soak-watermark 16`,
+//! TRIAD_SOAK_* below unchanged). Measured on the shared 2-core machine
+//! (load 7–12): W = 1 4.4–5.2 device seconds per QEMU CPU second (24 h in
+//! 4.6–5.5 h on a free core), W = 16 about 16 (1.5 h). Each CPU-second figure is printed at the end (device seconds
+//! per CPU second of QEMU, serve and the reader), so a run on a loaded
+//! machine still says what a free core would give. Past 52 429 s of device
+//! time the demo motion's sine argument (2π·5 Hz·t) passes 2²⁰·π/2, where
+//! libm reduces it by its long path: expect the last 9.4 hours of a day to
+//! run slower than the first.
 //!
 //! Environment (set by xtask): TRIAD_SOAK_XTASK (an xtask to serve with),
 //! TRIAD_SOAK_ELF, TRIAD_SOAK_BLOB (the calibration blob to upload),
@@ -37,8 +52,8 @@ use std::path::PathBuf;
 use std::process::{Child, Command as Process, Stdio};
 use std::time::{Duration, Instant};
 
+use triad::protocol::{BatchFrame, DecoderStats, Frame};
 use triad::protocol::{Command, Mode, Packet};
-use triad::protocol::{DecoderStats, Frame};
 use triad_host::device::link::{Link, Settings};
 use triad_host::device::{identify, transfer};
 
@@ -122,10 +137,46 @@ fn serve(dir: &std::path::Path, faults: &[String]) -> (Child, String, PathBuf) {
     (child, port, log)
 }
 
+/// A data or batch frame as the accounting sees it: its first sample's
+/// time, its number, the samples it carries, and the steps lost it reports.
+#[derive(Clone, Copy)]
+struct Seen {
+    timestamp_us: u32,
+    sequence: u32,
+    samples: u64,
+    overruns: u16,
+}
+
+impl Seen {
+    fn data(frame: &Frame) -> Self {
+        Self {
+            timestamp_us: frame.timestamp_us,
+            sequence: frame.sequence,
+            samples: 1,
+            overruns: frame.overruns,
+        }
+    }
+
+    fn batch(batch: &BatchFrame) -> Self {
+        Self {
+            timestamp_us: batch.timestamp_us,
+            sequence: batch.sequence,
+            samples: u64::from(batch.count),
+            overruns: batch.overruns,
+        }
+    }
+}
+
+/// Samples the link's decoder has seen carried, in data and batch frames
+/// (those a command's wait read past too).
+fn carried(stats: &DecoderStats) -> u64 {
+    stats.frames + stats.batch_samples
+}
+
 /// The frames' accounting: every period between two frames seen.
 #[derive(Default)]
 struct Accounting {
-    last: Option<(Frame, DecoderStats)>,
+    last: Option<(Seen, DecoderStats)>,
     device_us: u64,
     frames_seen: u64,
     first_sequence: u32,
@@ -133,7 +184,7 @@ struct Accounting {
 }
 
 impl Accounting {
-    fn frame(&mut self, frame: Frame, stats: DecoderStats, period_us: f64) {
+    fn frame(&mut self, frame: Seen, stats: DecoderStats, period_us: f64) {
         self.frames_seen += 1;
         if self.last.is_none() {
             // Device time from the board's start, as the fault schedule's.
@@ -152,16 +203,18 @@ impl Accounting {
             let gap_us = frame.timestamp_us.wrapping_sub(a.timestamp_us);
             self.device_us += u64::from(gap_us);
             let periods = (f64::from(gap_us) / period_us).round() as u64;
-            // Frames in between (read past by a command's wait) count one
-            // period each, with the steps lost they reported.
-            let frames = u64::from(frame.sequence.wrapping_sub(a.sequence));
+            // The samples from `a`'s first to this frame's first: those `a`
+            // and the frames in between (read past by a command's wait)
+            // carried, with the steps lost they reported. One per data
+            // frame; a batch's count each.
+            let between = (carried(&stats) - frame.samples) - (carried(&sa) - a.samples);
             let lost = stats.device_overruns - sa.device_overruns;
-            if periods != frames + lost {
+            if periods != between + lost {
                 self.unexplained += 1;
                 if self.unexplained <= 5 {
                     eprintln!(
                         "soak: unexplained gap at {:.3} s: {periods} periods between frames {} \
-                         and {}, {lost} steps counted lost",
+                         and {}, {between} samples carried, {lost} steps counted lost",
                         self.device_us as f64 * 1e-6,
                         a.sequence,
                         frame.sequence
@@ -235,6 +288,51 @@ fn storm<P: std::io::Read + std::io::Write>(link: &mut Link<P>, blob: &[u8], n: 
     failed
 }
 
+/// CPU seconds (user + system) so far of each process in the tree from
+/// `root` (serve, and the QEMU it runs), by command name, and of this one
+/// (the reader), from /proc: the machine is shared, so wall time alone
+/// does not say what the soak costs.
+fn cpu_seconds(root: u32) -> Vec<(String, f64)> {
+    // Clock ticks per second: Linux reports USER_HZ, 100 on every platform.
+    const TICKS: f64 = 100.0;
+    let stat = |pid: &str| -> Option<(u32, u32, String, f64)> {
+        let text = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
+        // The command name is in parentheses and may hold spaces.
+        let (head, tail) = text.rsplit_once(") ")?;
+        let (pid, name) = head.split_once(" (")?;
+        let fields: Vec<&str> = tail.split_whitespace().collect();
+        let ticks = fields.get(11)?.parse::<f64>().ok()? + fields.get(12)?.parse::<f64>().ok()?;
+        Some((
+            pid.parse().ok()?,
+            fields.get(1)?.parse().ok()?,
+            name.to_string(),
+            ticks / TICKS,
+        ))
+    };
+    let all: Vec<_> = std::fs::read_dir("/proc")
+        .into_iter()
+        .flatten()
+        .flatten()
+        .filter_map(|e| stat(e.file_name().to_str()?))
+        .collect();
+    let mut tree = vec![root];
+    let mut out = Vec::new();
+    while let Some(pid) = tree.pop() {
+        for (child, parent, name, seconds) in &all {
+            if *child == pid {
+                out.push((name.clone(), *seconds));
+            }
+            if *parent == pid {
+                tree.push(*child);
+            }
+        }
+    }
+    if let Some((_, _, _, seconds)) = stat("self") {
+        out.push(("reader (bench_soak)".into(), seconds));
+    }
+    out
+}
+
 /// The last queue high-water line in the firmware's log.
 fn high_water(log: &std::path::Path) -> String {
     std::fs::read_to_string(log)
@@ -284,8 +382,10 @@ fn main() {
     while acc.seconds() < seconds && started.elapsed().as_secs_f64() < wall_limit {
         match link.next_packet(Instant::now() + Duration::from_secs(60)) {
             Ok(Some(Ok(Packet::Data(frame)))) => {
-                let stats = *link.stats();
-                acc.frame(frame, stats, period_us);
+                acc.frame(Seen::data(&frame), *link.stats(), period_us);
+            }
+            Ok(Some(Ok(Packet::Batch(batch)))) => {
+                acc.frame(Seen::batch(&batch), *link.stats(), period_us);
             }
             Ok(Some(Ok(_))) => {}
             Ok(Some(Err(_))) => damaged += u64::from(acc.frames_seen > 0),
@@ -318,6 +418,7 @@ fn main() {
     let wall = started.elapsed().as_secs_f64();
     let end = identify(&mut link).expect("identify at the end");
     let stats = *link.stats();
+    let cpu = cpu_seconds(child.id());
     let _ = child.kill();
     let _ = child.wait();
 
@@ -332,6 +433,12 @@ fn main() {
         info.sample_rate_hz,
         86_400.0 / rate / 3600.0
     );
+    for (name, seconds) in &cpu {
+        eprintln!(
+            "soak: CPU of {name}: {seconds:.0} s, {:.1} device s per CPU s",
+            t / seconds.max(1e-3)
+        );
+    }
     eprintln!(
         "soak: {} frames seen from sequence {} ({} sent), {storms} command storms ({} commands, {} answered busy \
          and asked again), {failed} commands failed",

@@ -230,7 +230,13 @@ fn init(dp: pac::Peripherals) -> Parts<Board> {
 /// The independent watchdog's period, ms: a data-ready path that made no
 /// progress this long (a chip gone, its data-ready line stuck, a bus
 /// transaction that never ends) resets the board, whose start-up finds the
-/// chip again (or, with none on the bus, stops until the next reset). Longer
+/// chip again. This board's absence handling is that watchdog (issue 26
+/// accepts it on the NUCLEO): it has no sample timer, so nothing ticks the
+/// firmware's stall watch, which on the emulated board checks a silent chip
+/// and looks for an absent one every 50 ms. With no chip at start-up the
+/// link answers (`identify`: chip `none`) until the reset, about 10 s later,
+/// and each start-up looks again; a chip lost mid-stream is a reset too,
+/// not a `sensor_stalls` (docs/PROTOCOL.md §17). Longer
 /// than the longest self-test, during which no sample is read (about 1.4 s
 /// on an ICM-42688-P), and than `erase`, which erases both calibration
 /// sectors with the core stalled (DS10086 t_ERASE128KB: 2 s at most each, so

@@ -2,6 +2,6 @@
 
 fn main() {
     afl::fuzz!(|data: &[u8]| {
-        triad_fuzz::triad_csv(data);
+        triad_fuzz::crash_on_broken(triad_fuzz::triad_csv(data));
     });
 }

@@ -107,10 +107,14 @@ pub fn guarded<T: Send>(
     })
 }
 
+/// What a library's panic on a file is reported as, after the file's name
+/// (the fuzz targets look for it: a panic is a crash there).
+pub const LIBRARY_FAILED: &str = "the format's library stopped with an internal error on this file";
+
 /// What a library's panic on a file is reported as.
 fn library_failed(name: &str) -> anyhow::Error {
     anyhow!(
-        "{name}: the format's library stopped with an internal error on this file, so it cannot be read (some part of it fails a check the library does not make; a damaged file does this)"
+        "{name}: {LIBRARY_FAILED}, so it cannot be read (some part of it fails a check the library does not make; a damaged file does this)"
     )
 }
 

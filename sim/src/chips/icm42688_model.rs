@@ -149,13 +149,28 @@ pub struct Icm42688Model<S> {
 
 /// §3.2 Table 2 (model's own copy, so the driver's table is checked against it):
 /// LSB/g by ACCEL_FS_SEL; codes 4–7 are reserved and read as ±16 g here.
-fn accel_lsb_per_g(fs_sel: u8) -> f64 {
+const fn accel_lsb_per_g(fs_sel: u8) -> f64 {
     match fs_sel {
         1 => 4096.0,
         2 => 8192.0,
         3 => 16384.0,
         _ => 2048.0,
     }
+}
+
+/// [`accel_lsb_per_g`] per m/s²: divided at compile time, not per sample.
+fn accel_lsb_per_ms2(fs_sel: u8) -> f64 {
+    const BY_CODE: [f64; 4] = [
+        accel_lsb_per_g(0) / STANDARD_GRAVITY,
+        accel_lsb_per_g(1) / STANDARD_GRAVITY,
+        accel_lsb_per_g(2) / STANDARD_GRAVITY,
+        accel_lsb_per_g(3) / STANDARD_GRAVITY,
+    ];
+    // Codes 4–7 read as ±16 g, as code 0.
+    BY_CODE
+        .get(usize::from(fs_sel))
+        .copied()
+        .unwrap_or(BY_CODE[0])
 }
 
 /// §3.1 Table 1: LSB/(°/s) by GYRO_FS_SEL.
@@ -441,13 +456,18 @@ impl<S: SampleSource> Chip<S> {
     fn produce_sample(&mut self, accel_fired: bool, gyro_fired: bool) {
         let mut truth: TrueSample = self.source.next_sample();
         self.samples += 1;
-        let excitation = self.self_test_excitation();
-        for axis in 0..3 {
-            truth.specific_force[axis] += excitation.accel[axis];
-            truth.angular_rate[axis] += excitation.gyro[axis];
+        // Nothing to add with the self-test off (what it would add is ±0,
+        // which no code shows): skipped, as the `f64` products cost
+        // software floating point on the emulated board's core.
+        if self.reg(reg::SELF_TEST_CONFIG) != 0 {
+            let excitation = self.self_test_excitation();
+            for axis in 0..3 {
+                truth.specific_force[axis] += excitation.accel[axis];
+                truth.angular_rate[axis] += excitation.gyro[axis];
+            }
         }
         let temp_on = self.reg(reg::PWR_MGMT0) & (1 << 5) == 0;
-        let accel_scale = accel_lsb_per_g(self.reg(reg::ACCEL_CONFIG0) >> 5) / STANDARD_GRAVITY;
+        let accel_scale = accel_lsb_per_ms2(self.reg(reg::ACCEL_CONFIG0) >> 5);
         let gyro_scale = gyro_lsb_per_dps(self.reg(reg::GYRO_CONFIG0) >> 5);
         let mut clipped = false;
         let mut accel = [0i16; 3];
@@ -506,11 +526,13 @@ impl<S: SampleSource> Chip<S> {
         } else {
             ticks
         };
+        // The 20-bit values only for the packets that carry them.
+        let with_hires = self.packet_len() == reg::FIFO_PACKET_HIRES_LEN;
         let data = PacketData {
             accel: accel_fired.then_some(accel),
             gyro: gyro_fired.then_some(gyro),
-            hires_accel: accel_fired.then(|| hires(&truth.specific_force, true)),
-            hires_gyro: gyro_fired.then(|| hires(&truth.angular_rate, false)),
+            hires_accel: (accel_fired && with_hires).then(|| hires(&truth.specific_force, true)),
+            hires_gyro: (gyro_fired && with_hires).then(|| hires(&truth.angular_rate, false)),
             temp: temp_on.then_some(temp),
             fifo_temp: temp_on.then(|| {
                 libm::round(celsius * reg::FIFO_TEMP_LSB_PER_C).clamp(-128.0, 127.0) as i8

@@ -62,8 +62,15 @@ impl SensorClock {
         let to_next = |phase: u128, rate: Option<Rate>| {
             rate.map(|r| {
                 let counts = r.counts_per_sample.saturating_sub(phase);
+                // A rate given by its period counts nanoseconds: no
+                // division (a u128 one is a long software routine on the
+                // emulated board's 32-bit core, and this runs per sample).
+                let ns = match r.counts_per_ns {
+                    1 => counts,
+                    per_ns => counts.div_ceil(per_ns),
+                };
                 // At most one period: fits in u64.
-                u64::try_from(counts.div_ceil(r.counts_per_ns)).unwrap_or(u64::MAX)
+                u64::try_from(ns).unwrap_or(u64::MAX)
             })
         };
         match (

@@ -53,13 +53,42 @@ impl DemoMotion {
 
     /// The true sample at index `n` (time n / sample_rate).
     pub fn at(&self, n: u64) -> TrueSample {
-        let t = n as f64 / self.sample_rate;
-        let (sin_roll, cos_roll) = (libm::sin(self.roll), libm::cos(self.roll));
-        let (sin_pitch, cos_pitch) = (libm::sin(self.pitch), libm::cos(self.pitch));
-        // The world vertical expressed in the sensor frame.
-        let up = [-sin_pitch, sin_roll * cos_pitch, cos_roll * cos_pitch];
-        let vibration = self.vibration_amplitude
-            * libm::sin(2.0 * core::f64::consts::PI * self.vibration_hz * t);
+        DemoTerms::of(self).at(n)
+    }
+}
+
+/// What of the demo motion is constant, computed once: the vertical in the
+/// sensor frame and the vibration's angular frequency. Sampling then costs
+/// one sine and a few products, the very operations [`DemoMotion::at`]
+/// would do, so the samples are the same bits (the end-to-end tests
+/// recompute them): on the emulated board's Cortex-M4F, whose FPU has no
+/// `f64`, the five software sines and cosines per sample were most of the
+/// chip model's ~28 k instructions per sample.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct DemoTerms {
+    motion: DemoMotion,
+    /// The world vertical expressed in the sensor frame.
+    up: [f64; 3],
+    /// 2π·f_v, rad/s.
+    vibration_rad_s: f64,
+}
+
+impl DemoTerms {
+    fn of(motion: &DemoMotion) -> Self {
+        let (sin_roll, cos_roll) = (libm::sin(motion.roll), libm::cos(motion.roll));
+        let (sin_pitch, cos_pitch) = (libm::sin(motion.pitch), libm::cos(motion.pitch));
+        Self {
+            motion: *motion,
+            up: [-sin_pitch, sin_roll * cos_pitch, cos_roll * cos_pitch],
+            vibration_rad_s: 2.0 * core::f64::consts::PI * motion.vibration_hz,
+        }
+    }
+
+    fn at(&self, n: u64) -> TrueSample {
+        let m = &self.motion;
+        let up = self.up;
+        let t = n as f64 / m.sample_rate;
+        let vibration = m.vibration_amplitude * libm::sin(self.vibration_rad_s * t);
         TrueSample {
             specific_force: [
                 STANDARD_GRAVITY * up[0] + vibration,
@@ -67,11 +96,11 @@ impl DemoMotion {
                 STANDARD_GRAVITY * up[2],
             ],
             angular_rate: [
-                self.table_rate * up[0],
-                self.table_rate * up[1],
-                self.table_rate * up[2],
+                m.table_rate * up[0],
+                m.table_rate * up[1],
+                m.table_rate * up[2],
             ],
-            temperature: self.temperature_start + self.temperature_ramp * t,
+            temperature: m.temperature_start + m.temperature_ramp * t,
         }
     }
 }
@@ -79,20 +108,23 @@ impl DemoMotion {
 /// [`DemoMotion`] as a [`SampleSource`]: serves samples 0, 1, 2, ...
 #[derive(Clone, Debug)]
 pub struct DemoSource {
-    motion: DemoMotion,
+    terms: DemoTerms,
     next: u64,
 }
 
 impl DemoSource {
     /// A source starting at sample 0.
     pub fn new(motion: DemoMotion) -> Self {
-        Self { motion, next: 0 }
+        Self {
+            terms: DemoTerms::of(&motion),
+            next: 0,
+        }
     }
 }
 
 impl SampleSource for DemoSource {
     fn next_sample(&mut self) -> TrueSample {
-        let sample = self.motion.at(self.next);
+        let sample = self.terms.at(self.next);
         self.next += 1;
         sample
     }

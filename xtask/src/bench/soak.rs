@@ -8,16 +8,24 @@ use anyhow::Result;
 
 /// Runs the soak for `seconds` of device time (or until `wall_seconds` of
 /// wall time, when given), a fault every `fault_every` seconds (3600 in
-/// the issue's soak).
-pub fn run(seconds: f64, fault_every: f64, wall_seconds: Option<f64>) -> Result<()> {
+/// the issue's soak), the chip's FIFO watermark `watermark` (1: no FIFO).
+pub fn run(
+    seconds: f64,
+    fault_every: f64,
+    wall_seconds: Option<f64>,
+    watermark: u16,
+) -> Result<()> {
     setup::ensure_for(Board::emulated())?;
     let triad = cmd::build_host_tool()?;
     let calibration = cmd::pack_calibration(&triad, None)?;
-    let elf = cmd::build_firmware(Firmware::default_emulated(), &calibration)?;
+    let mut firmware = Firmware::default_emulated();
+    firmware.sampling.watermark = (watermark > 1).then_some(watermark);
+    let elf = cmd::build_firmware(firmware, &calibration)?;
     let xtask = cmd::serving_xtask()?;
     note!(
-        "xtask: the soak: {seconds} s of device time on the emulated board, a sensor fault every \
-         {fault_every} s, a command storm every 5 s (host/examples/bench_soak.rs)"
+        "xtask: the soak: {seconds} s of device time on the emulated board ({}), a sensor fault \
+         every {fault_every} s, a command storm every 5 s (host/examples/bench_soak.rs)",
+        firmware.label()
     );
     let mut command = cmd::cargo();
     command

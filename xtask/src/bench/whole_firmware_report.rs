@@ -62,9 +62,10 @@ and finds the zero bytes a word at a time (about 7 instructions per
 byte together), writing a COBS code at each (about 2 per byte more),
 all of it written straight into the emulated board's transmit ring
 (`LinkTx::queue_encoded`: no copy, but for the tail that runs past the
-ring's end, copied to its start once per lap); the TX drain is about 5.75
-per byte (status check, load, store, with the loop's test once per four
-bytes), work the NUCLEO's DMA does with no instruction per byte. The STM32F4's CRC unit computes the Ethernet CRC-32 (polynomial
+ring's end, copied to its start once per lap); the emulated board's TX drain
+loads and stores each byte with no status check (QEMU's USART takes every
+byte at once and an SR read wakes QEMU's main loop: boards/qemu/src/
+serial_tx.rs), work the NUCLEO's DMA does with no instruction per byte. The STM32F4's CRC unit computes the Ethernet CRC-32 (polynomial
 0x04C11DB7, fixed), not the protocol's CRC-32C, so the CRC stays in
 software. Not in these figures: on hardware the SPI transfer itself, 16
 bytes per sample, which the driver's blocking read waits out: about 6 µs
