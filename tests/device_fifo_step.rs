@@ -3,7 +3,8 @@
 //! apart and ending at the interrupt's time; an overflow flagged and its
 //! lost samples counted as overruns; a full link queue counted dropped with
 //! the counters carried to the next frame; raw mode and averaging through
-//! the per-sample frames; a failed read counted.
+//! the per-sample frames; a failed read counted; a restarted chip's gap
+//! counted lost once.
 
 mod model_support;
 
@@ -439,4 +440,71 @@ fn the_fifo_flushed_by_a_self_test_is_not_counted_again_as_an_overflow() {
     // From the sample at 1 ms to the first after, at 102 ms less 7
     // periods: 801 periods at 8 kHz, less one; nothing more for the flush.
     assert_eq!(b.overruns, 800);
+}
+
+#[test]
+fn a_restarted_chips_gap_is_counted_lost_once_in_the_first_batch_after() {
+    let (mut fifo, mut sampler, _) = setup(23);
+    fill(&mut fifo, 24, 8);
+    sampler.step_fifo(&mut fifo, 1_000, |_| true);
+    // The chip goes silent: a failed read, the stall watch's restart (and
+    // a second attempt), then 0.5 s later it streams again after its
+    // restart flushed the FIFO, which reports an overflow at first.
+    fifo.fail_next = true;
+    sampler.step_fifo(&mut fifo, 2_000, |_| true);
+    sampler.chip_restarted();
+    sampler.chip_restarted();
+    fifo.overflow_lost = Some(40);
+    let back = 1_000 + 500_000;
+    let mut frames = Vec::new();
+    sampler.step_fifo(&mut fifo, back, |f| {
+        frames.push(f);
+        true
+    });
+    assert!(frames.is_empty(), "the overflowed read had no sample");
+    fill(&mut fifo, 25, 8);
+    sampler.step_fifo(&mut fifo, back + 1_000, |f| {
+        frames.push(f);
+        true
+    });
+    let Outgoing::Batch(b) = frames[0] else {
+        panic!("{:?}", frames[0]);
+    };
+    assert!(b.flags.contains(Flags::OVERRUN));
+    assert!(!b.flags.contains(Flags::FIFO_OVERFLOW | Flags::SELF_TEST));
+    // From the newest sample before (1 ms) to the first after (502 ms less
+    // 7 periods, 501.125 ms): 4001 periods at 8 kHz, the 4000 between
+    // lost; the flush's 40 are among them, not counted again.
+    assert_eq!(b.overruns, 4000);
+    assert_eq!(sampler.totals().overruns, 4000);
+    fill(&mut fifo, 26, 8);
+    let mut next = Vec::new();
+    sampler.step_fifo(&mut fifo, back + 2_000, |f| {
+        next.push(f);
+        true
+    });
+    let Outgoing::Batch(b) = next[0] else {
+        panic!("{:?}", next[0]);
+    };
+    assert_eq!(b.overruns, 0, "counted once");
+    assert_eq!(sampler.totals().overruns, 4000);
+}
+
+#[test]
+fn per_sample_a_restarts_gap_is_the_step_monitors_alone() {
+    let (fifo, mut sampler, _) = setup(27);
+    let mut chip = OneSample(fifo.scale);
+    let period_us = PERIOD_NS / 1000;
+    let mut frame_at = |sampler: &mut Sampler, t: u32| match sampler.step(&mut chip, t) {
+        triad::device::StepOutcome::Frame(Outgoing::Data(f)) => f,
+        other => panic!("{other:?}"),
+    };
+    frame_at(&mut sampler, 0);
+    sampler.chip_restarted();
+    let back = 100 * period_us;
+    let f = frame_at(&mut sampler, back);
+    assert_eq!(f.overruns, 99);
+    let f = frame_at(&mut sampler, back + period_us);
+    assert_eq!(f.overruns, 0);
+    assert_eq!(sampler.totals().overruns, 99);
 }

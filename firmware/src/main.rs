@@ -445,6 +445,7 @@ mod app {
         // lost are counted when data ready comes back.
         if crate::stall::take_check() {
             if l.health.stalled() {
+                sampler.chip_restarted();
                 restart(sensor, l.health);
             }
             COUNTERS.publish_health(l.health.totals());
@@ -485,6 +486,7 @@ mod app {
             B::feed_watchdog();
         }
         if l.health.read(read) {
+            sampler.chip_restarted();
             restart(sensor, l.health);
         }
         // The health's totals change only at a stall or a restart, where

@@ -75,7 +75,7 @@ pub fn find(bus: SensorBus, look: u32) -> Result<Sensor, SensorBus> {
             // does not flood the log.
             if look.is_power_of_two() {
                 defmt::warn!(
-                    "no known IMU on the bus (look {}): {}; looking again about every 50 ms",
+                    "no known IMU on the bus (look {}): {}; looking again at each stall-watch check (about every 50 ms where the board ticks it without a chip, else after the watchdog's reset)",
                     look,
                     defmt::Debug2Format(&undetected.reason)
                 );

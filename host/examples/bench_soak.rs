@@ -15,13 +15,13 @@
 //! failures = the NACK storms' transactions; nothing dropped, no received
 //! byte lost; and the queues' high-water marks from the firmware's log.
 //!
-//! With the chip's FIFO (`--soak-watermark` W > 1) these checks fail today,
-//! as they should: the firmware's FIFO step (`Sampler::step_fifo`) counts
-//! no steps lost over a silencing fault (each leaves a gap of ~500 periods
-//! that no `overruns` explains), and a NACK storm of 30 failed
-//! transactions shows as 24 read failures (the expectation, one failed
-//! transaction per read, is W = 1's; what took the other six, perhaps the
-//! re-detection after 50 ms of failed reads, is not established).
+//! With the chip's FIFO (`--soak-watermark` W > 1) one check fails today:
+//! a NACK storm of 30 failed transactions shows as 24 read failures. With
+//! W = 16 at 1 kHz the firmware restarts the chip after 4 failed reads in a
+//! row (50 ms), and 24 / 4 = 6 restart attempts failing at their first
+//! transaction would take the other 6; the device counts no failed restart,
+//! so this is not established. (Each silencing fault's gap is counted since
+//! `Sampler::chip_restarted`: 0 unexplained gaps at W = 16.)
 //!
 //! What bounds its speed: QEMU, not the host tools (serve and this reader
 //! take a tenth of its CPU). The firmware sleeps ~98 % of device time,

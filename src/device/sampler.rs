@@ -88,6 +88,11 @@ pub struct Sampler {
     period_ns: u32,
     /// When the chip was handed to its self-test (µs), while it is away.
     self_test_from: Option<u32>,
+    /// FIFO mode: the time of the newest sample read (µs).
+    last_sample_us: u32,
+    /// FIFO mode: the chip was restarted (or went silent) since the sample
+    /// at this time (µs), the newest read before; see [`Sampler::chip_restarted`].
+    restart_from: Option<u32>,
     /// Whether batch frames carry the chip's resolution ([`batch_frames_fit`]).
     batch_frames: bool,
 }
@@ -134,6 +139,8 @@ impl Sampler {
             clock: TimestampUnwrapper::new(),
             uptime_us: 0,
             self_test_from: None,
+            last_sample_us: 0,
+            restart_from: None,
         }
     }
 
@@ -154,6 +161,8 @@ impl Sampler {
     pub fn step<I: Imu>(&mut self, imu: &mut I, now_us: u32) -> StepOutcome<I::Error> {
         self.uptime_us = self.clock.unwrap(now_us);
         let missed = self.monitor.step_started(now_us);
+        // The step monitor counts a restart's gap here, by the steps' times.
+        self.restart_from = None;
         match self.self_test_from.take() {
             // The gap is the self-test's, counted once.
             Some(from) => self.self_test_ended(from, now_us),
@@ -274,6 +283,9 @@ impl Sampler {
         // read is not counted again (nor flagged: the chip lost nothing in
         // sampling).
         let mut self_test_from = self.self_test_from.take();
+        // Likewise after a restart: the gap since the newest sample read
+        // before it holds whatever the FIFO lost.
+        let mut restart_from = self.restart_from.take();
         for _ in 0..FIFO_READS_PER_STEP {
             let read = match imu.read_fifo(&mut buffer) {
                 Ok(read) => read,
@@ -283,7 +295,7 @@ impl Sampler {
                     break;
                 }
             };
-            if read.overflowed && self_test_from.is_none() {
+            if read.overflowed && self_test_from.is_none() && restart_from.is_none() {
                 self.framer.fifo_overflowed();
                 self.steps_lost(read.lost);
             }
@@ -297,6 +309,11 @@ impl Sampler {
                 if let Some(from) = self_test_from.take() {
                     self.self_test_ended(from, first_us);
                 }
+                if let Some(from) = restart_from.take() {
+                    let lost = periods_between(from, first_us, self.period_ns).saturating_sub(1);
+                    self.steps_lost(lost);
+                }
+                self.last_sample_us = first_us.wrapping_add(self.span_us(samples.len() - 1));
             }
             if self.mode == Mode::Calibrated && self.decimator.factor() == 1 && self.batch_frames {
                 for (i, chunk) in samples.chunks(MAX_BATCH).enumerate() {
@@ -317,8 +334,10 @@ impl Sampler {
                 break;
             }
         }
-        // No sample yet: the next step dates the self-test's end.
+        // No sample yet: the next step dates the self-test's end (or the
+        // restart's).
         self.self_test_from = self_test_from;
+        self.restart_from = restart_from;
         stepped
     }
 
@@ -457,14 +476,24 @@ impl Sampler {
         self.self_test_from = Some(self.uptime_us as u32);
     }
 
+    /// The chip went silent and was restarted (or is being: a stall, or
+    /// failed reads): in FIFO mode the samples it held and those it did not
+    /// make are gone. The first FIFO step that reads a sample again counts
+    /// the chip's periods from the newest sample read before to the first
+    /// read after (those two excluded) as lost (`overruns`, OVERRUN), as
+    /// [`Sampler::self_test_began`] does, and not again as an overflow.
+    /// Per sample ([`Sampler::step`]) the step monitor counts the gap.
+    pub fn chip_restarted(&mut self) {
+        if self.restart_from.is_none() {
+            self.restart_from = Some(self.last_sample_us);
+        }
+    }
+
     /// The chip is back: `first_us` is the time of the first sample read
     /// since the self-test began (see [`Sampler::self_test_began`]).
     #[cold]
     fn self_test_ended(&mut self, from: u32, first_us: u32) {
-        let elapsed_ns = u64::from(first_us.wrapping_sub(from)) * 1000;
-        let period_ns = u64::from(self.period_ns.max(1));
-        let periods = (elapsed_ns + period_ns / 2) / period_ns;
-        let lost = u32::try_from(periods.saturating_sub(1)).unwrap_or(u32::MAX);
+        let lost = periods_between(from, first_us, self.period_ns).saturating_sub(1);
         self.framer.self_test_ran(lost);
         self.totals.overruns = self.totals.overruns.wrapping_add(lost);
     }
@@ -540,6 +569,14 @@ fn div_1000(x: u64) -> u64 {
         remainder = partial % 1000;
     }
     quotient
+}
+
+/// Whole chip periods of `period_ns` from `from_us` to `to_us` (wrapping
+/// µs), rounded to the nearest: exact to the frames' own timestamps.
+fn periods_between(from_us: u32, to_us: u32, period_ns: u32) -> u32 {
+    let elapsed_ns = u64::from(to_us.wrapping_sub(from_us)) * 1000;
+    let period_ns = u64::from(period_ns.max(1));
+    u32::try_from((elapsed_ns + period_ns / 2) / period_ns).unwrap_or(u32::MAX)
 }
 
 #[cfg(test)]
