@@ -13,7 +13,7 @@ use std::collections::VecDeque;
 use model_support::*;
 use triad::device::{Outgoing, Sampler, SlotQueue};
 use triad::model::{BatchKernel, Corrector, Orientation};
-use triad::protocol::Flags;
+use triad::protocol::{Flags, Frame};
 use triad::protocol::{Mode, MAX_BATCH};
 use triad::sensor::{FifoImu, FifoRead, Imu, ImuScale, RawSample};
 
@@ -362,9 +362,10 @@ impl Imu for OneSample {
     }
 }
 
-#[test]
-fn per_sample_the_self_test_gap_is_counted_once_not_again_by_the_step_monitor() {
-    let (fifo, mut sampler, _) = setup(11);
+/// Per sample: a frame at 0, `away` done to the sampler, then frames 100
+/// and 101 periods later; the two frames after and the total overruns.
+fn per_sample_around(seed: u64, away: fn(&mut Sampler)) -> (Frame, Frame, u32) {
+    let (fifo, mut sampler, _) = setup(seed);
     let mut chip = OneSample(fifo.scale);
     let period_us = PERIOD_NS / 1000;
     let mut frame_at = |sampler: &mut Sampler, t: u32| match sampler.step(&mut chip, t) {
@@ -372,16 +373,22 @@ fn per_sample_the_self_test_gap_is_counted_once_not_again_by_the_step_monitor() 
         other => panic!("{other:?}"),
     };
     frame_at(&mut sampler, 0);
-    sampler.self_test_began();
-    // Back 100 periods later: the 99 between were not measured.
+    away(&mut sampler);
     let back = 100 * period_us;
-    let f = frame_at(&mut sampler, back);
+    let first = frame_at(&mut sampler, back);
+    let next = frame_at(&mut sampler, back + period_us);
+    (first, next, sampler.totals().overruns)
+}
+
+#[test]
+fn per_sample_the_self_test_gap_is_counted_once_not_again_by_the_step_monitor() {
+    // Back 100 periods later: the 99 between were not measured.
+    let (f, next, total) = per_sample_around(11, Sampler::self_test_began);
     assert!(f.flags.contains(Flags::SELF_TEST | Flags::OVERRUN));
     assert_eq!(f.overruns, 99);
-    let f = frame_at(&mut sampler, back + period_us);
-    assert_eq!(f.overruns, 0);
-    assert!(!f.flags.contains(Flags::SELF_TEST));
-    assert_eq!(sampler.totals().overruns, 99);
+    assert_eq!(next.overruns, 0);
+    assert!(!next.flags.contains(Flags::SELF_TEST));
+    assert_eq!(total, 99);
 }
 
 #[test]
@@ -492,19 +499,8 @@ fn a_restarted_chips_gap_is_counted_lost_once_in_the_first_batch_after() {
 
 #[test]
 fn per_sample_a_restarts_gap_is_the_step_monitors_alone() {
-    let (fifo, mut sampler, _) = setup(27);
-    let mut chip = OneSample(fifo.scale);
-    let period_us = PERIOD_NS / 1000;
-    let mut frame_at = |sampler: &mut Sampler, t: u32| match sampler.step(&mut chip, t) {
-        triad::device::StepOutcome::Frame(Outgoing::Data(f)) => f,
-        other => panic!("{other:?}"),
-    };
-    frame_at(&mut sampler, 0);
-    sampler.chip_restarted();
-    let back = 100 * period_us;
-    let f = frame_at(&mut sampler, back);
+    let (f, next, total) = per_sample_around(27, Sampler::chip_restarted);
     assert_eq!(f.overruns, 99);
-    let f = frame_at(&mut sampler, back + period_us);
-    assert_eq!(f.overruns, 0);
-    assert_eq!(sampler.totals().overruns, 99);
+    assert_eq!(next.overruns, 0);
+    assert_eq!(total, 99);
 }
