@@ -274,11 +274,45 @@ fn identify_reports_the_flash_stalls_since_the_last_reset_and_older_replies_read
     assert_eq!(info.counters.flash_stalls, 2);
     // Firmware from before the field: its reply ends after the sensor's
     // health, and reads as no stall; a cut field is not read as a count.
+    // (The failed restarts' 4 bytes follow it: cut those first.)
     let bytes = payload.as_slice();
     for cut in 1..=4 {
-        let older = DeviceInfo::parse(&bytes[..bytes.len() - cut]).unwrap();
+        let older = DeviceInfo::parse(&bytes[..bytes.len() - 4 - cut]).unwrap();
         assert_eq!(older.counters.flash_stalls, 0, "cut {cut}");
         assert_eq!(older.counters.commands, info.counters.commands, "cut {cut}");
+    }
+}
+
+#[test]
+fn identify_reports_failed_restarts_since_the_last_reset_and_older_replies_read_as_none() {
+    use triad::device::HealthTotals;
+    let mut device = Device::new(Some(RamFlash::new()));
+    assert_eq!(device.info(1).counters.sensor_restart_failures, 0);
+    let health = |restarts, restart_failures| HealthTotals {
+        stalls: 1,
+        restarts,
+        restart_failures,
+    };
+    device.counters.publish_health(&health(1, 6));
+    let c = device.info(2).counters;
+    assert_eq!((c.sensor_restarts, c.sensor_restart_failures), (1, 6));
+    device.ok(Command::ResetCounters, 3);
+    device.counters.publish_health(&health(2, 9));
+    let payload = device.ok(Command::Identify, 4);
+    let info = DeviceInfo::parse(payload.as_slice()).unwrap();
+    let c = info.counters;
+    assert_eq!((c.sensor_restarts, c.sensor_restart_failures), (1, 3));
+    // Firmware from before the field: its reply ends after the flash
+    // stalls and reads as no failed restart; a cut field is not a count.
+    let bytes = payload.as_slice();
+    for cut in 0..=4 {
+        let older = DeviceInfo::parse(&bytes[..bytes.len() - cut]).unwrap();
+        let expected = if cut == 0 { 3 } else { 0 };
+        assert_eq!(
+            older.counters.sensor_restart_failures, expected,
+            "cut {cut}"
+        );
+        assert_eq!(older.counters.sensor_restarts, 1, "cut {cut}");
     }
 }
 

@@ -25,7 +25,7 @@ use served_board::{test_dir, Clock, ServedBoard};
 use triad::protocol::{BatchFrame, CalibrationSource, Command, Counters, Packet, Status};
 use triad::protocol::{Flags, Frame};
 use triad_host::device::identify;
-use triad_host::device::link::LinkError;
+use triad_host::device::link::{Link, LinkError};
 
 /// The first window: from 0.3 s for 0.4 s of device time.
 const WINDOW_START_S: f64 = 0.3;
@@ -113,6 +113,45 @@ fn twice(kind: &str) -> Vec<String> {
         format!("{kind}@{WINDOW_START_S}+{WINDOW_S}"),
         format!("{kind}@{FOREVER_FROM_S}"),
     ]
+}
+
+/// Serves the FIFO firmware (8 kHz, a batch per 32 samples) with `faults`
+/// and reads batches until one at `until_s` of device time; the board and
+/// its link stay open for `identify`.
+fn serve_fifo_batches(
+    name: &str,
+    faults: &[String],
+    until_s: f64,
+) -> (
+    ServedBoard,
+    Link<Box<dyn serialport::SerialPort>>,
+    Vec<BatchFrame>,
+) {
+    let elf = served_board::env_path("TRIAD_FAULTS_FIFO_ELF");
+    let d = test_dir(name);
+    let board = ServedBoard::start_elf_with_faults(
+        &elf,
+        &d.join("storage.bin"),
+        Clock::Deterministic,
+        faults,
+    );
+    let mut link = board.link();
+    let mut batches: Vec<BatchFrame> = Vec::new();
+    while batches
+        .last()
+        .is_none_or(|f| f64::from(f.timestamp_us) * 1e-6 < until_s)
+    {
+        match link
+            .next_packet(Instant::now() + SILENCE)
+            .expect("reading the port")
+        {
+            Some(Ok(Packet::Batch(frame))) => batches.push(frame),
+            Some(Ok(_)) => {}
+            Some(Err(e)) => assert!(batches.is_empty(), "{name}: a damaged packet: {e:?}"),
+            None => panic!("{name}: the stream stopped; serve's log:\n{}", board.log()),
+        }
+    }
+    (board, link, batches)
 }
 
 impl Run {
@@ -270,7 +309,15 @@ fn a_nack_storm_costs_one_step_and_one_read_failure_per_failed_transaction() {
     println!("nack: {} frames; counters {c:?}", run.frames.len());
     assert_eq!(c.read_failures as u64, storm, "{c:?}");
     assert_eq!(c.overruns as u64, lost, "{c:?}");
-    assert_eq!((c.sensor_stalls, c.sensor_restarts), (0, 0), "{c:?}");
+    assert_eq!(
+        (
+            c.sensor_stalls,
+            c.sensor_restarts,
+            c.sensor_restart_failures
+        ),
+        (0, 0, 0),
+        "{c:?}"
+    );
 
     // A storm without end: reads fail every step, the firmware restarts
     // the chip after each 50 ms of them (each attempt failing too), and
@@ -285,6 +332,51 @@ fn a_nack_storm_costs_one_step_and_one_read_failure_per_failed_transaction() {
     let c = run.counters;
     println!("nack-endless: counters {c:?}");
     assert_eq!((c.sensor_stalls, c.sensor_restarts), (0, 0), "{c:?}");
+    assert!(c.sensor_restart_failures >= 1, "{c:?}");
+}
+
+#[test]
+#[ignore = "needs the emulated board: run by cargo xtask test"]
+fn a_nack_storm_in_fifo_mode_fails_reads_then_the_restarts_it_outlasts() {
+    // The chip's FIFO at 8 kHz, a read every 32 samples (4 ms): 50 ms of
+    // failed reads is 13 in a row, after which the firmware tries a restart.
+    // A storm of 30 failed transactions: 13 reads, a restart (failing at its
+    // first transaction), 13 reads, a restart, 2 reads; then the FIFO is read
+    // again. Each restart tried counts the gap since the newest sample read
+    // as lost, so the batches account for every period.
+    let storm = 30;
+    let faults = [format!("nack@{WINDOW_START_S}*{storm}")];
+    let (_board, mut link, batches) =
+        serve_fifo_batches("nack-fifo", &faults, WINDOW_START_S + 0.4);
+    let info = identify(&mut link).expect("identify after the storm");
+    let period_us = 1e6 / f64::from(info.sample_rate_hz);
+    // Every period between two batches' first samples is a sample the
+    // earlier carried or a step the later reported lost.
+    for pair in batches.windows(2) {
+        let (a, b) = (&pair[0], &pair[1]);
+        assert_eq!(b.sequence, a.sequence + 1, "a batch lost on the wire");
+        let periods = (f64::from(b.timestamp_us.wrapping_sub(a.timestamp_us)) / period_us).round();
+        assert_eq!(
+            periods as u64,
+            u64::from(a.count) + u64::from(b.overruns),
+            "unexplained gap between batches {} and {}",
+            a.sequence,
+            b.sequence
+        );
+    }
+    let lost: u64 = batches.iter().map(|f| u64::from(f.overruns)).sum();
+    let c = info.counters;
+    println!(
+        "nack-fifo: {} batches, {lost} samples lost; counters {c:?}",
+        batches.len()
+    );
+    assert_eq!(
+        (c.read_failures, c.sensor_restart_failures),
+        (28, 2),
+        "{c:?}"
+    );
+    assert_eq!((c.sensor_stalls, c.sensor_restarts), (0, 0), "{c:?}");
+    assert_eq!(u64::from(c.overruns), lost, "{c:?}");
 }
 
 #[test]
@@ -296,35 +388,12 @@ fn an_impossible_fifo_count_flushes_the_fifo_and_counts_its_watermark_lost() {
     // at least the watermark lost: the next batch is flagged FIFO_OVERFLOW
     // and counts it. Then the count is impossible to the end: no sample
     // comes, the link answers, the losses mount.
-    let elf = served_board::env_path("TRIAD_FAULTS_FIFO_ELF");
-    let d = test_dir("fifo-count");
     let faults = [
         format!("fifo-count@{WINDOW_START_S}+0.1"),
         format!("fifo-count@{FOREVER_FROM_S}"),
     ];
-    let board = ServedBoard::start_elf_with_faults(
-        &elf,
-        &d.join("storage.bin"),
-        Clock::Deterministic,
-        &faults,
-    );
-    let mut link = board.link();
-    let mut batches: Vec<BatchFrame> = Vec::new();
-    let until = FOREVER_FROM_S - 0.05;
-    while batches
-        .last()
-        .is_none_or(|f| f64::from(f.timestamp_us) * 1e-6 < until)
-    {
-        match link
-            .next_packet(Instant::now() + SILENCE)
-            .expect("reading the port")
-        {
-            Some(Ok(Packet::Batch(frame))) => batches.push(frame),
-            Some(Ok(_)) => {}
-            Some(Err(e)) => assert!(batches.is_empty(), "a damaged packet: {e:?}"),
-            None => panic!("the stream stopped; serve's log:\n{}", board.log()),
-        }
-    }
+    let (_board, mut link, batches) =
+        serve_fifo_batches("fifo-count", &faults, FOREVER_FROM_S - 0.05);
     let watermark = 32;
     let window = |f: &&BatchFrame| {
         let t = f64::from(f.timestamp_us) * 1e-6;

@@ -539,6 +539,9 @@ impl<F: NorFlash> State<F> {
         c.sensor_stalls = now.sensor_stalls.wrapping_sub(b.sensor_stalls);
         c.sensor_restarts = now.sensor_restarts.wrapping_sub(b.sensor_restarts);
         c.flash_stalls = now.flash_stalls.wrapping_sub(b.flash_stalls);
+        c.sensor_restart_failures = now
+            .sensor_restart_failures
+            .wrapping_sub(b.sensor_restart_failures);
         // This command is counted once its reply is made.
         c.commands = self.commands.wrapping_add(1);
         c.command_errors = self.errors;

@@ -37,6 +37,7 @@ pub struct SharedCounters {
     rx_overflows: AtomicU32,
     sensor_stalls: AtomicU32,
     sensor_restarts: AtomicU32,
+    sensor_restart_failures: AtomicU32,
     flash_stalls: AtomicU32,
     uptime_ms: AtomicU32,
     /// What each task costs.
@@ -54,6 +55,7 @@ impl SharedCounters {
             rx_overflows: AtomicU32::new(0),
             sensor_stalls: AtomicU32::new(0),
             sensor_restarts: AtomicU32::new(0),
+            sensor_restart_failures: AtomicU32::new(0),
             flash_stalls: AtomicU32::new(0),
             uptime_ms: AtomicU32::new(0),
             load: LoadCounters::new(),
@@ -73,12 +75,14 @@ impl SharedCounters {
             .store(totals.read_failures, Ordering::Relaxed);
     }
 
-    /// Publishes the data-ready task's sensor stalls and restarts (its
-    /// writer only).
+    /// Publishes the data-ready task's sensor stalls, restarts and failed
+    /// restarts (its writer only).
     pub fn publish_health(&self, health: &HealthTotals) {
         self.sensor_stalls.store(health.stalls, Ordering::Relaxed);
         self.sensor_restarts
             .store(health.restarts, Ordering::Relaxed);
+        self.sensor_restart_failures
+            .store(health.restart_failures, Ordering::Relaxed);
     }
 
     /// Publishes the board's count of flash operations that stalled the
@@ -112,6 +116,7 @@ impl SharedCounters {
             rx_overflows: self.rx_overflows.load(Ordering::Relaxed),
             sensor_stalls: self.sensor_stalls.load(Ordering::Relaxed),
             sensor_restarts: self.sensor_restarts.load(Ordering::Relaxed),
+            sensor_restart_failures: self.sensor_restart_failures.load(Ordering::Relaxed),
             flash_stalls: self.flash_stalls.load(Ordering::Relaxed),
         }
     }

@@ -10,7 +10,7 @@
 //!   a check, and again every [`STALL_US`] while the stall lasts.
 //! - [`SensorHealth`], in the data-ready task: counts each stall once, asks
 //!   for a restart on every check of a stall and after [`STALL_US`] worth
-//!   of failed reads in a row, and counts the restarts that worked. A
+//!   of failed reads in a row, and counts the restarts that worked and those that did not. A
 //!   restart finds the chip by its identity and configures it again (the
 //!   driver's `start_with`): what a chip back from a brown-out needs.
 //!
@@ -33,6 +33,10 @@ pub struct HealthTotals {
     /// Times the chip was found again by its identity and configured (or
     /// found after start-up, when none answered at start).
     pub restarts: u32,
+    /// Restarts tried that did not work: the chip did not answer with its
+    /// identity or did not take its configuration (each stops at its first
+    /// failed transaction).
+    pub restart_failures: u32,
 }
 
 /// Periods of `period_us` in [`STALL_US`], rounded up, at least
@@ -127,6 +131,8 @@ impl SensorHealth {
     pub fn restarted(&mut self, ok: bool) {
         if ok {
             self.totals.restarts = self.totals.restarts.wrapping_add(1);
+        } else {
+            self.totals.restart_failures = self.totals.restart_failures.wrapping_add(1);
         }
     }
 
@@ -177,7 +183,8 @@ mod tests {
             *h.totals(),
             HealthTotals {
                 stalls: 1,
-                restarts: 1
+                restarts: 1,
+                restart_failures: 1
             }
         );
         assert!(!h.read(true));

@@ -128,6 +128,10 @@ pub struct Counters {
     /// calibration, sampling pauses for each (0 from a board whose flash
     /// does not stall, and from firmware that does not send it).
     pub flash_stalls: u32,
+    /// Restarts the firmware tried that did not work (the chip did not
+    /// answer with its identity, or refused its configuration); 0 from
+    /// firmware that does not send it.
+    pub sensor_restart_failures: u32,
 }
 
 impl Load {
@@ -253,6 +257,7 @@ impl DeviceInfo {
         w.u8(self.stored_reason as u8);
         w.u32(c.sensor_stalls).u32(c.sensor_restarts);
         w.u32(c.flash_stalls);
+        w.u32(c.sensor_restart_failures);
         let len = w.len();
         p.set_len(len);
         p
@@ -286,6 +291,7 @@ impl DeviceInfo {
             sensor_stalls: 0,
             sensor_restarts: 0,
             flash_stalls: 0,
+            sensor_restart_failures: 0,
         };
         let scale = RawScale {
             accel_si_per_lsb: r.f32(),
@@ -324,6 +330,14 @@ impl DeviceInfo {
             let stalls = r.u32();
             if !r.ran_short() {
                 counters.flash_stalls = stalls;
+            }
+        }
+        // Added after the flash stalls: absent from older firmware's reply.
+        if let Some(failed) = rest.get(13..) {
+            let mut r = Reader::new(failed);
+            let failures = r.u32();
+            if !r.ran_short() {
+                counters.sensor_restart_failures = failures;
             }
         }
         Some(DeviceInfo {

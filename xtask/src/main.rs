@@ -20,7 +20,13 @@ use clap::{Parser, Subcommand};
 macro_rules! note {
     ($($arg:tt)*) => {{
         use std::io::Write as _;
-        let _ = writeln!(std::io::stderr(), $($arg)*);
+        // The whole line in one write: QEMU shares this stderr, and a line
+        // written a piece at a time (stderr is unbuffered) can be cut by
+        // QEMU's own ("-chardev …: waiting for connection"), which a script
+        // reading "link is PORT" then takes for the port.
+        let mut line = format!($($arg)*);
+        line.push('\n');
+        let _ = std::io::stderr().write_all(line.as_bytes());
     }};
 }
 

@@ -42,7 +42,9 @@ impl<U: Deref<Target = pac::usart1::RegisterBlock>> LinkRx for SerialRx<U> {
         None
     }
 
+    /// Every queued byte goes at once: the ring is always empty after.
     fn transmit(&mut self) -> bool {
-        self.tx.drain(&self.usart)
+        self.tx.drain(&self.usart);
+        true
     }
 }

@@ -140,9 +140,9 @@ impl<U: Deref<Target = pac::usart1::RegisterBlock>> SerialTx<U> {
 
 impl TxDrain {
     /// Writes the queued bytes to `usart` (QEMU's takes each at once: no
-    /// TXE to wait for); then stops the transmit interrupt and returns
-    /// true (the ring is empty).
-    pub fn drain(&mut self, usart: &pac::usart1::RegisterBlock) -> bool {
+    /// TXE to wait for), which empties the ring; then stops the transmit
+    /// interrupt.
+    pub fn drain(&mut self, usart: &pac::usart1::RegisterBlock) {
         let written = WRITTEN.load(Ordering::Acquire);
         let mut released = RELEASED.load(Ordering::Relaxed);
         while let Some(run) = Ring::next_run(written, released) {
@@ -157,6 +157,5 @@ impl TxDrain {
         RELEASED.store(released, Ordering::Release);
         usart.cr1().modify(|_, w| w.txeie().clear_bit());
         // Bytes queued since `written` was read pend this interrupt again.
-        true
     }
 }

@@ -60,6 +60,11 @@ pub fn render(info: &DeviceInfo, place: &str) -> String {
     outln!(out, "rx overflows: {}", c.rx_overflows);
     outln!(out, "sensor stalls: {}", c.sensor_stalls);
     outln!(out, "sensor restarts: {}", c.sensor_restarts);
+    outln!(
+        out,
+        "sensor restart failures: {}",
+        c.sensor_restart_failures
+    );
     outln!(out, "flash stalls: {}", c.flash_stalls);
     let l = &info.load;
     // Each task's share, and its cycles per streamed frame (what a task
