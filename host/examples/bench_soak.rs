@@ -11,11 +11,14 @@
 //! gap in periods = the samples the frames between carried, one per data
 //! frame and a batch's count, + the `overruns` they reported: no
 //! unexplained gap). At the end, every device counter accounted for: steps
-//! lost = the frames' `overruns`; stalls = the silencing faults; the NACK
-//! storms' failed transactions = read failures + failed restarts (a storm
-//! that outlasts 50 ms of failed reads, as 30 reads do with the chip's FIFO
-//! at W = 16, also fails the restarts the firmware tries meanwhile, each at
-//! its first transaction); nothing dropped, no received byte lost; and the
+//! lost = the frames' `overruns`; stalls = the silencing faults; each NACK
+//! storm's failed transactions = the read failures + failed restarts that
+//! the `identify`s around it saw (a storm that outlasts 50 ms of failed
+//! reads, as 30 reads do with the chip's FIFO at W = 16, also fails the
+//! restarts the firmware tries meanwhile, each at its first transaction;
+//! a silencing fault's restarts fail too, while the chip is away, so the
+//! failed restarts are counted by when they happened), and no read failure
+//! outside the storms; nothing dropped, no received byte lost; and the
 //! queues' high-water marks from the firmware's log.
 //!
 //! What bounds its speed: QEMU, not the host tools (serve and this reader
@@ -94,6 +97,48 @@ fn schedule(every: f64) -> Vec<String> {
             }
         })
         .collect()
+}
+
+/// The device time after a NACK storm's start within which its failed
+/// transactions are done, s (30 transactions at W = 16 take about 0.5 s).
+const NACK_WINDOW_S: f64 = 2.0;
+
+/// Whether a NACK storm (kind 5) falls in part within `from..=to` s.
+fn nack_between(every: f64, from: f64, to: f64) -> bool {
+    let (first, period) = (5.5 * every, 6.0 * every);
+    let n = ((from - NACK_WINDOW_S - first) / period).ceil().max(0.0);
+    first + n * period <= to
+}
+
+/// The bus failures between consecutive `identify`s, put to the NACK storms
+/// by device time: the read failures and failed restarts of an interval
+/// that overlaps a storm are its failed transactions; elsewhere no read
+/// should fail (a silencing fault's failed restarts are not counted here).
+#[derive(Default)]
+struct FailureLedger {
+    last: Option<(f64, u32, u32)>,
+    in_storms: u64,
+    reads_elsewhere: u64,
+}
+
+impl FailureLedger {
+    fn identified(&mut self, info: &triad::protocol::DeviceInfo, every: f64) {
+        let c = &info.counters;
+        let now = (
+            f64::from(info.uptime_ms) * 1e-3,
+            c.read_failures,
+            c.sensor_restart_failures,
+        );
+        if let Some((then, reads, restarts)) = self.last.replace(now) {
+            let reads = u64::from(now.1.wrapping_sub(reads));
+            let restarts = u64::from(now.2.wrapping_sub(restarts));
+            if nack_between(every, then, now.0) {
+                self.in_storms += reads + restarts;
+            } else {
+                self.reads_elsewhere += reads;
+            }
+        }
+    }
 }
 
 /// Occurrences of kind `k` that have ended by `t` s.
@@ -224,19 +269,27 @@ impl Accounting {
     }
 }
 
-/// One command storm; the commands that failed.
-fn storm<P: std::io::Read + std::io::Write>(link: &mut Link<P>, blob: &[u8], n: u64) -> u64 {
+/// One command storm; the commands that failed, and what its `identify` said.
+fn storm<P: std::io::Read + std::io::Write>(
+    link: &mut Link<P>,
+    blob: &[u8],
+    n: u64,
+) -> (u64, Option<triad::protocol::DeviceInfo>) {
     let mut failed = 0;
+    let info = identify(link);
     let mut check = |what: &str, ok: Result<(), String>| {
         if let Err(e) = ok {
             failed += 1;
             eprintln!("soak: {what} failed: {e}");
         }
     };
-    check(
-        "identify",
-        identify(link).map(drop).map_err(|e| e.to_string()),
-    );
+    let info = match info {
+        Ok(info) => Some(info),
+        Err(e) => {
+            check("identify", Err(e.to_string()));
+            None
+        }
+    };
     check(
         "mode",
         link.command(&Command::SetMode(Mode::Calibrated))
@@ -280,7 +333,7 @@ fn storm<P: std::io::Read + std::io::Write>(link: &mut Link<P>, blob: &[u8], n: 
                 .map_err(|e| e.to_string()),
         );
     }
-    failed
+    (failed, info)
 }
 
 /// CPU seconds (user + system) so far of each process in the tree from
@@ -365,6 +418,8 @@ fn main() {
     let mut link = Link::new(serial, settings, format!("on {port}"), 0x5000);
     let info = identify(&mut link).expect("identify at start");
     let period_us = 1e6 / f64::from(info.sample_rate_hz);
+    let mut failures = FailureLedger::default();
+    failures.identified(&info, every);
 
     let started = Instant::now();
     let mut acc = Accounting::default();
@@ -392,7 +447,11 @@ fn main() {
             Err(e) => panic!("soak: the link failed at {:.1} s: {e}", acc.seconds()),
         }
         if acc.seconds() >= next_storm {
-            failed += storm(&mut link, &blob, storms);
+            let (storm_failed, info) = storm(&mut link, &blob, storms);
+            failed += storm_failed;
+            if let Some(info) = info {
+                failures.identified(&info, every);
+            }
             storms += 1;
             next_storm += storm_every;
         }
@@ -412,6 +471,7 @@ fn main() {
     }
     let wall = started.elapsed().as_secs_f64();
     let end = identify(&mut link).expect("identify at the end");
+    failures.identified(&end, every);
     let stats = *link.stats();
     let cpu = cpu_seconds(child.id());
     let _ = child.kill();
@@ -458,9 +518,14 @@ fn main() {
         ),
         ("stalls", u64::from(c.sensor_stalls), silencing),
         (
-            "failed transactions: read failures + failed restarts",
-            u64::from(c.read_failures) + u64::from(c.sensor_restart_failures),
+            "the NACK storms' failed transactions: read failures + failed restarts around them",
+            failures.in_storms,
             storms_of_nack * u64::from(STORM_TRANSACTIONS),
+        ),
+        (
+            "read failures outside the NACK storms",
+            failures.reads_elsewhere,
+            0,
         ),
         ("frames dropped", u64::from(c.frames_dropped), 0),
         ("received bytes lost", u64::from(c.rx_overflows), 0),
