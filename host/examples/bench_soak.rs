@@ -27,7 +27,7 @@
 //! is the chip model's ~12 M instructions (11.9 k per sample: the demo
 //! motion's one software sine and the quantisation, in `f64`, which the
 //! Cortex-M4F does in software) and the link's bytes, which QEMU 7.2's
-//! STM32 USART hands its socket one system call each: 53 kB per device
+//! STM32 USART hands its link one system call each: 53 kB per device
 //! second in data frames, 14.7 kB in batch frames (`--soak-watermark 16`,
 //! TRIAD_SOAK_* below unchanged). Measured on the shared 2-core machine
 //! (load 7–12): W = 1 4.4–5.2 device seconds per QEMU CPU second (24 h in

@@ -22,7 +22,7 @@ macro_rules! note {
         use std::io::Write as _;
         // The whole line in one write: QEMU shares this stderr, and a line
         // written a piece at a time (stderr is unbuffered) can be cut by
-        // QEMU's own ("-chardev …: waiting for connection"), which a script
+        // QEMU's own (its "waiting for connection" when the link was a socket), which a script
         // reading "link is PORT" then takes for the port.
         let mut line = format!($($arg)*);
         line.push('\n');
@@ -40,6 +40,7 @@ mod first_run;
 mod hil;
 mod pty;
 mod qemu;
+mod qemu_link;
 mod serve;
 mod setup;
 mod size;

@@ -6,15 +6,14 @@
 //! and idle time is skipped, so runs are deterministic and faster than real
 //! time (DESIGN.md, "The emulated board").
 
+use crate::qemu_link::{Fifos, Link};
 use crate::{defmt_log, setup};
 use anyhow::{bail, Context, Result};
 use std::fs::File;
 use std::io::{Read, Write};
-use std::os::unix::net::UnixStream;
 use std::os::unix::process::CommandExt;
 use std::path::{Path, PathBuf};
 use std::process::{Child, ChildStdout, Command, ExitStatus, Stdio};
-use std::time::{Duration, Instant};
 
 /// Where the decoded CSV goes.
 pub enum Sink {
@@ -50,9 +49,6 @@ impl Stop {
     }
 }
 
-/// How long QEMU may take to open its serial socket.
-const SOCKET_TIMEOUT: Duration = Duration::from_secs(20);
-
 /// How QEMU's virtual time runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Clock {
@@ -64,24 +60,21 @@ pub enum Clock {
     RealTime,
 }
 
-/// The emulated board running: QEMU, and its link USART's socket.
+/// The emulated board running: QEMU, and its link USART's FIFOs.
 pub struct Board {
     qemu: QemuGuard,
     /// The link: bytes the firmware sends, and bytes it receives.
-    pub link: UnixStream,
+    pub link: Link,
 }
 
 impl Board {
     /// Starts QEMU's netduinoplus2 on `elf` with `clock`, the semihosting
-    /// command line `semihosting_args` (empty: none), and connects to the
-    /// link's socket.
+    /// command line `semihosting_args` (empty: none), and opens the link.
     pub fn start(elf: &Path, clock: Clock, semihosting_args: &[String]) -> Result<Board> {
         let dir = elf.parent().context("firmware path has a parent")?;
-        let socket = dir.join(format!("serial-{}-{}.sock", std::process::id(), unique()));
-        let _ = std::fs::remove_file(&socket);
-        let mut qemu = QemuGuard(spawn_qemu(elf, &socket, clock, semihosting_args)?);
-        let link = connect(&socket, &mut qemu.0)?;
-        let _ = std::fs::remove_file(&socket);
+        let fifos = Fifos::make(&dir.join(format!("link-{}-{}", std::process::id(), unique())))?;
+        let mut qemu = QemuGuard(spawn_qemu(elf, fifos.path(), clock, semihosting_args)?);
+        let link = fifos.connect(&mut qemu.0)?;
         Ok(Board { qemu, link })
     }
 
@@ -126,7 +119,7 @@ pub fn stream_with_log(
     let log = board.take_log()?;
     let log_thread = std::thread::spawn(move || defmt_log::collect(&elf_bytes, log));
 
-    let mut serial = board.link.try_clone().context("cloning the link socket")?;
+    let mut serial = board.link.try_clone().context("cloning the link")?;
     let (mut decoder_cmd, raw_file) = match &sink {
         Sink::Inherit => (Command::new(triad), None),
         Sink::Files { raw, csv } => {
@@ -208,19 +201,11 @@ pub fn command_with(
     command
 }
 
-fn spawn_qemu(
-    elf: &Path,
-    socket: &Path,
-    clock: Clock,
-    semihosting_args: &[String],
-) -> Result<Child> {
+fn spawn_qemu(elf: &Path, link: &Path, clock: Clock, semihosting_args: &[String]) -> Result<Child> {
     let mut command = command_with("netduinoplus2", elf, clock, semihosting_args);
     command
         .arg("-chardev")
-        .arg(format!(
-            "socket,id=stream,path={},server=on,wait=on",
-            socket.display()
-        ))
+        .arg(format!("pipe,id=stream,path={}", link.display()))
         // The first -serial is USART1 (unused), the second USART2: the link.
         .args(["-serial", "null", "-serial", "chardev:stream"])
         .stdout(Stdio::piped());
@@ -233,27 +218,6 @@ fn spawn_qemu(
         });
     }
     command.spawn().context("starting QEMU")
-}
-
-fn connect(socket: &Path, qemu: &mut Child) -> Result<UnixStream> {
-    let start = Instant::now();
-    loop {
-        match UnixStream::connect(socket) {
-            Ok(stream) => return Ok(stream),
-            Err(error) => {
-                if let Some(status) = qemu.try_wait()? {
-                    bail!("QEMU exited ({status}) before opening {}", socket.display());
-                }
-                if start.elapsed() > SOCKET_TIMEOUT {
-                    bail!(
-                        "QEMU did not open {} within {SOCKET_TIMEOUT:?}: {error}",
-                        socket.display()
-                    );
-                }
-                std::thread::sleep(Duration::from_millis(20));
-            }
-        }
-    }
 }
 
 /// Kills QEMU when dropped, so an error path never leaves it running.

@@ -1,6 +1,6 @@
 //! `cargo xtask serve`: the emulated board served like hardware. QEMU runs
 //! the firmware paced to real time (no `-icount`: virtual time is the host's
-//! clock), its link USART on a socket that xtask pumps to and from a
+//! clock), its link USART on a pair of FIFOs that xtask pumps to and from a
 //! pseudo-terminal; the pty's path is the first line on stdout, so that
 //! `triad device --port PATH` and `triad decode --port PATH` work against it
 //! exactly as against a board. It runs until killed (Ctrl-C), or until the
@@ -125,15 +125,15 @@ pub fn serve(
         }
     );
 
-    let mut from_device = board.link.try_clone().context("cloning the link socket")?;
-    let mut to_device = board.link.try_clone().context("cloning the link socket")?;
+    let mut from_device = board.link.try_clone().context("cloning the link")?;
+    let mut to_device = board.link.try_clone().context("cloning the link")?;
     let mut master_out = pty.master.try_clone().context("cloning the pty")?;
     let mut master_in = pty.master.try_clone().context("cloning the pty")?;
     let unread = pty.unread()?;
     // Device → host: in real time, when the pty is full (no client, or one
     // not reading), what it holds unread is dropped, so the newest bytes (a
     // reply) get in. Deterministic, the pump waits for the client instead:
-    // QEMU then waits on its socket and the board's virtual time with it,
+    // QEMU then waits on its full pipe and the board's virtual time with it,
     // so a slow host loses nothing, as the instruction clock promises.
     std::thread::spawn(move || -> Result<()> {
         // No more than the pty takes: in real time a chunk that does not
@@ -148,12 +148,12 @@ pub fn serve(
                 qemu::Clock::RealTime => to_client(&mut master_out, &unread, &buffer[..n])?,
                 qemu::Clock::Deterministic => {
                     to_client_waiting(&mut master_out, &buffer[..n])?;
-                    // QEMU's USART writes the socket a byte at a time:
+                    // QEMU's USART writes the pipe a byte at a time:
                     // woken for each few bytes, this thread and the
                     // client cost two context switches apiece, which
                     // bound the board's speed on a busy machine. Letting
                     // the bytes gather first costs the board nothing (its
-                    // socket holds far more than it sends meanwhile) and
+                    // pipe, 1 MiB, holds far more than it sends meanwhile) and
                     // a reply at most this much wall time.
                     if n < buffer.len() {
                         std::thread::sleep(GATHER);
