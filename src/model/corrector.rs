@@ -325,10 +325,13 @@ impl Corrector {
     }
 
     /// The loop of [`Self::correct_batch`] without G, a function of its own
-    /// so that its coefficients have the registers to themselves.
+    /// so that its coefficients have the registers to themselves. The
+    /// outputs lead the zip: led by the inputs, LLVM addresses each of the
+    /// seven stores from a negative count (+8 instructions per sample on
+    /// the Cortex-M4F).
     #[inline(never)]
     fn batch_without_g(&self, raw: &[RawSample], out: &mut [Sample]) {
-        for (r, o) in raw.iter().zip(out.iter_mut()) {
+        for (o, r) in out.iter_mut().zip(raw) {
             *o = self.correct_without_g(r);
         }
     }
@@ -336,7 +339,7 @@ impl Corrector {
     /// The loop of [`Self::correct_batch`] with G.
     #[inline(never)]
     fn batch_with_g(&self, s: &GSensitivityState, raw: &[RawSample], out: &mut [Sample]) {
-        for (r, o) in raw.iter().zip(out.iter_mut()) {
+        for (o, r) in out.iter_mut().zip(raw) {
             *o = self.correct_with_g(s, r);
         }
     }

@@ -52,7 +52,7 @@ fn bit_15(x: i32) -> u32 {
 /// 2¹⁵; for −32767, t = −2³⁰ + 1), and K + 2t exceeds 2³¹ − 1 only for
 /// x = 32767 (2t = 2³¹ − 2; for 32766, 2t = 2³¹ − 65540).
 #[cfg(any(triad_dsp, test))]
-const QDADD_K: i32 = 2;
+pub(super) const QDADD_K: i32 = 2;
 
 // Why inline assembly: the DSP extension's saturating arithmetic sets the
 // sticky Q flag, so the test costs two instructions per axis and no
