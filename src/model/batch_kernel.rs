@@ -15,7 +15,7 @@
 
 use super::corrector::{counts_f32, ClipFlags, Corrector};
 #[cfg(triad_fpu)]
-use super::fused_pass::FusedCoefficients;
+use super::fused_pass::FusedPass;
 use super::limit_codes::LimitCodes;
 use super::Triad;
 use crate::sensor::{CodeRange, RawSample, TriadScale};
@@ -272,10 +272,9 @@ pub struct BatchKernel {
     path: Path,
     /// The accelerometer's and the gyroscope's codes, for the clip flags.
     codes: [CodeRange; 2],
-    /// Both triads' K and k for the Cortex-M4F's loop ([`Path::NeverClips`]
-    /// without a g-sensitivity).
+    /// Both triads' coefficients for the Cortex-M4F's loop ([`Path::NeverClips`]).
     #[cfg(triad_fpu)]
-    fused: FusedCoefficients,
+    fused: FusedPass,
 }
 
 impl BatchKernel {
@@ -295,7 +294,7 @@ impl BatchKernel {
             gyro_lsb,
             codes,
             #[cfg(triad_fpu)]
-            fused: FusedCoefficients::new((accel.k, accel.offset), (gyro.k, gyro.offset)),
+            fused: FusedPass::new((accel.k, accel.offset), (gyro.k, gyro.offset), gyro.cross),
             // The passes' range proofs and limit-code test are a 16-bit
             // chip's: wider codes (the 20-bit FIFO) go sample by sample.
             path: if codes != [CodeRange::I16; 2] {
@@ -333,7 +332,8 @@ impl BatchKernel {
         let cross = self.gyro.cross.is_some();
         match self.path {
             #[cfg(triad_fpu)]
-            Path::NeverClips if !cross => self.fused.correct(raw, out),
+            Path::NeverClips => self.fused.correct(raw, out),
+            #[cfg(not(triad_fpu))]
             Path::NeverClips => ClipFlags {
                 accel: self.accel.pass::<0, false, false>(raw, out),
                 gyro: if cross {
