@@ -108,16 +108,16 @@ impl CodeRange {
     /// y ≥ D (D = high − low); z = y ^ (y >> 31) is −y − 1 for y < 0 and y
     /// else, so the test is z ≥ D − 1 on the negative side and z ≥ D on the
     /// other, where y's parity (that of low + high) is never D − 1's, so
-    /// z ≥ D − 1 decides both. Then z + 2³¹ − (D − 1) reaches bit 31
-    /// exactly there (z < 2³¹). Exact for |low|, |high| and |v| below 2³⁰.
+    /// z ≥ D − 1 decides both. Then D − 2 − z (0 ≤ z < 2³¹) is negative
+    /// exactly there: bit 31. Exact for |low|, |high| and |v| below 2³⁰.
     #[cfg(any(triad_dsp, test))]
     #[inline(always)]
     fn outside_reflected(&self, v: &[i32; 3]) -> u32 {
         let sum = self.low.wrapping_add(self.high);
-        let reach = (1u32 << 31).wrapping_sub((self.high.wrapping_sub(self.low) - 1) as u32);
+        let inside = self.high.wrapping_sub(self.low).wrapping_sub(2);
         let bit_31 = |x: i32| {
             let y = x.wrapping_mul(2).wrapping_sub(sum);
-            ((y ^ (y >> 31)) as u32).wrapping_add(reach)
+            inside.wrapping_sub(y ^ (y >> 31)) as u32
         };
         (bit_31(v[0]) | bit_31(v[1]) | bit_31(v[2])) >> 31
     }
@@ -192,7 +192,7 @@ mod tests {
             }
         }
         for low in [-(1 << 29), -70_000, -32_769, -32_768, -5, 0, 3] {
-            for width in [2, 3, 4, 65_535, 65_536, 1 << 20, (1 << 29) + 1] {
+            for width in [1, 2, 3, 4, 65_535, 65_536, 1 << 20, (1 << 29) + 1] {
                 let codes = CodeRange {
                     low,
                     high: low + width,
