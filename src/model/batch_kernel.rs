@@ -253,7 +253,8 @@ impl ScaledTriad {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Path {
     /// No input can clip a value ([`ScaledTriad::never_clips`]): one pass
-    /// per triad, the flags from the raw limit codes only.
+    /// per triad, the flags from the raw limit codes only (on the
+    /// Cortex-M4F one loop for both triads: src/model/fused_pass.rs).
     NeverClips,
     /// One pass per triad with the exact range test.
     Fast,
