@@ -37,13 +37,14 @@ impl LimitCodes {
     }
 }
 
-/// Bit 15 set exactly for the limit codes of an i16 `x`: x ^ (x >> 15) is
-/// x for x ≥ 0 and −x − 1 below, so 32767 for both limits and less for any
-/// other code; adding 1 reaches 2¹⁵ only from there.
+#[cfg(any(not(triad_dsp), test))]
+use crate::sensor::CodeRange;
+
+/// Bit 15 set exactly for the limit codes of an i16 `x`.
 #[cfg(any(not(triad_dsp), test))]
 #[inline(always)]
 fn bit_15(x: i32) -> u32 {
-    ((x ^ (x >> 15)) + 1) as u32
+    CodeRange::i16_limit_bit(x)
 }
 
 /// `QDADD t, K, t` on t = x·(2¹⁵ + 1) (one `add` with shifted operand,

@@ -87,6 +87,23 @@ impl CodeRange {
         out != 0
     }
 
+    /// [`CodeRange::I16`]'s `at_limit` for i16 codes, in three instructions
+    /// per axis ([`Self::i16_limit_bit`]).
+    #[inline(always)]
+    pub fn at_i16_limit(v: &[i32; 3]) -> bool {
+        let bit = Self::i16_limit_bit;
+        (bit(v[0]) | bit(v[1]) | bit(v[2])) & (1 << 15) != 0
+    }
+
+    /// Bit 15 set exactly for the limit codes of an i16 `x` (32767 and
+    /// −32768): x ^ (x >> 15) is x for x ≥ 0 and −x − 1 below, so 32767 for
+    /// both limits and less for any other code; adding 1 reaches 2¹⁵ only
+    /// from there.
+    #[inline(always)]
+    pub fn i16_limit_bit(x: i32) -> u32 {
+        ((x ^ (x >> 15)) + 1) as u32
+    }
+
     /// Non-zero when an axis of `v` is at the limit: with base = low + 1, v
     /// is strictly inside exactly when v − base, as u32, is below
     /// high − low − 1 (a code below base wraps to a large u32). The form
@@ -184,6 +201,10 @@ mod tests {
         };
         for x in -40_000..40_000 {
             check(CodeRange::I16, x);
+        }
+        for x in i32::from(i16::MIN)..=i32::from(i16::MAX) {
+            let limit = CodeRange::I16.at_limit(&[x; 3]);
+            assert_eq!(CodeRange::at_i16_limit(&[0, x, 1]), limit, "{x}");
         }
         let hires = crate::sensor::icm42688::config::high_resolution_scale();
         for codes in [hires.accel.codes, hires.gyro.codes] {
