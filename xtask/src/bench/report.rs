@@ -232,12 +232,12 @@ Why the targets are not all met:
   loads, conversions and stores of the axes, 4 accumulator starts, then 6
   coefficients reloaded from the stack (the 24 of K and k and the 2 of the
   temperature channel, with the converted inputs and the accumulators, do not
-  fit the 32 single-precision registers), about 26 instructions of clip
-  flags (the chip's code range, `CodeRange::at_limit`: an `rsb` and an
-  `eor` with shifted operands and an `add` per axis, two ORs, a shift and a
-  byte store per triad), about 5 for the temperature channel and 4 of
-  loop. Without clip flags and temperature the same loop is the
-  `fusion_f32` row.
+  fit the 32 single-precision registers), about 20 instructions of clip
+  flags (a 16-bit chip's test, chosen once per batch: an `eor` with
+  shifted operand and an `add` per axis, two ORs, a bit extract and a byte
+  store per triad; a chip's other code ranges take an `rsb` more per
+  axis), about 5 for the temperature channel and 4 of loop. Without clip
+  flags and temperature the same loop is the `fusion_f32` row.
 - `batch_f32_w*` on the Cortex-M4F (src/model/fused_pass.rs, within the
   target): one loop of inline assembly corrects both triads of a sample, its
   18 coefficients in s12-s29 for the whole batch. Per sample: 9 to load and
