@@ -228,6 +228,9 @@ impl Sampler {
 
     /// Re-folds the temperature terms at `temperature_c`, the batch kernel
     /// with them. A non-finite temperature is refused and the fold stays.
+    /// Out of line: the new kernel is built in this function's frame, not
+    /// in that of every step (a low-rate call).
+    #[inline(never)]
     fn refold(&mut self, temperature_c: f64) {
         if self.corrector.refold(temperature_c).is_ok() {
             self.kernel = BatchKernel::new(&self.corrector);

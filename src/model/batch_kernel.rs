@@ -14,6 +14,8 @@
 //! accelerometer's three), so the same holds.
 
 use super::corrector::{counts_f32, ClipFlags, Corrector};
+#[cfg(triad_fpu)]
+use super::fused_pass::FusedPass;
 use super::limit_codes::LimitCodes;
 use super::Triad;
 use crate::sensor::{CodeRange, RawSample, TriadScale};
@@ -251,7 +253,8 @@ impl ScaledTriad {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Path {
     /// No input can clip a value ([`ScaledTriad::never_clips`]): one pass
-    /// per triad, the flags from the raw limit codes only.
+    /// per triad, the flags from the raw limit codes only (on the
+    /// Cortex-M4F one loop for both triads: src/model/fused_pass.rs).
     NeverClips,
     /// One pass per triad with the exact range test.
     Fast,
@@ -270,6 +273,9 @@ pub struct BatchKernel {
     path: Path,
     /// The accelerometer's and the gyroscope's codes, for the clip flags.
     codes: [CodeRange; 2],
+    /// Both triads' coefficients for the Cortex-M4F's loop ([`Path::NeverClips`]).
+    #[cfg(triad_fpu)]
+    fused: FusedPass,
 }
 
 impl BatchKernel {
@@ -288,6 +294,8 @@ impl BatchKernel {
             accel_lsb,
             gyro_lsb,
             codes,
+            #[cfg(triad_fpu)]
+            fused: FusedPass::new((accel.k, accel.offset), (gyro.k, gyro.offset), gyro.cross),
             // The passes' range proofs and limit-code test are a 16-bit
             // chip's: wider codes (the 20-bit FIFO) go sample by sample.
             path: if codes != [CodeRange::I16; 2] {
@@ -316,9 +324,17 @@ impl BatchKernel {
     /// counts; as many as both hold), and gives the batch's clip flags: a
     /// triad is flagged when any of its raw axes is at the chip's limit code
     /// or any corrected value clipped to ±[`MAX_COUNTS`].
+    ///
+    /// Not inlined on the Cortex-M4F: it runs once per FIFO batch, and
+    /// inlined into a caller's loop the passes' coefficients would stay live
+    /// around its loop (which uses s0-s29) and be reloaded at each call.
+    #[cfg_attr(triad_fpu, inline(never))]
     pub fn correct(&self, raw: &[RawSample], out: &mut [[i16; 6]]) -> ClipFlags {
         let cross = self.gyro.cross.is_some();
         match self.path {
+            #[cfg(triad_fpu)]
+            Path::NeverClips => self.fused.correct(raw, out),
+            #[cfg(not(triad_fpu))]
             Path::NeverClips => ClipFlags {
                 accel: self.accel.pass::<0, false, false>(raw, out),
                 gyro: if cross {

@@ -37,13 +37,14 @@ impl LimitCodes {
     }
 }
 
-/// Bit 15 set exactly for the limit codes of an i16 `x`: x ^ (x >> 15) is
-/// x for x ≥ 0 and −x − 1 below, so 32767 for both limits and less for any
-/// other code; adding 1 reaches 2¹⁵ only from there.
+#[cfg(any(not(triad_dsp), test))]
+use crate::sensor::CodeRange;
+
+/// Bit 15 set exactly for the limit codes of an i16 `x`.
 #[cfg(any(not(triad_dsp), test))]
 #[inline(always)]
 fn bit_15(x: i32) -> u32 {
-    ((x ^ (x >> 15)) + 1) as u32
+    CodeRange::i16_limit_bit(x)
 }
 
 /// `QDADD t, K, t` on t = x·(2¹⁵ + 1) (one `add` with shifted operand,
@@ -52,7 +53,7 @@ fn bit_15(x: i32) -> u32 {
 /// 2¹⁵; for −32767, t = −2³⁰ + 1), and K + 2t exceeds 2³¹ − 1 only for
 /// x = 32767 (2t = 2³¹ − 2; for 32766, 2t = 2³¹ − 65540).
 #[cfg(any(triad_dsp, test))]
-const QDADD_K: i32 = 2;
+pub(super) const QDADD_K: i32 = 2;
 
 // Why inline assembly: the DSP extension's saturating arithmetic sets the
 // sticky Q flag, so the test costs two instructions per axis and no

@@ -16,6 +16,8 @@ pub mod corrector;
 pub mod fixed;
 pub mod fixed_narrow;
 pub mod fold;
+#[cfg(triad_fpu)]
+mod fused_pass;
 pub mod g_sensitivity;
 mod limit_codes;
 pub mod matrix;

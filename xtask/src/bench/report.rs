@@ -233,30 +233,27 @@ Why the targets are not all met:
   coefficients reloaded from the stack (the 24 of K and k and the 2 of the
   temperature channel, with the converted inputs and the accumulators, do not
   fit the 32 single-precision registers), about 20 instructions of clip
-  flags (an `eor` with shifted operand and an `add` per axis, two ORs, a
-  bit extract and a byte store per triad), about 5 for the temperature
-  channel and 4 of loop. Without clip flags and temperature the same loop is
-  the `fusion_f32` row.
-- `batch_f32_w*` on the Cortex-M4F (src/model/batch_kernel.rs): one pass
-  per triad keeps its 12 coefficients in registers. Per triad and sample:
-  2 loads, 3 `vmov` and 3 `vcvt` for the inputs, 3 accumulator copies and
-  9 `vmla` (the f32 kernel's order, so its bits), 3 `vadd` of the rounding
-  constant, 3 `vmov` and 3 `strh` (the count is the low half of the sum's
-  bits), 2 of loop: 31, or 62 per sample before any flag. The raw
-  limit-code flag is 2 per axis on the DSP extension (an `add` with
-  shifted operand and a `qdadd` that sets the sticky Q flag exactly at a
-  limit code, src/model/limit_codes.rs; the portable form is 3): 12 per
-  sample; the rest is the coefficients reloaded from the stack at each
-  call and the call. No range test runs when no input can clip (the usual
-  case: the frame's LSB leaves room beyond the chip's range); where one
-  could, it costs 4 per value more (`vmov`, `add`, `eor`, `orr` on the
-  f32's bits). Reaching 64 needs 18 fewer per sample, 3 per value, where
-  what is left to cut per triad is the 3 accumulator copies, the 3 moves
-  of the results to core registers (paired `vmov`s, which LLVM does not
-  emit, would halve them) and the 2 of loop (LLVM no longer unrolls the
-  loop with the assembly in it): at most about 14 per sample, so 64 also
-  needs the raw samples in another layout (i16 pairs: two axes per load
-  and per limit test).
+  flags (a 16-bit chip's test, chosen once per batch: an `eor` with
+  shifted operand and an `add` per axis, two ORs, a bit extract and a byte
+  store per triad; a chip's other code ranges take an `rsb` more per
+  axis), about 5 for the temperature channel and 4 of loop. Without clip
+  flags and temperature the same loop is the `fusion_f32` row.
+- `batch_f32_w*` on the Cortex-M4F (src/model/fused_pass.rs, within the
+  target): one loop of inline assembly corrects both triads of a sample, its
+  18 coefficients in s12-s29 for the whole batch. Per sample: 9 to load and
+  convert the six raw axes (a `vldm`, an `ldm` of the same words for the
+  flags, the pointer, 6 `vcvt`), one `vldm` of the six offsets as the rows'
+  starting sums, 18 `vmla` (the f32 kernel's order, so its bits), 6 `vcvtr`
+  (to the nearest count, ties to even; the count is the low half), 3 paired
+  `vmov` and 6 `strh`, 15 of raw limit-code flags (the accelerometer's 2
+  per axis into the sticky Q flag, an `add` with shifted operand and a
+  `qdadd`, src/model/limit_codes.rs; the gyroscope's 3 per axis into a
+  bit, as Q holds one flag) and 2 of loop: 60; the call, the flags' setup
+  and reading are the rest. With G (`batch_f32_w32_g`, 27 coefficients)
+  the gyroscope's K stays in registers and one `vldm` per sample loads
+  each triad's offsets with K_a or C: 71 in the loop. A kernel whose values
+  could clip, or a chip with 20-bit codes, runs the portable passes (one
+  per triad, 37 instructions per triad and sample before the range test).
 - `full_fixed` on the Cortex-M0 (src/model/fixed_narrow.rs): only 32-bit
   `MULS`, two per term (a coefficient's high and low halves), and each row
   is 22 instructions of ARMv6-M assembly (LLVM keeps the coefficients as
