@@ -65,6 +65,19 @@ pub struct Undecodable {
     pub imu: bool,
 }
 
+/// What a worker makes of the messages of a chunk (or of a run of
+/// messages outside chunks, on the reading thread), one at a time in the
+/// file's order: the decoded messages ([`Wanted`]), or the rows a command
+/// takes straight from them.
+pub trait Decode: Sync {
+    /// What a chunk gives.
+    type Batch: Default + Send;
+    /// Takes the message `data` of channel `channel`, logged at `log_time`
+    /// (ns), into `batch`; false when the batch must stop there (its
+    /// message did not decode, or failed a check).
+    fn message(&self, channel: u16, log_time: u64, data: &[u8], batch: &mut Self::Batch) -> bool;
+}
+
 /// What a chunk (or a run of messages outside chunks) gives: its decoded
 /// messages in order, ended by the first that does not decode.
 #[derive(Debug, Default)]
@@ -75,30 +88,23 @@ pub struct Batch {
     pub undecodable: Option<Undecodable>,
 }
 
-/// Reads the messages of `wanted` in the MCAP at `path` and gives them,
-/// batch by batch in the file's order, to `take` (which may stop the read
-/// with its error). `name` names the file in messages.
-pub fn read(
+/// Reads the messages of the MCAP at `path` as `decoder` makes them into
+/// batches, on every core, and gives the batches in the file's order to
+/// `take` (which may stop the read with its error). `name` names the file
+/// in messages.
+pub fn read<D: Decode>(
     path: &Path,
     name: &str,
-    wanted: &Wanted,
-    mut take: impl FnMut(Batch) -> anyhow::Result<()>,
+    decoder: &D,
+    mut take: impl FnMut(D::Batch) -> anyhow::Result<()>,
 ) -> anyhow::Result<()> {
-    let mut file = File::open(path).with_context(|| format!("{name}: cannot open"))?;
-    let len = file.metadata().map_or(u64::MAX, |m| m.len());
-    // No record is longer than the file: a corrupt length is an error, not
-    // an allocation of that length.
-    let options = LinearReaderOptions::default()
-        .with_emit_chunks(true)
-        .with_record_length_limit(usize::try_from(len.max(MAX_CHUNK)).unwrap_or(usize::MAX));
-    let mut reader = LinearReader::new_with_options(options);
     let workers = std::thread::available_parallelism().map_or(1, |n| n.get());
     std::thread::scope(|scope| {
         let mut pool = Vec::new();
         for _ in 0..workers {
             let (jobs, inbox) = sync_channel::<Job>(IN_FLIGHT);
             let (outbox, results) = sync_channel(IN_FLIGHT);
-            scope.spawn(move || work(inbox, outbox, wanted));
+            scope.spawn(move || work(inbox, outbox, decoder));
             pool.push((jobs, results));
         }
         let mut order = Order {
@@ -106,23 +112,11 @@ pub fn read(
             pool,
             pending: VecDeque::new(),
             next: 0,
-            loose: Batch::default(),
+            loose: None,
+            loose_stopped: false,
         };
-        let mut offset = 0u64;
-        while let Some(event) = reader.next_event() {
-            let record = match event {
-                Ok(LinearReadEvent::ReadRequest(need)) => {
-                    let n = file
-                        .read(reader.insert(need))
-                        .with_context(|| format!("{name}: cannot read at byte {offset}"))?;
-                    reader.notify_read(n);
-                    offset += n as u64;
-                    continue;
-                }
-                Ok(LinearReadEvent::Record { opcode, data }) => mcap::parse_record(opcode, data),
-                Err(e) => Err(e),
-            };
-            let record = record.map_err(|e| broken(name, offset, e))?;
+        let broken = |offset, why| broken(name, offset, why);
+        top_level(path, name, &broken, |record, offset| {
             match record {
                 Record::Chunk { header, data } => {
                     order.flush_loose(&mut take)?;
@@ -135,21 +129,105 @@ pub fn read(
                 }
                 // A message outside chunks (an unchunked file): decoded
                 // here, in order, up to the first that does not decode.
-                Record::Message { header, data } if order.loose.undecodable.is_none() => {
-                    decode(
-                        wanted,
-                        header.channel_id,
-                        header.log_time,
-                        &data,
-                        &mut order.loose,
-                    );
+                Record::Message { header, data } if !order.loose_stopped => {
+                    let loose = order.loose.get_or_insert_with(D::Batch::default);
+                    order.loose_stopped =
+                        !decoder.message(header.channel_id, header.log_time, &data, loose);
                 }
                 _ => {}
             }
-        }
+            Ok(())
+        })?;
         order.flush_loose(&mut take)?;
         order.drain(&mut take)?;
         Ok(())
+    })
+}
+
+/// Gives each record of the file at `path` outside chunks (a chunk whole,
+/// still compressed), in order, to `each` with the bytes read so far.
+/// The `mcap` crate's reader finds them (it bounds each by the file, and
+/// is not asked to read inside a chunk); where the file breaks, `broken`
+/// of the bytes read and why is the error.
+fn top_level(
+    path: &Path,
+    name: &str,
+    broken: &dyn Fn(u64, String) -> anyhow::Error,
+    mut each: impl FnMut(Record<'_>, u64) -> anyhow::Result<()>,
+) -> anyhow::Result<()> {
+    let mut file = File::open(path).with_context(|| format!("{name}: cannot open"))?;
+    let len = file.metadata().map_or(u64::MAX, |m| m.len());
+    // No record is longer than the file: a corrupt length is an error, not
+    // an allocation of that length.
+    let options = LinearReaderOptions::default()
+        .with_emit_chunks(true)
+        .with_record_length_limit(usize::try_from(len.max(MAX_CHUNK)).unwrap_or(usize::MAX));
+    let mut reader = LinearReader::new_with_options(options);
+    let mut offset = 0u64;
+    while let Some(event) = reader.next_event() {
+        let record = match event {
+            Ok(LinearReadEvent::ReadRequest(need)) => {
+                let n = file
+                    .read(reader.insert(need))
+                    .with_context(|| format!("{name}: cannot read at byte {offset}"))?;
+                reader.notify_read(n);
+                offset += n as u64;
+                continue;
+            }
+            Ok(LinearReadEvent::Record { opcode, data }) => mcap::parse_record(opcode, data),
+            Err(e) => Err(e),
+        };
+        each(record.map_err(|e| broken(offset, e.to_string()))?, offset)?;
+    }
+    Ok(())
+}
+
+/// Gives every Schema and Channel record of the MCAP at `path`, those in
+/// chunks included, in the file's order, to `take`: what a file without a
+/// summary says of its channels. Where the file breaks, the error says
+/// after how many messages and within how many bytes. A chunk is decompressed and its CRC
+/// checked (where the writer gave one) before any record in it is parsed,
+/// and each record in it is bounded by the chunk ([`split_record`]): the
+/// crate's own reader of a chunk's records trusts their lengths (mcap 0.26,
+/// the newest, overflows a subtraction on a corrupt one:
+/// fuzz/findings/mcap_scan_subtract_overflow.mcap).
+pub fn definitions(
+    path: &Path,
+    name: &str,
+    mut take: impl FnMut(Record<'_>) -> anyhow::Result<()>,
+) -> anyhow::Result<()> {
+    let mut buffer = Vec::new();
+    let mut zstd = None;
+    let messages = std::cell::Cell::new(0u64);
+    let broken = |offset, why| {
+        anyhow!(
+            "{name}: broken MCAP after {} message(s), within its first {offset} bytes: {why}",
+            messages.get()
+        )
+    };
+    top_level(path, name, &broken, |record, offset| match record {
+        Record::Chunk { header, data } => {
+            let in_chunk = |why| broken(offset, format!("the chunk that ends there: {why}"));
+            let mut rest = decompress(&header, &data, &mut buffer, &mut zstd).map_err(in_chunk)?;
+            while !rest.is_empty() {
+                let (opcode, body, after) = split_record(rest).map_err(in_chunk)?;
+                rest = after;
+                if opcode == op::MESSAGE {
+                    messages.set(messages.get() + 1);
+                } else if opcode == op::SCHEMA || opcode == op::CHANNEL {
+                    let record = mcap::parse_record(opcode, body)
+                        .map_err(|e| in_chunk(format!("record 0x{opcode:02x}: {e}")))?;
+                    take(record)?;
+                }
+            }
+            Ok(())
+        }
+        r @ (Record::Schema { .. } | Record::Channel(_)) => take(r),
+        Record::Message { .. } => {
+            messages.set(messages.get() + 1);
+            Ok(())
+        }
+        _ => Ok(()),
     })
 }
 
@@ -165,28 +243,30 @@ struct Job {
     offset: u64,
 }
 
-type Done = Result<Batch, String>;
+type Done<B> = Result<B, String>;
 
 /// The workers' queues and the chunks sent, in order.
-struct Order<'a> {
+struct Order<'a, B> {
     /// The file, in messages.
     name: &'a str,
-    pool: Vec<(SyncSender<Job>, Receiver<Done>)>,
+    pool: Vec<(SyncSender<Job>, Receiver<Done<B>>)>,
     /// (worker, the chunk's end in the file) of each chunk sent, oldest first.
     pending: VecDeque<(usize, u64)>,
     /// The worker of the next chunk.
     next: usize,
     /// Messages outside chunks not yet given.
-    loose: Batch,
+    loose: Option<B>,
+    /// A message outside chunks stopped its batch: no more are decoded.
+    loose_stopped: bool,
 }
 
-impl Order<'_> {
+impl<B> Order<'_, B> {
     /// Sends `job` to the next worker (round robin, so results come back in
     /// order), first taking the oldest result when every queue is full.
     fn send(
         &mut self,
         job: Job,
-        take: &mut impl FnMut(Batch) -> anyhow::Result<()>,
+        take: &mut impl FnMut(B) -> anyhow::Result<()>,
     ) -> anyhow::Result<()> {
         if self.pending.len() >= self.pool.len() * IN_FLIGHT {
             self.take_oldest(take)?;
@@ -204,7 +284,7 @@ impl Order<'_> {
 
     fn take_oldest(
         &mut self,
-        take: &mut impl FnMut(Batch) -> anyhow::Result<()>,
+        take: &mut impl FnMut(B) -> anyhow::Result<()>,
     ) -> anyhow::Result<()> {
         let Some((w, offset)) = self.pending.pop_front() else {
             return Ok(());
@@ -225,17 +305,17 @@ impl Order<'_> {
     /// Gives the messages outside chunks read so far (all of them before the next chunk).
     fn flush_loose(
         &mut self,
-        take: &mut impl FnMut(Batch) -> anyhow::Result<()>,
+        take: &mut impl FnMut(B) -> anyhow::Result<()>,
     ) -> anyhow::Result<()> {
-        if self.loose.messages.is_empty() && self.loose.undecodable.is_none() {
+        let Some(loose) = self.loose.take() else {
             return Ok(());
-        }
+        };
         self.drain(take)?;
-        take(std::mem::take(&mut self.loose))
+        take(loose)
     }
 
     /// Takes every result still pending.
-    fn drain(&mut self, take: &mut impl FnMut(Batch) -> anyhow::Result<()>) -> anyhow::Result<()> {
+    fn drain(&mut self, take: &mut impl FnMut(B) -> anyhow::Result<()>) -> anyhow::Result<()> {
         while !self.pending.is_empty() {
             self.take_oldest(take)?;
         }
@@ -245,26 +325,51 @@ impl Order<'_> {
 
 /// A worker: decodes each chunk it is sent, reusing one buffer and one
 /// zstd context.
-fn work(inbox: Receiver<Job>, outbox: SyncSender<Done>, wanted: &Wanted) {
+fn work<D: Decode>(inbox: Receiver<Job>, outbox: SyncSender<Done<D::Batch>>, decoder: &D) {
     let mut buffer = Vec::new();
     let mut zstd = None;
     for job in inbox {
-        let done = decode_chunk(&job, &mut buffer, &mut zstd, wanted);
+        let done = decode_chunk(&job, &mut buffer, &mut zstd, decoder);
         if outbox.send(done).is_err() {
             return;
         }
     }
 }
 
-/// Decompresses a chunk into `buffer`, checks its CRC (where the writer
-/// gave one) before any record in it is parsed, and decodes its wanted messages.
-fn decode_chunk(
+/// Decompresses a chunk and decodes its messages.
+fn decode_chunk<D: Decode>(
     job: &Job,
     buffer: &mut Vec<u8>,
     zstd: &mut Option<zstd::bulk::Decompressor<'static>>,
-    wanted: &Wanted,
-) -> Done {
-    let h = &job.header;
+    decoder: &D,
+) -> Done<D::Batch> {
+    let data = decompress(&job.header, &job.data, buffer, zstd)?;
+    let mut batch = D::Batch::default();
+    let mut rest = data;
+    while !rest.is_empty() {
+        let (opcode, body, after) = split_record(rest)?;
+        rest = after;
+        if opcode != op::MESSAGE {
+            continue;
+        }
+        let (channel, log_time, data) = message_fields(body)?;
+        if !decoder.message(channel, log_time, data, &mut batch) {
+            break;
+        }
+    }
+    Ok(batch)
+}
+
+/// The records of the chunk of `header` whose stored data is `stored`:
+/// decompressed into `buffer` where compressed, its CRC (where the writer
+/// gave one) checked before any record in it is parsed.
+fn decompress<'a>(
+    header: &ChunkHeader,
+    stored: &'a [u8],
+    buffer: &'a mut Vec<u8>,
+    zstd: &mut Option<zstd::bulk::Decompressor<'static>>,
+) -> Result<&'a [u8], String> {
+    let h = header;
     if h.uncompressed_size > MAX_CHUNK {
         return Err(format!(
             "{} bytes decompressed, more than the {MAX_CHUNK} read",
@@ -274,7 +379,7 @@ fn decode_chunk(
     let size = h.uncompressed_size as usize;
     buffer.clear();
     let data: &[u8] = match h.compression.as_str() {
-        "" => &job.data,
+        "" => stored,
         "zstd" => {
             buffer.reserve(size);
             let context = match zstd {
@@ -293,13 +398,13 @@ fn decode_chunk(
                 .map_err(|e| format!("zstd: {e}"))?;
             // Into the buffer's capacity: a chunk longer than announced is an error.
             context
-                .decompress_to_buffer(&job.data, buffer)
+                .decompress_to_buffer(stored, buffer)
                 .map_err(|e| format!("zstd: {e}"))?;
             buffer
         }
         "lz4" => {
             buffer.reserve(size);
-            let mut decoder = lz4::Decoder::new(&job.data[..]).map_err(|e| format!("lz4: {e}"))?;
+            let mut decoder = lz4::Decoder::new(stored).map_err(|e| format!("lz4: {e}"))?;
             // One byte more than announced: a longer stream is then seen.
             (&mut decoder)
                 .take(h.uncompressed_size + 1)
@@ -318,21 +423,7 @@ fn decode_chunk(
     if h.uncompressed_crc != 0 && crc32fast::hash(data) != h.uncompressed_crc {
         return Err("its CRC does not match its content".into());
     }
-    let mut batch = Batch::default();
-    let mut rest = data;
-    while !rest.is_empty() {
-        let (opcode, body, after) = split_record(rest)?;
-        rest = after;
-        if opcode != op::MESSAGE {
-            continue;
-        }
-        let (channel, log_time, data) = message_fields(body)?;
-        decode(wanted, channel, log_time, data, &mut batch);
-        if batch.undecodable.is_some() {
-            break;
-        }
-    }
-    Ok(batch)
+    Ok(data)
 }
 
 /// The first record of `data`: (opcode, body, what follows).
@@ -373,6 +464,16 @@ fn message_fields(body: &[u8]) -> Result<(u16, u64, &[u8]), String> {
 
 /// The bytes of a Message record's fields before its data.
 const MESSAGE_HEADER: usize = 2 + 4 + 8 + 8;
+
+/// The wanted channels' messages, decoded.
+impl Decode for Wanted {
+    type Batch = Batch;
+
+    fn message(&self, channel: u16, log_time: u64, data: &[u8], batch: &mut Batch) -> bool {
+        decode(self, channel, log_time, data, batch);
+        batch.undecodable.is_none()
+    }
+}
 
 /// Decodes the message `data` of channel `channel` into `batch` if it is wanted.
 fn decode(wanted: &Wanted, channel: u16, log_time: u64, data: &[u8], batch: &mut Batch) {
@@ -520,6 +621,47 @@ mod tests {
                 }
             }
             at = body + len as usize;
+        }
+    }
+
+    /// A file without a summary (chunked, compressed or not, or not
+    /// chunked): its schema and both channels, from the records in its chunks.
+    #[test]
+    fn definitions_are_found_in_chunks_and_outside_them() {
+        let no_summary = || mcap::WriteOptions::new().emit_summary_records(false);
+        for (what, options) in [
+            ("zstd", no_summary().chunk_size(Some(4096))),
+            ("none", no_summary().compression(None)),
+            ("unchunked", no_summary().use_chunks(false)),
+        ] {
+            let path = std::env::temp_dir().join(format!(
+                "triad-mcap-definitions-{}-{what}",
+                std::process::id()
+            ));
+            std::fs::write(&path, file(50, options)).unwrap();
+            let mut found = Vec::new();
+            definitions(&path, what, |record| {
+                found.push(match record {
+                    Record::Schema { header, .. } => {
+                        format!("schema {} {}", header.id, header.name)
+                    }
+                    Record::Channel(c) => format!("channel {} {} {}", c.id, c.topic, c.schema_id),
+                    _ => "other".into(),
+                });
+                Ok(())
+            })
+            .unwrap();
+            let _ = std::fs::remove_file(&path);
+            found.dedup();
+            assert_eq!(
+                found,
+                [
+                    "schema 1 sensor_msgs/msg/Imu",
+                    "channel 1 /imu 1",
+                    "channel 2 /other 1"
+                ],
+                "{what}"
+            );
         }
     }
 
