@@ -38,6 +38,7 @@ pub mod fit;
 pub mod grade;
 pub mod json;
 pub mod kalibr;
+mod mcap_rows;
 pub mod octave_blocks;
 mod parallel;
 pub mod plot;

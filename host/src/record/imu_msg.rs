@@ -64,7 +64,18 @@ pub fn stamp_seconds(sec: i64, nanosec: u32) -> f64 {
 
 /// Nanoseconds as seconds (one division, correctly rounded).
 pub fn nanoseconds_to_seconds(ns: i128) -> f64 {
-    ns as f64 / 1e9
+    // The same f64 as from i128 (both conversions round to nearest), in
+    // one instruction where it fits (every i32 stamp does) rather than a
+    // library call: a twentieth of reading a bag's samples.
+    match i64::try_from(ns) {
+        Ok(ns) => ns as f64 / 1e9,
+        Err(_) => ns as f64 / 1e9,
+    }
+}
+
+/// A log time (ns, as MCAP and rosbag2 keep it) as seconds.
+pub fn log_time_seconds(ns: u64) -> f64 {
+    nanoseconds_to_seconds(ns as i128)
 }
 
 /// The stamp of time `t` (s), to the nearest nanosecond.

@@ -23,6 +23,38 @@ use crate::plumbing::input;
 
 /// Opens the MCAP file at `path`, its IMU topic chosen by `options`.
 pub fn open(path: &Path, options: &Options) -> anyhow::Result<Opened> {
+    let Chosen {
+        source,
+        wanted,
+        time,
+    } = choose(path, options)?;
+    let (path, name, topic) = (
+        path.to_path_buf(),
+        source.name.clone(),
+        source.topic.clone().unwrap_or_default(),
+    );
+    let reader = spawn(&source.name, move |sink| {
+        read(&path, &name, &topic, &wanted, time, sink)
+    });
+    Ok(Opened {
+        source,
+        reader: Box::new(reader),
+    })
+}
+
+/// An MCAP's IMU topic, chosen: what its record is and where it comes from.
+pub struct Chosen {
+    /// The record (its topic always given).
+    pub source: Source,
+    /// The channels of the topic and of its temperature.
+    pub wanted: Wanted,
+    /// Which time a sample gets.
+    pub time: TimeSource,
+}
+
+/// Finds the channels of the MCAP file at `path` and chooses its IMU topic
+/// by `options`, without reading its messages.
+pub fn choose(path: &Path, options: &Options) -> anyhow::Result<Chosen> {
     let name = input::name(path);
     let in_file = channels_of(path, &name)?;
     let mut all: Vec<(String, String)> = in_file
@@ -37,7 +69,6 @@ pub fn open(path: &Path, options: &Options) -> anyhow::Result<Opened> {
         options.record_topic.as_deref(),
         imu_msg::is_imu,
     )?;
-    let time = options.record_time;
     let beside = format!("{topic}/temperature");
     let temperature = all
         .iter()
@@ -67,11 +98,7 @@ pub fn open(path: &Path, options: &Options) -> anyhow::Result<Opened> {
         imu: ids(Some(&topic)),
         temperature: ids(temperature.as_deref()),
     };
-    let (path_, name_, topic_) = (path.to_path_buf(), name.clone(), topic.clone());
-    let reader = spawn(&name, move |sink| {
-        read(&path_, &name_, &topic_, &wanted, time, sink)
-    });
-    Ok(Opened {
+    Ok(Chosen {
         source: Source {
             name,
             format: Format::Mcap,
@@ -79,7 +106,8 @@ pub fn open(path: &Path, options: &Options) -> anyhow::Result<Opened> {
             place: Place::Message,
             topic: Some(topic),
         },
-        reader: Box::new(reader),
+        wanted,
+        time: options.record_time,
     })
 }
 
@@ -218,7 +246,7 @@ fn read(
                         imu_msg::stamp_seconds(fields.stamp.sec as i64, fields.stamp.nanosec);
                     let t = match time {
                         TimeSource::Header => stamp,
-                        TimeSource::Receive => imu_msg::nanoseconds_to_seconds(log_time as i128),
+                        TimeSource::Receive => imu_msg::log_time_seconds(log_time),
                     };
                     let mut s = Sample::at(index, t);
                     s.gyro = fields.angular_velocity;

@@ -17,9 +17,9 @@ use std::sync::mpsc::{sync_channel, Receiver, SyncSender};
 
 use anyhow::{anyhow, bail, Context};
 use mcap::records::{op, ChunkHeader, Record};
-use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
 
 use super::imu_msg::{self, ImuFields, Time};
+use super::mcap_walk::{self, ChunkAt, Top};
 
 /// The largest decompressed chunk read (writers' chunks are a few MiB).
 pub const MAX_CHUNK: u64 = 256 << 20;
@@ -72,6 +72,12 @@ pub struct Undecodable {
 pub trait Decode: Sync {
     /// What a chunk gives.
     type Batch: Default + Send;
+    /// An empty batch for a chunk of `bytes` bytes of records (its room
+    /// made for them at once, where the decoder can tell).
+    fn batch(&self, bytes: usize) -> Self::Batch {
+        let _ = bytes;
+        Self::Batch::default()
+    }
     /// Takes the message `data` of channel `channel`, logged at `log_time`
     /// (ns), into `batch`; false when the batch must stop there (its
     /// message did not decode, or failed a check).
@@ -98,13 +104,15 @@ pub fn read<D: Decode>(
     decoder: &D,
     mut take: impl FnMut(D::Batch) -> anyhow::Result<()>,
 ) -> anyhow::Result<()> {
+    // The workers read their chunks' data themselves, at its place.
+    let file = &File::open(path).with_context(|| format!("{name}: cannot open"))?;
     let workers = std::thread::available_parallelism().map_or(1, |n| n.get());
     std::thread::scope(|scope| {
         let mut pool = Vec::new();
         for _ in 0..workers {
             let (jobs, inbox) = sync_channel::<Job>(IN_FLIGHT);
             let (outbox, results) = sync_channel(IN_FLIGHT);
-            scope.spawn(move || work(inbox, outbox, decoder));
+            scope.spawn(move || work(file, inbox, outbox, decoder));
             pool.push((jobs, results));
         }
         let mut order = Order {
@@ -116,20 +124,15 @@ pub fn read<D: Decode>(
             loose_stopped: false,
         };
         let broken = |offset, why| broken(name, offset, why);
-        top_level(path, name, &broken, |record, offset| {
-            match record {
-                Record::Chunk { header, data } => {
+        mcap_walk::walk(path, name, &broken, |top| {
+            match top {
+                Top::Chunk(chunk) => {
                     order.flush_loose(&mut take)?;
-                    let job = Job {
-                        header,
-                        data: data.into_owned(),
-                        offset,
-                    };
-                    order.send(job, &mut take)?;
+                    order.send(Job { chunk }, &mut take)?;
                 }
                 // A message outside chunks (an unchunked file): decoded
                 // here, in order, up to the first that does not decode.
-                Record::Message { header, data } if !order.loose_stopped => {
+                Top::Record(Record::Message { header, data }) if !order.loose_stopped => {
                     let loose = order.loose.get_or_insert_with(D::Batch::default);
                     order.loose_stopped =
                         !decoder.message(header.channel_id, header.log_time, &data, loose);
@@ -142,44 +145,6 @@ pub fn read<D: Decode>(
         order.drain(&mut take)?;
         Ok(())
     })
-}
-
-/// Gives each record of the file at `path` outside chunks (a chunk whole,
-/// still compressed), in order, to `each` with the bytes read so far.
-/// The `mcap` crate's reader finds them (it bounds each by the file, and
-/// is not asked to read inside a chunk); where the file breaks, `broken`
-/// of the bytes read and why is the error.
-fn top_level(
-    path: &Path,
-    name: &str,
-    broken: &dyn Fn(u64, String) -> anyhow::Error,
-    mut each: impl FnMut(Record<'_>, u64) -> anyhow::Result<()>,
-) -> anyhow::Result<()> {
-    let mut file = File::open(path).with_context(|| format!("{name}: cannot open"))?;
-    let len = file.metadata().map_or(u64::MAX, |m| m.len());
-    // No record is longer than the file: a corrupt length is an error, not
-    // an allocation of that length.
-    let options = LinearReaderOptions::default()
-        .with_emit_chunks(true)
-        .with_record_length_limit(usize::try_from(len.max(MAX_CHUNK)).unwrap_or(usize::MAX));
-    let mut reader = LinearReader::new_with_options(options);
-    let mut offset = 0u64;
-    while let Some(event) = reader.next_event() {
-        let record = match event {
-            Ok(LinearReadEvent::ReadRequest(need)) => {
-                let n = file
-                    .read(reader.insert(need))
-                    .with_context(|| format!("{name}: cannot read at byte {offset}"))?;
-                reader.notify_read(n);
-                offset += n as u64;
-                continue;
-            }
-            Ok(LinearReadEvent::Record { opcode, data }) => mcap::parse_record(opcode, data),
-            Err(e) => Err(e),
-        };
-        each(record.map_err(|e| broken(offset, e.to_string()))?, offset)?;
-    }
-    Ok(())
 }
 
 /// Gives every Schema and Channel record of the MCAP at `path`, those in
@@ -196,7 +161,8 @@ pub fn definitions(
     name: &str,
     mut take: impl FnMut(Record<'_>) -> anyhow::Result<()>,
 ) -> anyhow::Result<()> {
-    let mut buffer = Vec::new();
+    let file = File::open(path).with_context(|| format!("{name}: cannot open"))?;
+    let (mut stored, mut buffer) = (Vec::new(), Vec::new());
     let mut zstd = None;
     let messages = std::cell::Cell::new(0u64);
     let broken = |offset, why| {
@@ -205,10 +171,12 @@ pub fn definitions(
             messages.get()
         )
     };
-    top_level(path, name, &broken, |record, offset| match record {
-        Record::Chunk { header, data } => {
-            let in_chunk = |why| broken(offset, format!("the chunk that ends there: {why}"));
-            let mut rest = decompress(&header, &data, &mut buffer, &mut zstd).map_err(in_chunk)?;
+    mcap_walk::walk(path, name, &broken, |top| match top {
+        Top::Chunk(chunk) => {
+            let in_chunk = |why| broken(chunk.end, format!("the chunk that ends there: {why}"));
+            chunk.read(&file, &mut stored).map_err(in_chunk)?;
+            let mut rest =
+                decompress(&chunk.header, &stored, &mut buffer, &mut zstd).map_err(in_chunk)?;
             while !rest.is_empty() {
                 let (opcode, body, after) = split_record(rest).map_err(in_chunk)?;
                 rest = after;
@@ -222,8 +190,8 @@ pub fn definitions(
             }
             Ok(())
         }
-        r @ (Record::Schema { .. } | Record::Channel(_)) => take(r),
-        Record::Message { .. } => {
+        Top::Record(r @ (Record::Schema { .. } | Record::Channel(_))) => take(r),
+        Top::Record(Record::Message { .. }) => {
             messages.set(messages.get() + 1);
             Ok(())
         }
@@ -236,11 +204,9 @@ fn broken(name: &str, offset: u64, e: impl std::fmt::Display) -> anyhow::Error {
     anyhow!("{name}: broken MCAP within its first {offset} bytes: {e}")
 }
 
-/// A compressed chunk and where it ends in the file.
+/// A chunk to decode.
 struct Job {
-    header: ChunkHeader,
-    data: Vec<u8>,
-    offset: u64,
+    chunk: ChunkAt,
 }
 
 type Done<B> = Result<B, String>;
@@ -273,7 +239,7 @@ impl<B> Order<'_, B> {
         }
         let w = self.next;
         self.next = (self.next + 1) % self.pool.len();
-        let offset = job.offset;
+        let offset = job.chunk.end;
         self.pool[w]
             .0
             .send(job)
@@ -323,28 +289,36 @@ impl<B> Order<'_, B> {
     }
 }
 
-/// A worker: decodes each chunk it is sent, reusing one buffer and one
-/// zstd context.
-fn work<D: Decode>(inbox: Receiver<Job>, outbox: SyncSender<Done<D::Batch>>, decoder: &D) {
-    let mut buffer = Vec::new();
+/// A worker: reads each chunk it is sent from `file` and decodes it,
+/// reusing its buffers and one zstd context.
+fn work<D: Decode>(
+    file: &File,
+    inbox: Receiver<Job>,
+    outbox: SyncSender<Done<D::Batch>>,
+    decoder: &D,
+) {
+    let (mut stored, mut buffer) = (Vec::new(), Vec::new());
     let mut zstd = None;
     for job in inbox {
-        let done = decode_chunk(&job, &mut buffer, &mut zstd, decoder);
+        let done = job.chunk.read(file, &mut stored).and_then(|()| {
+            decode_chunk(&job.chunk.header, &stored, &mut buffer, &mut zstd, decoder)
+        });
         if outbox.send(done).is_err() {
             return;
         }
     }
 }
 
-/// Decompresses a chunk and decodes its messages.
+/// Decompresses a chunk (`stored`, as its header says) and decodes its messages.
 fn decode_chunk<D: Decode>(
-    job: &Job,
+    header: &ChunkHeader,
+    stored: &[u8],
     buffer: &mut Vec<u8>,
     zstd: &mut Option<zstd::bulk::Decompressor<'static>>,
     decoder: &D,
 ) -> Done<D::Batch> {
-    let data = decompress(&job.header, &job.data, buffer, zstd)?;
-    let mut batch = D::Batch::default();
+    let data = decompress(header, stored, buffer, zstd)?;
+    let mut batch = decoder.batch(data.len());
     let mut rest = data;
     while !rest.is_empty() {
         let (opcode, body, after) = split_record(rest)?;
