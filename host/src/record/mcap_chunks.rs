@@ -1,13 +1,15 @@
 //! An MCAP file's messages on the chosen channels, decoded on every core:
-//! one thread reads the file in order (buffered reads, not a map: a file
-//! truncated under a map would kill the process with SIGBUS), the `mcap`
-//! crate's reader yields each chunk whole, still compressed; worker threads
-//! decompress a chunk, check its CRC, walk its records (the crate parses
-//! each) and decode the messages of the wanted channels; the results are
-//! taken back in the file's order. Chunks are independent by the format,
-//! so the messages are those a serial reader gives, in the same order.
-//! Memory: at most [`IN_FLIGHT`] chunks per worker, each at most
-//! [`MAX_CHUNK`] bytes decompressed.
+//! one thread walks the file's records in order ([`mcap_walk`]: reads, not
+//! a map: a file truncated under a map would kill the process with
+//! SIGBUS) and sends each chunk's place to a worker; the worker reads the
+//! chunk's data there, decompresses it, checks its CRC, walks its records
+//! (each bounded by the chunk) and makes its messages into a batch as a
+//! [`Decode`] says (the decoded messages of the wanted channels, or a
+//! command's rows straight from them); the batches are taken back in the
+//! file's order. Chunks are independent by the format, so the messages are
+//! those a serial reader gives, in the same order. Memory: at most
+//! [`IN_FLIGHT`] chunks per worker, each at most [`MAX_CHUNK`] bytes
+//! decompressed.
 
 use std::collections::VecDeque;
 use std::fs::File;
@@ -401,6 +403,7 @@ fn decompress<'a>(
 }
 
 /// The first record of `data`: (opcode, body, what follows).
+#[inline]
 fn split_record(data: &[u8]) -> Result<(u8, &[u8], &[u8]), String> {
     let Some((&opcode, rest)) = data.split_first() else {
         return Err("an empty record".into());
