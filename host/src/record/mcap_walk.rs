@@ -128,7 +128,7 @@ pub fn walk(
         )?;
         let opcode = framing[0];
         let size = u64::from_le_bytes(framing[1..].try_into().unwrap_or_default());
-        let left = len - at;
+        let left = len.saturating_sub(at);
         if size > left {
             return Err(broken(
                 len,
