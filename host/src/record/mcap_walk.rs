@@ -211,3 +211,88 @@ fn chunk_header(file: &mut impl Read, at: &mut u64, size: u64) -> Result<ChunkHe
         compressed_size,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::BTreeMap;
+
+    /// An MCAP of three messages on one channel, in uncompressed chunks.
+    fn file() -> Vec<u8> {
+        let mut out = std::io::Cursor::new(Vec::new());
+        let mut w = mcap::WriteOptions::new()
+            .compression(None)
+            .create(&mut out)
+            .unwrap();
+        let channel = w.add_channel(0, "/x", "cdr", &BTreeMap::new()).unwrap();
+        for k in 0..3u32 {
+            let header = mcap::records::MessageHeader {
+                channel_id: channel,
+                sequence: k,
+                log_time: u64::from(k),
+                publish_time: 0,
+            };
+            w.write_to_known_channel(&header, &[k as u8; 5]).unwrap();
+        }
+        w.finish().unwrap();
+        drop(w);
+        out.into_inner()
+    }
+
+    /// What the walk of `bytes` gives: each chunk's size, each record's
+    /// opcode, or the error.
+    fn walked(bytes: &[u8], name: &str) -> Result<Vec<String>, String> {
+        let path =
+            std::env::temp_dir().join(format!("triad-mcap-walk-{}-{name}", std::process::id()));
+        std::fs::write(&path, bytes).unwrap();
+        let file = File::open(&path).unwrap();
+        let mut seen = Vec::new();
+        let broken = |at, why| anyhow::anyhow!("{name}: broken within its first {at} bytes: {why}");
+        let result = walk(&path, name, &broken, |top| {
+            seen.push(match top {
+                Top::Chunk(c) => {
+                    let mut data = Vec::new();
+                    c.read(&file, &mut data).map_err(anyhow::Error::msg)?;
+                    format!("chunk of {} bytes", data.len())
+                }
+                Top::Record(r) => format!("record 0x{:02x}", r.opcode()),
+            });
+            Ok(())
+        });
+        let _ = std::fs::remove_file(&path);
+        result.map(|()| seen).map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn a_file_gives_its_chunk_and_a_broken_one_says_where() {
+        let good = file();
+        // The chunk, then the summary's channel record (given as well).
+        let seen = walked(&good, "good.mcap").unwrap();
+        assert!(seen[0].starts_with("chunk of "), "{seen:?}");
+        assert_eq!(seen[1..], ["record 0x04"], "{seen:?}");
+        // Not an MCAP.
+        let e = walked(b"\x89MCAP1\r\n\x01", "other.mcap").unwrap_err();
+        assert_eq!(
+            e,
+            "other.mcap: broken within its first 8 bytes: it does not start with MCAP's magic"
+        );
+        // Cut at every length: an error naming where, never a panic.
+        for len in 0..good.len() - 8 {
+            let e = walked(&good[..len], "cut.mcap").unwrap_err();
+            assert!(
+                e.starts_with("cut.mcap: broken within its first"),
+                "{len}: {e}"
+            );
+        }
+        // The first record's length made larger than the file.
+        let mut long = good.clone();
+        long[9..17].copy_from_slice(&u64::MAX.to_le_bytes());
+        let e = walked(&long, "long.mcap").unwrap_err();
+        assert!(
+            e.contains(
+                "record 0x01 at byte 8 of 18446744073709551615 bytes runs past the file's end"
+            ),
+            "{e}"
+        );
+    }
+}
