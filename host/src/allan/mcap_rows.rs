@@ -7,8 +7,8 @@
 //! one chunk to the next and hands each chunk's rows on whole; the Allan
 //! side checks the t column's step as each block arrives. The same values
 //! and checks as the record's samples through `record_rows`, so the same
-//! results and errors, without a sample, a copy or a thread between the
-//! decoding and the sums. A bag with a temperature topic beside its IMU
+//! results and errors, with no sample made and no row copied between the
+//! decoding and the sums (and one thread fewer in between). A bag with a temperature topic beside its IMU
 //! one is read through `record_rows` (the generic reader pairs the two).
 
 use std::path::Path;
