@@ -124,15 +124,18 @@ fn the_record_readers_read_their_seeds_and_survive_their_cuts() {
 #[test]
 fn the_findings_are_library_panics_to_the_record_target() {
     let findings = seeds::root().join("../findings");
-    for name in [
-        "ulog_header_slice_out_of_range.ulg",
-        "mcap_scan_subtract_overflow.mcap",
-    ] {
+    for name in ["ulog_header_slice_out_of_range.ulg"] {
         let bytes = std::fs::read(findings.join(name)).unwrap();
         for verdict in [triad_fuzz::record(&bytes), triad_fuzz::triad_csv(&bytes)] {
             let broken = verdict.expect_err(name);
             assert!(broken.0.contains("library panicked"), "{name}: {broken}");
         }
+    }
+    // The MCAP no longer reaches the library's bug (triad walks its chunks
+    // itself): a clear error, every invariant holding, no sample read.
+    let bytes = std::fs::read(findings.join("mcap_scan_subtract_overflow.mcap")).unwrap();
+    for verdict in [triad_fuzz::record(&bytes), triad_fuzz::triad_csv(&bytes)] {
+        assert_eq!(verdict.map_err(|b| b.0), Ok(0));
     }
 }
 

@@ -18,8 +18,10 @@
 //! and prints both, their ratio and the largest relative difference of the
 //! deviations over the common τ (fully overlapping octaves, where the
 //! estimator is allantools', and strided ones apart). Then what bounds
-//! triad's time from below: the bag's chunks read and zstd-decompressed
-//! alone, on one core, by this program (`unzstd`), under the same timer. With `--long` also the
+//! triad's time from below: the bag read as triad reads it (its own walk
+//! of the records, each chunk's data read at its place) and its zstd chunks
+//! decompressed, alone, on one core, by this program (`unzstd`), under the
+//! same timer. With `--long` also the
 //! 24-hour, 2 kHz case (172.8 M samples), streamed as CSV from a generator
 //! (this program, `gen`) through a pipe into `triad allan -`: time and peak
 //! memory of triad alone (allantools is not run: its six columns alone
@@ -400,41 +402,34 @@ fn triad_row(
     Some(report)
 }
 
-/// Reads the MCAP at `path` and decompresses every chunk (zstd or none),
-/// on this thread: the bytes decompressed, and the chunks.
+/// Reads the MCAP at `path` as triad does (its own walk of the records,
+/// each chunk's data read at its place: triad_host::record::mcap_walk) and
+/// decompresses every zstd chunk, on this thread: the bytes of records,
+/// and the chunks.
 fn unzstd(path: &Path) -> (u64, u64) {
-    use mcap::records::Record;
-    use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
-    use std::io::Read;
-    let mut file = File::open(path).expect("open the MCAP");
-    let options = LinearReaderOptions::default()
-        .with_emit_chunks(true)
-        .with_record_length_limit(1 << 30);
-    let mut reader = LinearReader::new_with_options(options);
+    use triad_host::record::mcap_walk::{self, Top};
+    let file = File::open(path).expect("open the MCAP");
     let mut zstd = zstd::bulk::Decompressor::new().expect("zstd");
-    let mut buffer = Vec::new();
+    let (mut stored, mut buffer) = (Vec::new(), Vec::new());
     let (mut bytes, mut chunks) = (0u64, 0u64);
-    while let Some(event) = reader.next_event() {
-        match event.expect("a readable MCAP") {
-            LinearReadEvent::ReadRequest(need) => {
-                let n = file.read(reader.insert(need)).expect("read");
-                reader.notify_read(n);
-            }
-            LinearReadEvent::Record { opcode, data } => {
-                if let Ok(Record::Chunk { header, data }) = mcap::parse_record(opcode, data) {
-                    buffer.clear();
-                    buffer.reserve(header.uncompressed_size as usize);
-                    if header.compression == "zstd" {
-                        zstd.decompress_to_buffer(&data, &mut buffer).expect("zstd");
-                    } else {
-                        buffer.extend_from_slice(&data);
-                    }
-                    bytes += buffer.len() as u64;
-                    chunks += 1;
-                }
-            }
+    let broken = |at, why| anyhow::anyhow!("broken at byte {at}: {why}");
+    mcap_walk::walk(path, "the bag", &broken, |top| {
+        if let Top::Chunk(chunk) = top {
+            chunk.read(&file, &mut stored).map_err(anyhow::Error::msg)?;
+            let records = if chunk.header.compression == "zstd" {
+                buffer.clear();
+                buffer.reserve(chunk.header.uncompressed_size as usize);
+                zstd.decompress_to_buffer(&stored, &mut buffer)?;
+                buffer.len()
+            } else {
+                stored.len()
+            };
+            bytes += records as u64;
+            chunks += 1;
         }
-    }
+        Ok(())
+    })
+    .expect("a readable MCAP");
     (bytes, chunks)
 }
 
@@ -451,7 +446,7 @@ fn reader_floor(mcap: &Path, triad_cpu: f64) {
     let (wall, cpu, _) = timed(&out.stderr);
     let said = String::from_utf8_lossy(&out.stdout);
     println!(
-        "{} read and its chunks decompressed (zstd) or copied (uncompressed) alone (one core, no CRC, no CDR, no Allan): {wall:.2} s wall, {cpu:.2} s CPU, {}: {:.0} % of triad allan's CPU",
+        "{} read as triad reads it and its chunks decompressed (zstd) alone (one core, no CRC, no CDR, no Allan): {wall:.2} s wall, {cpu:.2} s CPU, {}: {:.0} % of triad allan's CPU",
         mcap.file_name().and_then(|s| s.to_str()).unwrap_or("?"),
         said.trim(),
         100.0 * cpu / triad_cpu
@@ -522,20 +517,26 @@ fn main() {
         return;
     }
     // Other work on the machine stretches the wall times (not the CPU times much).
-    if let Ok(load) = std::fs::read_to_string("/proc/loadavg") {
-        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-        println!(
-            "this machine: {cores} cores, load average {} (1, 5, 15 min) at the start",
-            load.split_whitespace()
-                .take(3)
-                .collect::<Vec<_>>()
-                .join(", ")
-        );
-    }
+    load("at the start");
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/allan-bench");
     std::fs::create_dir_all(&dir).expect("target/allan-bench");
     record_case(&dir, 8.0, 400.0);
     if args.iter().any(|a| a == "--long") {
         long_case(24.0, 2000.0);
+    }
+    load("at the end");
+}
+
+/// Prints the machine's cores and load average (`when`).
+fn load(when: &str) {
+    if let Ok(load) = std::fs::read_to_string("/proc/loadavg") {
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        println!(
+            "this machine: {cores} cores, load average {} (1, 5, 15 min) {when}",
+            load.split_whitespace()
+                .take(3)
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
     }
 }

@@ -447,6 +447,20 @@ fn a_file_its_format_library_fails_on_is_an_error_naming_it() {
         );
         assert!(!err.contains("panicked"), "{file}: no panic printed: {err}");
     }
+    // The MCAP's channels are found by triad's own walk of its chunks, never
+    // by the library's reader of a chunk's records (which overflows a
+    // subtraction on it): the chunk whose header's size is false is named.
+    let out = triad(&[
+        "allan",
+        s(&findings.join("mcap_scan_subtract_overflow.mcap")),
+    ]);
+    assert_eq!(
+        text(&out.stderr).trim_end(),
+        format!(
+            "triad: {}: broken MCAP after 0 message(s), within its first 1942 bytes: the chunk that ends there: 8 bytes decompressed where its header says 9647",
+            s(&findings.join("mcap_scan_subtract_overflow.mcap"))
+        )
+    );
 }
 
 /// `triad correct --calib calibrations/NAME [extra…] INPUT` must succeed; its stdout.

@@ -20,6 +20,7 @@ use triad_lab::allan::strided::BASE;
 use super::columns::{Layout, Selected};
 use super::curve::{self, Point};
 use super::fit::{fit_octaves, CovarianceCache, NoFit};
+use super::mcap_rows::{self, McapRows};
 use super::octave_blocks::{OctaveBlocks, StridedBlocks};
 use super::parallel;
 use super::record_rows::{self, RecordRows};
@@ -117,10 +118,19 @@ pub(super) fn push_columns(states: &mut [ColumnState], block: &[f64], width: usi
     }
 }
 
-/// Reads the record once and computes every column's curve and fit: a
-/// recording in another format from its reader's samples
-/// ([`record_rows`](super::record_rows)), a CSV from its lines.
+/// Reads the record once and computes every column's curve and fit: an
+/// MCAP bag's IMU topic from rows made as its chunks are decoded
+/// ([`mcap_rows`](super::mcap_rows)), a recording in another format from
+/// its reader's samples ([`record_rows`](super::record_rows)), a CSV from
+/// its lines.
 pub fn analyse(args: &AllanArgs) -> anyhow::Result<Analysis> {
+    if let Some(opened) = mcap_rows::open(&args.input)? {
+        let name = opened.name.clone();
+        let header = opened.header.clone();
+        return analyse_rows(args, &header, &name, 0, |layout| {
+            McapRows::new(opened, layout)
+        });
+    }
     if let Some(opened) = record_rows::open(&args.input)? {
         let name = opened.name.clone();
         let header = opened.header.clone();
@@ -214,23 +224,31 @@ fn column_states(
         .collect()
 }
 
-/// The rest of the rows: read in blocks by a second thread, integrated by
-/// the others ([`parallel::accumulate`]); `progress` shows the rows done
-/// times its scale (bytes per row, or 1). Returns the rows (their t check)
-/// once the record is read.
+/// The rest of the rows: read in blocks by a second thread (or by the
+/// threads of a source that reads ahead), integrated by the others
+/// ([`parallel::accumulate`]); `progress` shows the rows done times its
+/// scale (bytes per row, or 1). Returns the rows (their t check) once the
+/// record is read.
 fn stream<R: RowSource>(
-    rows: R,
+    mut rows: R,
     states: &mut [ColumnState],
     width: usize,
     (progress, scale): (Progress, f64),
     name: &str,
 ) -> anyhow::Result<R> {
+    let report = |consumed| progress.update((consumed as f64 * scale) as u64);
+    if R::READS_AHEAD {
+        let failure = parallel::accumulate(|| rows.next_block().transpose(), states, width, report);
+        progress.finish();
+        return match failure {
+            Some(e) => Err(e),
+            None => Ok(rows),
+        };
+    }
     let (tx, rx) = std::sync::mpsc::sync_channel::<anyhow::Result<Vec<f64>>>(4);
     let rows = std::thread::scope(|scope| {
         let parser = scope.spawn(move || parse_blocks(rows, width, tx));
-        let failure = parallel::accumulate(rx, states, width, |consumed| {
-            progress.update((consumed as f64 * scale) as u64)
-        });
+        let failure = parallel::accumulate(|| rx.recv().ok(), states, width, report);
         let rows = parser
             .join()
             .map_err(|_| anyhow!("{name}: the reading thread failed"))?;

@@ -3,7 +3,9 @@
 //! (Q, N, B, K, R) in data-sheet units, and the sensor grade.
 //!
 //! Octave τ (the default) streams: the file is read once (one thread splits
-//! and parses, the others integrate, the columns shared among the cores),
+//! and parses, the others integrate, the columns shared among the cores;
+//! an MCAP bag's rows are made by the threads that decode its chunks,
+//! `mcap_rows`),
 //! each column feeds, a block of rows at a time, [`octave_blocks`] for the
 //! fully overlapping octaves up to m = 2^17 (the estimator of
 //! [`OctaveAccumulator`](triad_lab::allan::accumulate::OctaveAccumulator),
@@ -26,7 +28,9 @@
 //! an accelerometer) costs no digits (see `triad_lab::allan::accumulate`).
 //!
 //! The modules, in the order of the work: [`columns`] (the header and the
-//! columns analysed), `rows` and `time` (the rows and the t column),
+//! columns analysed), `rows`, `record_rows`, `mcap_rows` and `time` (the
+//! rows of a CSV, of a recording's samples, of an MCAP's chunks, and the t
+//! column),
 //! [`compute`] (streaming the deviations), [`curve`] (the points and their
 //! intervals), [`fit`] (the noise terms), [`grade`], and the outputs
 //! [`summary`], [`table`], [`json`] and [`plot`].
@@ -38,6 +42,7 @@ pub mod fit;
 pub mod grade;
 pub mod json;
 pub mod kalibr;
+mod mcap_rows;
 pub mod octave_blocks;
 mod parallel;
 pub mod plot;

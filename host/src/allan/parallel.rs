@@ -4,7 +4,7 @@
 //! columns are independent, so the results are those of one thread, bit
 //! for bit; the threads are as many as the cores (no more than the columns).
 
-use std::sync::mpsc::{sync_channel, Receiver};
+use std::sync::mpsc::sync_channel;
 use std::sync::Arc;
 
 use super::compute::{push_columns, ColumnState, BLOCK_ROWS};
@@ -19,11 +19,12 @@ pub(super) fn threads(columns: usize) -> usize {
         .clamp(1, columns.max(1))
 }
 
-/// Pushes each block from `rx` into `states` (slot c of a row of `width`
-/// values is column c), reporting the rows consumed every 16 blocks;
-/// returns the parsing thread's error, if any (the blocks before it pushed).
+/// Pushes each block `next` gives (None: the end) into `states` (slot c
+/// of a row of `width` values is column c), reporting the rows consumed
+/// every 16 full blocks' worth; returns the reading's error, if any (the
+/// blocks before it pushed).
 pub(super) fn accumulate(
-    rx: Receiver<anyhow::Result<Vec<f64>>>,
+    mut next: impl FnMut() -> Option<anyhow::Result<Vec<f64>>>,
     states: &mut [ColumnState],
     width: usize,
     report: impl Fn(u64),
@@ -43,8 +44,8 @@ pub(super) fn accumulate(
             });
             workers.push(tx);
         }
-        let mut consumed = 0u64;
-        for msg in rx {
+        let (mut consumed, mut reported) = (0u64, 0u64);
+        while let Some(msg) = next() {
             let block = match msg {
                 Ok(block) => Arc::new(block),
                 // The workers stop when their senders drop, at this return.
@@ -56,8 +57,9 @@ pub(super) fn accumulate(
             }
             push_columns(mine, &block, width, 0);
             consumed += (block.len() / width) as u64;
-            if consumed % (16 * BLOCK_ROWS as u64) == 0 {
+            if consumed - reported >= 16 * BLOCK_ROWS as u64 {
                 report(consumed);
+                reported = consumed;
             }
         }
         None

@@ -217,6 +217,10 @@ impl RowSource for RecordRows {
         Ok(true)
     }
 
+    fn width(&self) -> usize {
+        self.names.len()
+    }
+
     fn time(&self) -> Option<&TimeCheck> {
         self.time.as_ref()
     }

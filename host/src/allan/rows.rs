@@ -10,6 +10,7 @@ use anyhow::{anyhow, bail, Context};
 use crate::plumbing::input::{self, strip_bom_bytes};
 
 use super::columns::Layout;
+use super::compute::BLOCK_ROWS;
 use super::time::TimeCheck;
 
 /// Parses the cells a layout wants out of one CSV line.
@@ -102,6 +103,21 @@ pub(crate) trait RowSource: Send {
         }
         Ok(true)
     }
+    /// The next block of rows (at most [`BLOCK_ROWS`] of them where read
+    /// here; a source that reads ahead gives its own), None at the end.
+    fn next_block(&mut self) -> anyhow::Result<Option<Vec<f64>>> {
+        let width = self.width();
+        let mut values = vec![0.0; width];
+        let mut block = Vec::with_capacity(BLOCK_ROWS * width);
+        self.next_rows(&mut block, &mut values, BLOCK_ROWS)?;
+        Ok((!block.is_empty()).then_some(block))
+    }
+    /// True when the rows are read and checked on threads of their own
+    /// ([`Self::next_block`] then only waits for them); else the Allan
+    /// side reads them on a thread it starts.
+    const READS_AHEAD: bool = false;
+    /// Values per row.
+    fn width(&self) -> usize;
     /// The t column's check, from its first row on.
     fn time(&self) -> Option<&TimeCheck>;
     /// Bytes read so far (0: not counted).
@@ -111,6 +127,10 @@ pub(crate) trait RowSource: Send {
 impl RowSource for Rows {
     fn next_row(&mut self, values: &mut [f64]) -> anyhow::Result<bool> {
         Rows::next_row(self, values)
+    }
+
+    fn width(&self) -> usize {
+        self.parser.names.len()
     }
 
     fn time(&self) -> Option<&TimeCheck> {

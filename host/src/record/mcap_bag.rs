@@ -1,18 +1,19 @@
 //! MCAP (a ROS 2 bag's default storage, and what `triad convert` writes):
 //! the `mcap` crate reads it, streaming; the channels come from its summary
-//! (or, in a file without one, from a first pass), the samples from
+//! (or, in a file without one, from a first pass over its schema and
+//! channel records), the samples from
 //! sensor_msgs/msg/Imu in CDR on the chosen topic ([`mcap_chunks`] decodes
 //! the chunks on every core), with the temperature of a
 //! sensor_msgs/msg/Temperature topic `TOPIC/temperature` beside it (as
 //! `triad convert` writes) where there is one.
 
+use std::collections::HashMap;
 use std::fs::File;
 use std::io::{BufReader, Read, Seek};
 use std::path::Path;
-use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::Arc;
 
-use anyhow::{anyhow, bail, Context};
+use anyhow::{bail, Context};
+use mcap::records::Record;
 
 use super::imu_msg::{self, ROS2_TYPE};
 use super::mcap_chunks::{self, Decoded, Wanted, MAX_CHUNK, TEMPERATURE_TYPE};
@@ -22,6 +23,38 @@ use crate::plumbing::input;
 
 /// Opens the MCAP file at `path`, its IMU topic chosen by `options`.
 pub fn open(path: &Path, options: &Options) -> anyhow::Result<Opened> {
+    let Chosen {
+        source,
+        wanted,
+        time,
+    } = choose(path, options)?;
+    let (path, name, topic) = (
+        path.to_path_buf(),
+        source.name.clone(),
+        source.topic.clone().unwrap_or_default(),
+    );
+    let reader = spawn(&source.name, move |sink| {
+        read(&path, &name, &topic, &wanted, time, sink)
+    });
+    Ok(Opened {
+        source,
+        reader: Box::new(reader),
+    })
+}
+
+/// An MCAP's IMU topic, chosen: what its record is and where it comes from.
+pub struct Chosen {
+    /// The record (its topic always given).
+    pub source: Source,
+    /// The channels of the topic and of its temperature.
+    pub wanted: Wanted,
+    /// Which time a sample gets.
+    pub time: TimeSource,
+}
+
+/// Finds the channels of the MCAP file at `path` and chooses its IMU topic
+/// by `options`, without reading its messages.
+pub fn choose(path: &Path, options: &Options) -> anyhow::Result<Chosen> {
     let name = input::name(path);
     let in_file = channels_of(path, &name)?;
     let mut all: Vec<(String, String)> = in_file
@@ -36,7 +69,6 @@ pub fn open(path: &Path, options: &Options) -> anyhow::Result<Opened> {
         options.record_topic.as_deref(),
         imu_msg::is_imu,
     )?;
-    let time = options.record_time;
     let beside = format!("{topic}/temperature");
     let temperature = all
         .iter()
@@ -66,11 +98,7 @@ pub fn open(path: &Path, options: &Options) -> anyhow::Result<Opened> {
         imu: ids(Some(&topic)),
         temperature: ids(temperature.as_deref()),
     };
-    let (path_, name_, topic_) = (path.to_path_buf(), name.clone(), topic.clone());
-    let reader = spawn(&name, move |sink| {
-        read(&path_, &name_, &topic_, &wanted, time, sink)
-    });
-    Ok(Opened {
+    Ok(Chosen {
         source: Source {
             name,
             format: Format::Mcap,
@@ -78,7 +106,8 @@ pub fn open(path: &Path, options: &Options) -> anyhow::Result<Opened> {
             place: Place::Message,
             topic: Some(topic),
         },
-        reader: Box::new(reader),
+        wanted,
+        time: options.record_time,
     })
 }
 
@@ -142,50 +171,38 @@ fn channels_of(path: &Path, name: &str) -> anyhow::Result<Vec<Channel>> {
     }
 }
 
-/// Every channel, from a pass over the whole file.
+/// Every channel, from a pass over the whole file: its Schema and Channel
+/// records, those in chunks included ([`mcap_chunks::definitions`], which
+/// bounds every record by its chunk).
 fn scan(path: &Path, name: &str) -> anyhow::Result<Vec<Channel>> {
-    let file = File::open(path).with_context(|| format!("{name}: cannot open"))?;
-    let len = file.metadata().map_or(u64::MAX, |m| m.len());
-    // No record is longer than the file, nor a chunk's decompressed records
-    // than MAX_CHUNK; a chunk's CRC (where the writer gave one) is checked
-    // before its records are parsed: the crate trusts the lengths inside a
-    // chunk (mcap 0.26 overflows a subtraction on a corrupt one).
-    let options = mcap::sans_io::LinearReaderOptions::default()
-        .with_record_length_limit(usize::try_from(len.max(MAX_CHUNK)).unwrap_or(usize::MAX))
-        .with_prevalidate_chunk_crcs(true);
-    let read = Arc::new(AtomicU64::new(0));
-    let counting = Counting {
-        inner: BufReader::with_capacity(1 << 20, file),
-        read: read.clone(),
-    };
-    let mut channels: Vec<Channel> = Vec::new();
-    let messages = mcap::io::MessageReader::new_with_options(counting, options);
-    for (count, m) in messages.enumerate() {
-        let m = m.map_err(|e| {
-            anyhow!(
-                "{name}: broken MCAP after {count} message(s), within its first {} bytes: {e}",
-                read.load(Ordering::Relaxed)
-            )
-        })?;
-        if !channels.iter().any(|c| c.id == m.channel.id) {
-            channels.push(Channel::of(&m.channel));
+    let mut schemas: HashMap<u16, String> = HashMap::new();
+    let mut channels: Vec<(Channel, u16)> = Vec::new();
+    mcap_chunks::definitions(path, name, |record| {
+        match record {
+            Record::Schema { header, .. } => {
+                schemas.insert(header.id, header.name);
+            }
+            Record::Channel(c) if !channels.iter().any(|(known, _)| known.id == c.id) => {
+                let channel = Channel {
+                    id: c.id,
+                    topic: c.topic,
+                    schema: String::new(),
+                    encoding: c.message_encoding,
+                };
+                channels.push((channel, c.schema_id));
+            }
+            _ => {}
         }
-    }
-    Ok(channels)
-}
-
-/// A reader counting the bytes it has read.
-struct Counting<R> {
-    inner: R,
-    read: Arc<AtomicU64>,
-}
-
-impl<R: Read> Read for Counting<R> {
-    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
-        let n = self.inner.read(buf)?;
-        self.read.fetch_add(n as u64, Ordering::Relaxed);
-        Ok(n)
-    }
+        Ok(())
+    })?;
+    // Schema 0 is none; a schema the file does not define names none either.
+    Ok(channels
+        .into_iter()
+        .map(|(mut c, schema)| {
+            c.schema = schemas.get(&schema).cloned().unwrap_or_default();
+            c
+        })
+        .collect())
 }
 
 /// Reads the samples of the IMU topic into `sink`, each with the
@@ -229,7 +246,7 @@ fn read(
                         imu_msg::stamp_seconds(fields.stamp.sec as i64, fields.stamp.nanosec);
                     let t = match time {
                         TimeSource::Header => stamp,
-                        TimeSource::Receive => imu_msg::nanoseconds_to_seconds(log_time as i128),
+                        TimeSource::Receive => imu_msg::log_time_seconds(log_time),
                     };
                     let mut s = Sample::at(index, t);
                     s.gyro = fields.angular_velocity;

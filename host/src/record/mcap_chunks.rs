@@ -1,13 +1,15 @@
 //! An MCAP file's messages on the chosen channels, decoded on every core:
-//! one thread reads the file in order (buffered reads, not a map: a file
-//! truncated under a map would kill the process with SIGBUS), the `mcap`
-//! crate's reader yields each chunk whole, still compressed; worker threads
-//! decompress a chunk, check its CRC, walk its records (the crate parses
-//! each) and decode the messages of the wanted channels; the results are
-//! taken back in the file's order. Chunks are independent by the format,
-//! so the messages are those a serial reader gives, in the same order.
-//! Memory: at most [`IN_FLIGHT`] chunks per worker, each at most
-//! [`MAX_CHUNK`] bytes decompressed.
+//! one thread walks the file's records in order ([`mcap_walk`]: reads, not
+//! a map: a file truncated under a map would kill the process with
+//! SIGBUS) and sends each chunk's place to a worker; the worker reads the
+//! chunk's data there, decompresses it, checks its CRC, walks its records
+//! (each bounded by the chunk) and makes its messages into a batch as a
+//! [`Decode`] says (the decoded messages of the wanted channels, or a
+//! command's rows straight from them); the batches are taken back in the
+//! file's order. Chunks are independent by the format, so the messages are
+//! those a serial reader gives, in the same order. Memory: at most
+//! [`IN_FLIGHT`] chunks per worker, each at most [`MAX_CHUNK`] bytes
+//! decompressed.
 
 use std::collections::VecDeque;
 use std::fs::File;
@@ -17,9 +19,9 @@ use std::sync::mpsc::{sync_channel, Receiver, SyncSender};
 
 use anyhow::{anyhow, bail, Context};
 use mcap::records::{op, ChunkHeader, Record};
-use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
 
 use super::imu_msg::{self, ImuFields, Time};
+use super::mcap_walk::{self, ChunkAt, Top};
 
 /// The largest decompressed chunk read (writers' chunks are a few MiB).
 pub const MAX_CHUNK: u64 = 256 << 20;
@@ -65,6 +67,25 @@ pub struct Undecodable {
     pub imu: bool,
 }
 
+/// What a worker makes of the messages of a chunk (or of a run of
+/// messages outside chunks, on the reading thread), one at a time in the
+/// file's order: the decoded messages ([`Wanted`]), or the rows a command
+/// takes straight from them.
+pub trait Decode: Sync {
+    /// What a chunk gives.
+    type Batch: Default + Send;
+    /// An empty batch for a chunk of `bytes` bytes of records (its room
+    /// made for them at once, where the decoder can tell).
+    fn batch(&self, bytes: usize) -> Self::Batch {
+        let _ = bytes;
+        Self::Batch::default()
+    }
+    /// Takes the message `data` of channel `channel`, logged at `log_time`
+    /// (ns), into `batch`; false when the batch must stop there (its
+    /// message did not decode, or failed a check).
+    fn message(&self, channel: u16, log_time: u64, data: &[u8], batch: &mut Self::Batch) -> bool;
+}
+
 /// What a chunk (or a run of messages outside chunks) gives: its decoded
 /// messages in order, ended by the first that does not decode.
 #[derive(Debug, Default)]
@@ -75,30 +96,25 @@ pub struct Batch {
     pub undecodable: Option<Undecodable>,
 }
 
-/// Reads the messages of `wanted` in the MCAP at `path` and gives them,
-/// batch by batch in the file's order, to `take` (which may stop the read
-/// with its error). `name` names the file in messages.
-pub fn read(
+/// Reads the messages of the MCAP at `path` as `decoder` makes them into
+/// batches, on every core, and gives the batches in the file's order to
+/// `take` (which may stop the read with its error). `name` names the file
+/// in messages.
+pub fn read<D: Decode>(
     path: &Path,
     name: &str,
-    wanted: &Wanted,
-    mut take: impl FnMut(Batch) -> anyhow::Result<()>,
+    decoder: &D,
+    mut take: impl FnMut(D::Batch) -> anyhow::Result<()>,
 ) -> anyhow::Result<()> {
-    let mut file = File::open(path).with_context(|| format!("{name}: cannot open"))?;
-    let len = file.metadata().map_or(u64::MAX, |m| m.len());
-    // No record is longer than the file: a corrupt length is an error, not
-    // an allocation of that length.
-    let options = LinearReaderOptions::default()
-        .with_emit_chunks(true)
-        .with_record_length_limit(usize::try_from(len.max(MAX_CHUNK)).unwrap_or(usize::MAX));
-    let mut reader = LinearReader::new_with_options(options);
+    // The workers read their chunks' data themselves, at its place.
+    let file = &File::open(path).with_context(|| format!("{name}: cannot open"))?;
     let workers = std::thread::available_parallelism().map_or(1, |n| n.get());
     std::thread::scope(|scope| {
         let mut pool = Vec::new();
         for _ in 0..workers {
             let (jobs, inbox) = sync_channel::<Job>(IN_FLIGHT);
             let (outbox, results) = sync_channel(IN_FLIGHT);
-            scope.spawn(move || work(inbox, outbox, wanted));
+            scope.spawn(move || work(file, inbox, outbox, decoder));
             pool.push((jobs, results));
         }
         let mut order = Order {
@@ -106,50 +122,82 @@ pub fn read(
             pool,
             pending: VecDeque::new(),
             next: 0,
-            loose: Batch::default(),
+            loose: None,
+            loose_stopped: false,
         };
-        let mut offset = 0u64;
-        while let Some(event) = reader.next_event() {
-            let record = match event {
-                Ok(LinearReadEvent::ReadRequest(need)) => {
-                    let n = file
-                        .read(reader.insert(need))
-                        .with_context(|| format!("{name}: cannot read at byte {offset}"))?;
-                    reader.notify_read(n);
-                    offset += n as u64;
-                    continue;
-                }
-                Ok(LinearReadEvent::Record { opcode, data }) => mcap::parse_record(opcode, data),
-                Err(e) => Err(e),
-            };
-            let record = record.map_err(|e| broken(name, offset, e))?;
-            match record {
-                Record::Chunk { header, data } => {
+        let broken = |offset, why| broken(name, offset, why);
+        mcap_walk::walk(path, name, &broken, |top| {
+            match top {
+                Top::Chunk(chunk) => {
                     order.flush_loose(&mut take)?;
-                    let job = Job {
-                        header,
-                        data: data.into_owned(),
-                        offset,
-                    };
-                    order.send(job, &mut take)?;
+                    order.send(Job { chunk }, &mut take)?;
                 }
                 // A message outside chunks (an unchunked file): decoded
                 // here, in order, up to the first that does not decode.
-                Record::Message { header, data } if order.loose.undecodable.is_none() => {
-                    decode(
-                        wanted,
-                        header.channel_id,
-                        header.log_time,
-                        &data,
-                        &mut order.loose,
-                    );
+                Top::Record(Record::Message { header, data }) if !order.loose_stopped => {
+                    let loose = order.loose.get_or_insert_with(D::Batch::default);
+                    order.loose_stopped =
+                        !decoder.message(header.channel_id, header.log_time, &data, loose);
                 }
                 _ => {}
             }
-        }
+            Ok(())
+        })?;
         order.flush_loose(&mut take)?;
         order.drain(&mut take)?;
         Ok(())
+    })
+}
+
+/// Gives every Schema and Channel record of the MCAP at `path`, those in
+/// chunks included, in the file's order, to `take`: what a file without a
+/// summary says of its channels. Where the file breaks, the error says
+/// after how many messages and within how many bytes. A chunk is decompressed and its CRC
+/// checked (where the writer gave one) before any record in it is parsed,
+/// and each record in it is bounded by the chunk ([`split_record`]): the
+/// crate's own reader of a chunk's records trusts their lengths (mcap 0.26,
+/// the newest, overflows a subtraction on a corrupt one:
+/// fuzz/findings/mcap_scan_subtract_overflow.mcap).
+pub fn definitions(
+    path: &Path,
+    name: &str,
+    mut take: impl FnMut(Record<'_>) -> anyhow::Result<()>,
+) -> anyhow::Result<()> {
+    let file = File::open(path).with_context(|| format!("{name}: cannot open"))?;
+    let (mut stored, mut buffer) = (Vec::new(), Vec::new());
+    let mut zstd = None;
+    let messages = std::cell::Cell::new(0u64);
+    let broken = |offset, why| {
+        anyhow!(
+            "{name}: broken MCAP after {} message(s), within its first {offset} bytes: {why}",
+            messages.get()
+        )
+    };
+    mcap_walk::walk(path, name, &broken, |top| match top {
+        Top::Chunk(chunk) => {
+            let in_chunk = |why| broken(chunk.end, format!("the chunk that ends there: {why}"));
+            chunk.read(&file, &mut stored).map_err(in_chunk)?;
+            let mut rest =
+                decompress(&chunk.header, &stored, &mut buffer, &mut zstd).map_err(in_chunk)?;
+            while !rest.is_empty() {
+                let (opcode, body, after) = split_record(rest).map_err(in_chunk)?;
+                rest = after;
+                if opcode == op::MESSAGE {
+                    messages.set(messages.get() + 1);
+                } else if opcode == op::SCHEMA || opcode == op::CHANNEL {
+                    let record = mcap::parse_record(opcode, body)
+                        .map_err(|e| in_chunk(format!("record 0x{opcode:02x}: {e}")))?;
+                    take(record)?;
+                }
+            }
+            Ok(())
+        }
+        Top::Record(r @ (Record::Schema { .. } | Record::Channel(_))) => take(r),
+        Top::Record(Record::Message { .. }) => {
+            messages.set(messages.get() + 1);
+            Ok(())
+        }
+        _ => Ok(()),
     })
 }
 
@@ -158,42 +206,42 @@ fn broken(name: &str, offset: u64, e: impl std::fmt::Display) -> anyhow::Error {
     anyhow!("{name}: broken MCAP within its first {offset} bytes: {e}")
 }
 
-/// A compressed chunk and where it ends in the file.
+/// A chunk to decode.
 struct Job {
-    header: ChunkHeader,
-    data: Vec<u8>,
-    offset: u64,
+    chunk: ChunkAt,
 }
 
-type Done = Result<Batch, String>;
+type Done<B> = Result<B, String>;
 
 /// The workers' queues and the chunks sent, in order.
-struct Order<'a> {
+struct Order<'a, B> {
     /// The file, in messages.
     name: &'a str,
-    pool: Vec<(SyncSender<Job>, Receiver<Done>)>,
+    pool: Vec<(SyncSender<Job>, Receiver<Done<B>>)>,
     /// (worker, the chunk's end in the file) of each chunk sent, oldest first.
     pending: VecDeque<(usize, u64)>,
     /// The worker of the next chunk.
     next: usize,
     /// Messages outside chunks not yet given.
-    loose: Batch,
+    loose: Option<B>,
+    /// A message outside chunks stopped its batch: no more are decoded.
+    loose_stopped: bool,
 }
 
-impl Order<'_> {
+impl<B> Order<'_, B> {
     /// Sends `job` to the next worker (round robin, so results come back in
     /// order), first taking the oldest result when every queue is full.
     fn send(
         &mut self,
         job: Job,
-        take: &mut impl FnMut(Batch) -> anyhow::Result<()>,
+        take: &mut impl FnMut(B) -> anyhow::Result<()>,
     ) -> anyhow::Result<()> {
         if self.pending.len() >= self.pool.len() * IN_FLIGHT {
             self.take_oldest(take)?;
         }
         let w = self.next;
         self.next = (self.next + 1) % self.pool.len();
-        let offset = job.offset;
+        let offset = job.chunk.end;
         self.pool[w]
             .0
             .send(job)
@@ -204,7 +252,7 @@ impl Order<'_> {
 
     fn take_oldest(
         &mut self,
-        take: &mut impl FnMut(Batch) -> anyhow::Result<()>,
+        take: &mut impl FnMut(B) -> anyhow::Result<()>,
     ) -> anyhow::Result<()> {
         let Some((w, offset)) = self.pending.pop_front() else {
             return Ok(());
@@ -225,17 +273,17 @@ impl Order<'_> {
     /// Gives the messages outside chunks read so far (all of them before the next chunk).
     fn flush_loose(
         &mut self,
-        take: &mut impl FnMut(Batch) -> anyhow::Result<()>,
+        take: &mut impl FnMut(B) -> anyhow::Result<()>,
     ) -> anyhow::Result<()> {
-        if self.loose.messages.is_empty() && self.loose.undecodable.is_none() {
+        let Some(loose) = self.loose.take() else {
             return Ok(());
-        }
+        };
         self.drain(take)?;
-        take(std::mem::take(&mut self.loose))
+        take(loose)
     }
 
     /// Takes every result still pending.
-    fn drain(&mut self, take: &mut impl FnMut(Batch) -> anyhow::Result<()>) -> anyhow::Result<()> {
+    fn drain(&mut self, take: &mut impl FnMut(B) -> anyhow::Result<()>) -> anyhow::Result<()> {
         while !self.pending.is_empty() {
             self.take_oldest(take)?;
         }
@@ -243,28 +291,61 @@ impl Order<'_> {
     }
 }
 
-/// A worker: decodes each chunk it is sent, reusing one buffer and one
-/// zstd context.
-fn work(inbox: Receiver<Job>, outbox: SyncSender<Done>, wanted: &Wanted) {
-    let mut buffer = Vec::new();
+/// A worker: reads each chunk it is sent from `file` and decodes it,
+/// reusing its buffers and one zstd context.
+fn work<D: Decode>(
+    file: &File,
+    inbox: Receiver<Job>,
+    outbox: SyncSender<Done<D::Batch>>,
+    decoder: &D,
+) {
+    let (mut stored, mut buffer) = (Vec::new(), Vec::new());
     let mut zstd = None;
     for job in inbox {
-        let done = decode_chunk(&job, &mut buffer, &mut zstd, wanted);
+        let done = job.chunk.read(file, &mut stored).and_then(|()| {
+            decode_chunk(&job.chunk.header, &stored, &mut buffer, &mut zstd, decoder)
+        });
         if outbox.send(done).is_err() {
             return;
         }
     }
 }
 
-/// Decompresses a chunk into `buffer`, checks its CRC (where the writer
-/// gave one) before any record in it is parsed, and decodes its wanted messages.
-fn decode_chunk(
-    job: &Job,
+/// Decompresses a chunk (`stored`, as its header says) and decodes its messages.
+fn decode_chunk<D: Decode>(
+    header: &ChunkHeader,
+    stored: &[u8],
     buffer: &mut Vec<u8>,
     zstd: &mut Option<zstd::bulk::Decompressor<'static>>,
-    wanted: &Wanted,
-) -> Done {
-    let h = &job.header;
+    decoder: &D,
+) -> Done<D::Batch> {
+    let data = decompress(header, stored, buffer, zstd)?;
+    let mut batch = decoder.batch(data.len());
+    let mut rest = data;
+    while !rest.is_empty() {
+        let (opcode, body, after) = split_record(rest)?;
+        rest = after;
+        if opcode != op::MESSAGE {
+            continue;
+        }
+        let (channel, log_time, data) = message_fields(body)?;
+        if !decoder.message(channel, log_time, data, &mut batch) {
+            break;
+        }
+    }
+    Ok(batch)
+}
+
+/// The records of the chunk of `header` whose stored data is `stored`:
+/// decompressed into `buffer` where compressed, its CRC (where the writer
+/// gave one) checked before any record in it is parsed.
+fn decompress<'a>(
+    header: &ChunkHeader,
+    stored: &'a [u8],
+    buffer: &'a mut Vec<u8>,
+    zstd: &mut Option<zstd::bulk::Decompressor<'static>>,
+) -> Result<&'a [u8], String> {
+    let h = header;
     if h.uncompressed_size > MAX_CHUNK {
         return Err(format!(
             "{} bytes decompressed, more than the {MAX_CHUNK} read",
@@ -274,7 +355,7 @@ fn decode_chunk(
     let size = h.uncompressed_size as usize;
     buffer.clear();
     let data: &[u8] = match h.compression.as_str() {
-        "" => &job.data,
+        "" => stored,
         "zstd" => {
             buffer.reserve(size);
             let context = match zstd {
@@ -293,13 +374,13 @@ fn decode_chunk(
                 .map_err(|e| format!("zstd: {e}"))?;
             // Into the buffer's capacity: a chunk longer than announced is an error.
             context
-                .decompress_to_buffer(&job.data, buffer)
+                .decompress_to_buffer(stored, buffer)
                 .map_err(|e| format!("zstd: {e}"))?;
             buffer
         }
         "lz4" => {
             buffer.reserve(size);
-            let mut decoder = lz4::Decoder::new(&job.data[..]).map_err(|e| format!("lz4: {e}"))?;
+            let mut decoder = lz4::Decoder::new(stored).map_err(|e| format!("lz4: {e}"))?;
             // One byte more than announced: a longer stream is then seen.
             (&mut decoder)
                 .take(h.uncompressed_size + 1)
@@ -318,24 +399,11 @@ fn decode_chunk(
     if h.uncompressed_crc != 0 && crc32fast::hash(data) != h.uncompressed_crc {
         return Err("its CRC does not match its content".into());
     }
-    let mut batch = Batch::default();
-    let mut rest = data;
-    while !rest.is_empty() {
-        let (opcode, body, after) = split_record(rest)?;
-        rest = after;
-        if opcode != op::MESSAGE {
-            continue;
-        }
-        let (channel, log_time, data) = message_fields(body)?;
-        decode(wanted, channel, log_time, data, &mut batch);
-        if batch.undecodable.is_some() {
-            break;
-        }
-    }
-    Ok(batch)
+    Ok(data)
 }
 
 /// The first record of `data`: (opcode, body, what follows).
+#[inline]
 fn split_record(data: &[u8]) -> Result<(u8, &[u8], &[u8]), String> {
     let Some((&opcode, rest)) = data.split_first() else {
         return Err("an empty record".into());
@@ -373,6 +441,16 @@ fn message_fields(body: &[u8]) -> Result<(u16, u64, &[u8]), String> {
 
 /// The bytes of a Message record's fields before its data.
 const MESSAGE_HEADER: usize = 2 + 4 + 8 + 8;
+
+/// The wanted channels' messages, decoded.
+impl Decode for Wanted {
+    type Batch = Batch;
+
+    fn message(&self, channel: u16, log_time: u64, data: &[u8], batch: &mut Batch) -> bool {
+        decode(self, channel, log_time, data, batch);
+        batch.undecodable.is_none()
+    }
+}
 
 /// Decodes the message `data` of channel `channel` into `batch` if it is wanted.
 fn decode(wanted: &Wanted, channel: u16, log_time: u64, data: &[u8], batch: &mut Batch) {
@@ -520,6 +598,47 @@ mod tests {
                 }
             }
             at = body + len as usize;
+        }
+    }
+
+    /// A file without a summary (chunked, compressed or not, or not
+    /// chunked): its schema and both channels, from the records in its chunks.
+    #[test]
+    fn definitions_are_found_in_chunks_and_outside_them() {
+        let no_summary = || mcap::WriteOptions::new().emit_summary_records(false);
+        for (what, options) in [
+            ("zstd", no_summary().chunk_size(Some(4096))),
+            ("none", no_summary().compression(None)),
+            ("unchunked", no_summary().use_chunks(false)),
+        ] {
+            let path = std::env::temp_dir().join(format!(
+                "triad-mcap-definitions-{}-{what}",
+                std::process::id()
+            ));
+            std::fs::write(&path, file(50, options)).unwrap();
+            let mut found = Vec::new();
+            definitions(&path, what, |record| {
+                found.push(match record {
+                    Record::Schema { header, .. } => {
+                        format!("schema {} {}", header.id, header.name)
+                    }
+                    Record::Channel(c) => format!("channel {} {} {}", c.id, c.topic, c.schema_id),
+                    _ => "other".into(),
+                });
+                Ok(())
+            })
+            .unwrap();
+            let _ = std::fs::remove_file(&path);
+            found.dedup();
+            assert_eq!(
+                found,
+                [
+                    "schema 1 sensor_msgs/msg/Imu",
+                    "channel 1 /imu 1",
+                    "channel 2 /other 1"
+                ],
+                "{what}"
+            );
         }
     }
 

@@ -27,6 +27,7 @@ pub mod imu_tk;
 pub mod mcap_bag;
 pub mod mcap_chunks;
 pub mod mcap_out;
+pub mod mcap_walk;
 pub mod options;
 pub mod producer;
 pub mod ros1_bag;

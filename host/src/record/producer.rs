@@ -52,13 +52,7 @@ impl Sink {
 }
 
 /// The consuming end.
-pub struct Produced {
-    rx: Receiver<anyhow::Result<Vec<Sample>>>,
-    thread: Option<JoinHandle<()>>,
-    /// False when the thread could not be started.
-    started: bool,
-    name: String,
-}
+pub struct Produced(Fed<Vec<Sample>>);
 
 /// Runs `produce` on a thread; its error (after the samples it sent) ends
 /// the record. `name` is the file, in messages.
@@ -66,26 +60,67 @@ pub fn spawn(
     name: &str,
     produce: impl FnOnce(&mut Sink) -> anyhow::Result<()> + Send + 'static,
 ) -> Produced {
-    let (tx, rx) = sync_channel(IN_FLIGHT);
-    quiet_panics_of_readers();
-    let thread = std::thread::Builder::new()
-        .name(THREAD.into())
-        .spawn(move || {
-            let mut sink = Sink {
-                tx: tx.clone(),
-                chunk: Vec::with_capacity(CHUNK),
-            };
-            let result = produce(&mut sink).and_then(|()| Ok(sink.flush()?));
-            if let Err(e) = result {
-                let _ = tx.send(Err(e));
-            }
-        });
-    Produced {
+    Produced(feed(name, IN_FLIGHT, move |tx| {
+        let mut sink = Sink {
+            tx: tx.clone(),
+            chunk: Vec::with_capacity(CHUNK),
+        };
+        produce(&mut sink).and_then(|()| Ok(sink.flush()?))
+    }))
+}
+
+/// Items made on a reading thread, as the consumer takes them.
+pub struct Fed<T> {
+    rx: Receiver<anyhow::Result<T>>,
+    thread: Option<JoinHandle<()>>,
+    /// False when the thread could not be started.
+    started: bool,
+    name: String,
+}
+
+/// Runs `produce` on a reading thread, its items sent on a channel of
+/// `capacity`; its error (after the items it sent) is the last item.
+/// `name` is the file, in messages.
+pub fn feed<T: Send + 'static>(
+    name: &str,
+    capacity: usize,
+    produce: impl FnOnce(&SyncSender<anyhow::Result<T>>) -> anyhow::Result<()> + Send + 'static,
+) -> Fed<T> {
+    let (tx, rx) = sync_channel(capacity);
+    let thread = reading_thread(move || {
+        if let Err(e) = produce(&tx) {
+            let _ = tx.send(Err(e));
+        }
+    });
+    Fed {
         rx,
-        // Without a thread there is no record: the first read says so.
+        // Without a thread there is nothing read: the first take says so.
         started: thread.is_ok(),
         thread: thread.ok(),
         name: name.to_string(),
+    }
+}
+
+impl<T> Fed<T> {
+    /// The next item, None at the end; the thread's error, or a library's
+    /// panic on it as the file's error.
+    pub fn take(&mut self) -> anyhow::Result<Option<T>> {
+        match self.rx.recv() {
+            Ok(item) => item.map(Some),
+            Err(_) => match self.thread.take().map(JoinHandle::join) {
+                // A library that panicked on a corrupt file: an error, not a crash.
+                Some(Err(_)) => Err(library_failed(&self.name)),
+                Some(Ok(())) => Ok(None),
+                None if self.started => Ok(None),
+                None => {
+                    self.started = true;
+                    Err(anyhow!(
+                        "{}: cannot start the thread that reads it",
+                        self.name
+                    ))
+                }
+            },
+        }
     }
 }
 
@@ -110,6 +145,15 @@ pub fn guarded<T: Send>(
 /// What a library's panic on a file is reported as, after the file's name
 /// (the fuzz targets look for it: a panic is a crash there).
 pub const LIBRARY_FAILED: &str = "the format's library stopped with an internal error on this file";
+
+/// Starts `read` on a reading thread: a library's panic there is not
+/// printed, and its join's error is the file's ([`library_failed`]).
+fn reading_thread<T: Send + 'static>(
+    read: impl FnOnce() -> T + Send + 'static,
+) -> std::io::Result<JoinHandle<T>> {
+    quiet_panics_of_readers();
+    std::thread::Builder::new().name(THREAD.into()).spawn(read)
+}
 
 /// What a library's panic on a file is reported as.
 fn library_failed(name: &str) -> anyhow::Error {
@@ -138,21 +182,6 @@ fn quiet_panics_of_readers() {
 
 impl Reader for Produced {
     fn next_chunk(&mut self) -> anyhow::Result<Option<Vec<Sample>>> {
-        match self.rx.recv() {
-            Ok(chunk) => chunk.map(Some),
-            Err(_) => match self.thread.take().map(JoinHandle::join) {
-                // A library that panicked on a corrupt file: an error, not a crash.
-                Some(Err(_)) => Err(library_failed(&self.name)),
-                Some(Ok(())) => Ok(None),
-                None if self.started => Ok(None),
-                None => {
-                    self.started = true;
-                    Err(anyhow!(
-                        "{}: cannot start the thread that reads it",
-                        self.name
-                    ))
-                }
-            },
-        }
+        self.0.take()
     }
 }
