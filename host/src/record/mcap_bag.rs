@@ -9,8 +9,6 @@
 use std::fs::File;
 use std::io::{BufReader, Read, Seek};
 use std::path::Path;
-use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::Arc;
 
 use anyhow::{anyhow, bail, Context};
 
@@ -153,39 +151,34 @@ fn scan(path: &Path, name: &str) -> anyhow::Result<Vec<Channel>> {
     let options = mcap::sans_io::LinearReaderOptions::default()
         .with_record_length_limit(usize::try_from(len.max(MAX_CHUNK)).unwrap_or(usize::MAX))
         .with_prevalidate_chunk_crcs(true);
-    let read = Arc::new(AtomicU64::new(0));
-    let counting = Counting {
-        inner: BufReader::with_capacity(1 << 20, file),
-        read: read.clone(),
-    };
-    let mut channels: Vec<Channel> = Vec::new();
-    let messages = mcap::io::MessageReader::new_with_options(counting, options);
-    for (count, m) in messages.enumerate() {
-        let m = m.map_err(|e| {
-            anyhow!(
-                "{name}: broken MCAP after {count} message(s), within its first {} bytes: {e}",
-                read.load(Ordering::Relaxed)
-            )
-        })?;
-        if !channels.iter().any(|c| c.id == m.channel.id) {
-            channels.push(Channel::of(&m.channel));
+    let mut file = BufReader::with_capacity(1 << 20, file);
+    let mut reader = mcap::sans_io::MessageReader::new_with_options(options);
+    let (mut channels, mut count, mut offset) = (Vec::<Channel>::new(), 0u64, 0u64);
+    while let Some(event) = reader.next_event() {
+        let broken = |e: &dyn std::fmt::Display| {
+            anyhow!("{name}: broken MCAP after {count} message(s), within its first {offset} bytes: {e}")
+        };
+        match event.map_err(|e| broken(&e))? {
+            mcap::sans_io::MessageReadEvent::ReadRequest(need) => {
+                let into = reader.insert(mcap_chunks::read_size(need, offset, len));
+                let n = loop {
+                    match file.read(into) {
+                        Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+                        n => break n.map_err(|e| broken(&e))?,
+                    }
+                };
+                reader.notify_read(n);
+                offset += n as u64;
+            }
+            mcap::sans_io::MessageReadEvent::Message(m) => {
+                count += 1;
+                if !channels.iter().any(|c| c.id == m.channel.id) {
+                    channels.push(Channel::of(&m.channel));
+                }
+            }
         }
     }
     Ok(channels)
-}
-
-/// A reader counting the bytes it has read.
-struct Counting<R> {
-    inner: R,
-    read: Arc<AtomicU64>,
-}
-
-impl<R: Read> Read for Counting<R> {
-    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
-        let n = self.inner.read(buf)?;
-        self.read.fetch_add(n as u64, Ordering::Relaxed);
-        Ok(n)
-    }
 }
 
 /// Reads the samples of the IMU topic into `sink`, each with the

@@ -24,6 +24,21 @@ use super::imu_msg::{self, ImuFields, Time};
 /// The largest decompressed chunk read (writers' chunks are a few MiB).
 pub const MAX_CHUNK: u64 = 256 << 20;
 
+/// The smallest read [`read_size`] allows past a file's known end (a file
+/// still being written is read on in steps of this).
+const PAST_END_STEP: usize = 64 << 10;
+
+/// How much of a reader's request for `need` bytes at byte `offset` of a
+/// file of `len` bytes to read: no more than the file has left (or a
+/// [`PAST_END_STEP`]). The crate allocates and zeroes what is asked for
+/// before the read: a corrupt length within the record length limit
+/// (256 MiB) would cost that much memory and time on a file of a few KiB;
+/// capped, the read comes up short and the crate reports the file's end.
+pub fn read_size(need: usize, offset: u64, len: u64) -> usize {
+    let left = usize::try_from(len.saturating_sub(offset)).unwrap_or(usize::MAX);
+    need.min(left.max(PAST_END_STEP))
+}
+
 /// Chunks queued per worker before the reading thread waits.
 const IN_FLIGHT: usize = 2;
 
@@ -113,7 +128,7 @@ pub fn read(
             let record = match event {
                 Ok(LinearReadEvent::ReadRequest(need)) => {
                     let n = file
-                        .read(reader.insert(need))
+                        .read(reader.insert(read_size(need, offset, len)))
                         .with_context(|| format!("{name}: cannot read at byte {offset}"))?;
                     reader.notify_read(n);
                     offset += n as u64;
