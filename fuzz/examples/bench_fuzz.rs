@@ -194,7 +194,11 @@ fn run(
 /// Saves `input` as target/bench_fuzz-inputs/PARSER-LABEL.bin, so it can
 /// be timed alone; where it went.
 fn keep(parser: &str, label: &str, input: &[u8]) -> String {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/bench_fuzz-inputs");
+    let fuzz = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = fuzz
+        .parent()
+        .unwrap_or(fuzz)
+        .join("target/bench_fuzz-inputs");
     let file = dir.join(format!("{}-{label}.bin", parser.replace(' ', "_")));
     match std::fs::create_dir_all(&dir).and_then(|()| std::fs::write(&file, input)) {
         Ok(()) => file.display().to_string(),
