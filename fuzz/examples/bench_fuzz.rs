@@ -346,9 +346,9 @@ fn main() {
         target(triad_fuzz::calibration_toml),
     );
     // Each input a file (on /dev/shm) read through `triad`'s reader thread:
-    // 3 000–6 000 inputs/s, so 10⁷ would take about an hour per target;
-    // a hundredth here, and AFL++ (the same benchmark) fuzzes both,
-    // coverage-guided.
+    // 3 600–7 000 inputs/s (2026-11-27, a shared 2-core machine), so 10⁷
+    // would take 25–45 min per target; a hundredth here, and AFL++ (the
+    // same benchmark) fuzzes both, coverage-guided.
     let file_inputs = (inputs / 100).max(1);
     run(
         &only,
