@@ -24,7 +24,7 @@
 //! the run: a finished run had none), hangs (inputs slower than 100 ms
 //! twice, each saved under target/bench_fuzz-inputs/ to be timed alone,
 //! as is each parser's slowest input)
-//! and broken invariants (with the first). Mutation is not
+//! and broken invariants (with the first; each input saved there too). Mutation is not
 //! coverage-guided: AFL++ (the same benchmark) is.
 
 use std::time::{Duration, Instant};
@@ -147,9 +147,16 @@ fn run(
             reseal(&mut input);
         }
         CURRENT.with(|c| c.replace(input.clone()));
-        let t = Instant::now();
+        let (t, broken) = (Instant::now(), tally.broken);
         check(&input, &mut tally);
         let mut took = t.elapsed();
+        if tally.broken > broken {
+            eprintln!(
+                "bench_fuzz: {name}: input {} broke an invariant: {}",
+                tally.inputs,
+                keep(name, &format!("broken-{}", tally.inputs), &input)
+            );
+        }
         if took > HANG {
             // The machine is shared: an input is slow when it is slow twice
             // (the parsers are deterministic), not when the process was
