@@ -2,7 +2,12 @@
 //! 26): figures, not pass/fail. `cargo xtask bench --fuzz` runs it (then
 //! AFL++ on the same targets); alone:
 //!
-//!     cargo run --release -p triad-fuzz --example bench_fuzz [-- INPUTS]
+//!     cargo run --release -p triad-fuzz --example bench_fuzz [-- INPUTS [PARSER]]
+//!
+//! (PARSER: run only the parsers whose name contains it, e.g. `recording`.)
+//! `bench_fuzz --time FILE…` reads each file through the recording
+//! readers 30 times and prints its fastest, median and slowest time (a
+//! saved hang timed alone).
 //!
 //! INPUTS per parser (default 10⁷; a hundredth for the recording readers,
 //! whose every input is a file), each a valid example (a seed under
@@ -17,7 +22,9 @@
 //! shorter of two timings when it passed 100 ms: the machine may be
 //! shared), the inputs accepted, panics (a panic prints the input and ends
 //! the run: a finished run had none), hangs (inputs slower than 100 ms
-//! twice) and broken invariants (with the first). Mutation is not
+//! twice, each saved under target/bench_fuzz-inputs/ to be timed alone,
+//! as is each parser's slowest input)
+//! and broken invariants (with the first; each input saved there too). Mutation is not
 //! coverage-guided: AFL++ (the same benchmark) is.
 
 use std::time::{Duration, Instant};
@@ -94,6 +101,7 @@ fn mutate(rng: &mut Rng, seed: &[u8], other: &[u8], out: &mut Vec<u8>) {
 struct Tally {
     inputs: u64,
     slowest: Duration,
+    slowest_input: Vec<u8>,
     hangs: u64,
     broken: u64,
     accepted: u64,
@@ -117,12 +125,16 @@ impl Tally {
 /// Runs `check` on `inputs` mutations of `seeds` (CRC fixed up half the
 /// time by `reseal`); prints the figures.
 fn run(
+    only: &str,
     name: &str,
     inputs: u64,
     seeds: &[Vec<u8>],
     reseal: fn(&mut [u8]),
     mut check: impl FnMut(&[u8], &mut Tally),
 ) {
+    if !name.contains(only) {
+        return;
+    }
     let mut rng = Rng(0x9E37_79B9_7F4A_7C15 ^ crc32c(name.as_bytes()) as u64);
     let mut tally = Tally::default();
     let mut input = Vec::new();
@@ -135,9 +147,16 @@ fn run(
             reseal(&mut input);
         }
         CURRENT.with(|c| c.replace(input.clone()));
-        let t = Instant::now();
+        let (t, broken) = (Instant::now(), tally.broken);
         check(&input, &mut tally);
         let mut took = t.elapsed();
+        if tally.broken > broken {
+            eprintln!(
+                "bench_fuzz: {name}: input {} broke an invariant: {}",
+                tally.inputs,
+                keep(name, &format!("broken-{}", tally.inputs), &input)
+            );
+        }
         if took > HANG {
             // The machine is shared: an input is slow when it is slow twice
             // (the parsers are deterministic), not when the process was
@@ -147,12 +166,22 @@ fn run(
             took = took.min(again.elapsed());
             if took > HANG {
                 tally.hangs += 1;
+                eprintln!(
+                    "bench_fuzz: {name}: input {} took {:.1} ms twice: {}",
+                    tally.inputs,
+                    took.as_secs_f64() * 1e3,
+                    keep(name, &tally.inputs.to_string(), &input)
+                );
             }
         }
-        tally.slowest = tally.slowest.max(took);
+        if took > tally.slowest {
+            tally.slowest = took;
+            tally.slowest_input.clone_from(&input);
+        }
         tally.inputs += 1;
     }
     let secs = start.elapsed().as_secs_f64();
+    let slowest_file = keep(name, "slowest", &tally.slowest_input);
     println!(
         "{name:<22} {:>9} inputs  {secs:>7.1} s  {:>9.0} /s  slowest {:>8.1} µs  accepted {:>9}  panics 0  hangs {}  broken invariants {}{}",
         tally.inputs,
@@ -166,6 +195,22 @@ fn run(
             .map(|w| format!(" (first: {w})"))
             .unwrap_or_default()
     );
+    println!("{:<22} (slowest input: {slowest_file})", "");
+}
+
+/// Saves `input` as target/bench_fuzz-inputs/PARSER-LABEL.bin, so it can
+/// be timed alone; where it went.
+fn keep(parser: &str, label: &str, input: &[u8]) -> String {
+    let fuzz = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = fuzz
+        .parent()
+        .unwrap_or(fuzz)
+        .join("target/bench_fuzz-inputs");
+    let file = dir.join(format!("{}-{label}.bin", parser.replace(' ', "_")));
+    match std::fs::create_dir_all(&dir).and_then(|()| std::fs::write(&file, input)) {
+        Ok(()) => file.display().to_string(),
+        Err(e) => format!("(not saved: {e})"),
+    }
 }
 
 thread_local! {
@@ -208,11 +253,39 @@ fn packets() -> Vec<Vec<u8>> {
         .collect()
 }
 
+/// `--time FILE…`: each file through the recording readers 30 times.
+fn time_files(files: &[String]) {
+    for file in files {
+        let bytes = std::fs::read(file).unwrap_or_else(|e| panic!("{file}: {e}"));
+        let mut took: Vec<Duration> = (0..30)
+            .map(|_| {
+                let t = Instant::now();
+                let _ = triad_fuzz::record(&bytes);
+                t.elapsed()
+            })
+            .collect();
+        took.sort();
+        let ms = |d: Duration| d.as_secs_f64() * 1e3;
+        println!(
+            "{file}: {} bytes, read 30 times: fastest {:.2} ms, median {:.2} ms, slowest {:.2} ms",
+            bytes.len(),
+            ms(took[0]),
+            ms(took[15]),
+            ms(took[29])
+        );
+    }
+}
+
 fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    if args.first().map(String::as_str) == Some("--time") {
+        return time_files(&args[1..]);
+    }
     let inputs: u64 = std::env::args()
         .nth(1)
         .map(|a| a.parse().expect("INPUTS: a whole number"))
         .unwrap_or(10_000_000);
+    let only = std::env::args().nth(2).unwrap_or_default();
     std::panic::set_hook(Box::new(|info| {
         let input = CURRENT.with(|c| c.borrow().clone());
         eprintln!("bench_fuzz: PANIC {info} on input {input:02x?}");
@@ -222,6 +295,7 @@ fn main() {
         move |bytes: &[u8], tally: &mut Tally| tally.count(f(bytes))
     };
     run(
+        &only,
         "stream decoder",
         inputs,
         &seeds_of("stream"),
@@ -229,6 +303,7 @@ fn main() {
         target(triad_fuzz::stream_decoder),
     );
     run(
+        &only,
         "packet parser",
         inputs,
         &packets(),
@@ -238,6 +313,7 @@ fn main() {
         },
     );
     run(
+        &only,
         "device command path",
         inputs,
         &seeds_of("commands"),
@@ -245,6 +321,7 @@ fn main() {
         target(triad_fuzz::command_path),
     );
     run(
+        &only,
         "COBS",
         inputs,
         &seeds_of("cobs"),
@@ -252,6 +329,7 @@ fn main() {
         target(triad_fuzz::cobs),
     );
     run(
+        &only,
         "calibration blob",
         inputs,
         &seeds_of("calibration_blob"),
@@ -259,6 +337,7 @@ fn main() {
         target(triad_fuzz::calibration_blob),
     );
     run(
+        &only,
         "scene blob",
         inputs,
         &seeds_of("scene_blob"),
@@ -266,6 +345,7 @@ fn main() {
         target(triad_fuzz::scene_blob),
     );
     run(
+        &only,
         "calibration TOML",
         inputs,
         &seeds_of("calibration_toml"),
@@ -273,11 +353,12 @@ fn main() {
         target(triad_fuzz::calibration_toml),
     );
     // Each input a file (on /dev/shm) read through `triad`'s reader thread:
-    // 3 000–6 000 inputs/s, so 10⁷ would take about an hour per target;
-    // a hundredth here, and AFL++ (the same benchmark) fuzzes both,
-    // coverage-guided.
+    // 3 600–7 000 inputs/s (2026-11-27, a shared 2-core machine), so 10⁷
+    // would take 25–45 min per target; a hundredth here, and AFL++ (the
+    // same benchmark) fuzzes both, coverage-guided.
     let file_inputs = (inputs / 100).max(1);
     run(
+        &only,
         "recording readers",
         file_inputs,
         &seeds_of("record"),
@@ -285,6 +366,7 @@ fn main() {
         target(triad_fuzz::record),
     );
     run(
+        &only,
         "triad CSV",
         file_inputs,
         &seeds_of("record"),

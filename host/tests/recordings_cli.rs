@@ -463,6 +463,43 @@ fn a_file_its_format_library_fails_on_is_an_error_naming_it() {
     );
 }
 
+/// The ULogs px4-ulog 0.6.1 cannot take (fuzz/findings): triad checks them
+/// before the library sees the bytes, so the error names the file, the
+/// message's byte and the reason, and no library failure is involved.
+#[test]
+fn a_ulog_the_library_cannot_take_is_refused_naming_its_byte() {
+    let file = "ulog_header_slice_out_of_range.ulg";
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../fuzz/findings")
+        .join(file);
+    let out = triad(&["allan", s(&path)]);
+    let err = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    // The mutation added 10 to the type of the format message ('F') at byte
+    // 849 (its type at 851): a 'P' whose first byte, 'a' (97), is read as
+    // the key's length.
+    let expected = "cannot read this ULog: at byte 849, a parameter message ('P') of 82 bytes has a key length of 97, more than the 81 bytes after it";
+    assert!(err.contains(file) && err.contains(expected), "{err}");
+    assert!(
+        !err.contains(triad_host::record::producer::LIBRARY_FAILED),
+        "{err}"
+    );
+    // Formats whose flattening would take the library minutes (nested
+    // arrays of an empty format) or tens of GiB (a chain of long names):
+    // refused where its data section starts, before the library flattens.
+    for (file, at) in [
+        ("ulog_flatten_empty_format_arrays.ulg", 96),
+        ("ulog_flatten_nested_long_names.ulg", 12588),
+    ] {
+        let path = path.with_file_name(file);
+        let out = triad(&["allan", s(&path)]);
+        let err = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{err}");
+        let expected = format!("cannot read this ULog: at byte {at}, flattening its formats comes to more than 8388608 fields and name bytes");
+        assert!(err.contains(file) && err.contains(&expected), "{err}");
+    }
+}
+
 /// `triad correct --calib calibrations/NAME [extra…] INPUT` must succeed; its stdout.
 fn corrected(name: &str, input: &Path, extra: &[&str]) -> String {
     let calib = Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -39,6 +39,8 @@ pub mod to_csv;
 pub mod topics;
 pub mod triad_csv;
 pub mod ulog;
+pub mod ulog_bounds;
+pub mod ulog_formats;
 
 use std::fmt;
 use std::path::Path;

@@ -17,6 +17,7 @@ use px4_ulog::stream_parser::model::{DataMessage, FieldParser};
 use px4_ulog::stream_parser::LogParser;
 
 use super::producer::{self, spawn, Sink};
+use super::ulog_bounds::Bounds;
 use super::{topics, Channels, Format, Opened, Options, Place, Sample, Source, TimeSource};
 use crate::plumbing::input;
 
@@ -73,7 +74,9 @@ pub fn open(path: &Path, options: &Options) -> anyhow::Result<Opened> {
 
 /// Feeds the file (up to `limit` bytes of its data section) through the
 /// parser, each data message to `on_data`; a broken or truncated file is an
-/// error naming where.
+/// error naming where. Each read is checked first for the bounds the
+/// parser does not check ([`Bounds`]): it never sees a message that would
+/// take it past its end.
 fn pass(
     path: &Path,
     name: &str,
@@ -85,6 +88,7 @@ fn pass(
     let mut callback = |m: &DataMessage| on_data(m);
     parser.set_data_message_callback(&mut callback);
     let mut buf = vec![0u8; 1 << 16];
+    let mut bounds = Bounds::default();
     let (mut fed, mut data_start) = (0u64, None);
     loop {
         let n = match file.read(&mut buf) {
@@ -97,6 +101,13 @@ fn pass(
         if n == 0 {
             break;
         }
+        bounds.feed(&buf[..n]).map_err(|e| {
+            anyhow!(
+                "{name}: cannot read this ULog: at byte {}, {}",
+                e.offset,
+                e.reason
+            )
+        })?;
         parser.consume_bytes(&buf[..n]).map_err(|e| {
             anyhow!(
                 "{name}: broken ULog within bytes {fed}..{}: {}",
