@@ -29,9 +29,15 @@
 //! Cortex-M4F does in software) and the link's bytes, which QEMU 7.2's
 //! STM32 USART hands its link one system call each: 53 kB per device
 //! second in data frames, 14.7 kB in batch frames (`--soak-watermark 16`,
-//! TRIAD_SOAK_* below unchanged). Measured on the shared 2-core machine
-//! (load 7–12): W = 1 4.4–5.2 device seconds per QEMU CPU second (24 h in
-//! 4.6–5.5 h on a free core), W = 16 about 16 (1.5 h). Each CPU-second figure is printed at the end (device seconds
+//! the default, TRIAD_SOAK_* below unchanged). The link is a pair of FIFOs
+//! (xtask/src/qemu_link.rs): on a Unix socket each 1-byte write took a
+//! whole buffer of its send budget and QEMU slept whenever the host had
+//! not read for a moment (7.5× real time where the FIFOs give 21.7×).
+//! The 24 hours at W = 16 (2026-11-27, `cargo xtask bench --soak`, the
+//! 2-core machine shared with other builds for most of it): 86 405 s of device time in 4 030 s of
+//! wall time (21.4× real time), QEMU 23.7 device seconds per CPU second.
+//! W = 1 was measured at 4.4–5.2 device seconds per QEMU CPU second on the
+//! socket (not since). Each CPU-second figure is printed at the end (device seconds
 //! per CPU second of QEMU, serve and the reader), so a run on a loaded
 //! machine still says what a free core would give. Past 52 429 s of device
 //! time the demo motion's sine argument (2π·5 Hz·t) passes 2²⁰·π/2, where

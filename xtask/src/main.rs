@@ -131,9 +131,8 @@ enum Command {
         soak_wall_seconds: Option<f64>,
         /// With --soak: the FIFO watermark W (1..=32): samples per interrupt,
         /// streamed in batch frames of up to 16 (16, the default: 3.6 times
-        /// fewer link bytes, the emulator three times as fast, 24 h in about
-        /// 1.5 h of a free core); 1 streams a data frame per sample (24 h in
-        /// about 5 h).
+        /// fewer link bytes; 24 h took 1.1 h on a 2-core machine); 1 streams
+        /// a data frame per sample (slower: more link bytes per sample).
         #[arg(long, requires = "soak", default_value_t = 16, value_parser = clap::value_parser!(u16).range(1..=32))]
         soak_watermark: u16,
     },
