@@ -422,13 +422,27 @@ fn main() {
         tries: 3,
     };
     let mut link = Link::new(serial, settings, format!("on {port}"), 0x5000);
+    // The stream's first frame before the first identify: the frames its
+    // wait reads past are then between two frames the accounting has seen,
+    // so every period from the first frame on is checked.
+    let mut acc = Accounting::default();
+    let first = loop {
+        match link.next_packet(Instant::now() + Duration::from_secs(60)) {
+            Ok(Some(Ok(Packet::Data(frame)))) => break Seen::data(&frame),
+            Ok(Some(Ok(Packet::Batch(batch)))) => break Seen::batch(&batch),
+            Ok(Some(_)) => {}
+            Ok(None) => panic!("soak: no frame in 60 s; serve's log: {}", log.display()),
+            Err(e) => panic!("soak: the link failed before the first frame: {e}"),
+        }
+    };
+    // The first frame only sets the start: no period to convert yet.
+    acc.frame(first, *link.stats(), f64::NAN);
     let info = identify(&mut link).expect("identify at start");
     let period_us = 1e6 / f64::from(info.sample_rate_hz);
     let mut failures = FailureLedger::default();
     failures.identified(&info, every);
 
     let started = Instant::now();
-    let mut acc = Accounting::default();
     let (mut storms, mut failed, mut damaged) = (0u64, 0u64, 0u64);
     let mut next_storm = storm_every;
     let note_every = 600.0_f64.min(seconds / 10.0);
