@@ -166,3 +166,51 @@ fn poses_turned_about_one_axis_do_not_support_g() {
         Some("not supported by the poses")
     );
 }
+
+/// A record at 100 Hz: `seconds` of samples, the accelerometer still
+/// (gravity on z with a little noise), the gyro `rate(t)` about z (rad/s).
+fn one_pose_csv(path: &std::path::Path, seconds: f64, rate: impl Fn(f64) -> f64) {
+    let mut csv = String::from("t,ax,ay,az,gx,gy,gz\n");
+    for i in 0..(seconds * 100.0) as usize {
+        let t = i as f64 / 100.0;
+        // A deterministic wobble well below the detector's threshold.
+        let e = 1e-3 * ((i * 7919) % 13) as f64;
+        csv.push_str(&format!(
+            "{t},{e},{},{},{},{},{}\n",
+            -e,
+            9.81 + e,
+            1e-3 + e * 1e-3,
+            -2e-3,
+            rate(t) + 5e-4
+        ));
+    }
+    std::fs::write(path, csv).unwrap();
+}
+
+#[test]
+fn fewer_than_two_poses_are_said_with_the_bias_and_with_a_refusal() {
+    let d = dir("gyro-one-pose");
+    // Still throughout: one pose, so the bias alone, and the report says why.
+    let still = d.join("still.csv");
+    one_pose_csv(&still, 20.0, |_| 0.0);
+    let o = fit_static(&still, &d.join("cal.toml"), &[]);
+    let report = text(&o.stdout);
+    assert!(o.status.success(), "{report}{}", text(&o.stderr));
+    assert!(
+        report.contains("gyro static bias:")
+            && report.contains("pose detection found 1 static pose(s)")
+            && report.contains("G needs two or more"),
+        "{report}"
+    );
+    // Turning about the vertical for the last 5 s: the accelerometer still
+    // sees one pose, the gyro a turn; the refusal says both.
+    let turned = d.join("turned.csv");
+    one_pose_csv(&turned, 20.0, |t| if t >= 15.0 { 0.5 } else { 0.0 });
+    let o = fit_static(&turned, &d.join("cal2.toml"), &[]);
+    let said = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{said}");
+    assert!(
+        said.contains("turned.csv") && said.contains("pose detection found 1 static pose(s)"),
+        "{said}"
+    );
+}

@@ -300,8 +300,21 @@ fn gyro_static(args: &GyroArgs, base: Base, path: &Path) -> anyhow::Result<ExitC
 /// The refusal of the record `name`, in the options' words.
 fn refusal(name: &str, e: GyroAtRestError) -> anyhow::Error {
     match e {
-        GyroAtRestError::NotStill { pose: None, why } => anyhow!("{}", why.named(name)),
-        GyroAtRestError::NotStill { pose: Some(p), why } => {
+        GyroAtRestError::NotStill {
+            pose: None,
+            why,
+            poses_detected,
+        } => match poses_detected {
+            Some(n) => anyhow!(
+                "{} ({})",
+                why.named(name),
+                gyro_at_rest::fewer_than_two_poses(n)
+            ),
+            None => anyhow!("{}", why.named(name)),
+        },
+        GyroAtRestError::NotStill {
+            pose: Some(p), why, ..
+        } => {
             anyhow!("{}", why.named(&format!("{name} {p}")))
         }
         GyroAtRestError::NoAccelerometer => anyhow!(
@@ -348,6 +361,9 @@ fn write_bias(
     print_vector(&mut out, "b (rad/s)", &fit.bias, Some(&s.standard_error));
     outln!(out, "  (± is the standard error s/√n, which assumes white noise; `triad allan` shows the correlated part)");
     outln!(out, "  {earth_note}");
+    if let Some(n) = fit.poses_detected {
+        outln!(out, "  ({})", gyro_at_rest::fewer_than_two_poses(n));
+    }
     let table = static_table(path, fit, &earth_note);
     let header = format!(
         "Gyroscope bias fitted by `triad calib fit gyro --static` from {} ({} samples);\n\

@@ -70,6 +70,9 @@ pub struct StaticBias {
     pub statistics: Statistics,
     /// The bias: the mean, less the vertical Earth rate when given, rad/s.
     pub bias: [f64; 3],
+    /// The static poses the accelerometer's detection found (fewer than
+    /// two, so the bias alone); None where no detection ran.
+    pub poses_detected: Option<usize>,
 }
 
 /// One static pose, for the report.
@@ -113,6 +116,9 @@ pub enum GyroAtRestError {
         pose: Option<PoseTimes>,
         /// Why.
         why: NotStill,
+        /// For the whole record: the static poses the accelerometer's
+        /// detection found (fewer than two); None where no detection ran.
+        poses_detected: Option<usize>,
     },
     /// The Earth rate's vertical needs the accelerometer, which the record lacks.
     NoAccelerometer,
@@ -131,10 +137,21 @@ impl fmt::Display for GyroAtRestError {
                 f,
                 "{count} sample(s), need at least 2 for a mean and its standard error"
             ),
-            GyroAtRestError::NotStill { pose: None, why } => write!(f, "{why}"),
+            GyroAtRestError::NotStill {
+                pose: None,
+                why,
+                poses_detected,
+            } => {
+                write!(f, "{why}")?;
+                match poses_detected {
+                    Some(n) => write!(f, " ({})", fewer_than_two_poses(*n)),
+                    None => Ok(()),
+                }
+            }
             GyroAtRestError::NotStill {
                 pose: Some(p),
                 why,
+                ..
             } => write!(f, "{}", why.named(&alloc::format!("{p}"))),
             GyroAtRestError::NoAccelerometer => write!(
                 f,
@@ -164,21 +181,38 @@ impl fmt::Display for PoseTimes {
     }
 }
 
+/// What a record with `n` (< 2) static poses detected is fitted as: said
+/// with the bias alone and with its refusal, since a record that was meant
+/// as several poses otherwise gets no word of why it was not.
+pub fn fewer_than_two_poses(n: usize) -> alloc::string::String {
+    alloc::format!(
+        "the accelerometer's pose detection found {n} static pose(s) of at least --min-static: \
+         the bias alone, of the whole record; G needs two or more"
+    )
+}
+
 /// Fits the gyroscope at rest to `record` as `options` say.
 pub fn fit(record: &AtRestRecord, options: &AtRestOptions) -> Result<GyroAtRest, GyroAtRestError> {
+    let mut poses_detected = None;
     if let (Some(accel), Some(detector)) = (record.accel, &options.detector) {
+        // Too many segments to hold is no count: nothing said of it.
         if let Ok(found) = poses::detect(detector, accel, record.parts) {
             if found.segments.len() >= 2 {
                 return fit_poses(record, accel, &found.segments, options)
                     .map(|fit| GyroAtRest::Poses(Box::new(fit)));
             }
+            poses_detected = Some(found.segments.len());
         }
     }
-    fit_bias(record, options).map(GyroAtRest::Bias)
+    fit_bias(record, options, poses_detected).map(GyroAtRest::Bias)
 }
 
 /// The bias alone: the mean of each axis of a still record.
-fn fit_bias(record: &AtRestRecord, options: &AtRestOptions) -> Result<StaticBias, GyroAtRestError> {
+fn fit_bias(
+    record: &AtRestRecord,
+    options: &AtRestOptions,
+    poses_detected: Option<usize>,
+) -> Result<StaticBias, GyroAtRestError> {
     let statistics = poses::statistics(record.gyro);
     if statistics.count < 2 {
         return Err(GyroAtRestError::TooFewSamples {
@@ -191,7 +225,11 @@ fn fit_bias(record: &AtRestRecord, options: &AtRestOptions) -> Result<StaticBias
         &statistics.mean,
         options.max_bias_dps,
     )
-    .map_err(|why| GyroAtRestError::NotStill { pose: None, why })?;
+    .map_err(|why| GyroAtRestError::NotStill {
+        pose: None,
+        why,
+        poses_detected,
+    })?;
     let bias = match options.earth_vertical {
         Some(vertical) => {
             // At rest the specific force points up: its mean direction is
@@ -208,7 +246,11 @@ fn fit_bias(record: &AtRestRecord, options: &AtRestOptions) -> Result<StaticBias
         }
         None => statistics.mean,
     };
-    Ok(StaticBias { statistics, bias })
+    Ok(StaticBias {
+        statistics,
+        bias,
+        poses_detected,
+    })
 }
 
 /// The bias and G from several static poses, each checked still.
@@ -233,6 +275,7 @@ fn fit_poses(
                 time_s: [record.t[p.start], record.t[p.end.max(p.start + 1) - 1]],
             }),
             why,
+            poses_detected: None,
         })?;
     }
     let accel_inverse =
