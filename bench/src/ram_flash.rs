@@ -151,7 +151,10 @@ impl NorFlash for RamFlash {
     const ERASE_SIZE: usize = ERASE_SIZE;
 
     fn erase(&mut self, from: u32, to: u32) -> Result<(), RamFlashError> {
-        if from as usize % ERASE_SIZE != 0 || to as usize % ERASE_SIZE != 0 || to < from {
+        if !(from as usize).is_multiple_of(ERASE_SIZE)
+            || !(to as usize).is_multiple_of(ERASE_SIZE)
+            || to < from
+        {
             return Err(RamFlashError::NotAligned);
         }
         let range = self.range(from, (to - from) as usize)?;

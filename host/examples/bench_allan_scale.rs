@@ -19,7 +19,8 @@
 //! deviations over the common τ (fully overlapping octaves, where the
 //! estimator is allantools', and strided ones apart). Then what bounds
 //! triad's time from below: the bag read as triad reads it (its own walk
-//! of the records, each chunk's data read at its place) and its zstd chunks
+//! of the records, each chunk's data read at its place, an uncompressed
+//! one without a CRC a window at a time) and its zstd chunks
 //! decompressed, alone, on one core, by this program (`unzstd`), under the
 //! same timer. With `--long` also the
 //! 24-hour, 2 kHz case (172.8 M samples), streamed as CSV from a generator
@@ -403,11 +404,13 @@ fn triad_row(
 }
 
 /// Reads the MCAP at `path` as triad does (its own walk of the records,
-/// each chunk's data read at its place: triad_host::record::mcap_walk) and
+/// each chunk's data read at its place: triad_host::record::mcap_walk; an
+/// uncompressed one without a CRC a window at a time, mcap_windows) and
 /// decompresses every zstd chunk, on this thread: the bytes of records,
 /// and the chunks.
 fn unzstd(path: &Path) -> (u64, u64) {
     use triad_host::record::mcap_walk::{self, Top};
+    use triad_host::record::mcap_windows;
     let file = File::open(path).expect("open the MCAP");
     let mut zstd = zstd::bulk::Decompressor::new().expect("zstd");
     let (mut stored, mut buffer) = (Vec::new(), Vec::new());
@@ -415,6 +418,22 @@ fn unzstd(path: &Path) -> (u64, u64) {
     let broken = |at, why| anyhow::anyhow!("broken at byte {at}: {why}");
     mcap_walk::walk(path, "the bag", &broken, |top| {
         if let Top::Chunk(chunk) = top {
+            if mcap_windows::applies(&chunk.header) {
+                // A window at a time, into one buffer, as triad decodes these.
+                let len = chunk.header.compressed_size;
+                stored.resize(mcap_windows::WINDOW, 0);
+                let mut read = 0;
+                while read < len {
+                    let piece = (len - read).min(mcap_windows::WINDOW as u64) as usize;
+                    chunk
+                        .read_part(&file, read, &mut stored[..piece])
+                        .map_err(anyhow::Error::msg)?;
+                    read += piece as u64;
+                }
+                bytes += len;
+                chunks += 1;
+                return Ok(());
+            }
             chunk.read(&file, &mut stored).map_err(anyhow::Error::msg)?;
             let records = if chunk.header.compression == "zstd" {
                 buffer.clear();

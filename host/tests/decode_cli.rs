@@ -13,7 +13,7 @@ fn frame(sequence: u32, timestamp_us: u32) -> Frame {
     Frame {
         sequence,
         timestamp_us,
-        flags: if sequence % 3 == 0 {
+        flags: if sequence.is_multiple_of(3) {
             Flags::GYRO_CLIPPED
         } else {
             Flags::empty()

@@ -89,7 +89,10 @@ pub struct RingReader<const LEN: usize> {
 
 impl<const LEN: usize> RingReader<LEN> {
     /// The two boundaries must be distinct positions.
-    const EVEN: () = assert!(LEN >= 2 && LEN % 2 == 0, "the ring's length must be even");
+    const EVEN: () = assert!(
+        LEN >= 2 && LEN.is_multiple_of(2),
+        "the ring's length must be even"
+    );
 
     /// An empty ring, the stream at position 0.
     pub const fn new() -> Self {

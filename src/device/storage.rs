@@ -110,10 +110,10 @@ impl<F: NorFlash> CalibrationStore<F> {
     pub fn new(flash: F, base: u32, slot_len: u32) -> Result<Self, StorageError<F::Error>> {
         let layout = |what, value| Err(StorageError::Layout { what, value });
         let erase = F::ERASE_SIZE as u32;
-        if base % erase != 0 {
+        if !base.is_multiple_of(erase) {
             return layout("slot base must be a multiple of the erase size", base);
         }
-        if slot_len == 0 || slot_len % erase != 0 {
+        if slot_len == 0 || !slot_len.is_multiple_of(erase) {
             return layout("slot length must be a multiple of the erase size", slot_len);
         }
         if (slot_len as usize) < RECORD_LEN {
@@ -123,7 +123,7 @@ impl<F: NorFlash> CalibrationStore<F> {
         if end > flash.capacity() as u64 {
             return layout("the two slots must fit in the flash", end as u32);
         }
-        if F::WRITE_SIZE > MAX_WRITE_SIZE || HEADER_LEN % F::WRITE_SIZE != 0 {
+        if F::WRITE_SIZE > MAX_WRITE_SIZE || !HEADER_LEN.is_multiple_of(F::WRITE_SIZE) {
             return layout("flash write size must divide 16", F::WRITE_SIZE as u32);
         }
         Ok(Self {

@@ -262,7 +262,7 @@ impl NorFlash for Flash {
             return Err(FlashError::NotAligned);
         }
         Self::check_writable(from, (to - from) as usize)?;
-        if from % SECTOR_LEN != 0 || to % SECTOR_LEN != 0 {
+        if !from.is_multiple_of(SECTOR_LEN) || !to.is_multiple_of(SECTOR_LEN) {
             return Err(FlashError::NotAligned);
         }
         let mut result = Ok(());

@@ -177,7 +177,10 @@ impl NorFlash for SemihostingFlash {
     const ERASE_SIZE: usize = ERASE_SIZE;
 
     fn erase(&mut self, from: u32, to: u32) -> Result<(), FileError> {
-        if from as usize % ERASE_SIZE != 0 || to as usize % ERASE_SIZE != 0 || to < from {
+        if !(from as usize).is_multiple_of(ERASE_SIZE)
+            || !(to as usize).is_multiple_of(ERASE_SIZE)
+            || to < from
+        {
             return Err(FileError::NotAligned);
         }
         Self::check(from, (to - from) as usize)?;
@@ -192,7 +195,9 @@ impl NorFlash for SemihostingFlash {
     }
 
     fn write(&mut self, offset: u32, bytes: &[u8]) -> Result<(), FileError> {
-        if offset as usize % Self::WRITE_SIZE != 0 || bytes.len() % Self::WRITE_SIZE != 0 {
+        if !(offset as usize).is_multiple_of(Self::WRITE_SIZE)
+            || !bytes.len().is_multiple_of(Self::WRITE_SIZE)
+        {
             return Err(FileError::NotAligned);
         }
         Self::check(offset, bytes.len())?;

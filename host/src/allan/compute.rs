@@ -2,12 +2,12 @@
 //! and parsing rows in blocks while the others integrate them, the columns
 //! shared among the cores ([`parallel`](super::parallel)), each column into
 //! its [`ColumnState`]: [`OctaveBlocks`] (fully overlapping octaves up to
-//! m = [`BASE`], a block at a time, over a buffer of at most 4·BASE sums)
+//! m = [`BASE`], a block at a time, over a buffer of at most 8·BASE sums)
 //! and, above, [`StridedBlocks`] (terms every m/BASE samples, over the sums
 //! taken every m/BASE samples, at most 4·BASE of them each); then each
-//! column's curve and fit. Memory per column is therefore at most 32·BASE
-//! bytes (4 MiB) for the octaves up to BASE and as much per octave above it
-//! up to the τ grid's end (32 MiB in all at the default m = 2^24), whatever
+//! column's curve and fit. Memory per column is therefore at most 64·BASE
+//! bytes (8 MiB) for the octaves up to BASE and 4 MiB per octave above it
+//! up to the τ grid's end (36 MiB in all at the default m = 2^24), whatever
 //! the record's length.
 
 use std::sync::mpsc::SyncSender;
@@ -287,9 +287,11 @@ fn parse_blocks<R: RowSource>(
     rows
 }
 
-/// Each column's curve (octaves or every τ, up to the largest m) and fit;
-/// an estimate that is not finite (values so large that their squares
-/// overflow) is an error naming the column and τ.
+/// Each column's curve (octaves or every τ, up to the largest m) and fit,
+/// the columns shared among the cores (each independent of the others but
+/// for the covariance of the fit, made once); an estimate that is not
+/// finite (values so large that their squares overflow) is an error naming
+/// the column and τ (the first such column's).
 fn results(
     args: &AllanArgs,
     selected: Vec<Selected>,
@@ -298,33 +300,58 @@ fn results(
     samples: u64,
 ) -> anyhow::Result<Vec<ColumnResult>> {
     let max_m = max_m(args, rate);
-    let mut cache = CovarianceCache::default();
-    selected
-        .into_iter()
-        .zip(states)
-        .map(|(sel, st)| {
-            let raw = match &st.all {
-                Some(all) => curve::every_tau(all, st.acc.offset(), rate, max_m),
-                None => curve::octaves(&st.acc, &st.above, rate, max_m),
-            };
-            if let Some(p) = raw.iter().find(|p| !p.avar.is_finite()) {
-                anyhow::bail!(
-                    "column {}: the Allan variance at tau {:e} s is {} (the values are too large to square and sum)",
-                    sel.name,
-                    p.tau,
-                    p.avar
-                );
-            }
-            let points = curve::with_intervals(&raw, samples, args.confidence);
-            let fit = fit_octaves(&points, st.acc.offset(), samples, rate, &mut cache);
-            Ok(ColumnResult {
-                name: sel.name,
-                triad: sel.triad,
-                points,
-                fit,
-            })
+    let cache = CovarianceCache::default();
+    let column = |(sel, st): (Selected, ColumnState)| -> anyhow::Result<ColumnResult> {
+        let raw = match &st.all {
+            Some(all) => curve::every_tau(all, st.acc.offset(), rate, max_m),
+            None => curve::octaves(&st.acc, &st.above, rate, max_m),
+        };
+        if let Some(p) = raw.iter().find(|p| !p.avar.is_finite()) {
+            anyhow::bail!(
+                "column {}: the Allan variance at tau {:e} s is {} (the values are too large to square and sum)",
+                sel.name,
+                p.tau,
+                p.avar
+            );
+        }
+        let points = curve::with_intervals(&raw, samples, args.confidence);
+        let fit = fit_octaves(&points, st.acc.offset(), samples, rate, &cache);
+        Ok(ColumnResult {
+            name: sel.name,
+            triad: sel.triad,
+            points,
+            fit,
         })
-        .collect()
+    };
+    let mut columns: Vec<_> = selected.into_iter().zip(states).collect();
+    let per_thread = columns
+        .len()
+        .div_ceil(parallel::threads(columns.len()))
+        .max(1);
+    let mut groups = Vec::new();
+    while columns.len() > per_thread {
+        let rest = columns.split_off(per_thread);
+        groups.push(std::mem::replace(&mut columns, rest));
+    }
+    groups.push(columns);
+    let mine = groups.remove(0);
+    let done: Vec<Vec<anyhow::Result<ColumnResult>>> = std::thread::scope(|scope| {
+        let column = &column;
+        let others: Vec<_> = groups
+            .into_iter()
+            .map(|group| scope.spawn(move || group.into_iter().map(column).collect()))
+            .collect();
+        let mut done = vec![mine.into_iter().map(column).collect()];
+        for other in others {
+            done.push(
+                other
+                    .join()
+                    .unwrap_or_else(|_| vec![Err(anyhow!("a thread analysing columns failed"))]),
+            );
+        }
+        done
+    });
+    done.into_iter().flatten().collect()
 }
 
 /// The sums kept before a block: twice the largest m (from --max-tau or
@@ -405,7 +432,7 @@ mod tests {
         for i in 0..n {
             one.push(y(i));
             let k = one.samples();
-            if k % 2 == 0 {
+            if k.is_multiple_of(2) {
                 for o in above.iter_mut() {
                     o.push(k, one.cumulative());
                 }

@@ -3,6 +3,8 @@
 //! covariance of the overlapping estimates), the reasons a column gets no
 //! fit, and what the terms are in data-sheet units (per triad and term).
 
+use std::sync::{Arc, Mutex, PoisonError};
+
 use triad::model::Triad;
 use triad::units;
 use triad_lab::allan::covariance::OctaveCovariance;
@@ -67,33 +69,57 @@ fn octave_curve(points: &[Point]) -> (Vec<CurvePoint>, Vec<u64>, Vec<u64>) {
 }
 
 /// The covariance of a record's octave estimates, computed once for all its
-/// columns (they share the record's length, τ grid and strides).
+/// columns (they share the record's length, τ grid and strides), by the
+/// first column's fit that needs it (the others wait for it), on every core.
 #[derive(Default)]
 pub struct CovarianceCache {
-    cached: Option<Box<OctaveCovariance>>,
+    cached: Mutex<Option<Arc<OctaveCovariance>>>,
 }
 
 impl CovarianceCache {
     fn get(
-        &mut self,
+        &self,
         samples: u64,
         rate: f64,
         m: &[u64],
         strides: &[u64],
-    ) -> Result<&OctaveCovariance, NoFit> {
-        let stale = self
-            .cached
-            .as_ref()
-            .is_none_or(|c| c.factors() != m || c.strides() != strides);
-        if stale {
-            let cov = OctaveCovariance::with_strides(samples, 1.0 / rate, m, strides)
-                .map_err(|e| NoFit::Failed(e.to_string()))?;
-            self.cached = Some(Box::new(cov));
+    ) -> Result<Arc<OctaveCovariance>, NoFit> {
+        let mut cached = self.cached.lock().unwrap_or_else(PoisonError::into_inner);
+        if let Some(cov) = cached.as_ref() {
+            if cov.factors() == m && cov.strides() == strides {
+                return Ok(Arc::clone(cov));
+            }
         }
-        self.cached
-            .as_deref()
-            .ok_or_else(|| NoFit::Failed("no covariance".into()))
+        let cov = Arc::new(on_every_core(samples, rate, m, strides)?);
+        *cached = Some(Arc::clone(&cov));
+        Ok(cov)
     }
+}
+
+/// The covariance made in shares of its pairs of points, one per core
+/// ([`OctaveCovariance::share_of_pairs`]: the same sums, bit for bit).
+fn on_every_core(
+    samples: u64,
+    rate: f64,
+    m: &[u64],
+    strides: &[u64],
+) -> Result<OctaveCovariance, NoFit> {
+    let shares = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let share = |k| {
+        OctaveCovariance::share_of_pairs(samples, 1.0 / rate, m, strides, k, shares)
+            .map_err(|e| NoFit::Failed(e.to_string()))
+    };
+    std::thread::scope(|scope| {
+        let others: Vec<_> = (1..shares).map(|k| scope.spawn(move || share(k))).collect();
+        let mut whole = share(0)?;
+        for other in others {
+            let part = other
+                .join()
+                .map_err(|_| NoFit::Failed("a thread making the covariance failed".into()))??;
+            whole.add_share(&part);
+        }
+        Ok(whole)
+    })
 }
 
 /// The fit on the octave points of a column whose values have mean
@@ -103,7 +129,7 @@ pub fn fit_octaves(
     offset: f64,
     samples: u64,
     rate: f64,
-    cache: &mut CovarianceCache,
+    cache: &CovarianceCache,
 ) -> Result<NoiseFit, NoFit> {
     let floor = ROUNDING * offset.abs();
     if points.iter().all(|p| p.avar.sqrt() <= floor) {
@@ -117,7 +143,7 @@ pub fn fit_octaves(
         });
     }
     let cov = cache.get(samples, rate, &m, &strides)?;
-    gls::fit(&curve, cov).map_err(|e| match e {
+    gls::fit(&curve, &cov).map_err(|e| match e {
         FitError::NoNoise => NoFit::NoNoise,
         FitError::TooFewPoints { count, needed } => NoFit::TooFewPoints { count, needed },
         other => NoFit::Failed(other.to_string()),
@@ -216,9 +242,9 @@ mod tests {
     fn white_noise_points_fit_a_white_noise_term() {
         // σ²(τ) = N²/τ with N = 1e-3 on octaves of 2^16 samples at 1 Hz.
         let n = 1e-3;
-        let mut cache = CovarianceCache::default();
+        let cache = CovarianceCache::default();
         let fit =
-            fit_octaves(&points(|t| n * n / t, 12), 0.0, 1 << 16, 1.0, &mut cache).expect("a fit");
+            fit_octaves(&points(|t| n * n / t, 12), 0.0, 1 << 16, 1.0, &cache).expect("a fit");
         let w = fit.term(Term::WhiteNoise);
         assert!((w.value - n).abs() < 1e-3 * n, "N = {}", w.value);
         assert!(w.significant);
@@ -227,20 +253,20 @@ mod tests {
 
     #[test]
     fn dead_channels_and_short_grids_get_no_fit() {
-        let mut cache = CovarianceCache::default();
+        let cache = CovarianceCache::default();
         let zero = points(|_| 0.0, 12);
         assert_eq!(
-            fit_octaves(&zero, 0.0, 1 << 16, 1.0, &mut cache),
+            fit_octaves(&zero, 0.0, 1 << 16, 1.0, &cache),
             Err(NoFit::NoNoise)
         );
         // A constant 0.1 whose mean is off by rounding: σ at the 1e-17 level.
         let rounding = points(|_| 1e-34, 12);
         assert_eq!(
-            fit_octaves(&rounding, 0.1, 1 << 16, 1.0, &mut cache),
+            fit_octaves(&rounding, 0.1, 1 << 16, 1.0, &cache),
             Err(NoFit::NoNoise)
         );
         let two = points(|t| 1e-6 / t, 2);
-        let e = fit_octaves(&two, 0.0, 1 << 16, 1.0, &mut cache).unwrap_err();
+        let e = fit_octaves(&two, 0.0, 1 << 16, 1.0, &cache).unwrap_err();
         assert_eq!(
             e,
             NoFit::TooFewPoints {

@@ -67,6 +67,10 @@ struct ImuRows {
     imu: Vec<u16>,
     time: TimeSource,
     cells: Vec<(usize, usize)>,
+    /// The cell of each slot of a row, in the row's order.
+    slots: Vec<usize>,
+    /// Whether each cell of the CSV row is taken.
+    taken: [bool; 7],
     width: usize,
     /// The record, for [`record::time::check`].
     source: Source,
@@ -141,25 +145,33 @@ impl Decode for ImuRows {
         }
         let (a, g) = (fields.linear_acceleration, fields.angular_velocity);
         let csv = [t, a[0], a[1], a[2], g[0], g[1], g[2]];
-        let mut row = [0.0; 8];
-        for &(cell, slot) in &self.cells {
-            let value = csv[cell];
-            // NaN and ±inf fail the comparison too.
-            let within = value.abs() <= MAX_MAGNITUDE;
-            if !within {
+        // NaN and ±inf fail the comparison too. The cells taken, tested all
+        // at once; where one fails, the first in the CSV's order is named.
+        let within = |v: f64| v.abs() <= MAX_MAGNITUDE;
+        let out_of_range = (0..7).any(|c| self.taken[c] & !within(csv[c]));
+        if out_of_range {
+            if let Some(&(cell, slot)) = self.cells.iter().find(|&&(cell, _)| !within(csv[cell])) {
+                let value = csv[cell];
                 b.fault = Some(Fault::Range { t, slot, value });
                 return false;
             }
-            row[slot] = value;
         }
-        match <&[f64; 7]>::try_from(&row[..self.width]) {
-            // The usual layout (six columns and t): a copy of known length.
-            Ok(seven) => b.rows.extend_from_slice(seven),
-            Err(_) => b.rows.extend_from_slice(&row[..self.width]),
+        // One value at a time, in the row's order: each stored from a register.
+        for &cell in &self.slots {
+            b.rows.push(csv[cell]);
         }
         b.last_t = t;
         true
     }
+}
+
+/// The cell of the CSV row that goes to each slot of a row of `layout`.
+fn slot_cells(layout: &Layout) -> Vec<usize> {
+    let mut slots = vec![0; layout.width()];
+    for &(cell, slot) in &layout.cells {
+        slots[slot] = cell;
+    }
+    slots
 }
 
 /// The rows of an MCAP's IMU topic, read on threads of their own.
@@ -189,6 +201,8 @@ impl McapRows {
             imu: wanted.imu,
             time,
             cells: layout.cells.clone(),
+            slots: slot_cells(layout),
+            taken: std::array::from_fn(|c| layout.cells.iter().any(|&(cell, _)| cell == c)),
             width: layout.width(),
             source: source.clone(),
         };

@@ -10,14 +10,15 @@
 //! fully overlapping octaves up to m = 2^17 (the estimator of
 //! [`OctaveAccumulator`](triad_lab::allan::accumulate::OctaveAccumulator),
 //! each octave one vectorised loop over the block, over a buffer that keeps
-//! the last 2^18 cumulative sums and grows to at most 2^19) and, above, up
+//! the last 2^18 cumulative sums and grows to at most 2^20) and, above, up
 //! to m_max (2^24 by default, or from `--max-tau`), one
 //! [`StridedBlocks`](octave_blocks::StridedBlocks) each: the overlapping
 //! estimator of [`StridedOctave`](triad_lab::allan::strided::StridedOctave)
 //! with its terms every m/2^17 samples (τ ≥ 2^18·τ₀, 655 s at 400 Hz), over
-//! the sums taken every m/2^17 samples, the same buffer of at most 2^19.
-//! Memory is therefore at most 4 MiB per octave from 2^17 up, per column
-//! (32 MiB at the default m_max) whatever the record's length, and time is
+//! the sums taken every m/2^17 samples, a buffer of at most 2^19.
+//! Memory is therefore at most 8 MiB for the octaves up to 2^17 and 4 MiB
+//! per octave above, per column (36 MiB at the default m_max) whatever the
+//! record's length, and time is
 //! linear in N. `--all-tau` holds the whole
 //! record in memory (8·N bytes per column) and
 //! costs O(N) per τ, O(N·m_max) in all, so its largest m defaults to 2^14

@@ -11,21 +11,26 @@
 //! (S_k − 2S_{k−m} + S_{k−2m})² over the block in one loop over three
 //! contiguous slices, in [`LANES`] independent partial sums, which the
 //! compiler vectorises. The buffer is shifted down only when full (it holds
-//! the history twice over), so the copy costs one f64 per sample.
+//! the history four times over), so the copy costs a third of an f64 per
+//! sample.
 //!
-//! Rounding: a lane adds at most [`MAX_BLOCK`]/[`LANES`] = 1024 plain terms
-//! before its block's total is added with compensation, the bound the
-//! one-sample accumulator has (1024·ε relative); the order of the terms
-//! differs, so the two agree to that bound, not bit for bit.
+//! Rounding: a lane adds at most [`MAX_BLOCK`]/[`LANES`] = 256 terms (each
+//! square added in one rounding, a fused multiply-add) before its block's
+//! total is added with compensation, within the bound the one-sample
+//! accumulator has (1024·ε relative); the order of the terms differs, so
+//! the two agree to that bound, not bit for bit.
 
 use triad_lab::allan::accumulate::{OctaveResult, MAX_OCTAVES};
-use triad_lab::allan::CompensatedSum;
+use triad_lab::allan::{CompensatedLanes, CompensatedSum};
 
-/// Independent partial sums per octave (vector lanes and pipelining).
-pub const LANES: usize = 8;
+/// Independent partial sums per octave: four AVX-512 vectors (eight AVX2
+/// ones), so that each vector's chain of multiply-adds waits on its last
+/// step only every fourth (eighth) one, and the loop runs at the rate of
+/// its subtractions rather than the latency of one chain.
+pub const LANES: usize = 32;
 
-/// Most samples a block may hold: 1024 terms per lane before a compensated flush.
-pub const MAX_BLOCK: usize = 1024 * LANES;
+/// Most samples a block may hold: 256 terms per lane before a compensated flush.
+pub const MAX_BLOCK: usize = 256 * LANES;
 
 /// Columns whose running sums [`OctaveBlocks::push_columns`] keeps in registers at once.
 const GROUP: usize = 4;
@@ -39,6 +44,8 @@ pub struct OctaveBlocks {
     first: u64,
     /// Sums kept before a block: 2·(the largest m), a power of two.
     history: usize,
+    /// Most sums the buffer holds before it is shifted down to the history.
+    limit: usize,
     /// Octaves served: m = 2^o for `lowest` ≤ o < `octaves`.
     octaves: usize,
     lowest: usize,
@@ -64,10 +71,13 @@ impl OctaveBlocks {
             return Err(format!("offset {offset} is not a finite number"));
         }
         let octaves = (history.trailing_zeros() as usize).min(MAX_OCTAVES);
+        let history = 1 << octaves;
         Ok(OctaveBlocks {
             sums: vec![0.0],
             first: 0,
-            history: 1 << octaves,
+            history,
+            // Three histories of room: the shift copies a third of a sum per sample.
+            limit: history + (3 * history).max(MAX_BLOCK),
             octaves,
             lowest: 0,
             offset,
@@ -137,9 +147,10 @@ impl OctaveBlocks {
         }
     }
 
-    /// [`Self::push_columns`] of `G` columns: their running sums kept in
-    /// registers over the rows, each column's cumulative sums written
-    /// straight into its buffer.
+    /// [`Self::push_columns`] of `G` columns (at most [`GROUP`]): their
+    /// running sums kept in registers over the rows as the lanes of one
+    /// vector ([`CompensatedLanes`], lanes past G adding zeros), each
+    /// column's cumulative sums written straight into its buffer.
     fn push_group<const G: usize>(
         group: &mut [&mut OctaveBlocks],
         rows: &[f64],
@@ -151,22 +162,20 @@ impl OctaveBlocks {
         };
         let n = rows.len() / width;
         debug_assert!(n <= MAX_BLOCK, "{n} rows, more than a block");
-        let mut running: [CompensatedSum; G] = std::array::from_fn(|i| group[i].running);
+        let mut running = CompensatedLanes::<GROUP>::new(std::array::from_fn(|i| {
+            group.get(i).map_or(CompensatedSum::ZERO, |b| b.running)
+        }));
         let offset: [f64; G] = std::array::from_fn(|i| group[i].offset);
         let start: [u64; G] = std::array::from_fn(|i| group[i].count);
-        let outs = group.each_mut().map(|b| {
+        // Room made for the block's sums, which are pushed (not written
+        // over zeros: zeroing them first was a fortieth of the time).
+        let mut outs = group.each_mut().map(|b| {
             b.make_room(n);
-            let len = b.sums.len();
-            b.sums.resize(len + n, 0.0);
-            &mut b.sums[len..]
+            b.sums.reserve(n);
+            &mut b.sums
         });
-        for (k, row) in rows.chunks_exact(width).enumerate() {
-            let values = &row[first..first + G];
-            for i in 0..G {
-                running[i].add(values[i] - offset[i]);
-                outs[i][k] = running[i].value();
-            }
-        }
+        cumulative_sums(&mut running, &offset, rows, width, first, &mut outs);
+        let running = running.sums();
         for (i, b) in group.iter_mut().enumerate() {
             b.running = running[i];
             b.count += n as u64;
@@ -186,9 +195,9 @@ impl OctaveBlocks {
     }
 
     /// Shifts the buffer down, keeping the history, when `n` more sums
-    /// would take it past twice the history (or one block beyond it).
+    /// would take it past its limit.
     fn make_room(&mut self, n: usize) {
-        let limit = self.history + self.history.max(MAX_BLOCK);
+        let limit = self.limit;
         let len = self.sums.len();
         if len + n <= limit || len <= self.history {
             // Grown by doubling up to the limit, no further.
@@ -208,8 +217,8 @@ impl OctaveBlocks {
     /// appended) to every octave that has any: the octaves with a term at
     /// every sample of the block (2m ≤ `start` + 1, all of them once the
     /// record is past the history) in one tiled pass
-    /// ([`steady_octave_sums`]), the others (a record's first samples)
-    /// one at a time.
+    /// ([`steady_octave_sums`]), the others (a record's first samples,
+    /// or a lone octave) one at a time.
     fn sum_block(&mut self, start: u64) {
         let count = self.count;
         let at = |k: u64| (k - self.first) as usize;
@@ -218,7 +227,9 @@ impl OctaveBlocks {
                 .find(|&o| 2u64 << o > start + 1)
                 .unwrap_or(self.octaves);
         let mut over = [0.0; MAX_OCTAVES];
-        if !steady.is_empty() && count > start {
+        // One octave alone (a strided one's) gains nothing from the tiles.
+        let tiled = steady.len() > 1 && count > start;
+        if tiled {
             steady_octave_sums(
                 &self.sums,
                 at(start + 1),
@@ -240,7 +251,7 @@ impl OctaveBlocks {
                 break;
             }
             let (j0, j1, mu) = (at(from), at(count) + 1, m as usize);
-            if !steady.contains(&o) {
+            if !(tiled && steady.contains(&o)) {
                 *over_o = squared_second_differences(
                     &self.sums[j0..j1],
                     &self.sums[j0 - mu..j1 - mu],
@@ -311,6 +322,9 @@ impl StridedBlocks {
         let history = usize::try_from(2 * base).map_err(|e| e.to_string())?;
         let mut every_stride = OctaveBlocks::new(history, 0.0)?;
         every_stride.lowest = every_stride.octaves - 1;
+        // One history of room: these take a sum every stride, so their
+        // shifts cost little, and there are many of them.
+        every_stride.limit = every_stride.history + every_stride.history.max(MAX_BLOCK);
         Ok(StridedBlocks {
             m,
             stride: m / base,
@@ -352,34 +366,127 @@ impl StridedBlocks {
     }
 }
 
-/// Σ ((s − b) − (b − c))² over three slices of one length, in [`LANES`]
-/// partial sums (independent, so the loop vectorises), added pairwise at
-/// the end. On an x86-64 with AVX2 the same loop is compiled for it (four
-/// f64 a vector instead of SSE2's two): the same operations in the same
-/// order (Rust contracts no multiply-add), so the same result, bit for bit.
-fn squared_second_differences(s: &[f64], b: &[f64], c: &[f64]) -> f64 {
+/// The cumulative sums of columns `first`, … of `rows` (rows of `width`
+/// values), less their `offset`s, pushed onto `outs` (one per column, a
+/// value per row), `running` carrying them on; compiled for AVX2 where the
+/// CPU has it (the same operations, so the same sums, bit for bit).
+fn cumulative_sums<const G: usize>(
+    running: &mut CompensatedLanes<GROUP>,
+    offset: &[f64; G],
+    rows: &[f64],
+    width: usize,
+    first: usize,
+    outs: &mut [&mut Vec<f64>; G],
+) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the CPU has AVX2, checked just above.
-        return unsafe { squared_second_differences_avx2(s, b, c) };
+        return unsafe { cumulative_sums_avx2(running, offset, rows, width, first, outs) };
+    }
+    cumulative_rows(running, offset, rows, width, first, outs)
+}
+
+/// [`cumulative_rows`] compiled for AVX2 (call only on a CPU with it).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn cumulative_sums_avx2<const G: usize>(
+    running: &mut CompensatedLanes<GROUP>,
+    offset: &[f64; G],
+    rows: &[f64],
+    width: usize,
+    first: usize,
+    outs: &mut [&mut Vec<f64>; G],
+) {
+    cumulative_rows(running, offset, rows, width, first, outs)
+}
+
+/// The loop of [`cumulative_sums`], for the compiler to vectorise.
+#[inline(always)]
+fn cumulative_rows<const G: usize>(
+    running: &mut CompensatedLanes<GROUP>,
+    offset: &[f64; G],
+    rows: &[f64],
+    width: usize,
+    first: usize,
+    outs: &mut [&mut Vec<f64>; G],
+) {
+    for row in rows.chunks_exact(width) {
+        let values = &row[first..first + G];
+        running.add(std::array::from_fn(|i| {
+            if i < G {
+                values[i] - offset[i]
+            } else {
+                0.0
+            }
+        }));
+        let sums = running.value();
+        for i in 0..G {
+            outs[i].push(sums[i]);
+        }
+    }
+}
+
+/// Σ ((s − b) − (b − c))² over three slices of one length, in [`LANES`]
+/// partial sums (independent, so the loop vectorises), added pairwise at
+/// the end. Compiled for the widest vectors the CPU has ([`vector_kind`]):
+/// the same operations in the same order on each (each square added by a
+/// fused multiply-add, one rounding everywhere), so the same result, bit
+/// for bit.
+fn squared_second_differences(s: &[f64], b: &[f64], c: &[f64]) -> f64 {
+    #[cfg(target_arch = "x86_64")]
+    match vector_kind() {
+        // SAFETY: the CPU has the features each is compiled for (vector_kind).
+        VectorKind::Avx512 => return unsafe { lane_sums_avx512(s, b, c) },
+        VectorKind::Avx2 => return unsafe { lane_sums_avx2(s, b, c) },
+        VectorKind::Plain => {}
     }
     lane_sums(s, b, c)
 }
 
-/// [`lane_sums`] compiled for AVX2.
-///
-/// # Safety
-/// Only on a CPU with AVX2 (an `unsafe fn`, not a safe one: the MSRV
-/// predates safe `#[target_feature]` functions).
+/// The vector instructions the loops are compiled for on this CPU.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn squared_second_differences_avx2(s: &[f64], b: &[f64], c: &[f64]) -> f64 {
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum VectorKind {
+    /// AVX-512F and FMA: eight f64 a vector.
+    Avx512,
+    /// AVX2 and FMA: four.
+    Avx2,
+    /// Neither: the baseline (x86-64 without FMA adds a square by a call to libm's `fma`).
+    Plain,
+}
+
+/// What this CPU has (the detection is cached by std).
+#[cfg(target_arch = "x86_64")]
+fn vector_kind() -> VectorKind {
+    use std::arch::is_x86_feature_detected as has;
+    if !has!("fma") {
+        VectorKind::Plain
+    } else if has!("avx512f") {
+        VectorKind::Avx512
+    } else if has!("avx2") {
+        VectorKind::Avx2
+    } else {
+        VectorKind::Plain
+    }
+}
+
+/// [`lane_sums`] compiled for AVX-512 (call only where [`vector_kind`] says so).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,fma")]
+fn lane_sums_avx512(s: &[f64], b: &[f64], c: &[f64]) -> f64 {
+    lane_sums(s, b, c)
+}
+
+/// [`lane_sums`] compiled for AVX2 (call only where [`vector_kind`] says so).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn lane_sums_avx2(s: &[f64], b: &[f64], c: &[f64]) -> f64 {
     lane_sums(s, b, c)
 }
 
 /// Rows of [`LANES`] sums per tile of [`steady_octave_sums`]: a tile's
 /// slices (4 KiB each) stay in L1 from one octave to the next.
-const TILE_ROWS: usize = 64;
+const TILE_ROWS: usize = 128;
 
 /// [`squared_second_differences`] of every octave o in `octaves` over the
 /// sums `sums[j0..j1]` (each with its 2m sums before it in `sums`), into
@@ -397,20 +504,19 @@ fn steady_octave_sums(
     out: &mut [f64; MAX_OCTAVES],
 ) {
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the CPU has AVX2, checked just above.
-        return unsafe { steady_octave_sums_avx2(sums, j0, j1, octaves, out) };
+    match vector_kind() {
+        // SAFETY: the CPU has the features each is compiled for (vector_kind).
+        VectorKind::Avx512 => return unsafe { tiled_avx512(sums, j0, j1, octaves, out) },
+        VectorKind::Avx2 => return unsafe { tiled_avx2(sums, j0, j1, octaves, out) },
+        VectorKind::Plain => {}
     }
     tiled_lane_sums(sums, j0, j1, octaves, out)
 }
 
-/// [`tiled_lane_sums`] compiled for AVX2.
-///
-/// # Safety
-/// Only on a CPU with AVX2.
+/// [`tiled_lane_sums`] compiled for AVX-512 (call only where [`vector_kind`] says so).
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn steady_octave_sums_avx2(
+#[target_feature(enable = "avx512f,fma")]
+fn tiled_avx512(
     sums: &[f64],
     j0: usize,
     j1: usize,
@@ -418,6 +524,27 @@ unsafe fn steady_octave_sums_avx2(
     out: &mut [f64; MAX_OCTAVES],
 ) {
     tiled_lane_sums(sums, j0, j1, octaves, out)
+}
+
+/// [`tiled_lane_sums`] compiled for AVX2 (call only where [`vector_kind`] says so).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn tiled_avx2(
+    sums: &[f64],
+    j0: usize,
+    j1: usize,
+    octaves: std::ops::Range<usize>,
+    out: &mut [f64; MAX_OCTAVES],
+) {
+    tiled_lane_sums(sums, j0, j1, octaves, out)
+}
+
+/// The term of one second difference added to a lane: ((s − b) − (b − c))²
+/// in one rounding (what every compiled form of the loops does).
+#[inline(always)]
+fn add_term(lane: &mut f64, s: f64, b: f64, c: f64) {
+    let d = (s - b) - (b - c);
+    *lane = d.mul_add(d, *lane);
 }
 
 /// The loops of [`steady_octave_sums`], in plain Rust for the compiler to
@@ -432,7 +559,9 @@ fn tiled_lane_sums(
 ) {
     let n = j1 - j0;
     let full = n - n % LANES;
-    let mut lanes = [[0.0f64; LANES]; MAX_OCTAVES];
+    // As many rows as the octaves reach (zeroing all MAX_OCTAVES was a
+    // tenth of the kernel's time).
+    let mut lanes = vec![[0.0f64; LANES]; octaves.end];
     let mut a = j0;
     while a < j0 + full {
         let b = (a + TILE_ROWS * LANES).min(j0 + full);
@@ -444,8 +573,7 @@ fn tiled_lane_sums(
             let (c_rows, _) = rows(&sums[a - 2 * m..b - 2 * m]);
             for ((s, b), c) in s_rows.zip(b_rows).zip(c_rows) {
                 for l in 0..LANES {
-                    let d = (s[l] - b[l]) - (b[l] - c[l]);
-                    acc[l] += d * d;
+                    add_term(&mut acc[l], s[l], b[l], c[l]);
                 }
             }
             lanes[o] = acc;
@@ -456,14 +584,13 @@ fn tiled_lane_sums(
         let m = 1usize << o;
         let acc = &mut lanes[o];
         for (l, j) in (j0 + full..j1).enumerate() {
-            let d = (sums[j] - sums[j - m]) - (sums[j - m] - sums[j - 2 * m]);
-            acc[l] += d * d;
+            add_term(&mut acc[l], sums[j], sums[j - m], sums[j - 2 * m]);
         }
         out[o] = pairwise(acc);
     }
 }
 
-/// The lanes added pairwise: 8 → 4 → 2 → 1.
+/// The lanes added pairwise: 32 → 16 → … → 1.
 #[inline(always)]
 fn pairwise(lanes: &mut [f64; LANES]) -> f64 {
     let mut width = LANES;
@@ -497,13 +624,11 @@ fn lane_sums(s: &[f64], b: &[f64], c: &[f64]) -> f64 {
     let mut lanes = [0.0f64; LANES];
     for ((s, b), c) in s_rows.zip(b_rows).zip(c_rows) {
         for l in 0..LANES {
-            let d = (s[l] - b[l]) - (b[l] - c[l]);
-            lanes[l] += d * d;
+            add_term(&mut lanes[l], s[l], b[l], c[l]);
         }
     }
     for (l, ((s, b), c)) in s_tail.iter().zip(b_tail).zip(c_tail).enumerate() {
-        let d = (s - b) - (b - c);
-        lanes[l] += d * d;
+        add_term(&mut lanes[l], *s, *b, *c);
     }
     pairwise(&mut lanes)
 }
@@ -561,12 +686,12 @@ mod tests {
         }
     }
 
-    /// The loop compiled for AVX2 (where the CPU has it) and the plain one
-    /// give the same sum, bit for bit, whatever the tail.
+    /// Each compiled form of the loop the CPU can run (AVX-512, AVX2) and
+    /// the plain one give the same sum, bit for bit, whatever the tail.
     #[test]
-    fn the_vector_loop_is_the_plain_one_bit_for_bit() {
+    fn the_vector_loops_are_the_plain_one_bit_for_bit() {
         let y = record(1003);
-        for n in [0, 5, 8, 997, 1001] {
+        for n in [0, 5, 8, 31, 32, 33, 997, 1001] {
             let (s, b, c) = (&y[2..2 + n], &y[1..1 + n], &y[..n]);
             let plain = lane_sums(s, b, c);
             let by_definition: f64 = (0..n)
@@ -581,6 +706,20 @@ mod tests {
                 plain.to_bits(),
                 "{n}"
             );
+            #[cfg(target_arch = "x86_64")]
+            {
+                use std::arch::is_x86_feature_detected as has;
+                if has!("avx512f") && has!("fma") {
+                    // SAFETY: the CPU has them, checked just above.
+                    let wide = unsafe { lane_sums_avx512(s, b, c) };
+                    assert_eq!(wide.to_bits(), plain.to_bits(), "AVX-512, {n}");
+                }
+                if has!("avx2") && has!("fma") {
+                    // SAFETY: as above.
+                    let wide = unsafe { lane_sums_avx2(s, b, c) };
+                    assert_eq!(wide.to_bits(), plain.to_bits(), "AVX2, {n}");
+                }
+            }
         }
     }
 
@@ -643,6 +782,33 @@ mod tests {
                     &sums[j0 - 2 * m..j0 + n - 2 * m],
                 );
                 assert_eq!(got.to_bits(), one.to_bits(), "n = {n}, m = {m}");
+            }
+            let mut plain = [f64::NAN; MAX_OCTAVES];
+            tiled_lane_sums(&sums, j0, j0 + n, 2..13, &mut plain);
+            #[cfg(target_arch = "x86_64")]
+            {
+                use std::arch::is_x86_feature_detected as has;
+                let same = |wide: [f64; MAX_OCTAVES], what: &str| {
+                    for o in 2..13 {
+                        assert_eq!(
+                            wide[o].to_bits(),
+                            plain[o].to_bits(),
+                            "{what}, n = {n}, o = {o}"
+                        );
+                    }
+                };
+                if has!("avx512f") && has!("fma") {
+                    let mut wide = [f64::NAN; MAX_OCTAVES];
+                    // SAFETY: the CPU has them, checked just above.
+                    unsafe { tiled_avx512(&sums, j0, j0 + n, 2..13, &mut wide) };
+                    same(wide, "AVX-512");
+                }
+                if has!("avx2") && has!("fma") {
+                    let mut wide = [f64::NAN; MAX_OCTAVES];
+                    // SAFETY: as above.
+                    unsafe { tiled_avx2(&sums, j0, j0 + n, 2..13, &mut wide) };
+                    same(wide, "AVX2");
+                }
             }
         }
     }

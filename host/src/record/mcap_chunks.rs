@@ -22,6 +22,7 @@ use mcap::records::{op, ChunkHeader, Record};
 
 use super::imu_msg::{self, ImuFields, Time};
 use super::mcap_walk::{self, ChunkAt, Top};
+use super::mcap_windows;
 
 /// The largest decompressed chunk read (writers' chunks are a few MiB).
 pub const MAX_CHUNK: u64 = 256 << 20;
@@ -211,7 +212,8 @@ struct Job {
     chunk: ChunkAt,
 }
 
-type Done<B> = Result<B, String>;
+/// A chunk's batch, or why it is broken.
+pub(super) type Done<B> = Result<B, String>;
 
 /// The workers' queues and the chunks sent, in order.
 struct Order<'a, B> {
@@ -302,9 +304,13 @@ fn work<D: Decode>(
     let (mut stored, mut buffer) = (Vec::new(), Vec::new());
     let mut zstd = None;
     for job in inbox {
-        let done = job.chunk.read(file, &mut stored).and_then(|()| {
-            decode_chunk(&job.chunk.header, &stored, &mut buffer, &mut zstd, decoder)
-        });
+        let done = if mcap_windows::applies(&job.chunk.header) {
+            mcap_windows::decode(file, &job.chunk, &mut stored, decoder)
+        } else {
+            job.chunk.read(file, &mut stored).and_then(|()| {
+                decode_chunk(&job.chunk.header, &stored, &mut buffer, &mut zstd, decoder)
+            })
+        };
         if outbox.send(done).is_err() {
             return;
         }
@@ -312,7 +318,7 @@ fn work<D: Decode>(
 }
 
 /// Decompresses a chunk (`stored`, as its header says) and decodes its messages.
-fn decode_chunk<D: Decode>(
+pub(super) fn decode_chunk<D: Decode>(
     header: &ChunkHeader,
     stored: &[u8],
     buffer: &mut Vec<u8>,
@@ -404,7 +410,7 @@ fn decompress<'a>(
 
 /// The first record of `data`: (opcode, body, what follows).
 #[inline]
-fn split_record(data: &[u8]) -> Result<(u8, &[u8], &[u8]), String> {
+pub(super) fn split_record(data: &[u8]) -> Result<(u8, &[u8], &[u8]), String> {
     let Some((&opcode, rest)) = data.split_first() else {
         return Err("an empty record".into());
     };
@@ -426,7 +432,7 @@ fn split_record(data: &[u8]) -> Result<(u8, &[u8], &[u8]), String> {
 /// fields (channel id u16, sequence u32, log time u64, publish time u64,
 /// then the data), without the crate's general record parser: (channel,
 /// log time, data).
-fn message_fields(body: &[u8]) -> Result<(u16, u64, &[u8]), String> {
+pub(super) fn message_fields(body: &[u8]) -> Result<(u16, u64, &[u8]), String> {
     let Some((fields, data)) = body.split_first_chunk::<MESSAGE_HEADER>() else {
         return Err(format!(
             "a message record of {} bytes, shorter than its {MESSAGE_HEADER}-byte header",

@@ -21,6 +21,9 @@ use std::path::Path;
 use anyhow::Context;
 use mcap::records::{op, ChunkHeader, Record};
 
+/// Bytes the walk reads at a time.
+const WALK_BUFFER: usize = 8 << 10;
+
 /// A record outside chunks, as the walk gives it.
 pub enum Top<'a> {
     /// A chunk: its header, and where its stored data is.
@@ -49,6 +52,15 @@ impl ChunkAt {
         buffer.resize(len, 0);
         read_exact_at(file, buffer, self.data_at)
             .map_err(|e| format!("cannot read its data at byte {}: {e}", self.data_at))
+    }
+
+    /// Reads `buffer.len()` bytes of the chunk's stored data from `file`,
+    /// starting `from` bytes into it (the caller keeps within its
+    /// `compressed_size`).
+    pub fn read_part(&self, file: &File, from: u64, buffer: &mut [u8]) -> Result<(), String> {
+        let at = self.data_at + from;
+        read_exact_at(file, buffer, at)
+            .map_err(|e| format!("cannot read its data at byte {at}: {e}"))
     }
 }
 
@@ -95,7 +107,10 @@ pub fn walk(
         .metadata()
         .with_context(|| format!("{name}: cannot read its size"))?
         .len();
-    let mut file = BufReader::with_capacity(64 << 10, file);
+    // Small: after a chunk the reader seeks past its data and the message
+    // indexes that follow it, and each refill after a seek is read whole
+    // (64 KiB refills copied a tenth of an uncompressed bag again).
+    let mut file = BufReader::with_capacity(WALK_BUFFER, file);
     let mut at = 0u64;
     // Reads `buffer.len()` bytes at `at`; a short file is `broken`.
     let take = |file: &mut BufReader<File>, buffer: &mut [u8], at: &mut u64, what: &str| match file

@@ -28,6 +28,7 @@ pub mod mcap_bag;
 pub mod mcap_chunks;
 pub mod mcap_out;
 pub mod mcap_walk;
+pub mod mcap_windows;
 pub mod options;
 pub mod producer;
 pub mod ros1_bag;

@@ -78,7 +78,10 @@ impl NorFlash for RamFlash {
     const ERASE_SIZE: usize = ERASE_SIZE;
 
     fn erase(&mut self, from: u32, to: u32) -> Result<(), Misuse> {
-        if from as usize % ERASE_SIZE != 0 || to as usize % ERASE_SIZE != 0 || to < from {
+        if !(from as usize).is_multiple_of(ERASE_SIZE)
+            || !(to as usize).is_multiple_of(ERASE_SIZE)
+            || to < from
+        {
             return Err(Misuse);
         }
         let range = self.range(from, (to - from) as usize)?;
@@ -87,7 +90,9 @@ impl NorFlash for RamFlash {
     }
 
     fn write(&mut self, offset: u32, bytes: &[u8]) -> Result<(), Misuse> {
-        if offset as usize % Self::WRITE_SIZE != 0 || bytes.len() % Self::WRITE_SIZE != 0 {
+        if !(offset as usize).is_multiple_of(Self::WRITE_SIZE)
+            || !bytes.len().is_multiple_of(Self::WRITE_SIZE)
+        {
             return Err(Misuse);
         }
         let range = self.range(offset, bytes.len())?;

@@ -255,7 +255,7 @@ impl<R: AsMut<[f64]> + AsRef<[f64]>> OctaveAccumulator<R> {
             sums.non_overlapping_block += if k & (m - 1) == 0 { d2 } else { 0.0 };
         }
         ring[(k as usize) & mask] = s_k;
-        if k % BLOCK == 0 {
+        if k.is_multiple_of(BLOCK) {
             self.flush();
         }
     }

@@ -96,6 +96,13 @@ pub enum CovarianceError {
         /// The record's samples.
         samples: u64,
     },
+    /// A share of the pairs that is not one of the shares.
+    Share {
+        /// The share asked for.
+        share: usize,
+        /// The shares.
+        shares: usize,
+    },
 }
 
 impl core::fmt::Display for CovarianceError {
@@ -111,6 +118,9 @@ impl core::fmt::Display for CovarianceError {
                 f,
                 "one stride per averaging factor, each between 1 and its factor"
             ),
+            CovarianceError::Share { share, shares } => {
+                write!(f, "share {share} of {shares}: there is no such share")
+            }
             CovarianceError::Factor { m, samples } => write!(
                 f,
                 "averaging factor {m} has no Allan term in {samples} samples (needs 1 ≤ 2m ≤ N)"
@@ -163,6 +173,26 @@ impl OctaveCovariance {
         m: &[u64],
         strides: &[u64],
     ) -> Result<Self, CovarianceError> {
+        Self::share_of_pairs(samples, period, m, strides, 0, 1)
+    }
+
+    /// [`Self::with_strides`] of the pairs of points (i, j ≥ i) whose place
+    /// in the order (0, 0), (0, 1), … is `share` modulo `shares`, the
+    /// others left at zero: `shares` of them, made on as many cores and
+    /// added by [`Self::add_share`], are the whole, bit for bit (each pair
+    /// is made by one share alone). Balanced: consecutive pairs go to
+    /// different shares.
+    pub fn share_of_pairs(
+        samples: u64,
+        period: f64,
+        m: &[u64],
+        strides: &[u64],
+        share: usize,
+        shares: usize,
+    ) -> Result<Self, CovarianceError> {
+        if share >= shares {
+            return Err(CovarianceError::Share { share, shares });
+        }
         if m.len() > MAX_POINTS {
             return Err(CovarianceError::TooManyPoints(m.len()));
         }
@@ -184,8 +214,13 @@ impl OctaveCovariance {
         };
         cov.m[..m.len()].copy_from_slice(m);
         cov.strides[..m.len()].copy_from_slice(strides);
+        let mut place = 0;
         for i in 0..m.len() {
             for j in i..m.len() {
+                place += 1;
+                if (place - 1) % shares != share {
+                    continue;
+                }
                 let sums = PairSums::of(samples, period, [m[i], m[j]], [strides[i], strides[j]]);
                 let (ni, nj) = (
                     (samples - 2 * m[i] + 1) as f64,
@@ -204,6 +239,30 @@ impl OctaveCovariance {
             }
         }
         Ok(cov)
+    }
+
+    /// Adds `other`, another share of the same points' pairs
+    /// ([`Self::share_of_pairs`]); false (and nothing added) when its
+    /// points are not these.
+    pub fn add_share(&mut self, other: &Self) -> bool {
+        if other.factors() != self.factors() || other.strides() != self.strides() {
+            return false;
+        }
+        for (mine, theirs) in self.quadratic.iter_mut().zip(&other.quadratic) {
+            for (row, other_row) in mine.iter_mut().zip(theirs) {
+                for (x, y) in row.iter_mut().zip(other_row) {
+                    *x += y;
+                }
+            }
+        }
+        for (mine, theirs) in self.linear.iter_mut().zip(&other.linear) {
+            for (row, other_row) in mine.iter_mut().zip(theirs) {
+                for (x, y) in row.iter_mut().zip(other_row) {
+                    *x += y;
+                }
+            }
+        }
+        true
     }
 
     /// Number of points.
@@ -587,6 +646,37 @@ impl PairSums {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn shares_of_the_pairs_add_up_to_the_whole_bit_for_bit() {
+        let m = [1u64, 2, 4, 8, 16, 32, 64, 128];
+        let strides = [1u64, 1, 1, 1, 1, 2, 4, 8];
+        let whole = OctaveCovariance::with_strides(10_000, 0.01, &m, &strides).unwrap();
+        let mut sum = OctaveCovariance::share_of_pairs(10_000, 0.01, &m, &strides, 0, 3).unwrap();
+        for share in 1..3 {
+            let part =
+                OctaveCovariance::share_of_pairs(10_000, 0.01, &m, &strides, share, 3).unwrap();
+            assert!(sum.add_share(&part));
+        }
+        let c = [1e-6, 2e-5, 3e-7, 4e-8, 5e-9];
+        let (mut a, mut b) = ([0.0; 64], [0.0; 64]);
+        assert!(whole.matrix(&c, &mut a) && sum.matrix(&c, &mut b));
+        assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits));
+        // One share alone is not the whole, and other points are refused.
+        let one = OctaveCovariance::share_of_pairs(10_000, 0.01, &m, &strides, 1, 3).unwrap();
+        let mut c1 = [0.0; 64];
+        assert!(one.matrix(&c, &mut c1));
+        assert_ne!(c1.map(f64::to_bits), a.map(f64::to_bits));
+        let other = OctaveCovariance::new(10_000, 0.01, &m[..4]).unwrap();
+        assert!(!sum.add_share(&other));
+        assert!(matches!(
+            OctaveCovariance::share_of_pairs(10_000, 0.01, &m, &strides, 3, 3),
+            Err(CovarianceError::Share {
+                share: 3,
+                shares: 3
+            })
+        ));
+    }
 
     #[test]
     fn pairs_are_numbered_once_each() {

@@ -33,4 +33,4 @@ pub mod noise_terms;
 pub mod strided;
 mod sum;
 
-pub use sum::CompensatedSum;
+pub use sum::{CompensatedLanes, CompensatedSum};

@@ -154,7 +154,7 @@ impl<R: AsMut<[f64]> + AsRef<[f64]>> StridedOctave<R> {
             if k & (self.m - 1) == 0 {
                 self.non_overlapping.add(d * d);
             }
-            if self.terms % BLOCK == 0 {
+            if self.terms.is_multiple_of(BLOCK) {
                 self.overlapping.add(self.overlapping_block);
                 self.overlapping_block = 0.0;
             }

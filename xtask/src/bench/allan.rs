@@ -65,7 +65,7 @@ pub fn section(long: bool) -> Result<String> {
          and uncompressed chunks without CRCs (what rosbag2's MCAP storage writes by default: \
          rosbag2_storage_mcap/src/mcap_storage.cpp sets `compression = None`, `noChunkCRC = true`). \
          Wall time compares the two on this machine as they run (triad on every core, allantools on one), CPU time the work done. \
-         After each bag, the floor under triad's time: the bag read as triad reads it (its own walk of the records, each chunk's data read at its place) and its zstd chunks decompressed, alone on one core, under the same timer.\n\n",
+         After each bag, the floor under triad's time: the bag read as triad reads it (its own walk of the records, each chunk's data read at its place, an uncompressed one without a CRC 256 KiB at a time) and its zstd chunks decompressed, alone on one core, under the same timer.\n\n",
     );
     for line in String::from_utf8_lossy(&out.stdout).lines() {
         md += &format!("- {line}\n");

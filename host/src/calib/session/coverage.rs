@@ -20,7 +20,7 @@ pub struct Coverage {
 /// The unit vector of side `i` of [`SIDES`].
 fn side(i: usize) -> [f64; 3] {
     let mut v = [0.0; 3];
-    v[i / 2] = if i % 2 == 0 { 1.0 } else { -1.0 };
+    v[i / 2] = if i.is_multiple_of(2) { 1.0 } else { -1.0 };
     v
 }
 
