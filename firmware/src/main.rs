@@ -136,6 +136,8 @@ mod app {
 
     #[local]
     struct Local {
+        /// The stall watch, made at start-up.
+        watch: Option<(u32, StallWatch)>,
         sample_line: <B as Board>::SampleLine,
         clock: <B as Board>::Clock,
         /// The chip: the data-ready task's, but the idle task's while it
@@ -225,6 +227,7 @@ mod app {
         (
             Shared {},
             Local {
+                watch: Some((step_us, StallWatch::new(step_us))),
                 sample_line,
                 clock: b.clock,
                 sensor,
@@ -325,7 +328,7 @@ mod app {
     /// keeps the stall watch: a sensor silent for 50 ms gets the data-ready
     /// task pended to check it (the NUCLEO's independent watchdog resets a
     /// board whose data-ready task read no sample for 10 s instead).
-    #[task(binds = BOARD_OWN, priority = 4, local = [watch: Option<(u32, StallWatch)> = None])]
+    #[task(binds = BOARD_OWN, priority = 4, local = [watch])]
     fn board_own(cx: board_own::Context) {
         let run = crate::run_time::begin();
         let done = B::own_interrupt();
