@@ -137,6 +137,7 @@ pub fn run(args: AllanArgs) -> anyhow::Result<ExitCode> {
     for o in &outputs {
         outfile::probe(o.path)?;
     }
+    crate::plumbing::heap::keep_freed_blocks();
     let analysis = compute::analyse(&args)?;
     let mut files = Vec::new();
     if let Some(path) = &args.out {

@@ -1,15 +1,21 @@
 //! An MCAP file's messages on the chosen channels, decoded on every core:
 //! one thread walks the file's records in order ([`mcap_walk`]: reads, not
 //! a map: a file truncated under a map would kill the process with
-//! SIGBUS) and sends each chunk's place to a worker; the worker reads the
-//! chunk's data there, decompresses it, checks its CRC, walks its records
-//! (each bounded by the chunk) and makes its messages into a batch as a
-//! [`Decode`] says (the decoded messages of the wanted channels, or a
-//! command's rows straight from them); the batches are taken back in the
-//! file's order. Chunks are independent by the format, so the messages are
-//! those a serial reader gives, in the same order. Memory: at most
-//! [`IN_FLIGHT`] chunks per worker, each at most [`MAX_CHUNK`] bytes
-//! decompressed.
+//! SIGBUS) and sends the places of a run of consecutive chunks (about
+//! [`RUN_BYTES`]) to a worker; the worker reads each chunk's data there,
+//! decompresses it, checks its CRC, walks its records (each bounded by the
+//! chunk) and makes the run's messages into one batch as a [`Decode`] says
+//! (the decoded messages of the wanted channels, or a command's rows
+//! straight from them); the batches are taken back in the file's order.
+//! Chunks are independent by the format, so the messages are those a
+//! serial reader gives, in the same order. Memory: at most [`IN_FLIGHT`]
+//! runs' batches per worker, and one chunk at a time in its buffers, at
+//! most [`MAX_CHUNK`] bytes decompressed.
+//!
+//! Why runs: writers' chunks are about a MiB (rosbag2's and the mcap
+//! crate's default is 768 KiB of records), and a hand-off per chunk between
+//! the threads (walk → worker → walk → consumer) made ~15 000 context
+//! switches on an 8-hour bag, each a wake-up the two cores waited on.
 
 use std::collections::VecDeque;
 use std::fs::File;
@@ -27,8 +33,11 @@ use super::mcap_windows;
 /// The largest decompressed chunk read (writers' chunks are a few MiB).
 pub const MAX_CHUNK: u64 = 256 << 20;
 
-/// Chunks queued per worker before the reading thread waits.
+/// Runs queued per worker before the reading thread waits.
 const IN_FLIGHT: usize = 2;
+
+/// Bytes of records (decompressed) after which a run of chunks is sent.
+pub const RUN_BYTES: u64 = 4 << 20;
 
 /// The channels whose messages are decoded, by id.
 #[derive(Clone, Debug, Default)]
@@ -113,16 +122,18 @@ pub fn read<D: Decode>(
     std::thread::scope(|scope| {
         let mut pool = Vec::new();
         for _ in 0..workers {
-            let (jobs, inbox) = sync_channel::<Job>(IN_FLIGHT);
+            let (runs, inbox) = sync_channel::<Vec<ChunkAt>>(IN_FLIGHT);
             let (outbox, results) = sync_channel(IN_FLIGHT);
             scope.spawn(move || work(file, inbox, outbox, decoder));
-            pool.push((jobs, results));
+            pool.push((runs, results));
         }
         let mut order = Order {
             name,
             pool,
             pending: VecDeque::new(),
             next: 0,
+            run: Vec::new(),
+            run_bytes: 0,
             loose: None,
             loose_stopped: false,
         };
@@ -131,11 +142,17 @@ pub fn read<D: Decode>(
             match top {
                 Top::Chunk(chunk) => {
                     order.flush_loose(&mut take)?;
-                    order.send(Job { chunk }, &mut take)?;
+                    order.run_bytes += chunk.header.uncompressed_size.min(MAX_CHUNK);
+                    order.run.push(chunk);
+                    if order.run_bytes >= RUN_BYTES {
+                        order.send_run(&mut take)?;
+                    }
                 }
                 // A message outside chunks (an unchunked file): decoded
-                // here, in order, up to the first that does not decode.
+                // here, in order, up to the first that does not decode,
+                // after the chunks before it.
                 Top::Record(Record::Message { header, data }) if !order.loose_stopped => {
+                    order.send_run(&mut take)?;
                     let loose = order.loose.get_or_insert_with(D::Batch::default);
                     order.loose_stopped =
                         !decoder.message(header.channel_id, header.log_time, &data, loose);
@@ -144,6 +161,7 @@ pub fn read<D: Decode>(
             }
             Ok(())
         })?;
+        order.send_run(&mut take)?;
         order.flush_loose(&mut take)?;
         order.drain(&mut take)?;
         Ok(())
@@ -207,23 +225,33 @@ fn broken(name: &str, offset: u64, e: impl std::fmt::Display) -> anyhow::Error {
     anyhow!("{name}: broken MCAP within its first {offset} bytes: {e}")
 }
 
-/// A chunk to decode.
-struct Job {
-    chunk: ChunkAt,
+/// How the decoding of a chunk ended: `Ok(true)` at its end, `Ok(false)`
+/// where the decoder stopped the batch, `Err` why the chunk is broken.
+pub(super) type Ended = Result<bool, String>;
+
+/// What a run of chunks gives: the batch of its messages, up to where the
+/// decoder stopped or a chunk broke (the messages before the break in it
+/// included), and that chunk's end in the file with why it is broken.
+struct Done<B> {
+    batch: B,
+    broken: Option<(u64, String)>,
 }
 
-/// A chunk's batch, or why it is broken.
-pub(super) type Done<B> = Result<B, String>;
+/// A worker's queues: the runs it is sent, what it makes of them.
+type Queues<B> = (SyncSender<Vec<ChunkAt>>, Receiver<Done<B>>);
 
-/// The workers' queues and the chunks sent, in order.
+/// The workers' queues and the runs sent, in order.
 struct Order<'a, B> {
     /// The file, in messages.
     name: &'a str,
-    pool: Vec<(SyncSender<Job>, Receiver<Done<B>>)>,
-    /// (worker, the chunk's end in the file) of each chunk sent, oldest first.
-    pending: VecDeque<(usize, u64)>,
-    /// The worker of the next chunk.
+    pool: Vec<Queues<B>>,
+    /// The worker of each run sent, oldest first.
+    pending: VecDeque<usize>,
+    /// The worker of the next run.
     next: usize,
+    /// The run not yet sent, and its bytes of records.
+    run: Vec<ChunkAt>,
+    run_bytes: u64,
     /// Messages outside chunks not yet given.
     loose: Option<B>,
     /// A message outside chunks stopped its batch: no more are decoded.
@@ -231,41 +259,43 @@ struct Order<'a, B> {
 }
 
 impl<B> Order<'_, B> {
-    /// Sends `job` to the next worker (round robin, so results come back in
-    /// order), first taking the oldest result when every queue is full.
-    fn send(
-        &mut self,
-        job: Job,
-        take: &mut impl FnMut(B) -> anyhow::Result<()>,
-    ) -> anyhow::Result<()> {
+    /// Sends the run (if any) to the next worker (round robin, so results
+    /// come back in order), first taking the oldest result when every queue
+    /// is full.
+    fn send_run(&mut self, take: &mut impl FnMut(B) -> anyhow::Result<()>) -> anyhow::Result<()> {
+        if self.run.is_empty() {
+            return Ok(());
+        }
         if self.pending.len() >= self.pool.len() * IN_FLIGHT {
             self.take_oldest(take)?;
         }
         let w = self.next;
         self.next = (self.next + 1) % self.pool.len();
-        let offset = job.chunk.end;
+        self.run_bytes = 0;
         self.pool[w]
             .0
-            .send(job)
+            .send(std::mem::take(&mut self.run))
             .map_err(|_| anyhow!("a chunk-decoding thread stopped"))?;
-        self.pending.push_back((w, offset));
+        self.pending.push_back(w);
         Ok(())
     }
 
+    /// Gives the oldest run's batch, then its broken chunk's error if any.
     fn take_oldest(
         &mut self,
         take: &mut impl FnMut(B) -> anyhow::Result<()>,
     ) -> anyhow::Result<()> {
-        let Some((w, offset)) = self.pending.pop_front() else {
+        let Some(w) = self.pending.pop_front() else {
             return Ok(());
         };
         let done = self.pool[w]
             .1
             .recv()
             .map_err(|_| anyhow!("a chunk-decoding thread stopped"))?;
-        match done {
-            Ok(batch) => take(batch),
-            Err(why) => bail!(
+        take(done.batch)?;
+        match done.broken {
+            None => Ok(()),
+            Some((offset, why)) => bail!(
                 "{}: broken MCAP: the chunk that ends at byte {offset}: {why}",
                 self.name
             ),
@@ -293,41 +323,83 @@ impl<B> Order<'_, B> {
     }
 }
 
-/// A worker: reads each chunk it is sent from `file` and decodes it,
-/// reusing its buffers and one zstd context.
+/// A worker: reads each run of chunks it is sent from `file` and decodes
+/// it into one batch, reusing its buffers and one zstd context.
 fn work<D: Decode>(
     file: &File,
-    inbox: Receiver<Job>,
+    inbox: Receiver<Vec<ChunkAt>>,
     outbox: SyncSender<Done<D::Batch>>,
     decoder: &D,
 ) {
-    let (mut stored, mut buffer) = (Vec::new(), Vec::new());
-    let mut zstd = None;
-    for job in inbox {
-        let done = if mcap_windows::applies(&job.chunk.header) {
-            mcap_windows::decode(file, &job.chunk, &mut stored, decoder)
-        } else {
-            job.chunk.read(file, &mut stored).and_then(|()| {
-                decode_chunk(&job.chunk.header, &stored, &mut buffer, &mut zstd, decoder)
-            })
-        };
-        if outbox.send(done).is_err() {
+    let mut chunk_reader = ChunkReader::default();
+    for run in inbox {
+        let bytes = run
+            .iter()
+            .map(|c| c.header.uncompressed_size.min(MAX_CHUNK) as usize)
+            .sum();
+        let mut batch = decoder.batch(bytes);
+        let mut broken = None;
+        for chunk in &run {
+            match chunk_reader.decode(file, chunk, decoder, &mut batch) {
+                Ok(true) => {}
+                Ok(false) => break,
+                Err(why) => {
+                    broken = Some((chunk.end, why));
+                    break;
+                }
+            }
+        }
+        if outbox.send(Done { batch, broken }).is_err() {
             return;
         }
     }
 }
 
-/// Decompresses a chunk (`stored`, as its header says) and decodes its messages.
+/// A worker's buffers: the chunk's stored data (or a window of it), its
+/// decompressed records, one zstd context.
+#[derive(Default)]
+struct ChunkReader {
+    stored: Vec<u8>,
+    buffer: Vec<u8>,
+    zstd: Option<zstd::bulk::Decompressor<'static>>,
+}
+
+impl ChunkReader {
+    /// Reads the chunk at `chunk` from `file` and decodes its messages into
+    /// `batch`: a window at a time where [`mcap_windows`] applies, else whole.
+    fn decode<D: Decode>(
+        &mut self,
+        file: &File,
+        chunk: &ChunkAt,
+        decoder: &D,
+        batch: &mut D::Batch,
+    ) -> Ended {
+        if mcap_windows::applies(&chunk.header) {
+            return mcap_windows::decode(file, chunk, &mut self.stored, decoder, batch);
+        }
+        chunk.read(file, &mut self.stored)?;
+        decode_chunk(
+            &chunk.header,
+            &self.stored,
+            &mut self.buffer,
+            &mut self.zstd,
+            decoder,
+            batch,
+        )
+    }
+}
+
+/// Decompresses a chunk (`stored`, as its header says) and decodes its
+/// messages into `batch`.
 pub(super) fn decode_chunk<D: Decode>(
     header: &ChunkHeader,
     stored: &[u8],
     buffer: &mut Vec<u8>,
     zstd: &mut Option<zstd::bulk::Decompressor<'static>>,
     decoder: &D,
-) -> Done<D::Batch> {
-    let data = decompress(header, stored, buffer, zstd)?;
-    let mut batch = decoder.batch(data.len());
-    let mut rest = data;
+    batch: &mut D::Batch,
+) -> Ended {
+    let mut rest = decompress(header, stored, buffer, zstd)?;
     while !rest.is_empty() {
         let (opcode, body, after) = split_record(rest)?;
         rest = after;
@@ -335,11 +407,11 @@ pub(super) fn decode_chunk<D: Decode>(
             continue;
         }
         let (channel, log_time, data) = message_fields(body)?;
-        if !decoder.message(channel, log_time, data, &mut batch) {
-            break;
+        if !decoder.message(channel, log_time, data, batch) {
+            return Ok(false);
         }
     }
-    Ok(batch)
+    Ok(true)
 }
 
 /// The records of the chunk of `header` whose stored data is `stored`:
@@ -586,25 +658,94 @@ mod tests {
 
     /// The middle byte of the compressed data of the `n`th chunk (from 1) of `file`.
     fn chunk_data(file: &[u8], n: usize) -> usize {
+        chunk_place(file, n).0
+    }
+
+    /// Of the `n`th chunk (from 1) of `file`: the middle byte of its
+    /// compressed data, the byte after the chunk record, the log time of
+    /// its first message.
+    fn chunk_place(file: &[u8], n: usize) -> (usize, u64, u64) {
+        let u64_at = |i: usize| u64::from_le_bytes(file[i..i + 8].try_into().unwrap());
         let mut at = 8; // the magic
         let mut seen = 0;
         loop {
-            let (opcode, len) = (
-                file[at],
-                u64::from_le_bytes(file[at + 1..at + 9].try_into().unwrap()),
-            );
+            let (opcode, len) = (file[at], u64_at(at + 1));
             let body = at + 9;
+            let end = body + len as usize;
             if opcode == op::CHUNK {
                 seen += 1;
                 if seen == n {
                     // start, end, uncompressed size, CRC, compression (u32 length + name), compressed size.
                     let name = u32::from_le_bytes(file[body + 28..body + 32].try_into().unwrap());
                     let data = body + 32 + name as usize + 8;
-                    return (data + body + len as usize) / 2;
+                    return ((data + end) / 2, end as u64, u64_at(body));
                 }
             }
-            at = body + len as usize;
+            at = end;
         }
+    }
+
+    /// Chunk records in `file`.
+    fn chunk_count(file: &[u8]) -> usize {
+        let mut at = 8;
+        let mut seen = 0;
+        while at + 9 <= file.len() {
+            let len = u64::from_le_bytes(file[at + 1..at + 9].try_into().unwrap());
+            seen += usize::from(file[at] == op::CHUNK);
+            at += 9 + len as usize;
+        }
+        seen
+    }
+
+    /// Chunks sent to the workers in runs of several: a chunk broken in a
+    /// later run gives every message of the chunks before it, in order,
+    /// then the error naming that chunk (not the run).
+    #[test]
+    fn a_chunk_broken_inside_a_run_gives_the_messages_before_it_then_its_error() {
+        // Uncompressed (so that the file's bytes are the runs' bytes), with
+        // CRCs (so that the broken chunk gives none of its messages).
+        let options = mcap::WriteOptions::new().compression(None);
+        let good = file(16_000, options.chunk_size(Some(4096)));
+        let chunks = chunk_count(&good);
+        assert!(good.len() as u64 > 2 * RUN_BYTES, "{} bytes", good.len());
+        let n = chunks * 2 / 3 + 1;
+        let (middle, end, start_time) = chunk_place(&good, n);
+        assert!(end > RUN_BYTES);
+        let mut bad = good.clone();
+        bad[middle] ^= 0x55;
+        let path = std::env::temp_dir().join(format!("triad-mcap-runs-{}", std::process::id()));
+        std::fs::write(&path, &bad).unwrap();
+        let wanted = Wanted {
+            imu: vec![1],
+            temperature: vec![],
+        };
+        let mut given = Vec::new();
+        let e = read(&path, "runs.mcap", &wanted, |batch| {
+            given.extend(batch.messages.iter().map(|m| match m {
+                Decoded::Imu { log_time, .. } => *log_time,
+                Decoded::Temperature { .. } => u64::MAX,
+            }));
+            Ok(())
+        })
+        .unwrap_err()
+        .to_string();
+        let _ = std::fs::remove_file(&path);
+        assert!(
+            e.starts_with(&format!(
+                "runs.mcap: broken MCAP: the chunk that ends at byte {end}: "
+            )),
+            "{e}"
+        );
+        // Every IMU message logged before the broken chunk's first message
+        // (and the one at its time, which the chunk before may hold), in order.
+        let want: Vec<u64> = (0..start_time / 10).map(|k| 10 * k).collect();
+        assert!(
+            given == want
+                || given[..given.len() - 1] == want[..] && given.last() == Some(&start_time),
+            "{} messages given, {} before the broken chunk",
+            given.len(),
+            want.len()
+        );
     }
 
     /// A file without a summary (chunked, compressed or not, or not

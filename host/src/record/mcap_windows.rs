@@ -17,7 +17,7 @@ use std::fs::File;
 
 use mcap::records::{op, ChunkHeader};
 
-use super::mcap_chunks::{message_fields, split_record, Decode, Done, MAX_CHUNK};
+use super::mcap_chunks::{message_fields, split_record, Decode, Ended, MAX_CHUNK};
 use super::mcap_walk::ChunkAt;
 
 /// Bytes read at a time (a record longer than that is read whole).
@@ -29,13 +29,15 @@ pub fn applies(header: &ChunkHeader) -> bool {
 }
 
 /// Decodes the messages of `chunk` (one [`applies`] to) from `file`,
-/// through `window` (reused from chunk to chunk), as `decoder` makes them.
+/// through `window` (reused from chunk to chunk), into `batch` as
+/// `decoder` makes them.
 pub(super) fn decode<D: Decode>(
     file: &File,
     chunk: &ChunkAt,
     window: &mut Vec<u8>,
     decoder: &D,
-) -> Done<D::Batch> {
+    batch: &mut D::Batch,
+) -> Ended {
     let h = &chunk.header;
     // The checks a chunk read whole has, in its words.
     if h.uncompressed_size > MAX_CHUNK {
@@ -51,7 +53,6 @@ pub(super) fn decode<D: Decode>(
         ));
     }
     let len = h.compressed_size;
-    let mut batch = decoder.batch(len as usize);
     // Bytes of the chunk read so far; bytes at the window's start carried over.
     let (mut read, mut kept) = (0u64, 0usize);
     while read < len {
@@ -76,14 +77,14 @@ pub(super) fn decode<D: Decode>(
                 continue;
             }
             let (channel, log_time, data) = message_fields(body)?;
-            if !decoder.message(channel, log_time, data, &mut batch) {
-                return Ok(batch);
+            if !decoder.message(channel, log_time, data, batch) {
+                return Ok(false);
             }
         }
         kept = rest.len();
         window.copy_within(end - kept..end, 0);
     }
-    Ok(batch)
+    Ok(true)
 }
 
 /// The whole length of the record starting `bytes` (opcode, length, body),
@@ -97,7 +98,7 @@ fn record_length(bytes: &[u8]) -> Option<u64> {
 #[cfg(test)]
 mod tests {
     use super::super::imu_msg::{encode_cdr, Header, Imu, ROS2_TYPE};
-    use super::super::mcap_chunks::{decode_chunk, split_record, Wanted};
+    use super::super::mcap_chunks::{decode_chunk, split_record, Batch, Wanted};
     use super::super::mcap_walk::{self, Top};
     use super::*;
 
@@ -160,7 +161,7 @@ mod tests {
     }
 
     /// Each chunk decoded a window at a time and read whole: the same
-    /// batch, or the same error.
+    /// batch and the same end (its error included).
     fn both(path: &std::path::Path, chunks: &[ChunkAt]) -> Vec<(String, String)> {
         let file = File::open(path).unwrap();
         let wanted = Wanted {
@@ -173,11 +174,21 @@ mod tests {
             .iter()
             .map(|chunk| {
                 assert!(applies(&chunk.header));
-                let windowed = decode(&file, chunk, &mut window, &wanted);
-                let whole = chunk.read(&file, &mut stored).and_then(|()| {
-                    decode_chunk(&chunk.header, &stored, &mut buffer, &mut zstd, &wanted)
+                let mut batch = Batch::default();
+                let ended = decode(&file, chunk, &mut window, &wanted, &mut batch);
+                let windowed = format!("{ended:?} {batch:?}");
+                let mut batch = Batch::default();
+                let ended = chunk.read(&file, &mut stored).and_then(|()| {
+                    decode_chunk(
+                        &chunk.header,
+                        &stored,
+                        &mut buffer,
+                        &mut zstd,
+                        &wanted,
+                        &mut batch,
+                    )
                 });
-                (format!("{windowed:?}"), format!("{whole:?}"))
+                (windowed, format!("{ended:?} {batch:?}"))
             })
             .collect()
     }
@@ -196,7 +207,7 @@ mod tests {
         let mut messages = 0;
         for (windowed, whole) in both(&path, &found) {
             assert_eq!(windowed, whole);
-            assert!(windowed.starts_with("Ok(") && !windowed.contains("undecodable: Some"));
+            assert!(windowed.starts_with("Ok(true) ") && !windowed.contains("undecodable: Some"));
             messages += windowed.matches("Imu {").count();
         }
         assert_eq!(messages, 12_000);
