@@ -1,19 +1,22 @@
-//! The allocator kept from giving memory back and taking it again: the
-//! streaming commands pass blocks of rows (hundreds of KiB each) from the
+//! The allocator kept from giving row blocks back and taking them again:
+//! the streaming commands pass blocks of rows (under a MiB each) from the
 //! threads that read to the threads that sum, which free them. glibc maps
 //! a block that size on its own (above its mmap threshold, which it raises
 //! only to the size of the last such block freed) or trims the heap it
 //! came from, so the next block's pages were new and each faulted in and
-//! cleared: ~20 000 page faults and ~50 ms of CPU on an 8-hour bag in
-//! `triad allan`. With the threshold and the trim bound fixed above such
-//! blocks, freed blocks are reused. Advice only: elsewhere (another C
-//! library, another system) nothing changes.
+//! cleared: ~25 000 page faults and ~50 ms of CPU on an 8-hour bag in
+//! `triad allan`. With the threshold fixed above such blocks (and the trim
+//! bound above a few of them), freed blocks are reused. The buffers of
+//! several MiB (the Allan histories) are still mapped alone and given back
+//! when freed: kept in the heap instead, the process's exit had ~200 MB
+//! more to unmap (18 ms more on that bag). Advice only: elsewhere (another
+//! C library, another system) nothing changes.
 
 /// Blocks below this are taken from the heap, not mapped alone.
-const MAP_ABOVE: i32 = 64 << 20;
+const MAP_ABOVE: i32 = 2 << 20;
 
 /// Free memory the heap keeps at its top before giving it back.
-const TRIM_ABOVE: i32 = 256 << 20;
+const TRIM_ABOVE: i32 = 16 << 20;
 
 /// Sets the allocator's thresholds (call before the threads start).
 pub fn keep_freed_blocks() {
