@@ -227,15 +227,17 @@ impl OctaveBlocks {
                 .find(|&o| 2u64 << o > start + 1)
                 .unwrap_or(self.octaves);
         let mut over = [0.0; MAX_OCTAVES];
+        let mut non_in_lanes = [0.0; MAX_OCTAVES];
         // One octave alone (a strided one's) gains nothing from the tiles.
         let tiled = steady.len() > 1 && count > start;
         if tiled {
+            let phase = ((start + 1) % LANES as u64) as usize;
             steady_octave_sums(
                 &self.sums,
-                at(start + 1),
-                at(count) + 1,
+                (at(start + 1), at(count) + 1),
                 steady.clone(),
-                &mut over,
+                phase,
+                (&mut over, &mut non_in_lanes),
             );
         }
         for (o, over_o) in over
@@ -259,9 +261,12 @@ impl OctaveBlocks {
                 );
             }
             self.overlapping[o].add(*over_o);
-            // The non-overlapping terms: those at multiples of m (m = 1: all).
+            // The non-overlapping terms: those at multiples of m (m = 1: all;
+            // up to LANES, whole lanes of the tiled pass).
             let non = if m == 1 {
                 *over_o
+            } else if tiled && steady.contains(&o) && m <= LANES as u64 {
+                non_in_lanes[o]
             } else {
                 let mut non = 0.0;
                 let mut k = from.next_multiple_of(m);
@@ -488,29 +493,38 @@ fn lane_sums_avx2(s: &[f64], b: &[f64], c: &[f64]) -> f64 {
 /// slices (4 KiB each) stay in L1 from one octave to the next.
 const TILE_ROWS: usize = 128;
 
+/// The sums of one tiled pass, by octave: of every term, and of the terms
+/// at multiples of m (for m up to [`LANES`]; left as they were above).
+type TiledOut<'a> = (&'a mut [f64; MAX_OCTAVES], &'a mut [f64; MAX_OCTAVES]);
+
 /// [`squared_second_differences`] of every octave o in `octaves` over the
 /// sums `sums[j0..j1]` (each with its 2m sums before it in `sums`), into
-/// `out[o]`: one pass over the block in tiles, each tile's octaves one
+/// `out.0[o]`: one pass over the block in tiles, each tile's octaves one
 /// after the other, so that the tile's own sums are read from L1 by every
 /// octave and the sums m back, read by octave o, are still there when
 /// octave o + 1 reads them as its 2m back (one read from L2 or memory per
 /// sum and octave instead of two). Each octave's lane l sums the same terms
 /// in the same order as [`lane_sums`], so the same result, bit for bit.
+///
+/// Lane l holds the terms at the samples k ≡ `phase` + l (mod [`LANES`]),
+/// `phase` being k mod LANES at `sums[j0]`; so for m up to LANES the
+/// non-overlapping terms (k a multiple of m) are whole lanes, added into
+/// `out.1[o]` (the scalar loop over them was ~3 % of `triad allan`).
 fn steady_octave_sums(
     sums: &[f64],
-    j0: usize,
-    j1: usize,
+    (j0, j1): (usize, usize),
     octaves: std::ops::Range<usize>,
-    out: &mut [f64; MAX_OCTAVES],
+    phase: usize,
+    out: TiledOut,
 ) {
     #[cfg(target_arch = "x86_64")]
     match vector_kind() {
         // SAFETY: the CPU has the features each is compiled for (vector_kind).
-        VectorKind::Avx512 => return unsafe { tiled_avx512(sums, j0, j1, octaves, out) },
-        VectorKind::Avx2 => return unsafe { tiled_avx2(sums, j0, j1, octaves, out) },
+        VectorKind::Avx512 => return unsafe { tiled_avx512(sums, (j0, j1), octaves, phase, out) },
+        VectorKind::Avx2 => return unsafe { tiled_avx2(sums, (j0, j1), octaves, phase, out) },
         VectorKind::Plain => {}
     }
-    tiled_lane_sums(sums, j0, j1, octaves, out)
+    tiled_lane_sums(sums, (j0, j1), octaves, phase, out)
 }
 
 /// [`tiled_lane_sums`] compiled for AVX-512 (call only where [`vector_kind`] says so).
@@ -518,12 +532,12 @@ fn steady_octave_sums(
 #[target_feature(enable = "avx512f,fma")]
 fn tiled_avx512(
     sums: &[f64],
-    j0: usize,
-    j1: usize,
+    block: (usize, usize),
     octaves: std::ops::Range<usize>,
-    out: &mut [f64; MAX_OCTAVES],
+    phase: usize,
+    out: TiledOut,
 ) {
-    tiled_lane_sums(sums, j0, j1, octaves, out)
+    tiled_lane_sums(sums, block, octaves, phase, out)
 }
 
 /// [`tiled_lane_sums`] compiled for AVX2 (call only where [`vector_kind`] says so).
@@ -531,12 +545,12 @@ fn tiled_avx512(
 #[target_feature(enable = "avx2,fma")]
 fn tiled_avx2(
     sums: &[f64],
-    j0: usize,
-    j1: usize,
+    block: (usize, usize),
     octaves: std::ops::Range<usize>,
-    out: &mut [f64; MAX_OCTAVES],
+    phase: usize,
+    out: TiledOut,
 ) {
-    tiled_lane_sums(sums, j0, j1, octaves, out)
+    tiled_lane_sums(sums, block, octaves, phase, out)
 }
 
 /// The term of one second difference added to a lane: ((s − b) − (b − c))²
@@ -552,10 +566,10 @@ fn add_term(lane: &mut f64, s: f64, b: f64, c: f64) {
 #[inline(always)]
 fn tiled_lane_sums(
     sums: &[f64],
-    j0: usize,
-    j1: usize,
+    (j0, j1): (usize, usize),
     octaves: std::ops::Range<usize>,
-    out: &mut [f64; MAX_OCTAVES],
+    phase: usize,
+    (out, non): TiledOut,
 ) {
     let n = j1 - j0;
     let full = n - n % LANES;
@@ -585,6 +599,11 @@ fn tiled_lane_sums(
         let acc = &mut lanes[o];
         for (l, j) in (j0 + full..j1).enumerate() {
             add_term(&mut acc[l], sums[j], sums[j - m], sums[j - 2 * m]);
+        }
+        if m <= LANES {
+            // The lanes l with phase + l ≡ 0 (mod m), in order.
+            let first = (m - phase % m) % m;
+            non[o] = acc[first..].iter().step_by(m).sum();
         }
         out[o] = pairwise(acc);
     }
@@ -752,11 +771,14 @@ mod tests {
 
     /// The tiled pass over several octaves gives each octave's sum of the
     /// one-octave loop bit for bit, whatever the block's length against
-    /// the tiles and the lanes.
+    /// the tiles and the lanes, and for m up to the lanes the sum of the
+    /// terms at multiples of m (to rounding: another order).
     #[test]
     fn the_tiled_pass_is_the_one_octave_loop_bit_for_bit() {
         let sums = record(40_000);
         let j0 = 1 << 13;
+        // k mod LANES at sums[j0]: every residue of the octaves up to 32 met.
+        let phase = 5;
         for n in [
             0,
             1,
@@ -768,11 +790,11 @@ mod tests {
             5 * 1024 + 5,
             MAX_BLOCK,
         ] {
-            let mut out = [f64::NAN; MAX_OCTAVES];
-            steady_octave_sums(&sums, j0, j0 + n, 2..13, &mut out);
+            let (mut out, mut non) = ([f64::NAN; MAX_OCTAVES], [f64::NAN; MAX_OCTAVES]);
+            steady_octave_sums(&sums, (j0, j0 + n), 2..13, phase, (&mut out, &mut non));
             for (o, &got) in out.iter().enumerate() {
                 if !(2..13).contains(&o) {
-                    assert!(got.is_nan(), "octave {o} left alone");
+                    assert!(got.is_nan() && non[o].is_nan(), "octave {o} left alone");
                     continue;
                 }
                 let m = 1 << o;
@@ -782,31 +804,65 @@ mod tests {
                     &sums[j0 - 2 * m..j0 + n - 2 * m],
                 );
                 assert_eq!(got.to_bits(), one.to_bits(), "n = {n}, m = {m}");
+                if m > LANES {
+                    assert!(non[o].is_nan(), "m = {m} left alone");
+                    continue;
+                }
+                let at_multiples: f64 = (j0..j0 + n)
+                    .filter(|j| (phase + j - j0) % m == 0)
+                    .map(|j| ((sums[j] - sums[j - m]) - (sums[j - m] - sums[j - 2 * m])).powi(2))
+                    .sum();
+                assert!(
+                    (non[o] - at_multiples).abs() <= 1e-13 * at_multiples,
+                    "n = {n}, m = {m}: {} against {at_multiples}",
+                    non[o]
+                );
             }
-            let mut plain = [f64::NAN; MAX_OCTAVES];
-            tiled_lane_sums(&sums, j0, j0 + n, 2..13, &mut plain);
+            let mut plain = ([f64::NAN; MAX_OCTAVES], [f64::NAN; MAX_OCTAVES]);
+            tiled_lane_sums(
+                &sums,
+                (j0, j0 + n),
+                2..13,
+                phase,
+                (&mut plain.0, &mut plain.1),
+            );
             #[cfg(target_arch = "x86_64")]
             {
                 use std::arch::is_x86_feature_detected as has;
-                let same = |wide: [f64; MAX_OCTAVES], what: &str| {
+                type Both = ([f64; MAX_OCTAVES], [f64; MAX_OCTAVES]);
+                let same = |wide: Both, what: &str| {
                     for o in 2..13 {
-                        assert_eq!(
-                            wide[o].to_bits(),
-                            plain[o].to_bits(),
-                            "{what}, n = {n}, o = {o}"
-                        );
+                        for (w, p) in [(wide.0[o], plain.0[o]), (wide.1[o], plain.1[o])] {
+                            assert_eq!(w.to_bits(), p.to_bits(), "{what}, n = {n}, o = {o}");
+                        }
                     }
                 };
                 if has!("avx512f") && has!("fma") {
-                    let mut wide = [f64::NAN; MAX_OCTAVES];
+                    let mut wide = ([f64::NAN; MAX_OCTAVES], [f64::NAN; MAX_OCTAVES]);
                     // SAFETY: the CPU has them, checked just above.
-                    unsafe { tiled_avx512(&sums, j0, j0 + n, 2..13, &mut wide) };
+                    unsafe {
+                        tiled_avx512(
+                            &sums,
+                            (j0, j0 + n),
+                            2..13,
+                            phase,
+                            (&mut wide.0, &mut wide.1),
+                        )
+                    };
                     same(wide, "AVX-512");
                 }
                 if has!("avx2") && has!("fma") {
-                    let mut wide = [f64::NAN; MAX_OCTAVES];
+                    let mut wide = ([f64::NAN; MAX_OCTAVES], [f64::NAN; MAX_OCTAVES]);
                     // SAFETY: as above.
-                    unsafe { tiled_avx2(&sums, j0, j0 + n, 2..13, &mut wide) };
+                    unsafe {
+                        tiled_avx2(
+                            &sums,
+                            (j0, j0 + n),
+                            2..13,
+                            phase,
+                            (&mut wide.0, &mut wide.1),
+                        )
+                    };
                     same(wide, "AVX2");
                 }
             }
