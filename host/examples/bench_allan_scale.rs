@@ -15,6 +15,9 @@
 //!   in memory (bench/allan_peer.py, python from `$TRIAD_PYTHON`, else
 //!   target/allan-peer-venv/bin/python): the oadev calls' time, its peak;
 //!
+//! each run [`RUNS`] times, the run of median wall time kept (every run's
+//! time is printed: this machine's speed drifts by 10 % and more from one
+//! minute to the next),
 //! and prints both, their ratio and the largest relative difference of the
 //! deviations over the common τ (fully overlapping octaves, where the
 //! estimator is allantools', and strided ones apart). Then what bounds
@@ -42,6 +45,9 @@ use triad_sim::effects::rng::Rng;
 
 /// The six columns, in the CSV's order.
 const COLUMNS: [&str; 6] = ["ax", "ay", "az", "gx", "gy", "gz"];
+
+/// Runs of allantools and of triad on each bag: the median's is reported.
+const RUNS: usize = 3;
 
 /// Fully overlapping octaves go up to this m (`triad_lab::allan::strided::BASE`).
 const BASE: u64 = triad_lab::allan::strided::BASE;
@@ -131,6 +137,24 @@ fn triad_exe() -> PathBuf {
         .and_then(Path::parent)
         .map(|d| d.join("triad"))
         .expect("target dir")
+}
+
+/// The run of median wall time of [`RUNS`] of `run` (None: one failed),
+/// and every run's wall time, in order.
+fn median_run<T>(mut run: impl FnMut() -> Option<(T, f64)>) -> Option<((T, f64), Vec<f64>)> {
+    let mut runs = Vec::new();
+    for _ in 0..RUNS {
+        runs.push(run()?);
+    }
+    let walls: Vec<f64> = runs.iter().map(|r| r.1).collect();
+    runs.sort_by(|a, b| a.1.total_cmp(&b.1));
+    Some((runs.swap_remove(RUNS / 2), walls))
+}
+
+/// Wall times, for the reports: "0.61, 0.58, 0.60 s".
+fn walls(w: &[f64]) -> String {
+    let each: Vec<String> = w.iter().map(|s| format!("{s:.2}")).collect();
+    format!("{} s", each.join(", "))
 }
 
 /// `triad allan INPUT --json --kalibr YAML` under /usr/bin/time: the
@@ -313,19 +337,30 @@ fn record_case(dir: &Path, hours: f64, rate: f64) {
         let _ = std::fs::remove_file(&csv);
     }
     println!("{hours} h at {rate} Hz, six columns: {n} samples each");
-    let peer = match run_peer(&raw, rate) {
+    let mut failure = None;
+    let runs = median_run(|| match run_peer(&raw, rate) {
         Ok(peer) => {
             let seconds = peer["seconds"].as_f64().unwrap_or(f64::NAN);
+            Some((peer, seconds))
+        }
+        Err(why) => {
+            failure = Some(why);
+            None
+        }
+    });
+    let peer = match runs {
+        Some(((peer, seconds), all)) => {
             let cpu = peer["cpu_seconds"].as_f64().unwrap_or(f64::NAN);
             let peak = peer["peak_rss_mb"].as_f64().unwrap_or(f64::NAN);
             println!(
-                "{} oadev, octave taus, the six columns in memory (one core): {seconds:.2} s wall, {cpu:.2} s CPU, peak {peak:.0} MiB",
-                peer["tool"].as_str().unwrap_or("allantools")
+                "{} oadev, octave taus, the six columns in memory (one core): {seconds:.2} s wall (median of {RUNS} runs: {}), {cpu:.2} s CPU, peak {peak:.0} MiB",
+                peer["tool"].as_str().unwrap_or("allantools"),
+                walls(&all)
             );
             Some((peer, (seconds, cpu, peak)))
         }
-        Err(why) => {
-            println!("allantools not run: {why}");
+        None => {
+            println!("allantools not run: {}", failure.unwrap_or_default());
             None
         }
     };
@@ -378,11 +413,15 @@ fn triad_row(
 ) -> Option<Value> {
     let size = std::fs::metadata(input).map_or(0, |m| m.len());
     let name = input.file_name().and_then(|s| s.to_str()).unwrap_or("?");
-    let (report, (wall, cpu, peak)) = run_triad(input, yaml)?;
+    let (((report, (cpu, peak)), wall), all) = median_run(|| {
+        let (report, (wall, cpu, peak)) = run_triad(input, yaml)?;
+        Some(((report, (cpu, peak)), wall))
+    })?;
     let octaves = report["columns"][0]["curve"].as_array().map_or(0, Vec::len);
     println!(
-        "triad allan on {name} ({form}, {:.0} MB; octave ADEV, noise-term fit, grade, Kalibr imu.yaml): {wall:.2} s wall, {cpu:.2} s CPU, peak {peak:.0} MiB, {octaves} octaves per column",
-        size as f64 / 1e6
+        "triad allan on {name} ({form}, {:.0} MB; octave ADEV, noise-term fit, grade, Kalibr imu.yaml): {wall:.2} s wall (median of {RUNS} runs: {}), {cpu:.2} s CPU, peak {peak:.0} MiB, {octaves} octaves per column",
+        size as f64 / 1e6,
+        walls(&all)
     );
     if let Some((peer, (seconds, peer_cpu, peer_peak))) = peer {
         let [full, strided] = differences(&report, peer);

@@ -61,7 +61,8 @@ pub fn section(long: bool) -> Result<String> {
          host/examples/bench_allan_scale.rs on this machine, allantools' `oadev` (octave taus) on the six \
          columns already in memory, timed in its process (bench/allan_peer.py; one core), then `triad allan` \
          (every core) timed by `/usr/bin/time` (wall, user + system CPU, peak resident memory) on the same \
-         samples in two MCAP bags, one after the other in one run: zstd chunks with CRCs (what `triad convert` writes) \
+         samples in two MCAP bags, one after the other in one run (each three times, the run of median wall time reported, \
+         every run's wall time listed: this machine's speed drifts by 10 % and more from one minute to the next): zstd chunks with CRCs (what `triad convert` writes) \
          and uncompressed chunks without CRCs (what rosbag2's MCAP storage writes by default: \
          rosbag2_storage_mcap/src/mcap_storage.cpp sets `compression = None`, `noChunkCRC = true`). \
          Wall time compares the two on this machine as they run (triad on every core, allantools on one), CPU time the work done. \
