@@ -117,7 +117,7 @@ impl Decode for ImuRows {
     }
 
     fn message(&self, channel: u16, log_time: u64, data: &[u8], b: &mut Block) -> bool {
-        if !self.imu.contains(&channel) {
+        if !mcap_chunks::among(&self.imu, channel) {
             return true;
         }
         let fields = match imu_msg::decode_cdr(data) {
