@@ -19,7 +19,7 @@ use nix::sys::stat::Mode;
 use std::fs::{File, OpenOptions};
 use std::io::{ErrorKind, Read, Write};
 use std::os::fd::AsFd;
-use std::os::unix::fs::OpenOptionsExt;
+use std::os::unix::fs::{FileTypeExt, OpenOptionsExt};
 use std::path::{Path, PathBuf};
 use std::process::Child;
 use std::time::{Duration, Instant};
@@ -84,7 +84,13 @@ impl Fifos {
                 Ok(file) => break file,
                 Err(error) if error.raw_os_error() == Some(Errno::ENXIO as i32) => {
                     if let Some(status) = qemu.try_wait()? {
-                        bail!("QEMU exited ({status}) before opening {}", input.display());
+                        // QEMU reports one open's error for two; which FIFO
+                        // was there says more (seen once, cause unknown).
+                        bail!(
+                            "QEMU exited ({status}) before opening {} ({})",
+                            input.display(),
+                            self.which_exist()
+                        );
                     }
                     if start.elapsed() > OPEN_TIMEOUT {
                         bail!(
@@ -106,6 +112,23 @@ impl Fifos {
             from_device: self.from_device.try_clone()?,
             to_device,
         })
+    }
+}
+
+impl Fifos {
+    /// "BASE.in is there, BASE.out is missing": the FIFOs as they are now.
+    fn which_exist(&self) -> String {
+        let state = |end: &str| {
+            let path = self.base.with_extension(end);
+            let is = match std::fs::symlink_metadata(&path) {
+                Ok(m) if m.file_type().is_fifo() => "is there",
+                Ok(_) => "is there but not a FIFO",
+                Err(e) if e.kind() == ErrorKind::NotFound => "is missing",
+                Err(_) => "cannot be examined",
+            };
+            format!("{} {is}", path.display())
+        };
+        format!("{}, {}", state("in"), state("out"))
     }
 }
 
@@ -164,5 +187,29 @@ impl Write for Link {
 
     fn flush(&mut self) -> std::io::Result<()> {
         self.to_device.flush()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn which_fifo_is_there_is_said_by_name() {
+        let base = std::env::temp_dir().join(format!("triad-link-test-{}", std::process::id()));
+        let fifos = Fifos::make(&base).unwrap();
+        let both = fifos.which_exist();
+        assert!(
+            both.contains(".in is there") && both.contains(".out is there"),
+            "{both}"
+        );
+        std::fs::remove_file(base.with_extension("in")).unwrap();
+        let one = fifos.which_exist();
+        assert!(
+            one.contains(".in is missing") && one.contains(".out is there"),
+            "{one}"
+        );
+        drop(fifos);
+        assert!(!base.with_extension("out").exists(), "removed when dropped");
     }
 }
