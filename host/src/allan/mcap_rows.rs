@@ -1,10 +1,10 @@
 //! The rows of an MCAP bag's IMU topic, made where its chunks are decoded:
-//! each chunk worker ([`mcap_chunks`]) turns its sensor_msgs/msg/Imu
+//! each chunk worker ([`mcap_chunks`], a run of chunks at a time) turns its sensor_msgs/msg/Imu
 //! messages straight into rows of the values a layout wants (the CSV row
 //! `t,ax,ay,az,gx,gy,gz` of each sample, as [`record_rows`](super::record_rows)
 //! takes it) and checks them (values in range, time increasing within the
-//! chunk); the reading thread checks, in the file's order, the time from
-//! one chunk to the next and hands each chunk's rows on whole; the Allan
+//! run); the reading thread checks, in the file's order, the time from
+//! one run to the next and hands each run's rows on whole; the Allan
 //! side checks the t column's step as each block arrives. The same values
 //! and checks as the record's samples through `record_rows`, so the same
 //! results and errors, with no sample made and no row copied between the
@@ -26,7 +26,7 @@ use super::columns::Layout;
 use super::rows::{in_range, RowSource, MAX_MAGNITUDE};
 use super::time::TimeCheck;
 
-/// Blocks (a chunk's rows each) queued between the reading thread and the Allan threads.
+/// Blocks (a run of chunks' rows each) queued between the reading thread and the Allan threads.
 const QUEUED: usize = 4;
 
 /// An MCAP whose IMU topic is read this way: its CSV header, once a layout is known its rows.
@@ -76,16 +76,16 @@ struct ImuRows {
     source: Source,
 }
 
-/// A chunk's rows, up to the message that stops them.
+/// A run of chunks' rows, up to the message that stops them.
 #[derive(Default)]
 struct Block {
     rows: Vec<f64>,
-    /// The time of the chunk's first IMU message that decoded (its place
-    /// in time is checked in the file's order, against the chunk before).
+    /// The time of the run's first IMU message that decoded (its place
+    /// in time is checked in the file's order, against the run before).
     first_t: Option<f64>,
     /// The time of its last row.
     last_t: f64,
-    /// Why the rows stop before the chunk's end: at the message after them.
+    /// Why the rows stop before the run's end: at the message after them.
     fault: Option<Fault>,
 }
 
@@ -108,7 +108,7 @@ const SMALLEST_IMU_RECORD: usize = 9 + 22 + 316;
 impl Decode for ImuRows {
     type Batch = Block;
 
-    /// Room for as many rows as the chunk can hold IMU messages: no copy as they come.
+    /// Room for as many rows as the run can hold IMU messages: no copy as they come.
     fn batch(&self, bytes: usize) -> Block {
         Block {
             rows: Vec::with_capacity((bytes / SMALLEST_IMU_RECORD + 1) * self.width),
@@ -245,8 +245,8 @@ impl McapRows {
     }
 }
 
-/// The reading thread: the chunks' rows in the file's order, the time
-/// from one chunk to the next checked, each block sent whole; a fault's
+/// The reading thread: the runs' rows in the file's order, the time
+/// from one run to the next checked, each block sent whole; a fault's
 /// error after the rows before it.
 fn read(
     path: &Path,
@@ -306,7 +306,7 @@ impl RowSource for McapRows {
         Ok(true)
     }
 
-    /// Each chunk's rows as they come (the rest of one partly served first).
+    /// Each run's rows as they come (the rest of one partly served first).
     fn next_block(&mut self) -> anyhow::Result<Option<Vec<f64>>> {
         let rest = self.block.split_off(self.served * self.width);
         self.served = 0;
