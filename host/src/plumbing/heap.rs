@@ -1,6 +1,6 @@
 //! The allocator kept from giving row blocks back and taking them again:
-//! the streaming commands pass blocks of rows (under a MiB each) from the
-//! threads that read to the threads that sum, which free them. glibc maps
+//! `triad allan` (the one caller) passes blocks of rows (under a MiB each)
+//! from the threads that read to the threads that sum, which free them. glibc maps
 //! a block that size on its own (above its mmap threshold, which it raises
 //! only to the size of the last such block freed) or trims the heap it
 //! came from, so the next block's pages were new and each faulted in and
