@@ -829,41 +829,32 @@ mod tests {
             #[cfg(target_arch = "x86_64")]
             {
                 use std::arch::is_x86_feature_detected as has;
-                type Both = ([f64; MAX_OCTAVES], [f64; MAX_OCTAVES]);
-                let same = |wide: Both, what: &str| {
+                type Tiled =
+                    unsafe fn(&[f64], (usize, usize), std::ops::Range<usize>, usize, TiledOut);
+                let forms: [(&str, bool, Tiled); 2] = [
+                    ("AVX-512", has!("avx512f") && has!("fma"), tiled_avx512),
+                    ("AVX2", has!("avx2") && has!("fma"), tiled_avx2),
+                ];
+                for (what, available, tiled) in forms {
+                    if !available {
+                        continue;
+                    }
+                    let mut wide = ([f64::NAN; MAX_OCTAVES], [f64::NAN; MAX_OCTAVES]);
+                    // SAFETY: the CPU has the features `tiled` is compiled for, checked above.
+                    unsafe {
+                        tiled(
+                            &sums,
+                            (j0, j0 + n),
+                            2..13,
+                            phase,
+                            (&mut wide.0, &mut wide.1),
+                        )
+                    };
                     for o in 2..13 {
                         for (w, p) in [(wide.0[o], plain.0[o]), (wide.1[o], plain.1[o])] {
                             assert_eq!(w.to_bits(), p.to_bits(), "{what}, n = {n}, o = {o}");
                         }
                     }
-                };
-                if has!("avx512f") && has!("fma") {
-                    let mut wide = ([f64::NAN; MAX_OCTAVES], [f64::NAN; MAX_OCTAVES]);
-                    // SAFETY: the CPU has them, checked just above.
-                    unsafe {
-                        tiled_avx512(
-                            &sums,
-                            (j0, j0 + n),
-                            2..13,
-                            phase,
-                            (&mut wide.0, &mut wide.1),
-                        )
-                    };
-                    same(wide, "AVX-512");
-                }
-                if has!("avx2") && has!("fma") {
-                    let mut wide = ([f64::NAN; MAX_OCTAVES], [f64::NAN; MAX_OCTAVES]);
-                    // SAFETY: as above.
-                    unsafe {
-                        tiled_avx2(
-                            &sums,
-                            (j0, j0 + n),
-                            2..13,
-                            phase,
-                            (&mut wide.0, &mut wide.1),
-                        )
-                    };
-                    same(wide, "AVX2");
                 }
             }
         }

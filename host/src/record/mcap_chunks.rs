@@ -142,7 +142,7 @@ pub fn read<D: Decode>(
             match top {
                 Top::Chunk(chunk) => {
                     order.flush_loose(&mut take)?;
-                    order.run_bytes += chunk.header.uncompressed_size.min(MAX_CHUNK);
+                    order.run_bytes += records_bytes(&chunk);
                     order.run.push(chunk);
                     if order.run_bytes >= RUN_BYTES {
                         order.send_run(&mut take)?;
@@ -333,11 +333,8 @@ fn work<D: Decode>(
 ) {
     let mut chunk_reader = ChunkReader::default();
     for run in inbox {
-        let bytes = run
-            .iter()
-            .map(|c| c.header.uncompressed_size.min(MAX_CHUNK) as usize)
-            .sum();
-        let mut batch = decoder.batch(bytes);
+        let bytes: u64 = run.iter().map(records_bytes).sum();
+        let mut batch = decoder.batch(bytes as usize);
         let mut broken = None;
         for chunk in &run {
             match chunk_reader.decode(file, chunk, decoder, &mut batch) {
@@ -353,6 +350,12 @@ fn work<D: Decode>(
             return;
         }
     }
+}
+
+/// The bytes of records `chunk` holds, as its header says (at most the
+/// [`MAX_CHUNK`] read): what a run counts, and its batch makes room for.
+fn records_bytes(chunk: &ChunkAt) -> u64 {
+    chunk.header.uncompressed_size.min(MAX_CHUNK)
 }
 
 /// A worker's buffers: the chunk's stored data (or a window of it), its
